@@ -1,0 +1,13 @@
+//! physlab: numerical integrators compared side by side on small physics scenes, with every
+//! run recorded for the Rerun viewer.
+//!
+//! The simulation core (`method`, `elliptic`, `scene`) is plain Rust and never touches Rerun;
+//! `record` is the only module that does.
+
+pub mod app;
+pub mod cli;
+pub mod elliptic;
+pub mod method;
+pub mod record;
+pub mod scene;
+pub mod table;

@@ -1,0 +1,328 @@
+//! Recording a pendulum run: entity paths, styles and the blueprint.
+//!
+//! Layout (`<lane>` is `exact`/`reference` or a method name):
+//! - `pendulum/<lane>/{pivot,rod,bob}`: the lanes side by side along x, one slot each;
+//!   `pendulum/<method>/exact_ghost`: the reference bob as a translucent ghost in each slot.
+//! - `pendulum/plots/<quantity>/<lane>`: one plot per quantity with every lane's series.
+//! - `pendulum/phase/<lane>/{path,state}`: the phase portrait, one curve per lane.
+//! - `pendulum/events`: divergence and solver warnings at the moment they happened.
+//! - `pendulum/about`: what was run and what the reference is.
+
+use rerun::blueprint::{
+    Blueprint, Horizontal, Spatial2DView, Spatial3DView, TextDocumentView, TextLogView, TimePanel,
+    TimeSeriesView, Vertical,
+};
+use rerun::{RecordingStream, TimeColumn};
+
+use super::method_color;
+use crate::scene::pendulum::run::{Event, EventKind, FrameState, PendulumObserver, RunSetup, RunSummary, SeriesBlock};
+
+/// The plotted quantities: entity name and plot title (with units).
+pub const PLOTS: [(&str, &str); 5] = [
+    ("theta", "θ [rad]"),
+    ("omega", "ω [rad/s]"),
+    ("energy", "total energy E = ½L²ω² + gL(1 − cos θ) [J/kg]"),
+    ("energy_error", "relative energy error (E − E0)/E0"),
+    ("theta_error", "|θ − θ_ref| [rad]"),
+];
+
+/// At most this many points per phase-portrait curve.
+const MAX_PHASE_POINTS: usize = 5_000;
+
+/// The pendulum's layout: the 3D slots, phase portrait and events on the left, the plots on
+/// the right, every plot holding all lanes.
+pub fn blueprint() -> Blueprint {
+    let plots: Vec<_> = PLOTS
+        .iter()
+        .map(|(name, title)| TimeSeriesView::new(*title).with_origin(format!("/pendulum/plots/{name}")).into())
+        .collect();
+    let left = Vertical::new([
+        Spatial3DView::new("pendulum: methods side by side (grey ghost = reference)")
+            .with_origin("/pendulum")
+            .with_contents([
+                "+ $origin/**",
+                "- $origin/plots/**",
+                "- $origin/phase/**",
+                "- $origin/events",
+                "- $origin/about",
+            ])
+            .into(),
+        Horizontal::new([
+            Spatial2DView::new("phase portrait: x = θ [rad], y = ω [rad/s] (y axis points down)")
+                .with_origin("/pendulum/phase")
+                .into(),
+            Vertical::new([
+                TextDocumentView::new("about this run").with_origin("/pendulum/about").into(),
+                TextLogView::new("events").with_origin("/pendulum/events").into(),
+            ])
+            .into(),
+        ])
+        .with_column_shares([3.0, 2.0])
+        .into(),
+    ])
+    .with_row_shares([3.0, 2.0]);
+    Blueprint::new(Horizontal::new([left.into(), Vertical::new(plots).into()]).with_column_shares([1.0, 1.0]))
+        .with_auto_views(false)
+        .with_time_panel(TimePanel::new().with_timeline("sim_time"))
+}
+
+/// Logs a pendulum run to a recording stream as it happens.
+pub struct PendulumRecorder {
+    rec: RecordingStream,
+    lanes: Vec<&'static str>,
+    /// Slot centres along x [m].
+    slots: Vec<f32>,
+    length: f64,
+    frame_stride: u64,
+    /// Decimated (θ, ω) per lane for the phase portrait.
+    phase: Vec<Vec<[f32; 2]>>,
+    phase_stride: u64,
+    /// The reference as described at the start (a fine-step estimate grows during the run).
+    reference_description: String,
+}
+
+impl PendulumRecorder {
+    pub fn new(rec: RecordingStream) -> Self {
+        PendulumRecorder {
+            rec,
+            lanes: Vec::new(),
+            slots: Vec::new(),
+            length: 1.0,
+            frame_stride: 1,
+            phase: Vec::new(),
+            phase_stride: 1,
+            reference_description: String::new(),
+        }
+    }
+
+    fn bob_position(&self, lane: usize, theta: f64) -> [f32; 3] {
+        let (x, z) = (self.length * theta.sin(), -self.length * theta.cos());
+        [self.slots[lane] + x as f32, 0.0, z as f32]
+    }
+
+    fn set_time(&self, step: u64, time: f64) {
+        self.rec.set_duration_secs("sim_time", time);
+        self.rec.set_time_sequence("frame", (step / self.frame_stride) as i64);
+    }
+}
+
+impl PendulumObserver for PendulumRecorder {
+    fn start(&mut self, setup: &RunSetup) -> anyhow::Result<()> {
+        let c = &setup.config;
+        let rec = &self.rec;
+        self.lanes = setup.lanes.iter().map(|l| l.name).collect();
+        self.length = c.params.length;
+        self.frame_stride = c.frame_stride();
+        let spacing = 2.5 * c.params.length as f32;
+        self.slots = (0..self.lanes.len()).map(|i| i as f32 * spacing).collect();
+        self.phase = vec![Vec::new(); self.lanes.len()];
+        self.reference_description = setup.reference_description.clone();
+        self.phase_stride = (c.total_steps() / c.plot_stride() / MAX_PHASE_POINTS as u64).max(1);
+
+        rec.log_static("pendulum", &rerun::ViewCoordinates::RIGHT_HAND_Z_UP())?;
+        let bob_radius = 0.06 * c.params.length as f32;
+        for (i, name) in self.lanes.iter().enumerate() {
+            let color = method_color(name);
+            rec.log_static(
+                format!("pendulum/{name}/pivot"),
+                &rerun::Points3D::new([[self.slots[i], 0.0, 0.0]])
+                    .with_radii([0.3 * bob_radius])
+                    .with_colors([[128, 128, 128]]),
+            )?;
+            // Styles that never change are logged once, static; per frame only positions move.
+            rec.log_static(
+                format!("pendulum/{name}/bob"),
+                &rerun::Points3D::update_fields()
+                    .with_radii([bob_radius])
+                    .with_colors([color])
+                    .with_labels([*name])
+                    .with_show_labels(true),
+            )?;
+            rec.log_static(
+                format!("pendulum/{name}/rod"),
+                &rerun::LineStrips3D::update_fields().with_radii([0.15 * bob_radius]).with_colors([color]),
+            )?;
+            if i > 0 {
+                rec.log_static(
+                    format!("pendulum/{name}/exact_ghost"),
+                    &rerun::Points3D::update_fields()
+                        .with_radii([bob_radius])
+                        .with_colors([rerun::Color::from_unmultiplied_rgba(220, 220, 220, 70)]),
+                )?;
+            }
+            for (quantity, _) in PLOTS {
+                if quantity == "theta_error" && i == 0 {
+                    continue;
+                }
+                rec.log_static(
+                    format!("pendulum/plots/{quantity}/{name}"),
+                    &rerun::SeriesLines::new().with_names([*name]).with_colors([color]).with_widths([1.5]),
+                )?;
+            }
+            rec.log_static(
+                format!("pendulum/phase/{name}/path"),
+                &rerun::LineStrips2D::update_fields().with_colors([color]).with_radii([rerun::Radius::new_ui_points(1.0)]),
+            )?;
+            rec.log_static(
+                format!("pendulum/phase/{name}/state"),
+                &rerun::Points2D::update_fields()
+                    .with_colors([color])
+                    .with_radii([rerun::Radius::new_ui_points(5.0)])
+                    .with_labels([*name]),
+            )?;
+        }
+
+        rec.log_static("pendulum/about", &rerun::TextDocument::from_markdown(about_text(setup)))?;
+        self.set_time(0, 0.0);
+        rec.log(
+            "pendulum/events",
+            &rerun::TextLog::new(setup.reference_description.clone()).with_level(rerun::TextLogLevel::INFO),
+        )?;
+        Ok(())
+    }
+
+    fn series(&mut self, lane: usize, block: &SeriesBlock) -> anyhow::Result<()> {
+        if block.steps.is_empty() {
+            return Ok(());
+        }
+        let name = self.lanes[lane];
+        let times = || {
+            [
+                TimeColumn::new_duration_secs("sim_time", block.times.iter().copied()),
+                TimeColumn::new_sequence("frame", block.steps.iter().map(|s| (s / self.frame_stride) as i64)),
+            ]
+        };
+        let columns: [(&str, &Vec<f64>); 5] = [
+            ("theta", &block.theta),
+            ("omega", &block.omega),
+            ("energy", &block.energy),
+            ("energy_error", &block.energy_error),
+            ("theta_error", &block.theta_error),
+        ];
+        for (quantity, values) in columns {
+            if values.is_empty() {
+                continue;
+            }
+            self.rec.send_columns(
+                format!("pendulum/plots/{quantity}/{name}"),
+                times(),
+                rerun::Scalars::new(values.iter().copied()).columns_of_unit_batches()?,
+            )?;
+        }
+        for (k, &step) in block.steps.iter().enumerate() {
+            if step % self.phase_stride == 0 {
+                self.phase[lane].push([block.theta[k] as f32, block.omega[k] as f32]);
+            }
+        }
+        Ok(())
+    }
+
+    fn frame(&mut self, frame: &FrameState) -> anyhow::Result<()> {
+        self.set_time(frame.step, frame.time);
+        let reference = frame.states[0];
+        for (i, state) in frame.states.iter().enumerate() {
+            let Some((theta, omega)) = *state else { continue };
+            let name = self.lanes[i];
+            let bob = self.bob_position(i, theta);
+            self.rec.log(format!("pendulum/{name}/bob"), &rerun::Points3D::update_fields().with_positions([bob]))?;
+            self.rec.log(
+                format!("pendulum/{name}/rod"),
+                &rerun::LineStrips3D::update_fields().with_strips([[[self.slots[i], 0.0, 0.0], bob]]),
+            )?;
+            if i > 0
+                && let Some((theta_ref, _)) = reference
+            {
+                self.rec.log(
+                    format!("pendulum/{name}/exact_ghost"),
+                    &rerun::Points3D::update_fields().with_positions([self.bob_position(i, theta_ref)]),
+                )?;
+            }
+            self.rec.log(
+                format!("pendulum/phase/{name}/state"),
+                &rerun::Points2D::update_fields().with_positions([[theta as f32, omega as f32]]),
+            )?;
+        }
+        Ok(())
+    }
+
+    fn event(&mut self, event: &Event) -> anyhow::Result<()> {
+        self.set_time(event.step, event.time);
+        let level = match event.kind {
+            EventKind::Divergence => rerun::TextLogLevel::WARN,
+            EventKind::SolverNotConverged => rerun::TextLogLevel::WARN,
+        };
+        self.rec.log("pendulum/events", &rerun::TextLog::new(event.message.clone()).with_level(level))?;
+        if event.kind == EventKind::Divergence {
+            // From this moment the lane shows no pendulum, only a marker saying why.
+            let name = self.lanes[event.lane];
+            self.rec.log(format!("pendulum/{name}/rod"), &rerun::Clear::flat())?;
+            self.rec.log(format!("pendulum/{name}/exact_ghost"), &rerun::Clear::flat())?;
+            self.rec.log(format!("pendulum/phase/{name}/state"), &rerun::Clear::flat())?;
+            self.rec.log(
+                format!("pendulum/{name}/bob"),
+                &rerun::Points3D::new([[self.slots[event.lane], 0.0, 0.0]])
+                    .with_labels([format!("{name}: diverged at t = {:.3} s", event.time)])
+                    .with_colors([method_color(name)]),
+            )?;
+        }
+        Ok(())
+    }
+
+    fn finish(&mut self, summary: &RunSummary) -> anyhow::Result<()> {
+        for (i, name) in self.lanes.iter().enumerate() {
+            let path = std::mem::take(&mut self.phase[i]);
+            if path.len() >= 2 {
+                self.rec.log_static(
+                    format!("pendulum/phase/{name}/path"),
+                    &rerun::LineStrips2D::update_fields().with_strips([path]),
+                )?;
+            }
+        }
+        // A fine-step reference's error estimate is known only at the end.
+        if summary.setup.reference_description != self.reference_description {
+            let c = &summary.setup.config;
+            self.set_time(c.total_steps(), c.total_steps() as f64 * c.dt);
+            self.rec.log(
+                "pendulum/events",
+                &rerun::TextLog::new(summary.setup.reference_description.clone()).with_level(rerun::TextLogLevel::INFO),
+            )?;
+            self.rec.log_static("pendulum/about", &rerun::TextDocument::from_markdown(about_text(&summary.setup)))?;
+        }
+        Ok(())
+    }
+}
+
+/// The run described in Markdown, for the `about` panel.
+fn about_text(setup: &RunSetup) -> String {
+    let c = &setup.config;
+    let p = &c.params;
+    format!(
+        "# pendulum\n\n\
+         θ'' = −(g/L) sin θ, f64, state (θ, ω).\n\n\
+         | parameter | value |\n|---|---|\n\
+         | g | {} m/s² |\n| L | {} m |\n| θ0 | {}° |\n| ω0 | {} rad/s |\n| dt | {} s |\n\
+         | steps | {} (to t = {} s) |\n| 3D frames | every {} steps ({:.3} Hz) |\n| plotted | every {} steps |\n\
+         | methods | {} |\n| Verlet damping d | {} |\n\n\
+         **Reference**: {}\n\n\
+         Energy is per unit mass with zero at the bottom: E0 = {:.9} J/kg; the relative energy error is \
+         (E − E0)/{:.6}. A method is stopped (divergence) when θ or ω is not finite or E > {:.4} J/kg \
+         (10 × max(E0, 2gL)); the events panel shows when.\n\n\
+         The phase portrait shows each lane's whole run as a curve and its current state as a dot.\n",
+        p.gravity,
+        p.length,
+        p.theta0.to_degrees(),
+        p.omega0,
+        c.dt,
+        c.total_steps(),
+        c.total_steps() as f64 * c.dt,
+        c.frame_stride(),
+        1.0 / (c.frame_stride() as f64 * c.dt),
+        c.plot_stride(),
+        c.methods.iter().map(|m| m.name()).collect::<Vec<_>>().join(", "),
+        c.options.verlet_damping,
+        setup.reference_description,
+        setup.initial_energy,
+        setup.energy_scale,
+        setup.energy_bound,
+    )
+}

@@ -1,0 +1,3 @@
+//! The physics scenes. Plain Rust over f64 / glam: nothing here knows about Rerun.
+
+pub mod pendulum;

@@ -1,0 +1,149 @@
+//! The simple pendulum θ'' = -(g/L) sin θ as a one-degree-of-freedom ODE in (θ, ω), f64.
+//!
+//! Energy is per unit bob mass with the potential's zero at the lowest point,
+//! E = ½ L² ω² + g L (1 - cos θ) [J/kg], so E ≥ 0 and E = 0 only at rest at the bottom.
+
+pub mod period;
+pub mod reference;
+pub mod run;
+pub mod summary;
+
+use crate::method::{ImplicitSolve, SecondOrderSystem};
+
+/// Newton's tolerance on the implicit-Euler step: stop when |Δω| ≤ NEWTON_TOL·(1 + |ω|) [rad/s].
+pub const NEWTON_TOL: f64 = 1e-12;
+/// Newton iterations before a step is reported as not converged.
+pub const NEWTON_MAX_ITERATIONS: u32 = 50;
+
+/// Physical parameters of the pendulum and its initial state.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PendulumParams {
+    /// g [m/s²]
+    pub gravity: f64,
+    /// L [m]
+    pub length: f64,
+    /// θ(0) [rad], measured from straight down
+    pub theta0: f64,
+    /// ω(0) = θ'(0) [rad/s]
+    pub omega0: f64,
+}
+
+impl Default for PendulumParams {
+    fn default() -> Self {
+        PendulumParams { gravity: 9.81, length: 3.521, theta0: 60f64.to_radians(), omega0: 0.0 }
+    }
+}
+
+impl PendulumParams {
+    /// Small-angle angular frequency sqrt(g/L) [rad/s].
+    pub fn omega_n(&self) -> f64 {
+        (self.gravity / self.length).sqrt()
+    }
+
+    /// Total energy per unit mass [J/kg] at (θ, ω).
+    pub fn energy(&self, theta: f64, omega: f64) -> f64 {
+        let l = self.length;
+        0.5 * l * l * omega * omega + self.gravity * l * (1.0 - theta.cos())
+    }
+
+    pub fn initial_energy(&self) -> f64 {
+        self.energy(self.theta0, self.omega0)
+    }
+
+    /// The scale relative energy errors are taken against: E0, or g L when E0 = 0
+    /// (at rest at the bottom, where (E - E0)/E0 is undefined).
+    pub fn energy_scale(&self) -> f64 {
+        let e0 = self.initial_energy();
+        if e0 > 0.0 { e0 } else { self.gravity * self.length }
+    }
+
+    /// Energy needed to swing over the top from rest at the bottom, 2 g L [J/kg].
+    pub fn over_the_top_energy(&self) -> f64 {
+        2.0 * self.gravity * self.length
+    }
+
+    /// Bob position relative to the pivot in the swing plane (x right, z up) [m].
+    pub fn bob_offset(&self, theta: f64) -> (f64, f64) {
+        (self.length * theta.sin(), -self.length * theta.cos())
+    }
+}
+
+/// The pendulum as a [`SecondOrderSystem`] with one coordinate, θ.
+#[derive(Clone, Copy, Debug)]
+pub struct Pendulum {
+    /// g / L [1/s²]
+    g_over_l: f64,
+}
+
+impl Pendulum {
+    pub fn new(params: &PendulumParams) -> Self {
+        Pendulum { g_over_l: params.gravity / params.length }
+    }
+}
+
+impl SecondOrderSystem for Pendulum {
+    fn dim(&self) -> usize {
+        1
+    }
+
+    #[inline]
+    fn acceleration(&self, x: &[f64], _v: &[f64], a: &mut [f64]) {
+        a[0] = -self.g_over_l * x[0].sin();
+    }
+
+    /// Backward Euler: with θ1 = θ0 + dt ω1, solve F(ω1) = ω1 - ω0 + dt (g/L) sin(θ0 + dt ω1) = 0
+    /// by Newton from the explicit-Euler guess. F' = 1 + dt² (g/L) cos θ1 > 0 while
+    /// dt² g/L < 1, so the root is then unique and Newton converges in a few iterations.
+    fn implicit_euler_step(&self, x: &mut [f64], v: &mut [f64], dt: f64) -> ImplicitSolve {
+        let (theta0, omega0) = (x[0], v[0]);
+        let c = self.g_over_l;
+        let mut omega = omega0 - dt * c * theta0.sin();
+        let mut evals = 0;
+        let mut converged = false;
+        let mut update = f64::INFINITY;
+        while evals < NEWTON_MAX_ITERATIONS {
+            let (s, co) = (theta0 + dt * omega).sin_cos();
+            let f = omega - omega0 + dt * c * s;
+            let df = 1.0 + dt * dt * c * co;
+            evals += 1;
+            update = f / df;
+            if !update.is_finite() {
+                break;
+            }
+            omega -= update;
+            if update.abs() <= NEWTON_TOL * (1.0 + omega.abs()) {
+                converged = true;
+                break;
+            }
+        }
+        x[0] = theta0 + dt * omega;
+        v[0] = omega;
+        ImplicitSolve { evals, converged, last_update: update.abs() }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn implicit_step_satisfies_backward_euler_equations() {
+        let p = PendulumParams::default();
+        let sys = Pendulum::new(&p);
+        let (mut x, mut v) = ([1.0], [0.3]);
+        let dt = 0.05;
+        let r = sys.implicit_euler_step(&mut x, &mut v, dt);
+        assert!(r.converged && r.evals <= 6, "{r:?}");
+        // x1 = x0 + dt v1 and v1 = v0 - dt (g/L) sin x1, to the Newton tolerance.
+        assert!((x[0] - (1.0 + dt * v[0])).abs() < 1e-15);
+        assert!((v[0] - (0.3 - dt * p.gravity / p.length * x[0].sin())).abs() < 1e-12);
+    }
+
+    #[test]
+    fn energy_zero_at_bottom_and_2gl_at_top() {
+        let p = PendulumParams::default();
+        assert_eq!(p.energy(0.0, 0.0), 0.0);
+        let top = p.energy(std::f64::consts::PI, 0.0);
+        assert!((top - p.over_the_top_energy()).abs() < 1e-12);
+    }
+}

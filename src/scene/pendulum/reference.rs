@@ -1,0 +1,173 @@
+//! The pendulum's reference solutions: the closed form for a release from rest with |θ0| < 180°,
+//! and a converged fine-step solution for every other start, plus the exact period for any energy.
+
+use super::{Pendulum, PendulumParams};
+use crate::elliptic::{complete_k, jacobi};
+use crate::method::{Integrator, Method, MethodOptions};
+
+/// θ(t) = 2 asin(k sn(K - ωn t | k²)), ω(t) = -2 k ωn cn(K - ωn t | k²), with k = sin(θ0/2),
+/// ωn = sqrt(g/L): the exact motion after release from rest at θ0, |θ0| < 180°.
+#[derive(Clone, Copy, Debug)]
+pub struct ExactPendulum {
+    k: f64,
+    m: f64,
+    quarter: f64,
+    omega_n: f64,
+}
+
+impl ExactPendulum {
+    /// `None` unless the start is a release from rest with |θ0| < 180°.
+    pub fn new(p: &PendulumParams) -> Option<Self> {
+        if p.omega0 != 0.0 || p.theta0.abs() >= std::f64::consts::PI {
+            return None;
+        }
+        let k = (0.5 * p.theta0).sin();
+        let m = k * k;
+        Some(ExactPendulum { k, m, quarter: complete_k(m), omega_n: p.omega_n() })
+    }
+
+    /// (θ, ω) at time t [s].
+    pub fn state(&self, t: f64) -> (f64, f64) {
+        let j = jacobi(self.quarter - self.omega_n * t, self.m);
+        let theta = 2.0 * (self.k * j.sn).clamp(-1.0, 1.0).asin();
+        let omega = -2.0 * self.k * self.omega_n * j.cn;
+        (theta, omega)
+    }
+
+    /// T = 4 K(k²) / ωn [s].
+    pub fn period(&self) -> f64 {
+        4.0 * self.quarter / self.omega_n
+    }
+}
+
+/// The exact period [s] of the motion with the start's energy: 4K(k²)/ωn for libration
+/// (k² = E/(2gL) < 1), 2K(1/k²)/(k ωn) for one full revolution (k² > 1);
+/// `None` on the separatrix (k² = 1, infinite period) or at rest at the bottom.
+pub fn exact_period(p: &PendulumParams) -> Option<f64> {
+    let k2 = p.initial_energy() / p.over_the_top_energy();
+    let wn = p.omega_n();
+    if k2 <= 0.0 || k2 == 1.0 {
+        None
+    } else if k2 < 1.0 {
+        Some(4.0 * complete_k(k2) / wn)
+    } else {
+        Some(2.0 * complete_k(1.0 / k2) / (k2.sqrt() * wn))
+    }
+}
+
+/// A fine-step RK4 solution for starts the closed form does not cover. It is run twice, at
+/// h and h/2, and the finer one is used; their difference / (2⁴ - 1) (Richardson for order 4)
+/// estimates its error, reported with the run.
+#[derive(Clone, Debug)]
+pub struct FineStepReference {
+    fine: Integrator,
+    coarse: Integrator,
+    system: Pendulum,
+    substeps: u64,
+    max_difference: f64,
+    step: u64,
+}
+
+/// Fine steps are chosen so that (fastest rate) × h ≤ this; RK4's error then sits near 1e-10
+/// over tens of periods, far below what the methods under test reach.
+const FINE_STEP_RATE_TIMES_H: f64 = 2e-3;
+
+impl FineStepReference {
+    /// A reference sampled every `dt`, stepped with RK4 at dt / substeps and dt / (2 substeps).
+    pub fn new(p: &PendulumParams, dt: f64) -> Self {
+        let system = Pendulum::new(p);
+        // Fastest angular rate: the small-angle frequency or the largest |ω| the energy allows.
+        let rate = p.omega_n().max((2.0 * p.initial_energy()).sqrt() / p.length);
+        let substeps = ((rate * dt / FINE_STEP_RATE_TIMES_H).ceil() as u64).max(1);
+        let h = dt / substeps as f64;
+        let make = |h: f64| {
+            Integrator::new(Method::Rk4, &system, &[p.theta0], &[p.omega0], h, MethodOptions::default())
+        };
+        FineStepReference {
+            coarse: make(h),
+            fine: make(0.5 * h),
+            system,
+            substeps,
+            max_difference: 0.0,
+            step: 0,
+        }
+    }
+
+    /// Advances to the next sample time (one outer step dt) and returns (θ, ω) there.
+    pub fn next(&mut self) -> (f64, f64) {
+        for _ in 0..self.substeps {
+            self.coarse.step(&self.system);
+            self.fine.step(&self.system);
+            self.fine.step(&self.system);
+        }
+        self.step += 1;
+        let diff = (self.fine.position()[0] - self.coarse.position()[0]).abs();
+        self.max_difference = self.max_difference.max(diff);
+        (self.fine.position()[0], self.fine.velocity()[0])
+    }
+
+    /// Estimated largest error of θ so far [rad]: the h/2 run's error is the difference
+    /// between the runs / (2⁴ - 1) for a fourth-order method.
+    pub fn error_estimate(&self) -> f64 {
+        self.max_difference / 15.0
+    }
+
+    /// The fine step size [s].
+    pub fn fine_step(&self) -> f64 {
+        self.fine.dt()
+    }
+}
+
+/// The reference a run compares against.
+#[derive(Clone, Debug)]
+pub enum Reference {
+    Exact(ExactPendulum),
+    FineStep(Box<FineStepReference>),
+}
+
+impl Reference {
+    /// The closed form where it applies, otherwise the fine-step solution sampled every `dt`.
+    pub fn for_start(p: &PendulumParams, dt: f64) -> Self {
+        match ExactPendulum::new(p) {
+            Some(e) => Reference::Exact(e),
+            None => Reference::FineStep(Box::new(FineStepReference::new(p, dt))),
+        }
+    }
+
+    /// Its lane name in tables and recordings: `exact` or `reference`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Reference::Exact(_) => "exact",
+            Reference::FineStep(_) => "reference",
+        }
+    }
+
+    /// (θ, ω) at step n (time n·dt). Steps must be asked for in order, 1, 2, 3, ...
+    pub fn state_at_step(&mut self, n: u64, dt: f64) -> (f64, f64) {
+        match self {
+            Reference::Exact(e) => e.state(n as f64 * dt),
+            Reference::FineStep(f) => {
+                debug_assert_eq!(n, f.step + 1, "fine-step reference is sampled in order");
+                f.next()
+            }
+        }
+    }
+
+    /// One sentence on what the reference is, for the recording and the summary.
+    pub fn describe(&self) -> String {
+        match self {
+            Reference::Exact(e) => format!(
+                "exact: closed form θ(t) = 2 asin(k sn(K - ωn t, k²)), k = {:.12}, K = {:.15}, T = {:.12} s",
+                e.k,
+                e.quarter,
+                e.period()
+            ),
+            Reference::FineStep(f) => format!(
+                "reference: no closed form for this start (ω0 ≠ 0 or |θ0| ≥ 180°); RK4 at h = {:.3e} s, \
+                 estimated max θ error {:.1e} rad (Richardson against a run at 2h)",
+                f.fine_step(),
+                f.error_estimate()
+            ),
+        }
+    }
+}
