@@ -37,15 +37,28 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
 
 fn pendulum(args: &PendulumArgs) -> anyhow::Result<()> {
     let config = pendulum_config(args)?;
-    let recording = FileRecording::create(&args.output, "pendulum", crate::record::pendulum::blueprint())?;
+    let recording = FileRecording::create(
+        &args.output,
+        "pendulum",
+        crate::record::pendulum::blueprint(),
+    )?;
     let methods: Vec<&str> = config.methods.iter().map(|m| m.name()).collect();
-    send_provenance(recording.stream(), "pendulum", &pendulum_config_toml(&config, args), &methods)?;
+    send_provenance(
+        recording.stream(),
+        "pendulum",
+        &pendulum_config_toml(&config, args),
+        &methods,
+    )?;
     let mut recorder = crate::record::pendulum::PendulumRecorder::new(recording.stream().clone());
     let summary = run_pendulum(&config, &mut recorder)?;
     drop(recorder);
     let bytes = recording.commit()?;
     print!("{}", summary_text(&summary));
-    println!("\nrecording: {} ({:.2} MB)", args.output.display(), bytes as f64 / 1e6);
+    println!(
+        "\nrecording: {} ({:.2} MB)",
+        args.output.display(),
+        bytes as f64 / 1e6
+    );
     Ok(())
 }
 
@@ -74,7 +87,9 @@ pub fn pendulum_config(args: &PendulumArgs) -> Result<PendulumConfig, UsageError
     }
     let d = args.verlet_damping;
     if !(d.is_finite() && (0.0..1.0).contains(&d)) {
-        return Err(UsageError(format!("--verlet-damping {d}: must be in [0, 1)")));
+        return Err(UsageError(format!(
+            "--verlet-damping {d}: must be in [0, 1)"
+        )));
     }
     let mut methods: Vec<Method> = Vec::new();
     for &m in &args.methods {
@@ -123,7 +138,9 @@ fn finite(option: &str, value: f64, unit: &str) -> Result<(), UsageError> {
     if value.is_finite() {
         Ok(())
     } else {
-        Err(UsageError(format!("{option} {value}: must be a finite number [{unit}]")))
+        Err(UsageError(format!(
+            "{option} {value}: must be a finite number [{unit}]"
+        )))
     }
 }
 
@@ -131,6 +148,8 @@ fn positive(option: &str, value: f64, unit: &str) -> Result<(), UsageError> {
     if value.is_finite() && value > 0.0 {
         Ok(())
     } else {
-        Err(UsageError(format!("{option} {value}: must be a finite number > 0 [{unit}]")))
+        Err(UsageError(format!(
+            "{option} {value}: must be a finite number > 0 [{unit}]"
+        )))
     }
 }

@@ -37,9 +37,16 @@ pub struct Jacobi {
 /// The argument is reduced modulo the real period 4K(m) first so that long runs (many periods)
 /// keep full precision in the back-substitution.
 pub fn jacobi(u: f64, m: f64) -> Jacobi {
-    assert!((0.0..1.0).contains(&m), "Jacobi functions need 0 <= m < 1, got {m}");
+    assert!(
+        (0.0..1.0).contains(&m),
+        "Jacobi functions need 0 <= m < 1, got {m}"
+    );
     if m == 0.0 {
-        return Jacobi { sn: u.sin(), cn: u.cos(), dn: 1.0 };
+        return Jacobi {
+            sn: u.sin(),
+            cn: u.cos(),
+            dn: 1.0,
+        };
     }
     let period = 4.0 * complete_k(m);
     let u = u - period * (u / period).round();
@@ -104,7 +111,11 @@ mod tests {
                 // d sn/du = cn dn, checked by a central difference.
                 let e = 1e-5;
                 let d = (jacobi(u + e, m).sn - jacobi(u - e, m).sn) / (2.0 * e);
-                assert!((d - j.cn * j.dn).abs() < 1e-8, "m={m} u={u}: {d} vs {}", j.cn * j.dn);
+                assert!(
+                    (d - j.cn * j.dn).abs() < 1e-8,
+                    "m={m} u={u}: {d} vs {}",
+                    j.cn * j.dn
+                );
             }
         }
     }

@@ -13,7 +13,10 @@ impl Table {
         I: IntoIterator<Item = S>,
         S: Into<String>,
     {
-        Table { header: header.into_iter().map(Into::into).collect(), rows: Vec::new() }
+        Table {
+            header: header.into_iter().map(Into::into).collect(),
+            rows: Vec::new(),
+        }
     }
 
     pub fn row<I, S>(&mut self, cells: I)
@@ -60,5 +63,43 @@ impl Table {
             out.push_str(&line(r));
         }
         out
+    }
+}
+
+/// A number with at most `decimals` decimals and no trailing zeros: 59.99999999999999 → "60".
+pub fn trim_number(x: f64, decimals: usize) -> String {
+    let s = format!("{x:.decimals$}");
+    if s.contains('.') {
+        let t = s.trim_end_matches('0').trim_end_matches('.');
+        if t == "-0" {
+            "0".to_string()
+        } else {
+            t.to_string()
+        }
+    } else {
+        s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn trims_float_noise_and_zeros() {
+        assert_eq!(trim_number(60f64.to_radians().to_degrees(), 9), "60");
+        assert_eq!(trim_number(0.125, 9), "0.125");
+        assert_eq!(trim_number(-1e-12, 9), "0");
+        assert_eq!(trim_number(100.0, 3), "100");
+    }
+
+    #[test]
+    fn table_pads_columns() {
+        let mut t = Table::new(["a", "long"]);
+        t.row(["xyz", "1"]);
+        assert_eq!(
+            t.render(),
+            "| a   | long |\n|-----|------|\n| xyz | 1    |\n"
+        );
     }
 }

@@ -47,9 +47,16 @@ impl FileRecording {
         std::fs::create_dir_all(&dir)
             .with_context(|| format!("cannot create the output folder {}", dir.display()))?;
         if target.is_dir() {
-            anyhow::bail!("output {} is a folder; give a file path such as {}/run.rrd", target.display(), target.display());
+            anyhow::bail!(
+                "output {} is a folder; give a file path such as {}/run.rrd",
+                target.display(),
+                target.display()
+            );
         }
-        let file_name = target.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        let file_name = target
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
         let tmp_path = dir.join(format!(".{file_name}.{}.partial", std::process::id()));
         // Fail now, before simulating, if the folder is not writable.
         std::fs::File::create(&tmp_path)
@@ -61,7 +68,11 @@ impl FileRecording {
             .save(&tmp_path)
             .with_context(|| format!("cannot open {} for writing", tmp_path.display()))?;
         rec.set_log_time_enabled(false);
-        Ok(FileRecording { rec: Some(rec), tmp_path, final_path: target.to_path_buf() })
+        Ok(FileRecording {
+            rec: Some(rec),
+            tmp_path,
+            final_path: target.to_path_buf(),
+        })
     }
 
     pub fn stream(&self) -> &rerun::RecordingStream {
@@ -76,7 +87,11 @@ impl FileRecording {
         // and its writer thread is joined before `drop` returns.
         drop(rec);
         std::fs::rename(&self.tmp_path, &self.final_path).with_context(|| {
-            format!("cannot move {} to {}", self.tmp_path.display(), self.final_path.display())
+            format!(
+                "cannot move {} to {}",
+                self.tmp_path.display(),
+                self.final_path.display()
+            )
         })?;
         Ok(std::fs::metadata(&self.final_path)?.len())
     }
@@ -92,13 +107,21 @@ impl Drop for FileRecording {
 }
 
 /// Sends the run's provenance as recording properties (`/__properties/physlab`).
-pub fn send_provenance(rec: &rerun::RecordingStream, scene: &str, config_text: &str, methods: &[&str]) -> anyhow::Result<()> {
+pub fn send_provenance(
+    rec: &rerun::RecordingStream,
+    scene: &str,
+    config_text: &str,
+    methods: &[&str],
+) -> anyhow::Result<()> {
     let command_line = std::env::args().collect::<Vec<_>>().join(" ");
     rec.send_property(
         "physlab",
         &rerun::AnyValues::default()
             .with_component::<rerun::components::Text>("scene", [scene])
-            .with_component::<rerun::components::Text>("physlab_version", [env!("CARGO_PKG_VERSION")])
+            .with_component::<rerun::components::Text>(
+                "physlab_version",
+                [env!("CARGO_PKG_VERSION")],
+            )
             .with_component::<rerun::components::Text>("rerun_sdk_version", [RERUN_SDK_VERSION])
             .with_component::<rerun::components::Text>("command_line", [command_line])
             .with_component::<rerun::components::Text>("methods", [methods.join(",")])

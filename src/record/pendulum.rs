@@ -15,7 +15,9 @@ use rerun::blueprint::{
 use rerun::{RecordingStream, TimeColumn};
 
 use super::method_color;
-use crate::scene::pendulum::run::{Event, EventKind, FrameState, PendulumObserver, RunSetup, RunSummary, SeriesBlock};
+use crate::scene::pendulum::run::{
+    Event, EventKind, FrameState, PendulumObserver, RunSetup, RunSummary, SeriesBlock,
+};
 
 /// The plotted quantities: entity name and plot title (with units).
 pub const PLOTS: [(&str, &str); 5] = [
@@ -34,7 +36,11 @@ const MAX_PHASE_POINTS: usize = 5_000;
 pub fn blueprint() -> Blueprint {
     let plots: Vec<_> = PLOTS
         .iter()
-        .map(|(name, title)| TimeSeriesView::new(*title).with_origin(format!("/pendulum/plots/{name}")).into())
+        .map(|(name, title)| {
+            TimeSeriesView::new(*title)
+                .with_origin(format!("/pendulum/plots/{name}"))
+                .into()
+        })
         .collect();
     let left = Vertical::new([
         Spatial3DView::new("pendulum: methods side by side (grey ghost = reference)")
@@ -52,8 +58,12 @@ pub fn blueprint() -> Blueprint {
                 .with_origin("/pendulum/phase")
                 .into(),
             Vertical::new([
-                TextDocumentView::new("about this run").with_origin("/pendulum/about").into(),
-                TextLogView::new("events").with_origin("/pendulum/events").into(),
+                TextDocumentView::new("about this run")
+                    .with_origin("/pendulum/about")
+                    .into(),
+                TextLogView::new("events")
+                    .with_origin("/pendulum/events")
+                    .into(),
             ])
             .into(),
         ])
@@ -61,9 +71,11 @@ pub fn blueprint() -> Blueprint {
         .into(),
     ])
     .with_row_shares([3.0, 2.0]);
-    Blueprint::new(Horizontal::new([left.into(), Vertical::new(plots).into()]).with_column_shares([1.0, 1.0]))
-        .with_auto_views(false)
-        .with_time_panel(TimePanel::new().with_timeline("sim_time"))
+    Blueprint::new(
+        Horizontal::new([left.into(), Vertical::new(plots).into()]).with_column_shares([1.0, 1.0]),
+    )
+    .with_auto_views(false)
+    .with_time_panel(TimePanel::new().with_timeline("sim_time"))
 }
 
 /// Logs a pendulum run to a recording stream as it happens.
@@ -72,6 +84,8 @@ pub struct PendulumRecorder {
     lanes: Vec<&'static str>,
     /// Slot centres along x [m].
     slots: Vec<f32>,
+    /// Pivot height above the viewer's ground grid [m], so the pendulums swing above it.
+    pivot_z: f32,
     length: f64,
     frame_stride: u64,
     /// Decimated (θ, ω) per lane for the phase portrait.
@@ -87,6 +101,7 @@ impl PendulumRecorder {
             rec,
             lanes: Vec::new(),
             slots: Vec::new(),
+            pivot_z: 0.0,
             length: 1.0,
             frame_stride: 1,
             phase: Vec::new(),
@@ -97,12 +112,17 @@ impl PendulumRecorder {
 
     fn bob_position(&self, lane: usize, theta: f64) -> [f32; 3] {
         let (x, z) = (self.length * theta.sin(), -self.length * theta.cos());
-        [self.slots[lane] + x as f32, 0.0, z as f32]
+        [self.slots[lane] + x as f32, 0.0, self.pivot_z + z as f32]
+    }
+
+    fn pivot(&self, lane: usize) -> [f32; 3] {
+        [self.slots[lane], 0.0, self.pivot_z]
     }
 
     fn set_time(&self, step: u64, time: f64) {
         self.rec.set_duration_secs("sim_time", time);
-        self.rec.set_time_sequence("frame", (step / self.frame_stride) as i64);
+        self.rec
+            .set_time_sequence("frame", (step / self.frame_stride) as i64);
     }
 }
 
@@ -113,7 +133,9 @@ impl PendulumObserver for PendulumRecorder {
         self.lanes = setup.lanes.iter().map(|l| l.name).collect();
         self.length = c.params.length;
         self.frame_stride = c.frame_stride();
-        let spacing = 2.5 * c.params.length as f32;
+        // Slots 2.2 L apart: a full swing spans 2 L, so neighbours never overlap.
+        let spacing = 2.2 * c.params.length as f32;
+        self.pivot_z = 1.2 * c.params.length as f32;
         self.slots = (0..self.lanes.len()).map(|i| i as f32 * spacing).collect();
         self.phase = vec![Vec::new(); self.lanes.len()];
         self.reference_description = setup.reference_description.clone();
@@ -125,7 +147,7 @@ impl PendulumObserver for PendulumRecorder {
             let color = method_color(name);
             rec.log_static(
                 format!("pendulum/{name}/pivot"),
-                &rerun::Points3D::new([[self.slots[i], 0.0, 0.0]])
+                &rerun::Points3D::new([self.pivot(i)])
                     .with_radii([0.3 * bob_radius])
                     .with_colors([[128, 128, 128]]),
             )?;
@@ -140,7 +162,9 @@ impl PendulumObserver for PendulumRecorder {
             )?;
             rec.log_static(
                 format!("pendulum/{name}/rod"),
-                &rerun::LineStrips3D::update_fields().with_radii([0.15 * bob_radius]).with_colors([color]),
+                &rerun::LineStrips3D::update_fields()
+                    .with_radii([0.15 * bob_radius])
+                    .with_colors([color]),
             )?;
             if i > 0 {
                 rec.log_static(
@@ -156,27 +180,36 @@ impl PendulumObserver for PendulumRecorder {
                 }
                 rec.log_static(
                     format!("pendulum/plots/{quantity}/{name}"),
-                    &rerun::SeriesLines::new().with_names([*name]).with_colors([color]).with_widths([1.5]),
+                    &rerun::SeriesLines::new()
+                        .with_names([*name])
+                        .with_colors([color])
+                        .with_widths([1.5]),
                 )?;
             }
             rec.log_static(
                 format!("pendulum/phase/{name}/path"),
-                &rerun::LineStrips2D::update_fields().with_colors([color]).with_radii([rerun::Radius::new_ui_points(1.0)]),
+                &rerun::LineStrips2D::update_fields()
+                    .with_colors([color])
+                    .with_radii([rerun::Radius::new_ui_points(1.0)]),
             )?;
             rec.log_static(
                 format!("pendulum/phase/{name}/state"),
+                // No labels: eight of them overlap where the curves agree; colours match the plots.
                 &rerun::Points2D::update_fields()
                     .with_colors([color])
-                    .with_radii([rerun::Radius::new_ui_points(5.0)])
-                    .with_labels([*name]),
+                    .with_radii([rerun::Radius::new_ui_points(5.0)]),
             )?;
         }
 
-        rec.log_static("pendulum/about", &rerun::TextDocument::from_markdown(about_text(setup)))?;
+        rec.log_static(
+            "pendulum/about",
+            &rerun::TextDocument::from_markdown(about_text(setup)),
+        )?;
         self.set_time(0, 0.0);
         rec.log(
             "pendulum/events",
-            &rerun::TextLog::new(setup.reference_description.clone()).with_level(rerun::TextLogLevel::INFO),
+            &rerun::TextLog::new(setup.reference_description.clone())
+                .with_level(rerun::TextLogLevel::INFO),
         )?;
         Ok(())
     }
@@ -189,7 +222,10 @@ impl PendulumObserver for PendulumRecorder {
         let times = || {
             [
                 TimeColumn::new_duration_secs("sim_time", block.times.iter().copied()),
-                TimeColumn::new_sequence("frame", block.steps.iter().map(|s| (s / self.frame_stride) as i64)),
+                TimeColumn::new_sequence(
+                    "frame",
+                    block.steps.iter().map(|s| (s / self.frame_stride) as i64),
+                ),
             ]
         };
         let columns: [(&str, &Vec<f64>); 5] = [
@@ -210,7 +246,7 @@ impl PendulumObserver for PendulumRecorder {
             )?;
         }
         for (k, &step) in block.steps.iter().enumerate() {
-            if step % self.phase_stride == 0 {
+            if step.is_multiple_of(self.phase_stride) {
                 self.phase[lane].push([block.theta[k] as f32, block.omega[k] as f32]);
             }
         }
@@ -221,20 +257,26 @@ impl PendulumObserver for PendulumRecorder {
         self.set_time(frame.step, frame.time);
         let reference = frame.states[0];
         for (i, state) in frame.states.iter().enumerate() {
-            let Some((theta, omega)) = *state else { continue };
+            let Some((theta, omega)) = *state else {
+                continue;
+            };
             let name = self.lanes[i];
             let bob = self.bob_position(i, theta);
-            self.rec.log(format!("pendulum/{name}/bob"), &rerun::Points3D::update_fields().with_positions([bob]))?;
+            self.rec.log(
+                format!("pendulum/{name}/bob"),
+                &rerun::Points3D::update_fields().with_positions([bob]),
+            )?;
             self.rec.log(
                 format!("pendulum/{name}/rod"),
-                &rerun::LineStrips3D::update_fields().with_strips([[[self.slots[i], 0.0, 0.0], bob]]),
+                &rerun::LineStrips3D::update_fields().with_strips([[self.pivot(i), bob]]),
             )?;
             if i > 0
                 && let Some((theta_ref, _)) = reference
             {
                 self.rec.log(
                     format!("pendulum/{name}/exact_ghost"),
-                    &rerun::Points3D::update_fields().with_positions([self.bob_position(i, theta_ref)]),
+                    &rerun::Points3D::update_fields()
+                        .with_positions([self.bob_position(i, theta_ref)]),
                 )?;
             }
             self.rec.log(
@@ -251,16 +293,26 @@ impl PendulumObserver for PendulumRecorder {
             EventKind::Divergence => rerun::TextLogLevel::WARN,
             EventKind::SolverNotConverged => rerun::TextLogLevel::WARN,
         };
-        self.rec.log("pendulum/events", &rerun::TextLog::new(event.message.clone()).with_level(level))?;
+        self.rec.log(
+            "pendulum/events",
+            &rerun::TextLog::new(event.message.clone()).with_level(level),
+        )?;
         if event.kind == EventKind::Divergence {
             // From this moment the lane shows no pendulum, only a marker saying why.
             let name = self.lanes[event.lane];
-            self.rec.log(format!("pendulum/{name}/rod"), &rerun::Clear::flat())?;
-            self.rec.log(format!("pendulum/{name}/exact_ghost"), &rerun::Clear::flat())?;
-            self.rec.log(format!("pendulum/phase/{name}/state"), &rerun::Clear::flat())?;
+            self.rec
+                .log(format!("pendulum/{name}/rod"), &rerun::Clear::flat())?;
+            self.rec.log(
+                format!("pendulum/{name}/exact_ghost"),
+                &rerun::Clear::flat(),
+            )?;
+            self.rec.log(
+                format!("pendulum/phase/{name}/state"),
+                &rerun::Clear::flat(),
+            )?;
             self.rec.log(
                 format!("pendulum/{name}/bob"),
-                &rerun::Points3D::new([[self.slots[event.lane], 0.0, 0.0]])
+                &rerun::Points3D::new([self.pivot(event.lane)])
                     .with_labels([format!("{name}: diverged at t = {:.3} s", event.time)])
                     .with_colors([method_color(name)]),
             )?;
@@ -284,9 +336,13 @@ impl PendulumObserver for PendulumRecorder {
             self.set_time(c.total_steps(), c.total_steps() as f64 * c.dt);
             self.rec.log(
                 "pendulum/events",
-                &rerun::TextLog::new(summary.setup.reference_description.clone()).with_level(rerun::TextLogLevel::INFO),
+                &rerun::TextLog::new(summary.setup.reference_description.clone())
+                    .with_level(rerun::TextLogLevel::INFO),
             )?;
-            self.rec.log_static("pendulum/about", &rerun::TextDocument::from_markdown(about_text(&summary.setup)))?;
+            self.rec.log_static(
+                "pendulum/about",
+                &rerun::TextDocument::from_markdown(about_text(&summary.setup)),
+            )?;
         }
         Ok(())
     }
@@ -310,15 +366,19 @@ fn about_text(setup: &RunSetup) -> String {
          The phase portrait shows each lane's whole run as a curve and its current state as a dot.\n",
         p.gravity,
         p.length,
-        p.theta0.to_degrees(),
+        crate::table::trim_number(p.theta0.to_degrees(), 9),
         p.omega0,
         c.dt,
         c.total_steps(),
-        c.total_steps() as f64 * c.dt,
+        crate::table::trim_number(c.total_steps() as f64 * c.dt, 9),
         c.frame_stride(),
         1.0 / (c.frame_stride() as f64 * c.dt),
         c.plot_stride(),
-        c.methods.iter().map(|m| m.name()).collect::<Vec<_>>().join(", "),
+        c.methods
+            .iter()
+            .map(|m| m.name())
+            .collect::<Vec<_>>()
+            .join(", "),
         c.options.verlet_damping,
         setup.reference_description,
         setup.initial_energy,

@@ -30,7 +30,12 @@ pub struct PendulumParams {
 
 impl Default for PendulumParams {
     fn default() -> Self {
-        PendulumParams { gravity: 9.81, length: 3.521, theta0: 60f64.to_radians(), omega0: 0.0 }
+        PendulumParams {
+            gravity: 9.81,
+            length: 3.521,
+            theta0: 60f64.to_radians(),
+            omega0: 0.0,
+        }
     }
 }
 
@@ -54,7 +59,11 @@ impl PendulumParams {
     /// (at rest at the bottom, where (E - E0)/E0 is undefined).
     pub fn energy_scale(&self) -> f64 {
         let e0 = self.initial_energy();
-        if e0 > 0.0 { e0 } else { self.gravity * self.length }
+        if e0 > 0.0 {
+            e0
+        } else {
+            self.gravity * self.length
+        }
     }
 
     /// Energy needed to swing over the top from rest at the bottom, 2 g L [J/kg].
@@ -77,7 +86,9 @@ pub struct Pendulum {
 
 impl Pendulum {
     pub fn new(params: &PendulumParams) -> Self {
-        Pendulum { g_over_l: params.gravity / params.length }
+        Pendulum {
+            g_over_l: params.gravity / params.length,
+        }
     }
 }
 
@@ -118,7 +129,11 @@ impl SecondOrderSystem for Pendulum {
         }
         x[0] = theta0 + dt * omega;
         v[0] = omega;
-        ImplicitSolve { evals, converged, last_update: update.abs() }
+        ImplicitSolve {
+            evals,
+            converged,
+            last_update: update.abs(),
+        }
     }
 }
 

@@ -23,7 +23,12 @@ impl ExactPendulum {
         }
         let k = (0.5 * p.theta0).sin();
         let m = k * k;
-        Some(ExactPendulum { k, m, quarter: complete_k(m), omega_n: p.omega_n() })
+        Some(ExactPendulum {
+            k,
+            m,
+            quarter: complete_k(m),
+            omega_n: p.omega_n(),
+        })
     }
 
     /// (θ, ω) at time t [s].
@@ -77,11 +82,20 @@ impl FineStepReference {
     pub fn new(p: &PendulumParams, dt: f64) -> Self {
         let system = Pendulum::new(p);
         // Fastest angular rate: the small-angle frequency or the largest |ω| the energy allows.
-        let rate = p.omega_n().max((2.0 * p.initial_energy()).sqrt() / p.length);
+        let rate = p
+            .omega_n()
+            .max((2.0 * p.initial_energy()).sqrt() / p.length);
         let substeps = ((rate * dt / FINE_STEP_RATE_TIMES_H).ceil() as u64).max(1);
         let h = dt / substeps as f64;
         let make = |h: f64| {
-            Integrator::new(Method::Rk4, &system, &[p.theta0], &[p.omega0], h, MethodOptions::default())
+            Integrator::new(
+                Method::Rk4,
+                &system,
+                &[p.theta0],
+                &[p.omega0],
+                h,
+                MethodOptions::default(),
+            )
         };
         FineStepReference {
             coarse: make(h),
@@ -94,7 +108,7 @@ impl FineStepReference {
     }
 
     /// Advances to the next sample time (one outer step dt) and returns (θ, ω) there.
-    pub fn next(&mut self) -> (f64, f64) {
+    pub fn advance(&mut self) -> (f64, f64) {
         for _ in 0..self.substeps {
             self.coarse.step(&self.system);
             self.fine.step(&self.system);
@@ -148,7 +162,7 @@ impl Reference {
             Reference::Exact(e) => e.state(n as f64 * dt),
             Reference::FineStep(f) => {
                 debug_assert_eq!(n, f.step + 1, "fine-step reference is sampled in order");
-                f.next()
+                f.advance()
             }
         }
     }

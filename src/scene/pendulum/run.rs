@@ -210,7 +210,10 @@ struct Lane {
 }
 
 /// Runs the comparison, reporting to `observer`; returns the summary.
-pub fn run(config: &PendulumConfig, observer: &mut dyn PendulumObserver) -> anyhow::Result<RunSummary> {
+pub fn run(
+    config: &PendulumConfig,
+    observer: &mut dyn PendulumObserver,
+) -> anyhow::Result<RunSummary> {
     let p = config.params;
     let dt = config.dt;
     let system = Pendulum::new(&p);
@@ -251,7 +254,13 @@ pub fn run(config: &PendulumConfig, observer: &mut dyn PendulumObserver) -> anyh
 
     let setup = RunSetup {
         config: config.clone(),
-        lanes: lanes.iter().map(|l| LaneInfo { name: l.summary.name, method: l.summary.method }).collect(),
+        lanes: lanes
+            .iter()
+            .map(|l| LaneInfo {
+                name: l.summary.name,
+                method: l.summary.method,
+            })
+            .collect(),
         reference_description: reference.describe(),
         initial_energy: e0,
         energy_scale: e_scale,
@@ -271,7 +280,17 @@ pub fn run(config: &PendulumConfig, observer: &mut dyn PendulumObserver) -> anyh
     for (i, l) in lanes.iter_mut().enumerate() {
         l.meter.push(0.0, p.theta0, p.omega0);
         block.clear();
-        push_sample(&mut block, 0, 0.0, p.theta0, p.omega0, &p, e0, e_scale, (i > 0).then_some(0.0));
+        push_sample(
+            &mut block,
+            0,
+            0.0,
+            p.theta0,
+            p.omega0,
+            &p,
+            e0,
+            e_scale,
+            (i > 0).then_some(0.0),
+        );
         observer.series(i, &block)?;
     }
     observer.frame(&FrameState {
@@ -287,11 +306,11 @@ pub fn run(config: &PendulumConfig, observer: &mut dyn PendulumObserver) -> anyh
         let len = ((total - first + 1) as usize).min(BLOCK_STEPS);
 
         // Reference over the block (not timed).
-        for j in 0..len {
+        for (j, slot) in ref_theta[..len].iter_mut().enumerate() {
             let (th, w) = reference.state_at_step(first + j as u64, dt);
             lanes[0].theta[j] = th;
             lanes[0].omega[j] = w;
-            ref_theta[j] = th;
+            *slot = th;
         }
         lanes[0].accepted = len;
 
@@ -301,7 +320,10 @@ pub fn run(config: &PendulumConfig, observer: &mut dyn PendulumObserver) -> anyh
             if !l.alive {
                 continue;
             }
-            let it = l.integrator.as_mut().expect("method lanes have an integrator");
+            let it = l
+                .integrator
+                .as_mut()
+                .expect("method lanes have an integrator");
             l.unconverged.clear();
             let start = Instant::now();
             for j in 0..len {
@@ -331,7 +353,9 @@ pub fn run(config: &PendulumConfig, observer: &mut dyn PendulumObserver) -> anyh
                 let bad = if !th.is_finite() || !w.is_finite() {
                     Some(format!("θ = {th}, ω = {w} is not finite"))
                 } else if e > e_bound {
-                    Some(format!("energy {e:.4e} J/kg exceeds the bound {e_bound:.4e} J/kg"))
+                    Some(format!(
+                        "energy {e:.4e} J/kg exceeds the bound {e_bound:.4e} J/kg"
+                    ))
                 } else {
                     None
                 };
@@ -343,7 +367,10 @@ pub fn run(config: &PendulumConfig, observer: &mut dyn PendulumObserver) -> anyh
                         time,
                         step,
                         kind: EventKind::Divergence,
-                        message: format!("{} diverged at t = {time:.6} s (step {step}): {why}", l.summary.name),
+                        message: format!(
+                            "{} diverged at t = {time:.6} s (step {step}): {why}",
+                            l.summary.name
+                        ),
                     };
                     observer.event(&event)?;
                     l.summary.divergence = Some(event);
@@ -356,25 +383,30 @@ pub fn run(config: &PendulumConfig, observer: &mut dyn PendulumObserver) -> anyh
             l.summary.steps += accepted as u64;
 
             block.clear();
-            for j in 0..accepted {
+            for (j, &theta_ref) in ref_theta[..accepted].iter().enumerate() {
                 let step = first + j as u64;
                 let t = step as f64 * dt;
                 let (th, w) = (l.theta[j], l.omega[j]);
                 l.meter.push(t, th, w);
                 let e = p.energy(th, w);
-                l.summary.max_energy_error = l.summary.max_energy_error.max(((e - e0) / e_scale).abs());
-                let theta_error = (i > 0).then(|| (th - ref_theta[j]).abs());
+                l.summary.max_energy_error =
+                    l.summary.max_energy_error.max(((e - e0) / e_scale).abs());
+                let theta_error = (i > 0).then(|| (th - theta_ref).abs());
                 if let Some(err) = theta_error {
                     l.summary.max_theta_error = l.summary.max_theta_error.max(err);
                 }
-                if step % plot_stride == 0 {
+                if step.is_multiple_of(plot_stride) {
                     push_sample(&mut block, step, t, th, w, &p, e0, e_scale, theta_error);
                 }
             }
             observer.series(i, &block)?;
 
             if let Some(&step) = l.unconverged.first() {
-                let count = l.unconverged.iter().filter(|&&s| s < first + accepted as u64).count();
+                let count = l
+                    .unconverged
+                    .iter()
+                    .filter(|&&s| s < first + accepted as u64)
+                    .count();
                 if count > 0 {
                     let time = step as f64 * dt;
                     observer.event(&Event {
@@ -403,7 +435,12 @@ pub fn run(config: &PendulumConfig, observer: &mut dyn PendulumObserver) -> anyh
                 .iter()
                 .map(|l| (j < l.accepted).then(|| (l.theta[j], l.omega[j])))
                 .collect();
-            observer.frame(&FrameState { frame: frames, step, time: step as f64 * dt, states })?;
+            observer.frame(&FrameState {
+                frame: frames,
+                step,
+                time: step as f64 * dt,
+                states,
+            })?;
             frames += 1;
             step += frame_stride;
         }
@@ -420,7 +457,11 @@ pub fn run(config: &PendulumConfig, observer: &mut dyn PendulumObserver) -> anyh
     let mut setup = setup;
     // The fine-step reference's error estimate is only known at the end.
     setup.reference_description = reference.describe();
-    let summary = RunSummary { setup, lanes: summaries, frames };
+    let summary = RunSummary {
+        setup,
+        lanes: summaries,
+        frames,
+    };
     observer.finish(&summary)?;
     Ok(summary)
 }

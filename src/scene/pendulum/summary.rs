@@ -12,11 +12,11 @@ pub fn summary_text(s: &RunSummary) -> String {
         "pendulum: g = {} m/s², L = {} m, θ0 = {}°, ω0 = {} rad/s, dt = {} s, {} steps to t = {} s\n",
         p.gravity,
         p.length,
-        p.theta0.to_degrees(),
+        crate::table::trim_number(p.theta0.to_degrees(), 9),
         p.omega0,
         c.dt,
         c.total_steps(),
-        c.total_steps() as f64 * c.dt
+        crate::table::trim_number(c.total_steps() as f64 * c.dt, 9)
     ));
     out.push_str(&format!("{}\n", s.setup.reference_description));
     out.push_str(&format!(
@@ -26,7 +26,9 @@ pub fn summary_text(s: &RunSummary) -> String {
     ));
     match s.setup.exact_period {
         Some(t) => out.push_str(&format!("exact period from E0: {t:.9} s\n\n")),
-        None => out.push_str("exact period: none (at rest at the bottom, or on the separatrix)\n\n"),
+        None => {
+            out.push_str("exact period: none (at rest at the bottom, or on the separatrix)\n\n")
+        }
     }
 
     let mut table = Table::new([
@@ -43,7 +45,9 @@ pub fn summary_text(s: &RunSummary) -> String {
     ]);
     for l in &s.lanes {
         let timed = l.method.is_some();
-        let period = l.period.map_or_else(|| "— (< 2 crossings)".to_string(), |t| format!("{t:.9}"));
+        let period = l
+            .period
+            .map_or_else(|| "— (< 2 crossings)".to_string(), |t| format!("{t:.9}"));
         let period_err = match (l.period, s.setup.exact_period) {
             (Some(m), Some(e)) => format!("{:+.2e}", m / e - 1.0),
             _ => "—".to_string(),
@@ -53,18 +57,33 @@ pub fn summary_text(s: &RunSummary) -> String {
             None => "no".to_string(),
         };
         if l.failed_solves > 0 {
-            diverged.push_str(&format!("; Newton missed tolerance on {} steps", l.failed_solves));
+            diverged.push_str(&format!(
+                "; Newton missed tolerance on {} steps",
+                l.failed_solves
+            ));
         }
         table.row([
             l.name.to_string(),
             l.steps.to_string(),
-            if timed { l.evals.to_string() } else { "—".into() },
-            if timed { format!("{:.3}", l.wall.as_secs_f64() * 1e3) } else { "—".into() },
+            if timed {
+                l.evals.to_string()
+            } else {
+                "—".into()
+            },
+            if timed {
+                format!("{:.3}", l.wall.as_secs_f64() * 1e3)
+            } else {
+                "—".into()
+            },
             match (timed, l.ns_per_step()) {
                 (true, Some(ns)) => format!("{ns:.1}"),
                 _ => "—".into(),
             },
-            if timed { format!("{:.3e}", l.max_theta_error) } else { "—".into() },
+            if timed {
+                format!("{:.3e}", l.max_theta_error)
+            } else {
+                "—".into()
+            },
             format!("{:.3e}", l.max_energy_error),
             period,
             period_err,

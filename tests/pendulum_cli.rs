@@ -1,0 +1,227 @@
+//! The binary end to end (issue 2, point 7d): exit code, summary, and the recording read back
+//! with Rerun's own decoder.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use clap::Parser as _;
+use physlab::app::pendulum_config;
+use physlab::cli::{Cli, Command as Sub};
+use physlab::scene::pendulum::run::{PendulumObserver, SeriesBlock, run};
+use rerun::external::re_log_encoding::DecoderApp;
+use rerun::log::{Chunk, LogMsg};
+
+fn scratch_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("physlab-test-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Everything the tests need from a recording: entity paths, each plot's (sim_time ns, value)
+/// rows, and whether the footer (RRD manifest) was written.
+struct Decoded {
+    entities: BTreeSet<String>,
+    scalars: BTreeMap<String, Vec<(i64, f64)>>,
+    has_footer: bool,
+}
+
+fn decode(path: &Path) -> Decoded {
+    let scalar = rerun::Scalars::descriptor_scalars().component;
+    let sim_time = rerun::TimelineName::from("sim_time");
+    let file = std::io::BufReader::new(std::fs::File::open(path).unwrap());
+    let mut messages = DecoderApp::decode_lazy(file);
+    let mut entities = BTreeSet::new();
+    let mut scalars: BTreeMap<String, Vec<(i64, f64)>> = BTreeMap::new();
+    for msg in messages.by_ref() {
+        let LogMsg::ArrowMsg(store_id, arrow_msg) = msg.unwrap() else {
+            continue;
+        };
+        if !store_id.is_recording() {
+            continue; // the blueprint store
+        }
+        let chunk = Chunk::from_arrow_msg(&arrow_msg).unwrap();
+        let entity = chunk.entity_path().to_string();
+        entities.insert(entity.clone());
+        if chunk.is_static() || !chunk.components().contains_component(scalar) {
+            continue;
+        }
+        let rows = scalars.entry(entity).or_default();
+        for ((t, _), v) in chunk
+            .iter_indices(&sim_time)
+            .zip(chunk.iter_slices::<f64>(scalar))
+        {
+            rows.push((t.as_i64(), v[0]));
+        }
+    }
+    let has_footer = !messages.rrd_manifests().unwrap().is_empty();
+    for rows in scalars.values_mut() {
+        rows.sort_by_key(|r| r.0);
+    }
+    Decoded {
+        entities,
+        scalars,
+        has_footer,
+    }
+}
+
+/// Collects each lane's θ series as the library reports it.
+#[derive(Default)]
+struct ThetaCollector(BTreeMap<usize, Vec<(u64, f64)>>);
+impl PendulumObserver for ThetaCollector {
+    fn series(&mut self, lane: usize, b: &SeriesBlock) -> anyhow::Result<()> {
+        let rows = self.0.entry(lane).or_default();
+        rows.extend(b.steps.iter().copied().zip(b.theta.iter().copied()));
+        Ok(())
+    }
+}
+
+#[test]
+fn pendulum_run_writes_a_complete_recording_whose_theta_equals_the_simulation() {
+    let dir = scratch_dir("e2e");
+    let out = dir.join("sub/p.rrd");
+    let args = [
+        "pendulum",
+        "--duration",
+        "3",
+        "--theta0",
+        "75",
+        "-o",
+        out.to_str().unwrap(),
+    ];
+    let result = Command::new(env!("CARGO_BIN_EXE_physlab"))
+        .args(args)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&result.stdout);
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert_eq!(
+        result.status.code(),
+        Some(0),
+        "stdout:\n{stdout}\nstderr:\n{stderr}"
+    );
+    assert!(!stderr.contains("panicked"));
+
+    let methods = [
+        "explicit-euler",
+        "semi-implicit-euler",
+        "implicit-euler",
+        "midpoint",
+        "trapezoid",
+        "rk4",
+        "verlet",
+    ];
+    for lane in std::iter::once("exact").chain(methods) {
+        assert!(
+            stdout.lines().any(|l| l.starts_with(&format!("| {lane} "))),
+            "summary row for {lane}:\n{stdout}"
+        );
+    }
+    assert!(
+        stdout.contains("T = 4.212040767") && stdout.contains("recording: "),
+        "{stdout}"
+    );
+    // No temporary file is left beside the recording.
+    let leftovers: Vec<_> = std::fs::read_dir(out.parent().unwrap())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(leftovers, vec![std::ffi::OsString::from("p.rrd")]);
+
+    let d = decode(&out);
+    assert!(d.has_footer, "the recording is finalised with a footer");
+    for lane in std::iter::once("exact").chain(methods) {
+        for part in ["pivot", "rod", "bob"] {
+            assert!(
+                d.entities.contains(&format!("/pendulum/{lane}/{part}")),
+                "missing /pendulum/{lane}/{part}"
+            );
+        }
+        for q in ["theta", "omega", "energy", "energy_error"] {
+            assert!(
+                d.scalars
+                    .contains_key(&format!("/pendulum/plots/{q}/{lane}")),
+                "missing plot {q}/{lane}"
+            );
+        }
+        assert!(d.entities.contains(&format!("/pendulum/phase/{lane}/path")));
+    }
+    for m in methods {
+        assert!(
+            d.scalars
+                .contains_key(&format!("/pendulum/plots/theta_error/{m}"))
+        );
+        assert!(d.entities.contains(&format!("/pendulum/{m}/exact_ghost")));
+    }
+    assert!(d.entities.contains("/pendulum/events") && d.entities.contains("/pendulum/about"));
+
+    // The θ series in the file equals the library's, value for value, at the same times.
+    let Sub::Pendulum(parsed) = Cli::parse_from(std::iter::once("physlab").chain(args)).command
+    else {
+        unreachable!()
+    };
+    let config = pendulum_config(&parsed).unwrap();
+    let mut collected = ThetaCollector::default();
+    let summary = run(&config, &mut collected).unwrap();
+    for (lane, rows) in &collected.0 {
+        let name = summary.lanes[*lane].name;
+        let recorded = &d.scalars[&format!("/pendulum/plots/theta/{name}")];
+        assert_eq!(recorded.len(), rows.len(), "{name}: row count");
+        for (&(t_ns, v), &(step, theta)) in recorded.iter().zip(rows) {
+            let expected_ns = (step as f64 * config.dt * 1e9).round() as i64;
+            assert!(
+                (t_ns - expected_ns).abs() <= 1,
+                "{name}: time {t_ns} ns vs step {step}"
+            );
+            assert_eq!(
+                v.to_bits(),
+                theta.to_bits(),
+                "{name} at step {step}: {v} vs {theta}"
+            );
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn bad_input_is_refused_with_exit_code_2_and_a_clear_message() {
+    let dir = scratch_dir("bad");
+    let out = dir.join("p.rrd");
+    let cases: [(&[&str], &str); 6] = [
+        (&["--dt", "0"], "--dt 0: must be a finite number > 0"),
+        (
+            &["--length", "-1"],
+            "--length -1: must be a finite number > 0",
+        ),
+        (
+            &["--dt", "2", "--duration", "1"],
+            "must not exceed --duration",
+        ),
+        (&["--dt", "1e-12"], "at most 1e9"),
+        (&["--methods", "rk5"], "unknown method 'rk5'"),
+        (
+            &["--verlet-damping", "1"],
+            "--verlet-damping 1: must be in [0, 1)",
+        ),
+    ];
+    for (extra, message) in cases {
+        let result = Command::new(env!("CARGO_BIN_EXE_physlab"))
+            .args(["pendulum", "-o", out.to_str().unwrap()])
+            .args(extra)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&result.stderr);
+        assert_eq!(result.status.code(), Some(2), "{extra:?}: {stderr}");
+        assert!(
+            stderr.contains(message),
+            "{extra:?}: expected '{message}' in:\n{stderr}"
+        );
+        assert!(!stderr.contains("panicked"));
+        assert!(
+            !out.exists(),
+            "{extra:?}: no recording is written for bad input"
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
