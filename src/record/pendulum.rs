@@ -78,14 +78,27 @@ pub fn blueprint() -> Blueprint {
     .with_time_panel(TimePanel::new().with_timeline("sim_time"))
 }
 
+/// Pivots for `n` lanes in rows of at most four, reading order from the top left. Slots are
+/// 2.2 L apart (a full swing spans 2 L) and rows 2.6 L apart (room for the label). A compact
+/// block rather than one long row, so the viewer's default camera frames every lane.
+fn slot_pivots(n: usize, length: f32) -> Vec<[f32; 3]> {
+    let columns = n.clamp(1, 4);
+    let rows = n.div_ceil(columns);
+    (0..n)
+        .map(|i| {
+            let (row, column) = (i / columns, i % columns);
+            let z = (1.2 + 2.6 * (rows - 1 - row) as f32) * length;
+            [2.2 * length * column as f32, 0.0, z]
+        })
+        .collect()
+}
+
 /// Logs a pendulum run to a recording stream as it happens.
 pub struct PendulumRecorder {
     rec: RecordingStream,
     lanes: Vec<&'static str>,
-    /// Slot centres along x [m].
-    slots: Vec<f32>,
-    /// Pivot height above the viewer's ground grid [m], so the pendulums swing above it.
-    pivot_z: f32,
+    /// Each lane's pivot [m]: a wall of slots in the x-z plane, above the viewer's ground grid.
+    pivots: Vec<[f32; 3]>,
     length: f64,
     frame_stride: u64,
     /// Decimated (θ, ω) per lane for the phase portrait.
@@ -100,8 +113,7 @@ impl PendulumRecorder {
         PendulumRecorder {
             rec,
             lanes: Vec::new(),
-            slots: Vec::new(),
-            pivot_z: 0.0,
+            pivots: Vec::new(),
             length: 1.0,
             frame_stride: 1,
             phase: Vec::new(),
@@ -112,11 +124,12 @@ impl PendulumRecorder {
 
     fn bob_position(&self, lane: usize, theta: f64) -> [f32; 3] {
         let (x, z) = (self.length * theta.sin(), -self.length * theta.cos());
-        [self.slots[lane] + x as f32, 0.0, self.pivot_z + z as f32]
+        let [px, py, pz] = self.pivots[lane];
+        [px + x as f32, py, pz + z as f32]
     }
 
     fn pivot(&self, lane: usize) -> [f32; 3] {
-        [self.slots[lane], 0.0, self.pivot_z]
+        self.pivots[lane]
     }
 
     fn set_time(&self, step: u64, time: f64) {
@@ -131,17 +144,34 @@ impl PendulumObserver for PendulumRecorder {
         let c = &setup.config;
         let rec = &self.rec;
         self.lanes = setup.lanes.iter().map(|l| l.name).collect();
+        self.pivots = slot_pivots(self.lanes.len(), c.params.length as f32);
         self.length = c.params.length;
         self.frame_stride = c.frame_stride();
-        // Slots 2.2 L apart: a full swing spans 2 L, so neighbours never overlap.
-        let spacing = 2.2 * c.params.length as f32;
-        self.pivot_z = 1.2 * c.params.length as f32;
-        self.slots = (0..self.lanes.len()).map(|i| i as f32 * spacing).collect();
         self.phase = vec![Vec::new(); self.lanes.len()];
         self.reference_description = setup.reference_description.clone();
         self.phase_stride = (c.total_steps() / c.plot_stride() / MAX_PHASE_POINTS as u64).max(1);
 
         rec.log_static("pendulum", &rerun::ViewCoordinates::RIGHT_HAND_Z_UP())?;
+        // A faint floor outline around the slots. It also widens the bounding box the viewer's
+        // default camera frames, so the nearest slots are not cut off by perspective.
+        let l = c.params.length as f32;
+        let (x_max, z_max) = self
+            .pivots
+            .iter()
+            .fold((0.0f32, 0.0f32), |(x, z), p| (x.max(p[0]), z.max(p[2])));
+        let (x0, x1, y0, y1) = (-2.0 * l, x_max + 2.0 * l, -0.5 * z_max, 0.5 * z_max);
+        rec.log_static(
+            "pendulum/stage",
+            &rerun::LineStrips3D::new([[
+                [x0, y0, 0.0],
+                [x1, y0, 0.0],
+                [x1, y1, 0.0],
+                [x0, y1, 0.0],
+                [x0, y0, 0.0],
+            ]])
+            .with_colors([[90, 90, 90]])
+            .with_radii([rerun::Radius::new_ui_points(1.0)]),
+        )?;
         let bob_radius = 0.06 * c.params.length as f32;
         for (i, name) in self.lanes.iter().enumerate() {
             let color = method_color(name);

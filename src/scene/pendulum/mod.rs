@@ -8,7 +8,7 @@ pub mod reference;
 pub mod run;
 pub mod summary;
 
-use crate::method::{ImplicitSolve, SecondOrderSystem};
+use crate::method::{ImplicitSolve, Integrator, SecondOrderSystem};
 
 /// Newton's tolerance on the implicit-Euler step: stop when |Δω| ≤ NEWTON_TOL·(1 + |ω|) [rad/s].
 pub const NEWTON_TOL: f64 = 1e-12;
@@ -134,6 +134,31 @@ impl SecondOrderSystem for Pendulum {
             converged,
             last_update: update.abs(),
         }
+    }
+}
+
+/// Takes `theta.len()` steps, storing (θ, ω) after each; appends the indices of steps whose
+/// implicit solve missed its tolerance to `unconverged`.
+///
+/// This is the loop the lab times and the benchmark measures. It is not generic and never
+/// inlined, so both run the very same machine code (a generic stepper is compiled anew, and
+/// optimised differently, in every crate that calls it).
+#[inline(never)]
+pub fn step_block(
+    it: &mut Integrator,
+    system: &Pendulum,
+    theta: &mut [f64],
+    omega: &mut [f64],
+    unconverged: &mut Vec<usize>,
+) {
+    for (j, (th, w)) in theta.iter_mut().zip(omega.iter_mut()).enumerate() {
+        if let Some(solve) = it.step(system)
+            && !solve.converged
+        {
+            unconverged.push(j);
+        }
+        *th = it.position()[0];
+        *w = it.velocity()[0];
     }
 }
 

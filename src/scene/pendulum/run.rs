@@ -7,7 +7,7 @@ use std::time::{Duration, Instant};
 
 use super::period::PeriodMeter;
 use super::reference::{Reference, exact_period};
-use super::{Pendulum, PendulumParams};
+use super::{Pendulum, PendulumParams, step_block};
 use crate::method::{Integrator, Method, MethodOptions};
 
 /// A method diverges when θ or ω stops being finite or its energy exceeds this many times
@@ -202,8 +202,8 @@ struct Lane {
     /// Raw (θ, ω) of the current block.
     theta: Vec<f64>,
     omega: Vec<f64>,
-    /// Steps of the current block whose implicit solve missed its tolerance.
-    unconverged: Vec<u64>,
+    /// Offsets in the current block of steps whose implicit solve missed its tolerance.
+    unconverged: Vec<usize>,
     /// Accepted steps in the current block (all, or up to divergence).
     accepted: usize,
     alive: bool,
@@ -326,15 +326,13 @@ pub fn run(
                 .expect("method lanes have an integrator");
             l.unconverged.clear();
             let start = Instant::now();
-            for j in 0..len {
-                if let Some(solve) = it.step(&system)
-                    && !solve.converged
-                {
-                    l.unconverged.push(first + j as u64);
-                }
-                l.theta[j] = it.position()[0];
-                l.omega[j] = it.velocity()[0];
-            }
+            step_block(
+                it,
+                &system,
+                &mut l.theta[..len],
+                &mut l.omega[..len],
+                &mut l.unconverged,
+            );
             l.summary.wall += start.elapsed();
             l.summary.timed_steps += len as u64;
             l.summary.evals = it.evals();
@@ -401,13 +399,10 @@ pub fn run(
             }
             observer.series(i, &block)?;
 
-            if let Some(&step) = l.unconverged.first() {
-                let count = l
-                    .unconverged
-                    .iter()
-                    .filter(|&&s| s < first + accepted as u64)
-                    .count();
+            if let Some(&offset) = l.unconverged.first() {
+                let count = l.unconverged.iter().filter(|&&j| j < accepted).count();
                 if count > 0 {
+                    let step = first + offset as u64;
                     let time = step as f64 * dt;
                     observer.event(&Event {
                         lane: i,
