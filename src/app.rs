@@ -2,12 +2,16 @@
 
 use std::fmt;
 
-use crate::cli::{Cli, Command, PendulumArgs};
+use glam::DVec3;
+
+use crate::cli::{Cli, Command, PendulumArgs, RopeArgs, RopePreset};
 use crate::method::{Method, MethodOptions, methods_table};
 use crate::record::{FileRecording, send_provenance};
 use crate::scene::pendulum::PendulumParams;
 use crate::scene::pendulum::run::{PendulumConfig, run as run_pendulum};
 use crate::scene::pendulum::summary::summary_text;
+use crate::scene::rope::RopeParams;
+use crate::scene::rope::run::RopeConfig;
 
 /// Runs longer than this many steps per method are refused: a typo in --dt should not
 /// start an hours-long run.
@@ -32,6 +36,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             Ok(())
         }
         Command::Pendulum(args) => pendulum(&args),
+        Command::Rope(args) => rope(&args),
     }
 }
 
@@ -68,38 +73,10 @@ pub fn pendulum_config(args: &PendulumArgs) -> Result<PendulumConfig, UsageError
     positive("--length", args.length, "m")?;
     finite("--theta0", args.theta0, "degrees")?;
     finite("--omega0", args.omega0, "rad/s")?;
-    positive("--dt", args.dt, "s")?;
-    positive("--duration", args.duration, "s")?;
-    positive("--fps", args.fps, "Hz")?;
-    if args.dt > args.duration {
-        return Err(UsageError(format!(
-            "--dt {}: must not exceed --duration {} s",
-            args.dt, args.duration
-        )));
-    }
-    let steps = args.duration / args.dt;
-    if steps > MAX_STEPS {
-        return Err(UsageError(format!(
-            "--dt {} with --duration {} is {steps:.2e} steps per method; at most {MAX_STEPS:.0e} are allowed \
-             (raise --dt or shorten --duration)",
-            args.dt, args.duration
-        )));
-    }
+    check_time(args.dt, args.duration, args.fps, 1)?;
     let d = args.verlet_damping;
-    if !(d.is_finite() && (0.0..1.0).contains(&d)) {
-        return Err(UsageError(format!(
-            "--verlet-damping {d}: must be in [0, 1)"
-        )));
-    }
-    let mut methods: Vec<Method> = Vec::new();
-    for &m in &args.methods {
-        if !methods.contains(&m) {
-            methods.push(m);
-        }
-    }
-    if methods.is_empty() {
-        methods = Method::ALL.to_vec();
-    }
+    check_verlet_damping(d)?;
+    let methods = resolve_methods(&args.methods);
     Ok(PendulumConfig {
         params: PendulumParams {
             gravity: args.gravity,
@@ -152,4 +129,235 @@ fn positive(option: &str, value: f64, unit: &str) -> Result<(), UsageError> {
             "{option} {value}: must be a finite number > 0 [{unit}]"
         )))
     }
+}
+
+/// The methods as given, first occurrence kept; all of them when none is given.
+fn resolve_methods(given: &[Method]) -> Vec<Method> {
+    let mut methods: Vec<Method> = Vec::new();
+    for &m in given {
+        if !methods.contains(&m) {
+            methods.push(m);
+        }
+    }
+    if methods.is_empty() {
+        Method::ALL.to_vec()
+    } else {
+        methods
+    }
+}
+
+/// dt, duration and fps, and a refusal of runs whose work (steps × `work_per_step`, e.g. nodes)
+/// would take hours.
+fn check_time(dt: f64, duration: f64, fps: f64, work_per_step: usize) -> Result<(), UsageError> {
+    positive("--dt", dt, "s")?;
+    positive("--duration", duration, "s")?;
+    positive("--fps", fps, "Hz")?;
+    if dt > duration {
+        return Err(UsageError(format!(
+            "--dt {dt}: must not exceed --duration {duration} s"
+        )));
+    }
+    let steps = duration / dt;
+    if steps > MAX_STEPS {
+        return Err(UsageError(format!(
+            "--dt {dt} with --duration {duration} is {steps:.2e} steps per method; at most {MAX_STEPS:.0e} \
+             are allowed (raise --dt or shorten --duration)"
+        )));
+    }
+    let work = steps * work_per_step as f64;
+    if work > MAX_NODE_STEPS {
+        return Err(UsageError(format!(
+            "--duration {duration} / --dt {dt} × {work_per_step} nodes is {work:.2e} node-steps per method; \
+             at most {MAX_NODE_STEPS:.0e} are allowed (raise --dt, shorten --duration or use fewer --nodes)"
+        )));
+    }
+    Ok(())
+}
+
+/// Node-steps per method beyond which a run is refused (about an hour at ~30 ns per node-step).
+pub const MAX_NODE_STEPS: f64 = 1e11;
+
+/// Nodes beyond which a rope is refused (~1 kB per node per method including the implicit solver).
+pub const MAX_NODES: usize = 10_000_000;
+
+fn check_verlet_damping(d: f64) -> Result<(), UsageError> {
+    if d.is_finite() && (0.0..1.0).contains(&d) {
+        Ok(())
+    } else {
+        Err(UsageError(format!(
+            "--verlet-damping {d}: must be in [0, 1)"
+        )))
+    }
+}
+
+fn non_negative(option: &str, value: f64, unit: &str) -> Result<(), UsageError> {
+    if value.is_finite() && value >= 0.0 {
+        Ok(())
+    } else {
+        Err(UsageError(format!(
+            "{option} {value}: must be a finite number ≥ 0 [{unit}]"
+        )))
+    }
+}
+
+/// "x,y" or "x,y,z" (z = 0 when omitted), finite.
+fn parse_vector(option: &str, text: &str) -> Result<DVec3, UsageError> {
+    let bad = || {
+        UsageError(format!(
+            "{option} {text}: expected x,y or x,y,z with finite numbers, e.g. 0,-9.81,0"
+        ))
+    };
+    let parts: Vec<f64> = text
+        .split(',')
+        .map(|p| p.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| bad())?;
+    match parts[..] {
+        [x, y] if x.is_finite() && y.is_finite() => Ok(DVec3::new(x, y, 0.0)),
+        [x, y, z] if x.is_finite() && y.is_finite() && z.is_finite() => Ok(DVec3::new(x, y, z)),
+        _ => Err(bad()),
+    }
+}
+
+fn rope(args: &RopeArgs) -> anyhow::Result<()> {
+    let config = rope_config(args)?;
+    let recording = FileRecording::create(&args.output, "rope", crate::record::rope::blueprint())?;
+    let methods: Vec<&str> = config.methods.iter().map(|m| m.name()).collect();
+    send_provenance(
+        recording.stream(),
+        "rope",
+        &rope_config_toml(&config, args),
+        &methods,
+    )?;
+    let mut recorder =
+        crate::record::rope::RopeRecorder::new(recording.stream().clone(), args.layout);
+    let summary = crate::scene::rope::run::run(&config, &mut recorder)?;
+    drop(recorder);
+    let bytes = recording.commit()?;
+    print!("{}", crate::scene::rope::summary::summary_text(&summary));
+    println!(
+        "\nrecording: {} ({:.2} MB)",
+        args.output.display(),
+        bytes as f64 / 1e6
+    );
+    Ok(())
+}
+
+/// Turns the rope flags (over the preset, over the defaults) into a validated config.
+pub fn rope_config(args: &RopeArgs) -> Result<RopeConfig, UsageError> {
+    let mut p = RopeParams::default();
+    let mut dt = 1e-3;
+    let mut duration = 10.0;
+    let mut fps = 30.0;
+    let mut verlet_damping = 0.0;
+    if args.preset == Some(RopePreset::Games101) {
+        p = RopeParams {
+            nodes: 16,
+            start: DVec3::new(0.0, 200.0, 0.0),
+            end: DVec3::new(-400.0, 200.0, 0.0),
+            mass: 1.0,
+            stiffness: 100.0,
+            spring_damping: 0.0,
+            air_drag: 0.0,
+            gravity: DVec3::new(0.0, -1.0, 0.0),
+            pinned: vec![0],
+            newton_iterations: 1,
+        };
+        dt = 1.0 / 64.0;
+        fps = 1.0; // one frame per time unit = 64 steps per frame
+        duration = 20.0;
+        verlet_damping = 0.00005;
+    }
+    if let Some(n) = args.nodes {
+        p.nodes = n;
+    }
+    if let Some(s) = &args.start {
+        p.start = parse_vector("--start", s)?;
+    }
+    if let Some(s) = &args.end {
+        p.end = parse_vector("--end", s)?;
+    }
+    if let Some(g) = &args.gravity {
+        p.gravity = parse_vector("--gravity", g)?;
+    }
+    p.mass = args.mass.unwrap_or(p.mass);
+    p.stiffness = args.stiffness.unwrap_or(p.stiffness);
+    p.spring_damping = args.spring_damping.unwrap_or(p.spring_damping);
+    p.air_drag = args.air_drag.unwrap_or(p.air_drag);
+    p.newton_iterations = args.newton_iterations.unwrap_or(p.newton_iterations);
+    if let Some(pins) = &args.pinned {
+        p.pinned = pins.clone();
+    }
+    let dt = args.dt.unwrap_or(dt);
+    let duration = args.duration.unwrap_or(duration);
+    let fps = args.fps.unwrap_or(fps);
+    let verlet_damping = args.verlet_damping.unwrap_or(verlet_damping);
+
+    if !(2..=MAX_NODES).contains(&p.nodes) {
+        return Err(UsageError(format!(
+            "--nodes {}: must be between 2 and {MAX_NODES}",
+            p.nodes
+        )));
+    }
+    if (p.end - p.start).length() == 0.0 {
+        return Err(UsageError(format!(
+            "--end {:?}: must differ from --start (the spacing is the springs' rest length)",
+            p.end.to_array()
+        )));
+    }
+    positive("--mass", p.mass, "kg")?;
+    non_negative("--stiffness", p.stiffness, "N/m")?;
+    non_negative("--spring-damping", p.spring_damping, "N·s/m")?;
+    non_negative("--air-drag", p.air_drag, "N·s/m")?;
+    if let Some(&bad) = p.pinned.iter().find(|&&i| i >= p.nodes) {
+        return Err(UsageError(format!(
+            "--pinned {bad}: node index out of range; the rope has nodes 0..={}",
+            p.nodes - 1
+        )));
+    }
+    p.pinned.sort_unstable();
+    p.pinned.dedup();
+    if p.newton_iterations == 0 {
+        return Err(UsageError(
+            "--newton-iterations 0: must be at least 1".into(),
+        ));
+    }
+    check_time(dt, duration, fps, p.nodes)?;
+    check_verlet_damping(verlet_damping)?;
+    Ok(RopeConfig {
+        params: p,
+        dt,
+        duration,
+        fps,
+        methods: resolve_methods(&args.methods),
+        options: MethodOptions { verlet_damping },
+    })
+}
+
+fn rope_config_toml(c: &RopeConfig, args: &RopeArgs) -> String {
+    let p = &c.params;
+    let methods: Vec<String> = c.methods.iter().map(|m| format!("\"{m}\"")).collect();
+    let v = |d: DVec3| format!("[{:?}, {:?}, {:?}]", d.x, d.y, d.z);
+    format!(
+        "[rope]\nnodes = {}\nstart = {}\nend = {}\nmass = {:?}\nstiffness = {:?}\nspring_damping = {:?}\n\
+         air_drag = {:?}\ngravity = {}\npinned = {:?}\nnewton_iterations = {}\ndt = {:?}\nduration = {:?}\n\
+         fps = {:?}\nmethods = [{}]\nverlet_damping = {:?}\nlayout = \"{:?}\"\noutput = {:?}\n",
+        p.nodes,
+        v(p.start),
+        v(p.end),
+        p.mass,
+        p.stiffness,
+        p.spring_damping,
+        p.air_drag,
+        v(p.gravity),
+        p.pinned,
+        p.newton_iterations,
+        c.dt,
+        c.duration,
+        c.fps,
+        methods.join(", "),
+        c.options.verlet_damping,
+        args.layout,
+        args.output.display().to_string(),
+    )
 }

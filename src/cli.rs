@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use clap::{Args, Parser, Subcommand};
 
 use crate::method::Method;
+use crate::record::rope::Layout;
 
 #[derive(Parser, Debug)]
 #[command(
@@ -25,6 +26,9 @@ pub enum Command {
     /// Simple pendulum θ'' = -(g/L) sin θ: every method side by side against the exact solution;
     /// writes a recording and prints a summary table
     Pendulum(PendulumArgs),
+    /// Mass-spring rope: point masses, Hooke springs, spring damping, air drag, pinned nodes;
+    /// every method side by side; writes a recording and prints a summary table
+    Rope(RopeArgs),
     /// Print the integrator registry: order, kind, symplecticity, force evaluations, stability
     Methods,
 }
@@ -115,6 +119,99 @@ pub struct PendulumArgs {
         short,
         long,
         default_value = "recordings/pendulum.rrd",
+        value_name = "PATH"
+    )]
+    pub output: PathBuf,
+}
+
+/// Parameter sets that reproduce a known setup; flags given with a preset override it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum RopePreset {
+    /// GAMES101 assignment 8 (seed 003): 16 nodes from (0,200) to (-400,200), mass 1, ks 100,
+    /// no spring damping or drag, gravity (0,-1), dt = 1/64 with 64 steps per frame, node 0
+    /// pinned, Verlet damping 0.00005, 20 time units
+    Games101,
+}
+
+/// Rope flags. Every value is optional so that a preset can fill what the user did not give;
+/// the defaults below apply when neither does.
+#[derive(Args, Debug, Clone)]
+pub struct RopeArgs {
+    /// Start from a known parameter set; flags given as well override it
+    #[arg(long, value_enum)]
+    pub preset: Option<RopePreset>,
+
+    /// Number of point masses, ≥ 2 [default: 16]
+    #[arg(long, value_name = "N")]
+    pub nodes: Option<usize>,
+
+    /// First node's position x,y[,z] [m] [default: 0,0,0]
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    pub start: Option<String>,
+
+    /// Last node's position x,y[,z] [m]; nodes are spaced evenly, and that spacing is every
+    /// spring's rest length [default: 4,0,0]
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    pub end: Option<String>,
+
+    /// Mass of each node [kg] [default: 0.1]
+    #[arg(long, value_name = "KG", allow_negative_numbers = true)]
+    pub mass: Option<f64>,
+
+    /// Spring stiffness ks [N/m] [default: 5000]
+    #[arg(long, value_name = "N/M", allow_negative_numbers = true)]
+    pub stiffness: Option<f64>,
+
+    /// Spring damping kd on the relative velocity along each spring [N·s/m] [default: 0.05]
+    #[arg(long, value_name = "N·S/M", allow_negative_numbers = true)]
+    pub spring_damping: Option<f64>,
+
+    /// Air drag ka, force -ka·v on every node [N·s/m] [default: 0.01]
+    #[arg(long, value_name = "N·S/M", allow_negative_numbers = true)]
+    pub air_drag: Option<f64>,
+
+    /// Gravitational acceleration x,y[,z] [m/s²] [default: 0,-9.81,0]
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    pub gravity: Option<String>,
+
+    /// Indices of pinned nodes, comma-separated, e.g. 0,15 for both ends [default: 0]
+    #[arg(long, value_delimiter = ',', value_name = "LIST")]
+    pub pinned: Option<Vec<usize>>,
+
+    /// Time step [s] [default: 0.001]
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
+    pub dt: Option<f64>,
+
+    /// Simulated time [s] [default: 10]
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
+    pub duration: Option<f64>,
+
+    /// 3D frames per simulated second [default: 30]
+    #[arg(long, value_name = "HZ", allow_negative_numbers = true)]
+    pub fps: Option<f64>,
+
+    /// Methods to run, comma-separated [default: all seven]
+    #[arg(long, value_delimiter = ',', value_name = "LIST")]
+    pub methods: Vec<Method>,
+
+    /// Verlet's damping factor d, 0 ≤ d < 1 [default: 0; 0.00005 with --preset games101]
+    #[arg(long, value_name = "D", allow_negative_numbers = true)]
+    pub verlet_damping: Option<f64>,
+
+    /// Newton iterations per implicit-Euler step: 1 = linearised backward Euler
+    /// (Baraff–Witkin); more refine towards exact backward Euler, stopping at tolerance [default: 1]
+    #[arg(long, value_name = "N")]
+    pub newton_iterations: Option<u32>,
+
+    /// Where each method's rope is drawn
+    #[arg(long, value_enum, default_value_t = Layout::SideBySide)]
+    pub layout: Layout,
+
+    /// Where to write the recording (.rrd); its folder is created
+    #[arg(
+        short,
+        long,
+        default_value = "recordings/rope.rrd",
         value_name = "PATH"
     )]
     pub output: PathBuf,

@@ -1,70 +1,17 @@
 //! The binary end to end (issue 2, point 7d): exit code, summary, and the recording read back
 //! with Rerun's own decoder.
 
-use std::collections::{BTreeMap, BTreeSet};
-use std::path::{Path, PathBuf};
+mod common;
+
+use std::collections::BTreeMap;
 use std::process::Command;
 
 use clap::Parser as _;
 use physlab::app::pendulum_config;
 use physlab::cli::{Cli, Command as Sub};
 use physlab::scene::pendulum::run::{PendulumObserver, SeriesBlock, run};
-use rerun::external::re_log_encoding::DecoderApp;
-use rerun::log::{Chunk, LogMsg};
 
-fn scratch_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("physlab-test-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-/// Everything the tests need from a recording: entity paths, each plot's (sim_time ns, value)
-/// rows, and whether the footer (RRD manifest) was written.
-struct Decoded {
-    entities: BTreeSet<String>,
-    scalars: BTreeMap<String, Vec<(i64, f64)>>,
-    has_footer: bool,
-}
-
-fn decode(path: &Path) -> Decoded {
-    let scalar = rerun::Scalars::descriptor_scalars().component;
-    let sim_time = rerun::TimelineName::from("sim_time");
-    let file = std::io::BufReader::new(std::fs::File::open(path).unwrap());
-    let mut messages = DecoderApp::decode_lazy(file);
-    let mut entities = BTreeSet::new();
-    let mut scalars: BTreeMap<String, Vec<(i64, f64)>> = BTreeMap::new();
-    for msg in messages.by_ref() {
-        let LogMsg::ArrowMsg(store_id, arrow_msg) = msg.unwrap() else {
-            continue;
-        };
-        if !store_id.is_recording() {
-            continue; // the blueprint store
-        }
-        let chunk = Chunk::from_arrow_msg(&arrow_msg).unwrap();
-        let entity = chunk.entity_path().to_string();
-        entities.insert(entity.clone());
-        if chunk.is_static() || !chunk.components().contains_component(scalar) {
-            continue;
-        }
-        let rows = scalars.entry(entity).or_default();
-        for ((t, _), v) in chunk
-            .iter_indices(&sim_time)
-            .zip(chunk.iter_slices::<f64>(scalar))
-        {
-            rows.push((t.as_i64(), v[0]));
-        }
-    }
-    let has_footer = !messages.rrd_manifests().unwrap().is_empty();
-    for rows in scalars.values_mut() {
-        rows.sort_by_key(|r| r.0);
-    }
-    Decoded {
-        entities,
-        scalars,
-        has_footer,
-    }
-}
+use common::{assert_refused, decode, scratch_dir};
 
 /// Collects each lane's θ series as the library reports it.
 #[derive(Default)]
@@ -206,22 +153,7 @@ fn bad_input_is_refused_with_exit_code_2_and_a_clear_message() {
         ),
     ];
     for (extra, message) in cases {
-        let result = Command::new(env!("CARGO_BIN_EXE_physlab"))
-            .args(["pendulum", "-o", out.to_str().unwrap()])
-            .args(extra)
-            .output()
-            .unwrap();
-        let stderr = String::from_utf8_lossy(&result.stderr);
-        assert_eq!(result.status.code(), Some(2), "{extra:?}: {stderr}");
-        assert!(
-            stderr.contains(message),
-            "{extra:?}: expected '{message}' in:\n{stderr}"
-        );
-        assert!(!stderr.contains("panicked"));
-        assert!(
-            !out.exists(),
-            "{extra:?}: no recording is written for bad input"
-        );
+        assert_refused("pendulum", &out, extra, message);
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }

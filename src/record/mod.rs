@@ -2,10 +2,15 @@
 //! a recording file safely.
 
 pub mod pendulum;
+pub mod rope;
 
 use std::path::{Path, PathBuf};
 
 use anyhow::Context as _;
+use rerun::blueprint::{
+    Blueprint, ContainerLike, Horizontal, Spatial3DView, TextDocumentView, TextLogView, TimePanel,
+    TimeSeriesView, Vertical,
+};
 
 /// One colour per method, the same in 3D and in every plot of every scene.
 /// (ColorBrewer Set1, which stays distinguishable on the viewer's dark background.)
@@ -21,6 +26,60 @@ pub fn method_color(name: &str) -> [u8; 3] {
         "exact" | "reference" => [220, 220, 220],
         _ => [255, 255, 51],
     }
+}
+
+/// One plot per quantity, `/<scene>/plots/<name>/*` (every method in each), stacked.
+pub fn plot_column(scene: &str, plots: &[(&str, &str)]) -> Vertical {
+    Vertical::new(plots.iter().map(|(name, title)| {
+        ContainerLike::from(
+            TimeSeriesView::new(*title).with_origin(format!("/{scene}/plots/{name}")),
+        )
+    }))
+}
+
+/// The scene's 3D view: everything under `/<scene>` except its plots, events, about text and
+/// the given subtrees.
+pub fn scene_view(scene: &str, title: &str, exclude: &[&str]) -> Spatial3DView {
+    let mut contents = vec![
+        "+ $origin/**".to_string(),
+        "- $origin/plots/**".to_string(),
+        "- $origin/events".to_string(),
+        "- $origin/about".to_string(),
+    ];
+    contents.extend(exclude.iter().map(|e| format!("- $origin/{e}")));
+    Spatial3DView::new(title)
+        .with_origin(format!("/{scene}"))
+        .with_contents(contents)
+}
+
+/// The run description (`/<scene>/about`) and the event log (`/<scene>/events`).
+pub fn about_and_events(scene: &str) -> [ContainerLike; 2] {
+    [
+        TextDocumentView::new("about this run")
+            .with_origin(format!("/{scene}/about"))
+            .into(),
+        TextLogView::new("events")
+            .with_origin(format!("/{scene}/events"))
+            .into(),
+    ]
+}
+
+/// A single scene's layout: `left` beside the plots, nothing else shown, `sim_time` selected.
+pub fn scene_blueprint(left: Vertical, plots: Vertical) -> Blueprint {
+    Blueprint::new(Horizontal::new([left.into(), plots.into()]).with_column_shares([1.0, 1.0]))
+        .with_auto_views(false)
+        .with_time_panel(TimePanel::new().with_timeline("sim_time"))
+}
+
+/// Grid cells (column, row counted from the bottom) for `n` side-by-side lanes, in rows of at
+/// most four in reading order from the top left. A compact block rather than one long row, so
+/// the viewer's default camera frames every lane.
+pub fn slot_cells(n: usize) -> Vec<(usize, usize)> {
+    let columns = n.clamp(1, 4);
+    let rows = n.div_ceil(columns);
+    (0..n)
+        .map(|i| (i % columns, rows - 1 - i / columns))
+        .collect()
 }
 
 /// A recording being written to a temporary file beside its target. [`FileRecording::commit`]

@@ -8,13 +8,10 @@
 //! - `pendulum/events`: divergence and solver warnings at the moment they happened.
 //! - `pendulum/about`: what was run and what the reference is.
 
-use rerun::blueprint::{
-    Blueprint, Horizontal, Spatial2DView, Spatial3DView, TextDocumentView, TextLogView, TimePanel,
-    TimeSeriesView, Vertical,
-};
+use rerun::blueprint::{Blueprint, Horizontal, Spatial2DView, Vertical};
 use rerun::{RecordingStream, TimeColumn};
 
-use super::method_color;
+use super::{about_and_events, method_color, plot_column, scene_blueprint, scene_view, slot_cells};
 use crate::scene::pendulum::run::{
     Event, EventKind, FrameState, PendulumObserver, RunSetup, RunSummary, SeriesBlock,
 };
@@ -34,61 +31,37 @@ const MAX_PHASE_POINTS: usize = 5_000;
 /// The pendulum's layout: the 3D slots, phase portrait and events on the left, the plots on
 /// the right, every plot holding all lanes.
 pub fn blueprint() -> Blueprint {
-    let plots: Vec<_> = PLOTS
-        .iter()
-        .map(|(name, title)| {
-            TimeSeriesView::new(*title)
-                .with_origin(format!("/pendulum/plots/{name}"))
-                .into()
-        })
-        .collect();
     let left = Vertical::new([
-        Spatial3DView::new("pendulum: methods side by side (grey ghost = reference)")
-            .with_origin("/pendulum")
-            .with_contents([
-                "+ $origin/**",
-                "- $origin/plots/**",
-                "- $origin/phase/**",
-                "- $origin/events",
-                "- $origin/about",
-            ])
-            .into(),
+        scene_view(
+            "pendulum",
+            "pendulum: methods side by side (grey ghost = reference)",
+            &["phase/**"],
+        )
+        .into(),
         Horizontal::new([
             Spatial2DView::new("phase portrait: x = θ [rad], y = ω [rad/s] (y axis points down)")
                 .with_origin("/pendulum/phase")
                 .into(),
-            Vertical::new([
-                TextDocumentView::new("about this run")
-                    .with_origin("/pendulum/about")
-                    .into(),
-                TextLogView::new("events")
-                    .with_origin("/pendulum/events")
-                    .into(),
-            ])
-            .into(),
+            Vertical::new(about_and_events("pendulum")).into(),
         ])
         .with_column_shares([3.0, 2.0])
         .into(),
     ])
     .with_row_shares([3.0, 2.0]);
-    Blueprint::new(
-        Horizontal::new([left.into(), Vertical::new(plots).into()]).with_column_shares([1.0, 1.0]),
-    )
-    .with_auto_views(false)
-    .with_time_panel(TimePanel::new().with_timeline("sim_time"))
+    scene_blueprint(left, plot_column("pendulum", &PLOTS))
 }
 
-/// Pivots for `n` lanes in rows of at most four, reading order from the top left. Slots are
-/// 2.2 L apart (a full swing spans 2 L) and rows 2.6 L apart (room for the label). A compact
-/// block rather than one long row, so the viewer's default camera frames every lane.
+/// Pivots for `n` lanes: slots 2.2 L apart (a full swing spans 2 L) in rows 2.6 L apart (room
+/// for the label), 1.2 L above the ground grid.
 fn slot_pivots(n: usize, length: f32) -> Vec<[f32; 3]> {
-    let columns = n.clamp(1, 4);
-    let rows = n.div_ceil(columns);
-    (0..n)
-        .map(|i| {
-            let (row, column) = (i / columns, i % columns);
-            let z = (1.2 + 2.6 * (rows - 1 - row) as f32) * length;
-            [2.2 * length * column as f32, 0.0, z]
+    slot_cells(n)
+        .into_iter()
+        .map(|(column, row)| {
+            [
+                2.2 * length * column as f32,
+                0.0,
+                (1.2 + 2.6 * row as f32) * length,
+            ]
         })
         .collect()
 }

@@ -1,3 +1,5 @@
 //! The physics scenes. Plain Rust over f64 / glam: nothing here knows about Rerun.
 
 pub mod pendulum;
+pub mod rope;
+pub mod schedule;

@@ -9,14 +9,12 @@ use super::period::PeriodMeter;
 use super::reference::{Reference, exact_period};
 use super::{Pendulum, PendulumParams, step_block};
 use crate::method::{Integrator, Method, MethodOptions};
+use crate::scene::schedule::Schedule;
 
 /// A method diverges when θ or ω stops being finite or its energy exceeds this many times
 /// max(E0, 2gL): far beyond anything a pendulum started with E0 can reach, so only an unstable
 /// integrator gets there.
 pub const DIVERGENCE_ENERGY_FACTOR: f64 = 10.0;
-
-/// Series are thinned evenly so that no plot holds more than this many points per method.
-pub const MAX_PLOT_POINTS: u64 = 10_000;
 
 /// Steps taken per method between switches; large enough that the clock reads cost nothing.
 const BLOCK_STEPS: usize = 4096;
@@ -50,16 +48,19 @@ impl Default for PendulumConfig {
 }
 
 impl PendulumConfig {
+    pub fn schedule(&self) -> Schedule {
+        Schedule::new(self.dt, self.duration, self.fps)
+    }
     pub fn total_steps(&self) -> u64 {
-        ((self.duration / self.dt).round() as u64).max(1)
+        self.schedule().total_steps
     }
     /// Steps between reported 3D frames.
     pub fn frame_stride(&self) -> u64 {
-        ((1.0 / (self.fps * self.dt)).round() as u64).max(1)
+        self.schedule().frame_stride
     }
     /// Steps between plotted samples.
     pub fn plot_stride(&self) -> u64 {
-        self.total_steps().div_ceil(MAX_PLOT_POINTS).max(1)
+        self.schedule().plot_stride
     }
 }
 
@@ -121,22 +122,7 @@ pub struct FrameState {
     pub states: Vec<Option<(f64, f64)>>,
 }
 
-#[derive(Clone, Debug, PartialEq)]
-pub enum EventKind {
-    /// The method stopped: not finite, or energy past the bound.
-    Divergence,
-    /// An implicit step's Newton solve missed its tolerance (the step is kept).
-    SolverNotConverged,
-}
-
-#[derive(Clone, Debug)]
-pub struct Event {
-    pub lane: usize,
-    pub time: f64,
-    pub step: u64,
-    pub kind: EventKind,
-    pub message: String,
-}
+pub use crate::scene::schedule::{Event, EventKind};
 
 /// Per-lane results for the summary table.
 #[derive(Clone, Debug)]

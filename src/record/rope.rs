@@ -1,0 +1,299 @@
+//! Recording a rope run: entity paths, styles and the blueprint.
+//!
+//! Layout:
+//! - `rope/<method>/{nodes,strip,pinned}`: each method's rope in its own slot (or all at the
+//!   same place with `--layout overlay`), pinned nodes marked and labelled with the method.
+//! - `rope/plots/<quantity>/<method>`: one plot per quantity with every method in it.
+//! - `rope/events`, `rope/about`: warnings at the moment they happened; what was run.
+
+use rerun::blueprint::{Blueprint, Horizontal, Vertical};
+use rerun::{RecordingStream, TimeColumn};
+
+use super::{about_and_events, method_color, plot_column, scene_blueprint, scene_view, slot_cells};
+use crate::scene::rope::node;
+use crate::scene::rope::run::{
+    ENERGY_GAIN_BOUND, RopeFrame, RopeObserver, RopeSeries, RopeSetup, RopeSummary, STRAIN_BOUND,
+};
+use crate::scene::rope::summary::cost_per_step;
+use crate::scene::schedule::Event;
+use crate::table::trim_number;
+
+/// Where each method's rope is drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, clap::ValueEnum)]
+pub enum Layout {
+    /// Each method in its own slot, rows of four.
+    #[default]
+    SideBySide,
+    /// All methods at the same place, told apart by colour.
+    Overlay,
+}
+
+/// The plotted quantities: entity name and plot title (with units).
+pub const PLOTS: [(&str, &str); 4] = [
+    ("energy", "total energy: kinetic + spring + gravity [J]"),
+    ("energy_change", "energy relative to the start, E − E0 [J]"),
+    ("max_strain", "maximum strain max |ℓ − ℓ0| / ℓ0"),
+    (
+        "frame_cost",
+        "simulation cost per 3D frame [ms, wall clock]",
+    ),
+];
+
+pub fn blueprint() -> Blueprint {
+    let left = Vertical::new([
+        scene_view("rope", "rope: methods side by side", &[]).into(),
+        Horizontal::new(about_and_events("rope")).into(),
+    ])
+    .with_row_shares([3.0, 1.0]);
+    scene_blueprint(left, plot_column("rope", &PLOTS))
+}
+
+/// Logs a rope run to a recording stream as it happens.
+pub struct RopeRecorder {
+    rec: RecordingStream,
+    layout: Layout,
+    names: Vec<&'static str>,
+    offsets: Vec<[f64; 3]>,
+    frame_stride: u64,
+    /// f32 scratch for positions, reused every frame.
+    points: Vec<[f32; 3]>,
+}
+
+impl RopeRecorder {
+    pub fn new(rec: RecordingStream, layout: Layout) -> Self {
+        RopeRecorder {
+            rec,
+            layout,
+            names: Vec::new(),
+            offsets: Vec::new(),
+            frame_stride: 1,
+            points: Vec::new(),
+        }
+    }
+
+    fn set_time(&self, step: u64, time: f64) {
+        self.rec.set_duration_secs("sim_time", time);
+        self.rec
+            .set_time_sequence("frame", (step / self.frame_stride) as i64);
+    }
+
+    fn fill_points(&mut self, lane: usize, x: &[f64]) {
+        let o = self.offsets[lane];
+        self.points.clear();
+        self.points.extend((0..x.len() / 3).map(|i| {
+            [
+                (x[3 * i] + o[0]) as f32,
+                (x[3 * i + 1] + o[1]) as f32,
+                (x[3 * i + 2] + o[2]) as f32,
+            ]
+        }));
+    }
+}
+
+impl RopeObserver for RopeRecorder {
+    fn start(&mut self, setup: &RopeSetup) -> anyhow::Result<()> {
+        let c = &setup.config;
+        let p = &c.params;
+        self.names = c.methods.iter().map(|m| m.name()).collect();
+        self.frame_stride = c.schedule().frame_stride;
+        // Slots sized to the rope: hanging from a pin it sweeps a circle of its own length.
+        let span = (p.end - p.start).length().max(1e-9);
+        self.offsets = match self.layout {
+            Layout::Overlay => vec![[0.0; 3]; self.names.len()],
+            Layout::SideBySide => slot_cells(self.names.len())
+                .into_iter()
+                .map(|(col, row)| [2.3 * span * col as f64, 1.6 * span * row as f64, 0.0])
+                .collect(),
+        };
+        let rec = &self.rec;
+        rec.log_static("rope", &rerun::ViewCoordinates::RIGHT_HAND_Y_UP())?;
+        let node_radius = (0.012 * span) as f32;
+        for (i, name) in self.names.iter().enumerate() {
+            let color = method_color(name);
+            rec.log_static(
+                format!("rope/{name}/nodes"),
+                &rerun::Points3D::update_fields()
+                    .with_radii([node_radius])
+                    .with_colors([color]),
+            )?;
+            rec.log_static(
+                format!("rope/{name}/strip"),
+                &rerun::LineStrips3D::update_fields()
+                    .with_radii([0.4 * node_radius])
+                    .with_colors([color]),
+            )?;
+            let pinned: Vec<[f32; 3]> = p
+                .pinned
+                .iter()
+                .map(|&k| {
+                    let q = node(&setup.initial_positions, k);
+                    let o = self.offsets[i];
+                    [
+                        (q.x + o[0]) as f32,
+                        (q.y + o[1]) as f32,
+                        (q.z + o[2]) as f32,
+                    ]
+                })
+                .collect();
+            // One label per rope (on its first pinned node), not one per pin.
+            let labels: Vec<String> = (0..pinned.len())
+                .map(|k| {
+                    if k == 0 {
+                        name.to_string()
+                    } else {
+                        String::new()
+                    }
+                })
+                .collect();
+            rec.log_static(
+                format!("rope/{name}/pinned"),
+                &rerun::Points3D::new(pinned)
+                    .with_radii([2.5 * node_radius])
+                    .with_colors([[235, 235, 235]])
+                    .with_labels(labels)
+                    .with_show_labels(true),
+            )?;
+            for (quantity, _) in PLOTS {
+                rec.log_static(
+                    format!("rope/plots/{quantity}/{name}"),
+                    &rerun::SeriesLines::new()
+                        .with_names([*name])
+                        .with_colors([color])
+                        .with_widths([1.5]),
+                )?;
+            }
+        }
+        rec.log_static(
+            "rope/about",
+            &rerun::TextDocument::from_markdown(about_text(setup)),
+        )?;
+        Ok(())
+    }
+
+    fn series(&mut self, lane: usize, s: &RopeSeries) -> anyhow::Result<()> {
+        let name = self.names[lane];
+        let times = || {
+            [
+                TimeColumn::new_duration_secs("sim_time", s.times.iter().copied()),
+                TimeColumn::new_sequence(
+                    "frame",
+                    s.steps.iter().map(|k| (k / self.frame_stride) as i64),
+                ),
+            ]
+        };
+        for (quantity, values) in [
+            ("energy", &s.energy),
+            ("energy_change", &s.energy_change),
+            ("max_strain", &s.max_strain),
+        ] {
+            self.rec.send_columns(
+                format!("rope/plots/{quantity}/{name}"),
+                times(),
+                rerun::Scalars::new(values.iter().copied()).columns_of_unit_batches()?,
+            )?;
+        }
+        Ok(())
+    }
+
+    fn frame(&mut self, f: &RopeFrame) -> anyhow::Result<()> {
+        self.set_time(f.step, f.time);
+        for (i, x) in f.positions.iter().enumerate() {
+            let Some(x) = x else { continue };
+            let name = self.names[i];
+            self.fill_points(i, x);
+            self.rec.log(
+                format!("rope/{name}/nodes"),
+                &rerun::Points3D::update_fields().with_positions(self.points.iter().copied()),
+            )?;
+            self.rec.log(
+                format!("rope/{name}/strip"),
+                &rerun::LineStrips3D::update_fields().with_strips([self.points.iter().copied()]),
+            )?;
+            if f.step > 0 {
+                self.rec.log(
+                    format!("rope/plots/frame_cost/{name}"),
+                    &rerun::Scalars::single(f.cost_ms[i]),
+                )?;
+            }
+        }
+        Ok(())
+    }
+
+    fn event(&mut self, e: &Event) -> anyhow::Result<()> {
+        self.set_time(e.step, e.time);
+        self.rec.log(
+            "rope/events",
+            &rerun::TextLog::new(e.message.clone()).with_level(rerun::TextLogLevel::WARN),
+        )?;
+        if e.kind == crate::scene::schedule::EventKind::Divergence {
+            let name = self.names[e.lane];
+            // The rope disappears from its slot; its pin marker stays, relabelled.
+            self.rec
+                .log(format!("rope/{name}/nodes"), &rerun::Clear::flat())?;
+            self.rec
+                .log(format!("rope/{name}/strip"), &rerun::Clear::flat())?;
+            self.rec.log(
+                format!("rope/{name}/pinned"),
+                &rerun::Points3D::update_fields()
+                    .with_labels([format!("{name}: diverged by t = {:.3} s", e.time)]),
+            )?;
+        }
+        Ok(())
+    }
+
+    fn finish(&mut self, _summary: &RopeSummary) -> anyhow::Result<()> {
+        Ok(())
+    }
+}
+
+fn about_text(setup: &RopeSetup) -> String {
+    let c = &setup.config;
+    let p = &c.params;
+    let s = c.schedule();
+    let methods: Vec<String> = c
+        .methods
+        .iter()
+        .map(|m| {
+            format!(
+                "| {} | {} |",
+                m.name(),
+                cost_per_step(*m, p.newton_iterations)
+            )
+        })
+        .collect();
+    format!(
+        "# rope\n\n\
+         {} point masses from {:?} to {:?} m, Hooke springs between neighbours (rest length = initial spacing \
+         {} m), spring damping along each spring, air drag, gravity; pinned nodes {:?}. f64.\n\n\
+         | parameter | value |\n|---|---|\n| mass per node | {} kg |\n| ks | {} N/m |\n| kd | {} N·s/m |\n\
+         | ka | {} N·s/m |\n| gravity | {:?} m/s² |\n| dt | {} s |\n| steps | {} |\n| 3D frames | every {} steps |\n\
+         | plotted | every {} steps |\n| Verlet damping d | {} |\n| implicit Newton iterations | {} |\n\n\
+         Highest mode of the pinned-free chain: ω_max = {:.4} rad/s, ω_max·dt = {:.4}.\n\
+         Energy E0 = {:.6} J (gravity's zero at the origin), energy scale {:.4} J. A method stops when its \
+         state is not finite, a strain exceeds {STRAIN_BOUND}, or it gains more than {ENERGY_GAIN_BOUND} × \
+         the energy scale (a passive rope never gains energy); the events panel shows when. Frame cost is \
+         wall-clock time.\n\n\
+         | method | cost per step |\n|---|---|\n{}\n",
+        p.nodes,
+        p.start.to_array(),
+        p.end.to_array(),
+        trim_number(setup.rest_length, 9),
+        p.pinned,
+        p.mass,
+        p.stiffness,
+        p.spring_damping,
+        p.air_drag,
+        p.gravity.to_array(),
+        c.dt,
+        s.total_steps,
+        s.frame_stride,
+        s.plot_stride,
+        c.options.verlet_damping,
+        p.newton_iterations,
+        setup.omega_max,
+        setup.omega_max * c.dt,
+        setup.initial_energy,
+        setup.energy_scale,
+        methods.join("\n"),
+    )
+}

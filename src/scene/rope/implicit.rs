@@ -1,0 +1,219 @@
+//! Backward Euler for the rope in O(N): each Newton iteration solves the block-tridiagonal system
+//! (M - h ∂f/∂v - h² ∂f/∂x) δ = r with 3×3 blocks by block Thomas elimination.
+//!
+//! The first iteration linearises the forces about the start of the step, (x0, v0): that is
+//! Baraff & Witkin's (1998) linearised backward Euler, (M - h D - h² K) Δv = h (f0 + h K v0).
+//! Further iterations are Newton on G(v1) = M (v1 - v0) - h f(x0 + h v1, v1) = 0 and converge
+//! to the exact backward-Euler step. K includes the exact spring Jacobian (with the (1 - ℓ0/ℓ)
+//! transverse term, which makes it indefinite under compression) and the x-derivative of the
+//! damping force; D holds the spring damping along each spring and the air drag.
+
+use glam::{DMat3, DVec3};
+
+use super::{Rope, node};
+use crate::method::ImplicitSolve;
+
+/// Newton stops early when max |δv| ≤ NEWTON_TOL · (1 + max |v|) [m/s].
+pub const NEWTON_TOL: f64 = 1e-10;
+
+/// Preallocated storage for one implicit step; no allocation while stepping.
+#[derive(Clone, Debug)]
+pub struct Workspace {
+    x0: Vec<f64>,
+    v0: Vec<f64>,
+    f: Vec<f64>,
+    /// Per spring: ∂F/∂d (F the spring's force on its first node, d = x_{i+1} - x_i) and kd u uᵀ.
+    jac_x: Vec<DMat3>,
+    jac_v: Vec<DMat3>,
+    /// The system: diagonal blocks, off-diagonal blocks (A_{i,i+1} = A_{i+1,i}), right-hand side.
+    diag: Vec<DMat3>,
+    off: Vec<DMat3>,
+    rhs: Vec<DVec3>,
+    /// Block Thomas: modified upper blocks and right-hand side, then the solution.
+    c: Vec<DMat3>,
+    d: Vec<DVec3>,
+    sol: Vec<DVec3>,
+}
+
+impl Workspace {
+    pub fn new(nodes: usize) -> Self {
+        let springs = nodes.saturating_sub(1);
+        Workspace {
+            x0: vec![0.0; 3 * nodes],
+            v0: vec![0.0; 3 * nodes],
+            f: vec![0.0; 3 * nodes],
+            jac_x: vec![DMat3::ZERO; springs],
+            jac_v: vec![DMat3::ZERO; springs],
+            diag: vec![DMat3::ZERO; nodes],
+            off: vec![DMat3::ZERO; springs],
+            rhs: vec![DVec3::ZERO; nodes],
+            c: vec![DMat3::ZERO; nodes],
+            d: vec![DVec3::ZERO; nodes],
+            sol: vec![DVec3::ZERO; nodes],
+        }
+    }
+}
+
+/// a bᵀ
+#[inline]
+fn outer(a: DVec3, b: DVec3) -> DMat3 {
+    DMat3::from_cols(a * b.x, a * b.y, a * b.z)
+}
+
+/// The spring's force Jacobians at (x, v): ∂F/∂d and ∂F/∂(Δv), F = [ks(ℓ - ℓ0) + kd Δv·u] u.
+#[inline]
+fn spring_jacobians(rope: &Rope, x: &[f64], v: &[f64], i: usize) -> (DMat3, DMat3) {
+    let p = &rope.params;
+    let d = node(x, i + 1) - node(x, i);
+    let len = d.length();
+    if len == 0.0 {
+        return (DMat3::ZERO, DMat3::ZERO);
+    }
+    let u = d / len;
+    let uu = outer(u, u);
+    let transverse = DMat3::IDENTITY - uu;
+    let dv = node(v, i + 1) - node(v, i);
+    // Hooke: ks [u uᵀ + (1 - ℓ0/ℓ)(I - u uᵀ)].
+    let hooke = p.stiffness * (uu + (1.0 - rope.rest() / len) * transverse);
+    // Damping kd (Δv·u) u varies with x through u: kd/ℓ [(Δv·u)(I - u uᵀ) + u ((I - u uᵀ)Δv)ᵀ].
+    let damping_x = p.spring_damping / len * (dv.dot(u) * transverse + outer(u, transverse * dv));
+    (hooke + damping_x, p.spring_damping * uu)
+}
+
+/// One backward-Euler step of the rope in place (see the module docs).
+pub fn backward_euler_step(
+    rope: &Rope,
+    ws: &mut Workspace,
+    x: &mut [f64],
+    v: &mut [f64],
+    h: f64,
+) -> ImplicitSolve {
+    let p = &rope.params;
+    let n = p.nodes;
+    let m = p.mass;
+    ws.x0.copy_from_slice(x);
+    ws.v0.copy_from_slice(v);
+    let iterations = p.newton_iterations.max(1);
+    let mut evals = 0;
+    let mut converged = false;
+    let mut last_update = f64::INFINITY;
+
+    for k in 0..iterations {
+        // Forces and Jacobians at the current iterate (x, v); on k = 0 that is (x0, v0).
+        rope.forces(x, v, &mut ws.f);
+        for s in 0..n - 1 {
+            let (jx, jv) = spring_jacobians(rope, x, v, s);
+            ws.jac_x[s] = jx;
+            ws.jac_v[s] = jv;
+        }
+        evals += 1;
+
+        // A = M - h D - h² K, block tridiagonal.
+        let own = DMat3::from_diagonal(DVec3::splat(m + h * p.air_drag));
+        ws.diag.fill(own);
+        for s in 0..n - 1 {
+            let coupling = h * ws.jac_v[s] + h * h * ws.jac_x[s];
+            ws.diag[s] += coupling;
+            ws.diag[s + 1] += coupling;
+            ws.off[s] = -coupling;
+        }
+
+        // r = h f + h K (x0 + h v - x) - M (v - v0); the K term is h K v0 on the first iteration
+        // (Baraff–Witkin) and vanishes afterwards, when x = x0 + h v holds.
+        for i in 0..n {
+            let fi = node(&ws.f, i);
+            ws.rhs[i] = h * fi - m * (node(v, i) - node(&ws.v0, i));
+        }
+        if k == 0 {
+            for s in 0..n - 1 {
+                let y = h * (node(&ws.v0, s + 1) - node(&ws.v0, s));
+                let ky = ws.jac_x[s] * y;
+                ws.rhs[s] += h * ky;
+                ws.rhs[s + 1] -= h * ky;
+            }
+        }
+
+        // Pinned nodes: δ = 0, decoupled from their neighbours.
+        for i in 0..n {
+            if rope.is_pinned(i) {
+                ws.diag[i] = DMat3::IDENTITY;
+                ws.rhs[i] = DVec3::ZERO;
+                if i > 0 {
+                    ws.off[i - 1] = DMat3::ZERO;
+                }
+                if i + 1 < n {
+                    ws.off[i] = DMat3::ZERO;
+                }
+            }
+        }
+
+        if !solve_block_tridiagonal(ws) {
+            // Singular system: leave non-finite values so the run reports the divergence.
+            x.fill(f64::NAN);
+            v.fill(f64::NAN);
+            return ImplicitSolve {
+                evals,
+                converged: false,
+                last_update: f64::NAN,
+            };
+        }
+
+        let mut max_delta: f64 = 0.0;
+        let mut max_v: f64 = 0.0;
+        for i in 0..n {
+            let delta = ws.sol[i];
+            for c in 0..3 {
+                v[3 * i + c] += delta[c];
+                x[3 * i + c] = ws.x0[3 * i + c] + h * v[3 * i + c];
+                max_v = max_v.max(v[3 * i + c].abs());
+            }
+            max_delta = max_delta.max(delta.abs().max_element());
+        }
+        last_update = max_delta;
+        if iterations > 1 && max_delta <= NEWTON_TOL * (1.0 + max_v) {
+            converged = true;
+            break;
+        }
+    }
+    // One iteration is the linearised method by definition, not an unconverged Newton solve.
+    if iterations == 1 {
+        converged = last_update.is_finite();
+    }
+    ImplicitSolve {
+        evals,
+        converged,
+        last_update,
+    }
+}
+
+/// Block Thomas elimination for the symmetric-structure block-tridiagonal system in `ws`
+/// (sub- and super-diagonal blocks both `off`). O(N) 3×3 operations. Returns false when a
+/// pivot block is singular.
+pub fn solve_block_tridiagonal(ws: &mut Workspace) -> bool {
+    let n = ws.diag.len();
+    let mut pivot = ws.diag[0];
+    for i in 0..n {
+        if i > 0 {
+            pivot = ws.diag[i] - ws.off[i - 1] * ws.c[i - 1];
+        }
+        let det = pivot.determinant();
+        if !det.is_finite() || det == 0.0 {
+            return false;
+        }
+        let inv = pivot.inverse();
+        if i + 1 < n {
+            ws.c[i] = inv * ws.off[i];
+        }
+        let r = if i > 0 {
+            ws.rhs[i] - ws.off[i - 1] * ws.d[i - 1]
+        } else {
+            ws.rhs[i]
+        };
+        ws.d[i] = inv * r;
+    }
+    ws.sol[n - 1] = ws.d[n - 1];
+    for i in (0..n - 1).rev() {
+        ws.sol[i] = ws.d[i] - ws.c[i] * ws.sol[i + 1];
+    }
+    true
+}

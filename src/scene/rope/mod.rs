@@ -1,0 +1,222 @@
+//! The mass-spring rope: N point masses on a line, Hooke springs between neighbours (rest length =
+//! initial spacing), spring damping along each spring, air drag, gravity, pinned nodes. f64.
+//!
+//! Coordinates are flat: node i occupies `x[3i..3i+3]`. Pinned nodes have zero acceleration and
+//! start at rest, so every method keeps them exactly where they were placed.
+
+pub mod implicit;
+pub mod run;
+pub mod summary;
+
+use std::cell::RefCell;
+
+use glam::DVec3;
+
+use crate::method::{ImplicitSolve, Integrator, SecondOrderSystem};
+use implicit::Workspace;
+
+/// Physical parameters and initial layout of the rope.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RopeParams {
+    /// Number of point masses, ≥ 2.
+    pub nodes: usize,
+    /// First node's position [m].
+    pub start: DVec3,
+    /// Last node's position [m]; the others are spaced evenly in between.
+    pub end: DVec3,
+    /// Mass of each node [kg].
+    pub mass: f64,
+    /// Hooke stiffness ks of every spring [N/m].
+    pub stiffness: f64,
+    /// Damping kd on the relative velocity along each spring [N·s/m].
+    pub spring_damping: f64,
+    /// Air drag ka: force -ka v on every node [N·s/m].
+    pub air_drag: f64,
+    /// Gravitational acceleration [m/s²].
+    pub gravity: DVec3,
+    /// Indices of nodes held fixed.
+    pub pinned: Vec<usize>,
+    /// Newton iterations per implicit-Euler step: 1 = linearised backward Euler (Baraff–Witkin);
+    /// more refine towards the exact backward-Euler solution, stopping early at tolerance.
+    pub newton_iterations: u32,
+}
+
+impl Default for RopeParams {
+    fn default() -> Self {
+        RopeParams {
+            nodes: 16,
+            start: DVec3::ZERO,
+            end: DVec3::new(4.0, 0.0, 0.0),
+            mass: 0.1,
+            stiffness: 5000.0,
+            spring_damping: 0.05,
+            air_drag: 0.01,
+            gravity: DVec3::new(0.0, -9.81, 0.0),
+            pinned: vec![0],
+            newton_iterations: 1,
+        }
+    }
+}
+
+impl RopeParams {
+    /// Rest length of every spring: the initial spacing [m].
+    pub fn rest_length(&self) -> f64 {
+        (self.end - self.start).length() / (self.nodes - 1) as f64
+    }
+
+    /// Initial positions, evenly spaced from start to end (flat, 3 per node).
+    pub fn initial_positions(&self) -> Vec<f64> {
+        (0..self.nodes)
+            .flat_map(|i| {
+                let p = self
+                    .start
+                    .lerp(self.end, i as f64 / (self.nodes - 1) as f64);
+                [p.x, p.y, p.z]
+            })
+            .collect()
+    }
+
+    /// Highest angular frequency of the linearised chain with its first node pinned and the last
+    /// free (N-1 moving masses): 2 sqrt(k/m) sin((2M-1)π / (2(2M+1))), M = N-1
+    /// (oscillator_theory.md). Always below 2 sqrt(k/m).
+    pub fn omega_max_pinned_free(&self) -> f64 {
+        let m = (self.nodes - 1) as f64;
+        2.0 * (self.stiffness / self.mass).sqrt()
+            * ((2.0 * m - 1.0) * std::f64::consts::PI / (2.0 * (2.0 * m + 1.0))).sin()
+    }
+}
+
+/// Node i's position or velocity from flat coordinates.
+#[inline]
+pub fn node(x: &[f64], i: usize) -> DVec3 {
+    DVec3::new(x[3 * i], x[3 * i + 1], x[3 * i + 2])
+}
+
+#[inline]
+fn add_to(x: &mut [f64], i: usize, v: DVec3) {
+    x[3 * i] += v.x;
+    x[3 * i + 1] += v.y;
+    x[3 * i + 2] += v.z;
+}
+
+/// The rope as a [`SecondOrderSystem`] over 3N coordinates.
+#[derive(Debug)]
+pub struct Rope {
+    pub params: RopeParams,
+    rest: f64,
+    pinned: Vec<bool>,
+    /// Scratch for the implicit solve, allocated once.
+    workspace: RefCell<Workspace>,
+}
+
+impl Rope {
+    /// Panics on parameters `app` validation refuses (fewer than 2 nodes, pinned index out of range).
+    pub fn new(params: RopeParams) -> Self {
+        assert!(params.nodes >= 2, "a rope has at least 2 nodes");
+        let mut pinned = vec![false; params.nodes];
+        for &p in &params.pinned {
+            pinned[p] = true;
+        }
+        Rope {
+            rest: params.rest_length(),
+            workspace: RefCell::new(Workspace::new(params.nodes)),
+            pinned,
+            params,
+        }
+    }
+
+    pub fn nodes(&self) -> usize {
+        self.params.nodes
+    }
+
+    pub fn is_pinned(&self, i: usize) -> bool {
+        self.pinned[i]
+    }
+
+    pub fn rest(&self) -> f64 {
+        self.rest
+    }
+
+    /// Total force on every node (flat), before pinning.
+    pub fn forces(&self, x: &[f64], v: &[f64], f: &mut [f64]) {
+        let p = &self.params;
+        for i in 0..p.nodes {
+            let fi = p.mass * p.gravity - p.air_drag * node(v, i);
+            f[3 * i] = fi.x;
+            f[3 * i + 1] = fi.y;
+            f[3 * i + 2] = fi.z;
+        }
+        for i in 0..p.nodes - 1 {
+            let fs = self.spring_force(x, v, i);
+            add_to(f, i, fs);
+            add_to(f, i + 1, -fs);
+        }
+    }
+
+    /// Force of spring i (nodes i, i+1) on node i: Hooke along the spring plus damping of the
+    /// relative velocity's component along it. Node i+1 feels the opposite.
+    #[inline]
+    fn spring_force(&self, x: &[f64], v: &[f64], i: usize) -> DVec3 {
+        let d = node(x, i + 1) - node(x, i);
+        let len = d.length();
+        if len == 0.0 {
+            return DVec3::ZERO; // direction undefined; only reachable by a blown-up method
+        }
+        let u = d / len;
+        let dv = node(v, i + 1) - node(v, i);
+        (self.params.stiffness * (len - self.rest) + self.params.spring_damping * dv.dot(u)) * u
+    }
+
+    /// Kinetic + spring + gravitational energy [J], gravity's zero at the origin.
+    pub fn energy(&self, x: &[f64], v: &[f64]) -> f64 {
+        let p = &self.params;
+        let mut e = 0.0;
+        for i in 0..p.nodes {
+            let vi = node(v, i);
+            e += 0.5 * p.mass * vi.length_squared() - p.mass * p.gravity.dot(node(x, i));
+        }
+        for i in 0..p.nodes - 1 {
+            let stretch = (node(x, i + 1) - node(x, i)).length() - self.rest;
+            e += 0.5 * p.stiffness * stretch * stretch;
+        }
+        e
+    }
+
+    /// Largest |ℓ - ℓ0| / ℓ0 over the springs.
+    pub fn max_strain(&self, x: &[f64]) -> f64 {
+        (0..self.params.nodes - 1)
+            .map(|i| ((node(x, i + 1) - node(x, i)).length() - self.rest).abs() / self.rest)
+            .fold(0.0, f64::max)
+    }
+}
+
+impl SecondOrderSystem for Rope {
+    fn dim(&self) -> usize {
+        3 * self.params.nodes
+    }
+
+    fn acceleration(&self, x: &[f64], v: &[f64], a: &mut [f64]) {
+        self.forces(x, v, a);
+        let inv_m = 1.0 / self.params.mass;
+        for (i, ai) in a.chunks_exact_mut(3).enumerate() {
+            if self.pinned[i] {
+                ai.fill(0.0);
+            } else {
+                ai.iter_mut().for_each(|c| *c *= inv_m);
+            }
+        }
+    }
+
+    fn implicit_euler_step(&self, x: &mut [f64], v: &mut [f64], dt: f64) -> ImplicitSolve {
+        implicit::backward_euler_step(self, &mut self.workspace.borrow_mut(), x, v, dt)
+    }
+}
+
+/// Takes `steps` steps. The loop the lab times and the benchmark measures: not generic and never
+/// inlined, so both run the same machine code (see `pendulum::step_block`).
+#[inline(never)]
+pub fn step_rope(it: &mut Integrator, rope: &Rope, steps: u64) {
+    for _ in 0..steps {
+        it.step(rope);
+    }
+}

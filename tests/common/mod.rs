@@ -1,0 +1,85 @@
+//! Helpers shared by the CLI tests: scratch folders and reading recordings back with Rerun's
+//! own decoder.
+#![allow(dead_code)]
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use rerun::external::re_log_encoding::DecoderApp;
+use rerun::log::{Chunk, LogMsg};
+
+pub fn scratch_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("physlab-test-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Everything the tests need from a recording: entity paths, each plot's (sim_time ns, value)
+/// rows, and whether the footer (RRD manifest) was written.
+pub struct Decoded {
+    pub entities: BTreeSet<String>,
+    pub scalars: BTreeMap<String, Vec<(i64, f64)>>,
+    pub has_footer: bool,
+}
+
+pub fn decode(path: &Path) -> Decoded {
+    let scalar = rerun::Scalars::descriptor_scalars().component;
+    let sim_time = rerun::TimelineName::from("sim_time");
+    let file = std::io::BufReader::new(std::fs::File::open(path).unwrap());
+    let mut messages = DecoderApp::decode_lazy(file);
+    let mut entities = BTreeSet::new();
+    let mut scalars: BTreeMap<String, Vec<(i64, f64)>> = BTreeMap::new();
+    for msg in messages.by_ref() {
+        let LogMsg::ArrowMsg(store_id, arrow_msg) = msg.unwrap() else {
+            continue;
+        };
+        if !store_id.is_recording() {
+            continue; // the blueprint store
+        }
+        let chunk = Chunk::from_arrow_msg(&arrow_msg).unwrap();
+        let entity = chunk.entity_path().to_string();
+        entities.insert(entity.clone());
+        if chunk.is_static() || !chunk.components().contains_component(scalar) {
+            continue;
+        }
+        let rows = scalars.entry(entity).or_default();
+        for ((t, _), v) in chunk
+            .iter_indices(&sim_time)
+            .zip(chunk.iter_slices::<f64>(scalar))
+        {
+            rows.push((t.as_i64(), v[0]));
+        }
+    }
+    let has_footer = !messages.rrd_manifests().unwrap().is_empty();
+    for rows in scalars.values_mut() {
+        rows.sort_by_key(|r| r.0);
+    }
+    Decoded {
+        entities,
+        scalars,
+        has_footer,
+    }
+}
+
+/// Runs `physlab <subcommand> -o <out> <extra>` and asserts it is refused as bad input: exit code
+/// 2, `message` on stderr, no panic, and no recording written.
+pub fn assert_refused(subcommand: &str, out: &Path, extra: &[&str], message: &str) {
+    let result = Command::new(env!("CARGO_BIN_EXE_physlab"))
+        .args([subcommand, "-o", out.to_str().unwrap()])
+        .args(extra)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert_eq!(result.status.code(), Some(2), "{extra:?}: {stderr}");
+    assert!(
+        stderr.contains(message),
+        "{extra:?}: expected '{message}' in:\n{stderr}"
+    );
+    assert!(!stderr.contains("panicked"), "{extra:?}: {stderr}");
+    assert!(
+        !out.exists(),
+        "{extra:?}: no recording is written for bad input"
+    );
+}
