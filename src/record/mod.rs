@@ -71,6 +71,25 @@ pub fn scene_blueprint(left: Vertical, plots: Vertical) -> Blueprint {
         .with_time_panel(TimePanel::new().with_timeline("sim_time"))
 }
 
+/// A faint floor outline through four corners (static). Besides showing the ground, it widens
+/// the bounding box the viewer's default camera frames, so the nearest slots are not cut off by
+/// perspective (the camera cannot be set from the Rust SDK).
+pub fn log_stage(
+    rec: &rerun::RecordingStream,
+    entity: &str,
+    corners: [[f32; 3]; 4],
+) -> anyhow::Result<()> {
+    let mut outline = corners.to_vec();
+    outline.push(corners[0]);
+    rec.log_static(
+        entity,
+        &rerun::LineStrips3D::new([outline])
+            .with_colors([[90, 90, 90]])
+            .with_radii([rerun::Radius::new_ui_points(1.0)]),
+    )?;
+    Ok(())
+}
+
 /// Grid cells (column, row counted from the bottom) for `n` side-by-side lanes, in rows of at
 /// most four in reading order from the top left. A compact block rather than one long row, so
 /// the viewer's default camera frames every lane.

@@ -11,7 +11,9 @@
 use rerun::blueprint::{Blueprint, Horizontal, Spatial2DView, Vertical};
 use rerun::{RecordingStream, TimeColumn};
 
-use super::{about_and_events, method_color, plot_column, scene_blueprint, scene_view, slot_cells};
+use super::{
+    about_and_events, log_stage, method_color, plot_column, scene_blueprint, scene_view, slot_cells,
+};
 use crate::scene::pendulum::run::{
     Event, EventKind, FrameState, PendulumObserver, RunSetup, RunSummary, SeriesBlock,
 };
@@ -125,25 +127,21 @@ impl PendulumObserver for PendulumRecorder {
         self.phase_stride = (c.total_steps() / c.plot_stride() / MAX_PHASE_POINTS as u64).max(1);
 
         rec.log_static("pendulum", &rerun::ViewCoordinates::RIGHT_HAND_Z_UP())?;
-        // A faint floor outline around the slots. It also widens the bounding box the viewer's
-        // default camera frames, so the nearest slots are not cut off by perspective.
         let l = c.params.length as f32;
         let (x_max, z_max) = self
             .pivots
             .iter()
             .fold((0.0f32, 0.0f32), |(x, z), p| (x.max(p[0]), z.max(p[2])));
-        let (x0, x1, y0, y1) = (-2.0 * l, x_max + 2.0 * l, -0.5 * z_max, 0.5 * z_max);
-        rec.log_static(
+        let half_depth = 0.5 * z_max;
+        log_stage(
+            rec,
             "pendulum/stage",
-            &rerun::LineStrips3D::new([[
-                [x0, y0, 0.0],
-                [x1, y0, 0.0],
-                [x1, y1, 0.0],
-                [x0, y1, 0.0],
-                [x0, y0, 0.0],
-            ]])
-            .with_colors([[90, 90, 90]])
-            .with_radii([rerun::Radius::new_ui_points(1.0)]),
+            [
+                [-2.0 * l, -half_depth, 0.0],
+                [x_max + 2.0 * l, -half_depth, 0.0],
+                [x_max + 2.0 * l, half_depth, 0.0],
+                [-2.0 * l, half_depth, 0.0],
+            ],
         )?;
         let bob_radius = 0.06 * c.params.length as f32;
         for (i, name) in self.lanes.iter().enumerate() {

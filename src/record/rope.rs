@@ -9,7 +9,9 @@
 use rerun::blueprint::{Blueprint, Horizontal, Vertical};
 use rerun::{RecordingStream, TimeColumn};
 
-use super::{about_and_events, method_color, plot_column, scene_blueprint, scene_view, slot_cells};
+use super::{
+    about_and_events, log_stage, method_color, plot_column, scene_blueprint, scene_view, slot_cells,
+};
 use crate::scene::rope::node;
 use crate::scene::rope::run::{
     ENERGY_GAIN_BOUND, RopeFrame, RopeObserver, RopeSeries, RopeSetup, RopeSummary, STRAIN_BOUND,
@@ -107,6 +109,29 @@ impl RopeObserver for RopeRecorder {
         };
         let rec = &self.rec;
         rec.log_static("rope", &rerun::ViewCoordinates::RIGHT_HAND_Y_UP())?;
+        // Floor below the lowest hanging rope, reaching past the outer slots on every side.
+        let (x_max, y_max) = self
+            .offsets
+            .iter()
+            .fold((0.0f64, 0.0f64), |(x, y), o| (x.max(o[0]), y.max(o[1])));
+        let floor = (p.start.y.min(p.end.y) - 1.3 * span) as f32;
+        // The rope swings about its first pinned node, within one span of it.
+        let pin_x = p.start.x;
+        let (x0, x1) = (
+            (pin_x - 1.5 * span) as f32,
+            (pin_x + x_max + 1.5 * span) as f32,
+        );
+        let half_depth = (0.5 * (y_max + 2.0 * span)) as f32;
+        log_stage(
+            rec,
+            "rope/stage",
+            [
+                [x0, floor, -half_depth],
+                [x1, floor, -half_depth],
+                [x1, floor, half_depth],
+                [x0, floor, half_depth],
+            ],
+        )?;
         let node_radius = (0.012 * span) as f32;
         for (i, name) in self.names.iter().enumerate() {
             let color = method_color(name);
