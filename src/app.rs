@@ -4,9 +4,11 @@ use std::fmt;
 
 use glam::DVec3;
 
-use crate::cli::{Cli, Command, PendulumArgs, RopeArgs, RopePreset};
+use crate::cli::{Cli, Command, HairArgs, PendulumArgs, RopeArgs, RopePreset};
 use crate::method::{Method, MethodOptions, methods_table};
 use crate::record::{FileRecording, send_provenance};
+use crate::scene::hair::run::HairConfig;
+use crate::scene::hair::{HairMethod, HairParams};
 use crate::scene::pendulum::PendulumParams;
 use crate::scene::pendulum::run::{PendulumConfig, run as run_pendulum};
 use crate::scene::pendulum::summary::summary_text;
@@ -37,6 +39,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         }
         Command::Pendulum(args) => pendulum(&args),
         Command::Rope(args) => rope(&args),
+        Command::Hair(args) => hair(&args),
     }
 }
 
@@ -360,4 +363,130 @@ fn rope_config_toml(c: &RopeConfig, args: &RopeArgs) -> String {
         args.layout,
         args.output.display().to_string(),
     )
+}
+
+/// Node-steps × (iterations + 1) per method beyond which a hair run is refused.
+pub const MAX_HAIR_WORK: f64 = 1e12;
+
+/// Turns the hair flags into a validated config.
+pub fn hair_config(args: &HairArgs) -> Result<HairConfig, UsageError> {
+    if !(1..=1_000_000).contains(&args.strands) {
+        return Err(UsageError(format!(
+            "--strands {}: must be between 1 and 1000000",
+            args.strands
+        )));
+    }
+    if !(2..=10_000).contains(&args.nodes) {
+        return Err(UsageError(format!(
+            "--nodes {}: must be between 2 and 10000",
+            args.nodes
+        )));
+    }
+    positive("--segment-length", args.segment_length, "m")?;
+    positive("--head-radius", args.head_radius, "m")?;
+    non_negative("--gust", args.gust, "fraction")?;
+    non_negative("--damping", args.damping, "1/s")?;
+    if !(args.margin.is_finite() && (0.0..0.5).contains(&args.margin)) {
+        return Err(UsageError(format!(
+            "--margin {}: must be in [0, 0.5) head radii",
+            args.margin
+        )));
+    }
+    if args.iterations == 0 {
+        return Err(UsageError("--iterations 0: must be at least 1".into()));
+    }
+    if args.substeps == 0 {
+        return Err(UsageError("--substeps 0: must be at least 1".into()));
+    }
+    positive("--rate", args.rate, "Hz")?;
+    check_time(1.0 / args.rate, args.duration, args.fps, 1)?;
+    let config = HairConfig {
+        params: HairParams {
+            head_radius: args.head_radius,
+            motion: args.head_motion,
+            strands: args.strands,
+            nodes: args.nodes,
+            segment_length: args.segment_length,
+            gravity: parse_vector("--gravity", &args.gravity)?,
+            wind: parse_vector("--wind", &args.wind)?,
+            gust: args.gust,
+            damping: args.damping,
+            iterations: args.iterations,
+            margin: args.margin,
+            ..HairParams::default()
+        },
+        rate: args.rate,
+        substeps: args.substeps,
+        fps: args.fps,
+        duration: args.duration,
+        methods: {
+            let mut m: Vec<HairMethod> = Vec::new();
+            for &x in &args.methods {
+                if !m.contains(&x) {
+                    m.push(x);
+                }
+            }
+            if m.is_empty() {
+                HairMethod::ALL.to_vec()
+            } else {
+                m
+            }
+        },
+    };
+    let work = config.frames() as f64
+        * config.substeps as f64
+        * (args.strands * args.nodes) as f64
+        * (args.iterations + 1) as f64;
+    if work > MAX_HAIR_WORK {
+        return Err(UsageError(format!(
+            "--strands {} × --nodes {} × --iterations {} over {} frames × {} substeps is {work:.2e} node-updates \
+             per method; at most {MAX_HAIR_WORK:.0e} are allowed (fewer strands or a shorter --duration)",
+            args.strands,
+            args.nodes,
+            args.iterations,
+            config.frames(),
+            config.substeps
+        )));
+    }
+    if args.threads == Some(0) {
+        return Err(UsageError("--threads 0: must be at least 1".into()));
+    }
+    Ok(config)
+}
+
+fn hair(args: &HairArgs) -> anyhow::Result<()> {
+    let config = hair_config(args)?;
+    let mut pool = rayon::ThreadPoolBuilder::new();
+    if let Some(n) = args.threads {
+        pool = pool.num_threads(n);
+    }
+    let pool = pool.build()?;
+    let summary = if args.no_record {
+        pool.install(|| {
+            crate::scene::hair::run::run(&config, &mut crate::scene::hair::run::NoHairObserver)
+        })?
+    } else {
+        let recording =
+            FileRecording::create(&args.output, "hair", crate::record::hair::blueprint())?;
+        let methods: Vec<&str> = config.methods.iter().map(|m| m.name()).collect();
+        send_provenance(
+            recording.stream(),
+            "hair",
+            &format!("[hair]\n{config:?}\n"),
+            &methods,
+        )?;
+        let mut recorder = crate::record::hair::HairRecorder::new(recording.stream().clone());
+        let summary = pool.install(|| crate::scene::hair::run::run(&config, &mut recorder))?;
+        drop(recorder);
+        let bytes = recording.commit()?;
+        print!("{}", crate::scene::hair::summary::summary_text(&summary));
+        println!(
+            "\nrecording: {} ({:.2} MB)",
+            args.output.display(),
+            bytes as f64 / 1e6
+        );
+        return Ok(());
+    };
+    print!("{}", crate::scene::hair::summary::summary_text(&summary));
+    Ok(())
 }

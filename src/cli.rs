@@ -6,6 +6,7 @@ use clap::{Args, Parser, Subcommand};
 
 use crate::method::Method;
 use crate::record::rope::Layout;
+use crate::scene::hair::{HairMethod, HeadMotion};
 
 #[derive(Parser, Debug)]
 #[command(
@@ -29,6 +30,9 @@ pub enum Command {
     /// Mass-spring rope: point masses, Hooke springs, spring damping, air drag, pinned nodes;
     /// every method side by side; writes a recording and prints a summary table
     Rope(RopeArgs),
+    /// Hair strands on a moving head: Verlet, PBD and follow-the-leader side by side with length
+    /// constraints, sphere collision and wind; writes a recording and prints a summary table
+    Hair(HairArgs),
     /// Print the integrator registry: order, kind, symplecticity, force evaluations, stability
     Methods,
 }
@@ -212,6 +216,140 @@ pub struct RopeArgs {
         short,
         long,
         default_value = "recordings/rope.rrd",
+        value_name = "PATH"
+    )]
+    pub output: PathBuf,
+}
+
+#[derive(Args, Debug, Clone)]
+pub struct HairArgs {
+    /// Number of strands, rooted by a golden-angle spiral over the upper head
+    #[arg(long, default_value_t = 200, value_name = "N")]
+    pub strands: usize,
+
+    /// Nodes per strand, the root included
+    #[arg(long, default_value_t = 16, value_name = "N")]
+    pub nodes: usize,
+
+    /// Rest length of every segment [m]
+    #[arg(
+        long,
+        default_value_t = 0.015,
+        value_name = "M",
+        allow_negative_numbers = true
+    )]
+    pub segment_length: f64,
+
+    /// Head (sphere) radius [m]
+    #[arg(
+        long,
+        default_value_t = 0.1,
+        value_name = "M",
+        allow_negative_numbers = true
+    )]
+    pub head_radius: f64,
+
+    /// Scripted head path: smooth pulses that start and end at rest
+    #[arg(long, value_enum, default_value_t = HeadMotion::Tour)]
+    pub head_motion: HeadMotion,
+
+    /// Wind as an acceleration x,y[,z] on every node [m/s²], z up
+    #[arg(
+        long,
+        default_value = "1,0,0",
+        value_name = "X,Y,Z",
+        allow_hyphen_values = true
+    )]
+    pub wind: String,
+
+    /// Gust strength as a fraction of the wind: the wind varies by ±this, smoothly and deterministically
+    #[arg(
+        long,
+        default_value_t = 0.5,
+        value_name = "FRACTION",
+        allow_negative_numbers = true
+    )]
+    pub gust: f64,
+
+    /// Gravitational acceleration x,y[,z] [m/s²], z up
+    #[arg(
+        long,
+        default_value = "0,0,-9.81",
+        value_name = "X,Y,Z",
+        allow_hyphen_values = true
+    )]
+    pub gravity: String,
+
+    /// Velocity damping rate c [1/s]: velocities decay as exp(-c t)
+    #[arg(
+        long,
+        default_value_t = 1.0,
+        value_name = "1/S",
+        allow_negative_numbers = true
+    )]
+    pub damping: f64,
+
+    /// Constraint-projection rounds per step (verlet, semi-implicit-euler; ftl needs one pass)
+    #[arg(long, default_value_t = 4, value_name = "N")]
+    pub iterations: u32,
+
+    /// Steps per simulation frame
+    #[arg(long, default_value_t = 1, value_name = "N")]
+    pub substeps: u32,
+
+    /// Simulation frames per simulated second [Hz]
+    #[arg(
+        long,
+        default_value_t = 60.0,
+        value_name = "HZ",
+        allow_negative_numbers = true
+    )]
+    pub rate: f64,
+
+    /// How often the 3D state is logged [Hz of simulated time]; plots get every frame
+    #[arg(
+        long,
+        default_value_t = 20.0,
+        value_name = "HZ",
+        allow_negative_numbers = true
+    )]
+    pub fps: f64,
+
+    /// Simulated time [s] (one tour of the head takes 8 s)
+    #[arg(
+        long,
+        default_value_t = 8.0,
+        value_name = "S",
+        allow_negative_numbers = true
+    )]
+    pub duration: f64,
+
+    /// Collision margin as a fraction of the head radius
+    #[arg(
+        long,
+        default_value_t = 1e-3,
+        value_name = "FRACTION",
+        allow_negative_numbers = true
+    )]
+    pub margin: f64,
+
+    /// Methods to run, comma-separated [default: verlet, semi-implicit-euler, ftl]
+    #[arg(long, value_delimiter = ',', value_name = "LIST")]
+    pub methods: Vec<HairMethod>,
+
+    /// Worker threads for the strands [default: all cores]; results do not depend on it
+    #[arg(long, value_name = "N")]
+    pub threads: Option<usize>,
+
+    /// Do not write a recording (throughput runs)
+    #[arg(long)]
+    pub no_record: bool,
+
+    /// Where to write the recording (.rrd); its folder is created
+    #[arg(
+        short,
+        long,
+        default_value = "recordings/hair.rrd",
         value_name = "PATH"
     )]
     pub output: PathBuf,

@@ -1,6 +1,7 @@
 //! The only place that calls Rerun: entity paths, styles, blueprints, properties, and writing
 //! a recording file safely.
 
+pub mod hair;
 pub mod pendulum;
 pub mod rope;
 
@@ -23,6 +24,7 @@ pub fn method_color(name: &str) -> [u8; 3] {
         "trapezoid" => [247, 129, 191],
         "rk4" => [55, 126, 184],
         "verlet" => [77, 175, 74],
+        "ftl" => [0, 190, 190],
         "exact" | "reference" => [220, 220, 220],
         _ => [255, 255, 51],
     }

@@ -1,0 +1,94 @@
+//! Hair throughput at 10,000 strands × 32 nodes × 4 iterations, 60 Hz frames (one step each):
+//! `cargo bench --bench hair_frames`. Criterion's throughput is simulated frames per second;
+//! real time is 60. "record" also logs the 3D state every second frame (30 fps) and the plots
+//! every frame to a Rerun file sink writing to /dev/null, so encoding and compression are paid
+//! but no disk fills up.
+
+use std::time::Duration;
+
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use physlab::record::hair::HairRecorder;
+use physlab::scene::hair::run::{HairConfig, HairFrame, HairObserver, measure};
+use physlab::scene::hair::{Hair, HairMethod, HairParams};
+
+fn config() -> HairConfig {
+    HairConfig {
+        params: HairParams {
+            strands: 10_000,
+            nodes: 32,
+            iterations: 4,
+            ..HairParams::default()
+        },
+        ..HairConfig::default()
+    }
+}
+
+fn hair_frames(c: &mut Criterion) {
+    let config = config();
+    let mut group = c.benchmark_group("hair_10k_x_32");
+    group
+        .sample_size(10)
+        .measurement_time(Duration::from_secs(6))
+        .warm_up_time(Duration::from_secs(2));
+    for threads in [1usize, 2] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        for method in HairMethod::ALL {
+            // Two frames per iteration, so "record" logs 3D once per iteration (30 of 60 Hz).
+            group.throughput(Throughput::Elements(2));
+            let mut hair = Hair::new(config.params.clone(), method);
+            group.bench_function(
+                format!("{}/{threads}-thread/no-record", method.name()),
+                |b| {
+                    b.iter(|| {
+                        pool.install(|| {
+                            hair.step(1.0 / 60.0);
+                            hair.step(1.0 / 60.0);
+                        })
+                    })
+                },
+            );
+            if threads == 2 {
+                let rec = rerun::RecordingStreamBuilder::new("physlab-bench")
+                    .save("/dev/null")
+                    .unwrap();
+                rec.set_log_time_enabled(false);
+                let mut recorder = HairRecorder::new(rec);
+                let cfg = HairConfig {
+                    methods: vec![method],
+                    ..config.clone()
+                };
+                let mut hair = Hair::new(config.params.clone(), method);
+                recorder.start(&cfg, std::slice::from_ref(&hair)).unwrap();
+                let mut frame = 0u64;
+                group.bench_function(
+                    format!("{}/{threads}-thread/record-30fps", method.name()),
+                    |b| {
+                        b.iter(|| {
+                            pool.install(|| {
+                                for _ in 0..2 {
+                                    hair.step(1.0 / 60.0);
+                                    frame += 1;
+                                    let stats = measure(&hair);
+                                    let view = HairFrame {
+                                        frame,
+                                        time: hair.time,
+                                        log_3d: frame.is_multiple_of(2),
+                                        lanes: vec![Some((&hair, stats))],
+                                    };
+                                    recorder.frame(&view).unwrap();
+                                }
+                            })
+                        })
+                    },
+                );
+            }
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(benches, hair_frames);
+criterion_main!(benches);

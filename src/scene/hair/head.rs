@@ -1,0 +1,107 @@
+//! The head's scripted path: the seeds' keys (WASD move, QE turn) replaced by a smooth,
+//! deterministic script. Every motion is a C²-smooth pulse that starts and ends at rest, so
+//! velocities and accelerations stay finite and the head always returns home.
+
+use glam::{DQuat, DVec3};
+
+/// How the head moves.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum HeadMotion {
+    /// Never moves.
+    Still,
+    /// Slides left and right (translation along x).
+    Sway,
+    /// Turns about the vertical axis and back.
+    Turn,
+    /// Nods (pitch about the left-right axis) and back.
+    Nod,
+    /// Sway, turn, nod, then a rest, repeating.
+    Tour,
+}
+
+/// Length of one motion pulse [s]; a tour is four of them (sway, turn, nod, rest).
+pub const PULSE: f64 = 2.0;
+/// Sway amplitude [head radii], turn amplitude [rad], nod amplitude [rad].
+const SWAY: f64 = 2.0;
+const TURN: f64 = 1.0;
+const NOD: f64 = 0.5;
+
+/// A pulse on s ∈ [0, 1]: sin(2πs)·sin²(πs). It and its first two derivatives vanish at both
+/// ends, so chained pulses are C² and the head starts and ends each at rest.
+fn pulse(s: f64) -> f64 {
+    let s = s.clamp(0.0, 1.0);
+    let w = (std::f64::consts::PI * s).sin();
+    (2.0 * std::f64::consts::PI * s).sin() * w * w
+}
+
+/// Where the head is at time t: its centre [m] and its rotation (world from head frame).
+/// The head frame is z up, x right, y forward; `radius` scales the sway.
+pub fn head_pose(motion: HeadMotion, t: f64, radius: f64) -> (DVec3, DQuat) {
+    let phase = |period_pulses: f64| (t / PULSE) % period_pulses;
+    let (mut sway, mut turn, mut nod) = (0.0, 0.0, 0.0);
+    match motion {
+        HeadMotion::Still => {}
+        HeadMotion::Sway => sway = pulse(phase(1.0)),
+        HeadMotion::Turn => turn = pulse(phase(1.0)),
+        HeadMotion::Nod => nod = pulse(phase(1.0)),
+        HeadMotion::Tour => {
+            let p = phase(4.0);
+            match p as u32 {
+                0 => sway = pulse(p),
+                1 => turn = pulse(p - 1.0),
+                2 => nod = pulse(p - 2.0),
+                _ => {}
+            }
+        }
+    }
+    let center = DVec3::new(SWAY * radius * sway, 0.0, 0.0);
+    let rotation = DQuat::from_rotation_z(TURN * turn) * DQuat::from_rotation_x(NOD * nod);
+    (center, rotation)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_motion_starts_and_ends_at_home_at_rest() {
+        for m in [
+            HeadMotion::Sway,
+            HeadMotion::Turn,
+            HeadMotion::Nod,
+            HeadMotion::Tour,
+        ] {
+            let period = if m == HeadMotion::Tour {
+                4.0 * PULSE
+            } else {
+                PULSE
+            };
+            for t in [0.0, period, 2.0 * period] {
+                let (c, q) = head_pose(m, t, 0.1);
+                assert!(
+                    c.length() < 1e-12 && q.angle_between(DQuat::IDENTITY) < 1e-12,
+                    "{m:?} at {t}"
+                );
+                // Velocity by central difference vanishes at the joints.
+                let e = 1e-4;
+                let (c1, _) = head_pose(m, t + e, 0.1);
+                let (c0, _) = head_pose(m, (t - e).max(0.0), 0.1);
+                assert!((c1 - c0).length() / (2.0 * e) < 1e-6, "{m:?} moving at {t}");
+            }
+        }
+    }
+
+    #[test]
+    fn acceleration_stays_bounded() {
+        // Second differences of the sway over a tour stay near the analytic bound
+        // max |pulse''| · SWAY·R / PULSE² (pulse'' ≤ ~4π² · 1.2).
+        let (r, h) = (0.1, 1e-3);
+        let bound = 4.0 * std::f64::consts::PI.powi(2) * 1.5 * SWAY * r / (PULSE * PULSE);
+        for k in 1..8000 {
+            let t = k as f64 * h;
+            let x = |t: f64| head_pose(HeadMotion::Tour, t, r).0.x;
+            let acc = (x(t + h) - 2.0 * x(t) + x(t - h)) / (h * h);
+            assert!(acc.abs() < bound, "acceleration {acc} at t = {t}");
+        }
+    }
+}
