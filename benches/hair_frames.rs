@@ -55,7 +55,7 @@ fn hair_frames(c: &mut Criterion) {
                     .save("/dev/null")
                     .unwrap();
                 rec.set_log_time_enabled(false);
-                let mut recorder = HairRecorder::new(rec);
+                let mut recorder = HairRecorder::new(rec, true);
                 let cfg = HairConfig {
                     methods: vec![method],
                     ..config.clone()

@@ -1,9 +1,16 @@
 //! The command line, as clap derive types only. Resolution and validation live in `app`.
+//!
+//! Each scene's parameter struct doubles as its table in a scene file (`--config FILE.toml`):
+//! every field is optional, so a value can come from a flag, the file, a preset or the default,
+//! in that order of precedence. Fields that say where output goes, not what is simulated, are
+//! skipped in files.
 
 use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand};
+use serde::{Deserialize, Serialize};
 
+use crate::config::Vector;
 use crate::method::Method;
 use crate::record::rope::Layout;
 use crate::scene::hair::{HairMethod, HeadMotion};
@@ -14,7 +21,7 @@ use crate::scene::hair::{HairMethod, HeadMotion};
     version,
     about = "A lab for numerical integration: physics scenes stepped by several integrators side by side, \
              recorded to Rerun .rrd files",
-    after_help = "Open a recording with the Rerun viewer 0.36: `rerun recordings/pendulum.rrd` \
+    after_help = "Open a recording with the Rerun viewer 0.36: `rerun recordings/all.rrd` \
                   (pip install rerun-sdk==0.36.3)."
 )]
 pub struct Cli {
@@ -24,112 +31,153 @@ pub struct Cli {
 
 #[derive(Subcommand, Debug)]
 pub enum Command {
-    /// Simple pendulum θ'' = -(g/L) sin θ: every method side by side against the exact solution;
-    /// writes a recording and prints a summary table
-    Pendulum(PendulumArgs),
-    /// Mass-spring rope: point masses, Hooke springs, spring damping, air drag, pinned nodes;
-    /// every method side by side; writes a recording and prints a summary table
-    Rope(RopeArgs),
-    /// Hair strands on a moving head: Verlet, PBD and follow-the-leader side by side with length
-    /// constraints, sphere collision and wind; writes a recording and prints a summary table
-    Hair(HairArgs),
+    /// All three scenes in one recording on one timeline (parameters from --config, a table per scene)
+    All(AllArgs),
+    /// Simple pendulum θ'' = -(g/L) sin θ: every method side by side against the exact solution
+    Pendulum(PendulumCommand),
+    /// Mass-spring rope: point masses, Hooke springs, spring damping, air drag, pinned nodes
+    Rope(RopeCommand),
+    /// Hair strands on a moving head: Verlet, PBD and follow-the-leader with length constraints,
+    /// sphere collision and wind
+    Hair(HairCommand),
+    /// What a recording holds: provenance, scenes, methods, entity paths, time range, warnings
+    Inspect(InspectArgs),
     /// Print the integrator registry: order, kind, symplecticity, force evaluations, stability
     Methods,
 }
 
+/// Where a run's output goes and how it reports; shared by every simulating command.
+#[derive(Args, Debug, Clone, Default)]
+pub struct RunArgs {
+    /// Read parameters from a TOML scene file; flags given as well override it
+    #[arg(long, value_name = "FILE.toml")]
+    pub config: Option<PathBuf>,
+
+    /// Print the resolved parameters as TOML (a scene file) and exit without simulating
+    #[arg(long)]
+    pub print_config: bool,
+
+    /// Where to write the recording (.rrd); its folder is created [default: recordings/<scene>.rrd]
+    #[arg(short, long, value_name = "PATH")]
+    pub output: Option<PathBuf>,
+
+    /// Also stream to a running Rerun viewer [default URL: rerun+http://127.0.0.1:9876/proxy]
+    #[arg(long, value_name = "URL", num_args = 0..=1, default_missing_value = "rerun+http://127.0.0.1:9876/proxy")]
+    pub connect: Option<String>,
+
+    /// Also start a Rerun viewer (`rerun` from PATH) and stream to it
+    #[arg(long)]
+    pub spawn: bool,
+
+    /// Do not write the recording file (with --connect or --spawn: stream only)
+    #[arg(long)]
+    pub no_save: bool,
+
+    /// Also plot wall-clock costs (ms per frame); off by default so that a recording depends only
+    /// on its inputs
+    #[arg(long)]
+    pub timings: bool,
+
+    /// No progress bar
+    #[arg(short, long)]
+    pub quiet: bool,
+}
+
 #[derive(Args, Debug, Clone)]
+pub struct AllArgs {
+    #[command(flatten)]
+    pub run: RunArgs,
+}
+
+#[derive(Args, Debug, Clone)]
+pub struct PendulumCommand {
+    #[command(flatten)]
+    pub scene: PendulumArgs,
+    #[command(flatten)]
+    pub run: RunArgs,
+}
+
+#[derive(Args, Debug, Clone)]
+pub struct RopeCommand {
+    #[command(flatten)]
+    pub scene: RopeArgs,
+    #[command(flatten)]
+    pub run: RunArgs,
+}
+
+#[derive(Args, Debug, Clone)]
+pub struct HairCommand {
+    #[command(flatten)]
+    pub scene: HairArgs,
+    #[command(flatten)]
+    pub run: RunArgs,
+    /// Worker threads for the strands [default: all cores]; results do not depend on it
+    #[arg(long, value_name = "N")]
+    pub threads: Option<usize>,
+    /// Neither write nor stream a recording (throughput runs)
+    #[arg(long)]
+    pub no_record: bool,
+}
+
+#[derive(Args, Debug, Clone)]
+pub struct InspectArgs {
+    /// The recording to describe
+    pub file: PathBuf,
+    /// Write the recording's embedded scene file here, to run the same thing again with --config
+    #[arg(long, value_name = "FILE.toml")]
+    pub config_out: Option<PathBuf>,
+}
+
+#[derive(Args, Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
 pub struct PendulumArgs {
-    /// Gravitational acceleration g [m/s²]
-    #[arg(
-        long,
-        default_value_t = 9.81,
-        value_name = "M/S²",
-        allow_negative_numbers = true
-    )]
-    pub gravity: f64,
+    /// Gravitational acceleration g [m/s²] [default: 9.81]
+    #[arg(long, value_name = "M/S²", allow_negative_numbers = true)]
+    pub gravity: Option<f64>,
 
-    /// Rod length L, pivot to bob [m]
-    #[arg(
-        long,
-        default_value_t = 3.521,
-        value_name = "M",
-        allow_negative_numbers = true
-    )]
-    pub length: f64,
+    /// Rod length L, pivot to bob [m] [default: 3.521]
+    #[arg(long, value_name = "M", allow_negative_numbers = true)]
+    pub length: Option<f64>,
 
-    /// Initial angle θ0 from straight down [degrees]. Release from rest with |θ0| < 180° is
-    /// compared with the exact elliptic solution; any other start with a converged fine-step one
-    #[arg(
-        long,
-        default_value_t = 60.0,
-        value_name = "DEG",
-        allow_negative_numbers = true
-    )]
-    pub theta0: f64,
+    /// Initial angle θ0 from straight down [degrees] [default: 60]. Release from rest with
+    /// |θ0| < 180° is compared with the exact elliptic solution; any other start with a converged
+    /// fine-step one
+    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
+    pub theta0: Option<f64>,
 
-    /// Initial angular velocity ω0 [rad/s]
-    #[arg(
-        long,
-        default_value_t = 0.0,
-        value_name = "RAD/S",
-        allow_negative_numbers = true
-    )]
-    pub omega0: f64,
+    /// Initial angular velocity ω0 [rad/s] [default: 0]
+    #[arg(long, value_name = "RAD/S", allow_negative_numbers = true)]
+    pub omega0: Option<f64>,
 
-    /// Time step dt [s], the same for every method
-    #[arg(
-        long,
-        default_value_t = 0.01,
-        value_name = "S",
-        allow_negative_numbers = true
-    )]
-    pub dt: f64,
+    /// Time step dt [s], the same for every method [default: 0.01]
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
+    pub dt: Option<f64>,
 
-    /// Simulated time [s]; the run takes round(duration / dt) steps
-    #[arg(
-        long,
-        default_value_t = 20.0,
-        value_name = "S",
-        allow_negative_numbers = true
-    )]
-    pub duration: f64,
+    /// Simulated time [s]; the run takes round(duration / dt) steps [default: 20]
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
+    pub duration: Option<f64>,
 
-    /// How often the 3D state is logged [Hz of simulated time]; plots get every step
-    /// (thinned evenly beyond 10,000 points per series)
-    #[arg(
-        long,
-        default_value_t = 30.0,
-        value_name = "HZ",
-        allow_negative_numbers = true
-    )]
-    pub fps: f64,
+    /// How often the 3D state is logged [Hz of simulated time] [default: 30]
+    #[arg(long, value_name = "HZ", allow_negative_numbers = true)]
+    pub fps: Option<f64>,
+
+    /// Plot every Nth step [default: 1, thinned further to at most 10,000 points per series]
+    #[arg(long, value_name = "N")]
+    pub plot_every: Option<u64>,
 
     /// Methods to run, comma-separated [default: all seven]: explicit-euler, semi-implicit-euler,
     /// implicit-euler, midpoint, trapezoid, rk4, verlet
     #[arg(long, value_delimiter = ',', value_name = "LIST")]
-    pub methods: Vec<Method>,
+    pub methods: Option<Vec<Method>>,
 
-    /// Verlet's damping factor d in x1 = x0 + (1-d)(x0 - x_-1) + a dt², 0 ≤ d < 1 [dimensionless]
-    #[arg(
-        long,
-        default_value_t = 0.0,
-        value_name = "D",
-        allow_negative_numbers = true
-    )]
-    pub verlet_damping: f64,
-
-    /// Where to write the recording (.rrd); its folder is created
-    #[arg(
-        short,
-        long,
-        default_value = "recordings/pendulum.rrd",
-        value_name = "PATH"
-    )]
-    pub output: PathBuf,
+    /// Verlet's damping factor d in x1 = x0 + (1-d)(x0 - x_-1) + a dt², 0 ≤ d < 1 [default: 0]
+    #[arg(long, value_name = "D", allow_negative_numbers = true)]
+    pub verlet_damping: Option<f64>,
 }
 
 /// Parameter sets that reproduce a known setup; flags given with a preset override it.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum RopePreset {
     /// GAMES101 assignment 8 (seed 003): 16 nodes from (0,200) to (-400,200), mass 1, ks 100,
     /// no spring damping or drag, gravity (0,-1), dt = 1/64 with 64 steps per frame, node 0
@@ -137,9 +185,8 @@ pub enum RopePreset {
     Games101,
 }
 
-/// Rope flags. Every value is optional so that a preset can fill what the user did not give;
-/// the defaults below apply when neither does.
-#[derive(Args, Debug, Clone)]
+#[derive(Args, Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
 pub struct RopeArgs {
     /// Start from a known parameter set; flags given as well override it
     #[arg(long, value_enum)]
@@ -151,12 +198,12 @@ pub struct RopeArgs {
 
     /// First node's position x,y[,z] [m] [default: 0,0,0]
     #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
-    pub start: Option<String>,
+    pub start: Option<Vector>,
 
     /// Last node's position x,y[,z] [m]; nodes are spaced evenly, and that spacing is every
     /// spring's rest length [default: 4,0,0]
     #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
-    pub end: Option<String>,
+    pub end: Option<Vector>,
 
     /// Mass of each node [kg] [default: 0.1]
     #[arg(long, value_name = "KG", allow_negative_numbers = true)]
@@ -176,7 +223,7 @@ pub struct RopeArgs {
 
     /// Gravitational acceleration x,y[,z] [m/s²] [default: 0,-9.81,0]
     #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
-    pub gravity: Option<String>,
+    pub gravity: Option<Vector>,
 
     /// Indices of pinned nodes, comma-separated, e.g. 0,15 for both ends [default: 0]
     #[arg(long, value_delimiter = ',', value_name = "LIST")]
@@ -194,9 +241,13 @@ pub struct RopeArgs {
     #[arg(long, value_name = "HZ", allow_negative_numbers = true)]
     pub fps: Option<f64>,
 
+    /// Plot every Nth step [default: 5, thinned further to at most 10,000 points per series]
+    #[arg(long, value_name = "N")]
+    pub plot_every: Option<u64>,
+
     /// Methods to run, comma-separated [default: all seven]
     #[arg(long, value_delimiter = ',', value_name = "LIST")]
-    pub methods: Vec<Method>,
+    pub methods: Option<Vec<Method>>,
 
     /// Verlet's damping factor d, 0 ≤ d < 1 [default: 0; 0.00005 with --preset games101]
     #[arg(long, value_name = "D", allow_negative_numbers = true)]
@@ -207,150 +258,77 @@ pub struct RopeArgs {
     #[arg(long, value_name = "N")]
     pub newton_iterations: Option<u32>,
 
-    /// Where each method's rope is drawn
-    #[arg(long, value_enum, default_value_t = Layout::SideBySide)]
-    pub layout: Layout,
-
-    /// Where to write the recording (.rrd); its folder is created
-    #[arg(
-        short,
-        long,
-        default_value = "recordings/rope.rrd",
-        value_name = "PATH"
-    )]
-    pub output: PathBuf,
+    /// Where each method's rope is drawn [default: side-by-side]
+    #[arg(long, value_enum)]
+    pub layout: Option<Layout>,
 }
 
-#[derive(Args, Debug, Clone)]
+#[derive(Args, Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
 pub struct HairArgs {
-    /// Number of strands, rooted by a golden-angle spiral over the upper head
-    #[arg(long, default_value_t = 200, value_name = "N")]
-    pub strands: usize,
+    /// Number of strands, rooted by a golden-angle spiral over the upper head [default: 200]
+    #[arg(long, value_name = "N")]
+    pub strands: Option<usize>,
 
-    /// Nodes per strand, the root included
-    #[arg(long, default_value_t = 16, value_name = "N")]
-    pub nodes: usize,
+    /// Nodes per strand, the root included [default: 16]
+    #[arg(long, value_name = "N")]
+    pub nodes: Option<usize>,
 
-    /// Rest length of every segment [m]
-    #[arg(
-        long,
-        default_value_t = 0.015,
-        value_name = "M",
-        allow_negative_numbers = true
-    )]
-    pub segment_length: f64,
+    /// Rest length of every segment [m] [default: 0.015]
+    #[arg(long, value_name = "M", allow_negative_numbers = true)]
+    pub segment_length: Option<f64>,
 
-    /// Head (sphere) radius [m]
-    #[arg(
-        long,
-        default_value_t = 0.1,
-        value_name = "M",
-        allow_negative_numbers = true
-    )]
-    pub head_radius: f64,
+    /// Head (sphere) radius [m] [default: 0.1]
+    #[arg(long, value_name = "M", allow_negative_numbers = true)]
+    pub head_radius: Option<f64>,
 
-    /// Scripted head path: smooth pulses that start and end at rest
-    #[arg(long, value_enum, default_value_t = HeadMotion::Tour)]
-    pub head_motion: HeadMotion,
+    /// Scripted head path: smooth pulses that start and end at rest [default: tour]
+    #[arg(long, value_enum)]
+    pub head_motion: Option<HeadMotion>,
 
-    /// Wind as an acceleration x,y[,z] on every node [m/s²], z up
-    #[arg(
-        long,
-        default_value = "1,0,0",
-        value_name = "X,Y,Z",
-        allow_hyphen_values = true
-    )]
-    pub wind: String,
+    /// Wind as an acceleration x,y[,z] on every node [m/s²], z up [default: 1,0,0]
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    pub wind: Option<Vector>,
 
-    /// Gust strength as a fraction of the wind: the wind varies by ±this, smoothly and deterministically
-    #[arg(
-        long,
-        default_value_t = 0.5,
-        value_name = "FRACTION",
-        allow_negative_numbers = true
-    )]
-    pub gust: f64,
+    /// Gust strength as a fraction of the wind: the wind varies by ±this, smoothly and
+    /// deterministically [default: 0.5]
+    #[arg(long, value_name = "FRACTION", allow_negative_numbers = true)]
+    pub gust: Option<f64>,
 
-    /// Gravitational acceleration x,y[,z] [m/s²], z up
-    #[arg(
-        long,
-        default_value = "0,0,-9.81",
-        value_name = "X,Y,Z",
-        allow_hyphen_values = true
-    )]
-    pub gravity: String,
+    /// Gravitational acceleration x,y[,z] [m/s²], z up [default: 0,0,-9.81]
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    pub gravity: Option<Vector>,
 
-    /// Velocity damping rate c [1/s]: velocities decay as exp(-c t)
-    #[arg(
-        long,
-        default_value_t = 1.0,
-        value_name = "1/S",
-        allow_negative_numbers = true
-    )]
-    pub damping: f64,
+    /// Velocity damping rate c [1/s]: velocities decay as exp(-c t) [default: 1]
+    #[arg(long, value_name = "1/S", allow_negative_numbers = true)]
+    pub damping: Option<f64>,
 
     /// Constraint-projection rounds per step (verlet, semi-implicit-euler; ftl needs one pass)
-    #[arg(long, default_value_t = 4, value_name = "N")]
-    pub iterations: u32,
+    /// [default: 4]
+    #[arg(long, value_name = "N")]
+    pub iterations: Option<u32>,
 
-    /// Steps per simulation frame
-    #[arg(long, default_value_t = 1, value_name = "N")]
-    pub substeps: u32,
+    /// Steps per simulation frame [default: 1]
+    #[arg(long, value_name = "N")]
+    pub substeps: Option<u32>,
 
-    /// Simulation frames per simulated second [Hz]
-    #[arg(
-        long,
-        default_value_t = 60.0,
-        value_name = "HZ",
-        allow_negative_numbers = true
-    )]
-    pub rate: f64,
+    /// Simulation frames per simulated second [Hz] [default: 60]
+    #[arg(long, value_name = "HZ", allow_negative_numbers = true)]
+    pub rate: Option<f64>,
 
-    /// How often the 3D state is logged [Hz of simulated time]; plots get every frame
-    #[arg(
-        long,
-        default_value_t = 20.0,
-        value_name = "HZ",
-        allow_negative_numbers = true
-    )]
-    pub fps: f64,
+    /// How often the 3D state is logged [Hz of simulated time]; plots get every frame [default: 15]
+    #[arg(long, value_name = "HZ", allow_negative_numbers = true)]
+    pub fps: Option<f64>,
 
-    /// Simulated time [s] (one tour of the head takes 8 s)
-    #[arg(
-        long,
-        default_value_t = 8.0,
-        value_name = "S",
-        allow_negative_numbers = true
-    )]
-    pub duration: f64,
+    /// Simulated time [s] (one tour of the head takes 8 s) [default: 8]
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
+    pub duration: Option<f64>,
 
-    /// Collision margin as a fraction of the head radius
-    #[arg(
-        long,
-        default_value_t = 1e-3,
-        value_name = "FRACTION",
-        allow_negative_numbers = true
-    )]
-    pub margin: f64,
+    /// Collision margin as a fraction of the head radius [default: 0.001]
+    #[arg(long, value_name = "FRACTION", allow_negative_numbers = true)]
+    pub margin: Option<f64>,
 
     /// Methods to run, comma-separated [default: verlet, semi-implicit-euler, ftl]
     #[arg(long, value_delimiter = ',', value_name = "LIST")]
-    pub methods: Vec<HairMethod>,
-
-    /// Worker threads for the strands [default: all cores]; results do not depend on it
-    #[arg(long, value_name = "N")]
-    pub threads: Option<usize>,
-
-    /// Do not write a recording (throughput runs)
-    #[arg(long)]
-    pub no_record: bool,
-
-    /// Where to write the recording (.rrd); its folder is created
-    #[arg(
-        short,
-        long,
-        default_value = "recordings/hair.rrd",
-        value_name = "PATH"
-    )]
-    pub output: PathBuf,
+    pub methods: Option<Vec<HairMethod>>,
 }

@@ -6,8 +6,10 @@
 
 pub mod app;
 pub mod cli;
+pub mod config;
 pub mod elliptic;
 pub mod method;
+pub mod progress;
 pub mod record;
 pub mod scene;
 pub mod table;

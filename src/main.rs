@@ -7,6 +7,12 @@ use physlab::app::{self, UsageError};
 use physlab::cli::Cli;
 
 fn main() -> ExitCode {
+    // Like other command-line tools, end quietly when stdout is closed early (`physlab ... | head`)
+    // instead of panicking on the failed write. Rust ignores SIGPIPE by default.
+    // SAFETY: restoring the default disposition of SIGPIPE before any thread starts.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
     // clap prints its own usage errors and exits with code 2.
     let cli = Cli::parse();
     match app::run(cli) {

@@ -108,7 +108,7 @@ fn pendulum_run_writes_a_complete_recording_whose_theta_equals_the_simulation() 
     else {
         unreachable!()
     };
-    let config = pendulum_config(&parsed).unwrap();
+    let config = pendulum_config(&parsed.scene).unwrap();
     let mut collected = ThetaCollector::default();
     let summary = run(&config, &mut collected).unwrap();
     for (lane, rows) in &collected.0 {

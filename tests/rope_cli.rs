@@ -30,6 +30,7 @@ fn rope_run_writes_a_recording_with_every_method() {
             "2",
             "--pinned",
             "0,15",
+            "--timings",
             "-o",
             out.to_str().unwrap(),
         ])
@@ -82,7 +83,7 @@ fn config(args: &[&str]) -> physlab::scene::rope::run::RopeConfig {
     let Sub::Rope(a) = Cli::parse_from(["physlab", "rope"].iter().chain(args)).command else {
         unreachable!()
     };
-    rope_config(&a).unwrap()
+    rope_config(&a.scene).unwrap()
 }
 
 #[test]
@@ -124,10 +125,7 @@ fn bad_rope_input_is_refused_with_exit_code_2() {
             "--pinned 16: node index out of range; the rope has nodes 0..=15",
         ),
         (&["--end", "0,0,0"], "must differ from --start"),
-        (
-            &["--gravity", "0,x"],
-            "--gravity 0,x: expected x,y or x,y,z",
-        ),
+        (&["--gravity", "0,x"], "expected x,y or x,y,z"),
         (&["--mass", "0"], "--mass 0: must be a finite number > 0"),
         (
             &["--stiffness", "-5"],

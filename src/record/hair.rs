@@ -22,13 +22,22 @@ pub const PLOTS: [(&str, &str); 4] = [
     ("frame_ms", "simulation time per frame [ms, wall clock]"),
 ];
 
-pub fn blueprint() -> Blueprint {
+/// The plots shown: the cost plot only when wall-clock timings are recorded.
+pub fn plots(timings: bool) -> Vec<(&'static str, &'static str)> {
+    PLOTS
+        .iter()
+        .copied()
+        .filter(|(q, _)| timings || *q != "frame_ms")
+        .collect()
+}
+
+pub fn blueprint(timings: bool) -> Blueprint {
     let left = Vertical::new([
         scene_view("hair", "hair: methods side by side", &[]).into(),
         Horizontal::new(about_and_events("hair")).into(),
     ])
     .with_row_shares([3.0, 1.0]);
-    scene_blueprint(left, plot_column("hair", &PLOTS))
+    scene_blueprint(left, plot_column("hair", &plots(timings)))
 }
 
 pub struct HairRecorder {
@@ -37,16 +46,19 @@ pub struct HairRecorder {
     offsets: Vec<glam::DVec3>,
     nodes: usize,
     radius: f64,
+    /// Whether wall-clock frame costs are plotted.
+    timings: bool,
 }
 
 impl HairRecorder {
-    pub fn new(rec: RecordingStream) -> Self {
+    pub fn new(rec: RecordingStream, timings: bool) -> Self {
         HairRecorder {
             rec,
             names: Vec::new(),
             offsets: Vec::new(),
             nodes: 1,
             radius: 0.1,
+            timings,
         }
     }
 
@@ -136,7 +148,7 @@ impl HairObserver for HairRecorder {
                     .with_labels([*name])
                     .with_show_labels(true),
             )?;
-            for (quantity, _) in PLOTS {
+            for (quantity, _) in plots(self.timings) {
                 rec.log_static(
                     format!("hair/plots/{quantity}/{name}"),
                     &rerun::SeriesLines::new()
@@ -168,6 +180,9 @@ impl HairObserver for HairRecorder {
                 ("kinetic_energy", s.kinetic_energy),
                 ("frame_ms", s.cost_ms),
             ] {
+                if quantity == "frame_ms" && !self.timings {
+                    continue;
+                }
                 self.rec.log(
                     format!("hair/plots/{quantity}/{name}"),
                     &rerun::Scalars::single(value),

@@ -2,6 +2,7 @@
 //! a recording file safely.
 
 pub mod hair;
+pub mod inspect;
 pub mod pendulum;
 pub mod rope;
 
@@ -9,8 +10,8 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Context as _;
 use rerun::blueprint::{
-    Blueprint, ContainerLike, Horizontal, Spatial3DView, TextDocumentView, TextLogView, TimePanel,
-    TimeSeriesView, Vertical,
+    Blueprint, ContainerLike, Grid, Horizontal, Spatial3DView, TextDocumentView, TextLogView,
+    TimePanel, TimeSeriesView, Vertical,
 };
 
 /// One colour per method, the same in 3D and in every plot of every scene.
@@ -30,13 +31,45 @@ pub fn method_color(name: &str) -> [u8; 3] {
     }
 }
 
-/// One plot per quantity, `/<scene>/plots/<name>/*` (every method in each), stacked.
+/// One plot per quantity, `/<scene>/plots/<name>/*`, every method in each.
+fn plot_views(scene: &str, plots: &[(&str, &str)]) -> Vec<ContainerLike> {
+    plots
+        .iter()
+        .map(|(name, title)| {
+            TimeSeriesView::new(*title)
+                .with_origin(format!("/{scene}/plots/{name}"))
+                .into()
+        })
+        .collect()
+}
+
+/// The scene's plots stacked.
 pub fn plot_column(scene: &str, plots: &[(&str, &str)]) -> Vertical {
-    Vertical::new(plots.iter().map(|(name, title)| {
-        ContainerLike::from(
-            TimeSeriesView::new(*title).with_origin(format!("/{scene}/plots/{name}")),
-        )
-    }))
+    Vertical::new(plot_views(scene, plots))
+}
+
+/// `physlab all`: the three scenes side by side, each 3D view above its plots and its event log.
+pub fn all_blueprint(timings: bool) -> Blueprint {
+    let column = |scene: &str, plots: &[(&str, &str)], exclude: &[&str]| -> ContainerLike {
+        Vertical::new([
+            scene_view(scene, scene, exclude).into(),
+            Grid::new(plot_views(scene, plots))
+                .with_grid_columns(2)
+                .into(),
+            TextLogView::new(format!("{scene} events"))
+                .with_origin(format!("/{scene}/events"))
+                .into(),
+        ])
+        .with_row_shares([3.0, 4.0, 1.0])
+        .into()
+    };
+    Blueprint::new(Horizontal::new([
+        column("pendulum", &pendulum::PLOTS, &["phase/**"]),
+        column("rope", &rope::plots(timings), &[]),
+        column("hair", &hair::plots(timings), &[]),
+    ]))
+    .with_auto_views(false)
+    .with_time_panel(TimePanel::new().with_timeline("sim_time"))
 }
 
 /// The scene's 3D view: everything under `/<scene>` except its plots, events, about text and
@@ -103,55 +136,137 @@ pub fn slot_cells(n: usize) -> Vec<(usize, usize)> {
         .collect()
 }
 
-/// A recording being written to a temporary file beside its target. [`FileRecording::commit`]
-/// finalises it (footer written) and renames it into place; dropping it uncommitted removes the
-/// temporary file, so a failed run never leaves a partial file or touches an earlier recording.
-pub struct FileRecording {
-    rec: Option<rerun::RecordingStream>,
-    tmp_path: PathBuf,
-    final_path: PathBuf,
+/// Where a recording goes: a file (written beside its target and renamed when complete), a
+/// running viewer, a viewer started for it, or any combination.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Destinations {
+    pub file: Option<PathBuf>,
+    /// A viewer's gRPC proxy URL, e.g. rerun+http://127.0.0.1:9876/proxy.
+    pub connect: Option<String>,
+    /// Start `rerun` from PATH and stream to it.
+    pub spawn: bool,
 }
 
-impl FileRecording {
-    /// Starts a recording for `target` with `blueprint` as its active layout. The wall-clock
-    /// `log_time` timeline is off so that the data depend only on the inputs.
-    pub fn create(
-        target: &Path,
-        recording_name: &str,
-        blueprint: rerun::blueprint::Blueprint,
-    ) -> anyhow::Result<Self> {
-        let dir = match target.parent() {
-            Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-            _ => PathBuf::from("."),
-        };
-        std::fs::create_dir_all(&dir)
-            .with_context(|| format!("cannot create the output folder {}", dir.display()))?;
+/// Checks the destinations before anything is simulated: the file's folder can be created and
+/// written, the target is not a folder, the viewer URL parses, `rerun` is on PATH for --spawn.
+pub fn check_destinations(d: &Destinations) -> anyhow::Result<()> {
+    if let Some(target) = &d.file {
         if target.is_dir() {
             anyhow::bail!(
-                "output {} is a folder; give a file path such as {}/run.rrd",
+                "-o {}: is a folder; give a file path such as {}/run.rrd",
                 target.display(),
                 target.display()
             );
         }
-        let file_name = target
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        let tmp_path = dir.join(format!(".{file_name}.{}.partial", std::process::id()));
-        // Fail now, before simulating, if the folder is not writable.
-        std::fs::File::create(&tmp_path)
-            .with_context(|| format!("cannot write the recording beside {}", target.display()))?;
+        let dir = parent_dir(target);
+        std::fs::create_dir_all(&dir).with_context(|| {
+            format!(
+                "-o {}: cannot create the folder {}",
+                target.display(),
+                dir.display()
+            )
+        })?;
+    }
+    if let Some(url) = &d.connect {
+        parse_proxy_url(url)?;
+    }
+    if d.spawn && find_on_path("rerun").is_none() {
+        anyhow::bail!(
+            "--spawn: no `rerun` executable on PATH; install the viewer with `pip install rerun-sdk==0.36.3`, \
+             or open the file later"
+        );
+    }
+    Ok(())
+}
+
+fn parse_proxy_url(url: &str) -> anyhow::Result<rerun::external::re_uri::ProxyUri> {
+    url.parse().map_err(|e| {
+        crate::app::UsageError(format!(
+            "--connect {url}: not a viewer URL ({e}); expected e.g. rerun+http://127.0.0.1:9876/proxy"
+        ))
+        .into()
+    })
+}
+
+fn parent_dir(target: &Path) -> PathBuf {
+    match target.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    }
+}
+
+/// The first executable called `name` on PATH.
+pub fn find_on_path(name: &str) -> Option<PathBuf> {
+    let path = std::env::var_os("PATH")?;
+    std::env::split_paths(&path)
+        .map(|dir| dir.join(name))
+        .find(|p| {
+            use std::os::unix::fs::PermissionsExt as _;
+            p.metadata()
+                .map(|m| m.is_file() && m.permissions().mode() & 0o111 != 0)
+                .unwrap_or(false)
+        })
+}
+
+/// A recording being written. A file goes to a temporary path beside its target;
+/// [`Recording::commit`] finalises it (footer written) and renames it into place, and dropping
+/// it uncommitted removes the temporary file, so a failed run never leaves a partial file or
+/// touches an earlier recording.
+pub struct Recording {
+    rec: Option<rerun::RecordingStream>,
+    file: Option<(PathBuf, PathBuf)>,
+}
+
+impl Recording {
+    /// Starts a recording with `blueprint` as its active layout. No wall-clock data: the
+    /// `log_time` timeline and the start-time property are off, so the data depend only on the
+    /// inputs (row ids, which Rerun derives from the clock, aside).
+    pub fn create(
+        d: &Destinations,
+        recording_name: &str,
+        blueprint: rerun::blueprint::Blueprint,
+    ) -> anyhow::Result<Self> {
+        check_destinations(d)?;
+        let mut sinks: Vec<Box<dyn rerun::sink::LogSink>> = Vec::new();
+        let mut file = None;
+        if let Some(target) = &d.file {
+            let file_name = target
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            let tmp =
+                parent_dir(target).join(format!(".{file_name}.{}.partial", std::process::id()));
+            std::fs::File::create(&tmp)
+                .with_context(|| format!("-o {}: cannot write in its folder", target.display()))?;
+            sinks.push(Box::new(
+                rerun::sink::FileSink::new(&tmp)
+                    .with_context(|| format!("cannot open {}", tmp.display()))?,
+            ));
+            file = Some((tmp, target.clone()));
+        }
+        if d.spawn {
+            rerun::spawn(&rerun::SpawnOptions::default())
+                .context("--spawn: cannot start the Rerun viewer")?;
+            let url = format!(
+                "rerun+http://127.0.0.1:{}/proxy",
+                rerun::DEFAULT_SERVER_PORT
+            );
+            sinks.push(Box::new(rerun::sink::GrpcSink::new(parse_proxy_url(&url)?)));
+        }
+        if let Some(url) = &d.connect {
+            sinks.push(Box::new(rerun::sink::GrpcSink::new(parse_proxy_url(url)?)));
+        }
         let rec = rerun::RecordingStreamBuilder::new("physlab")
-            .recording_name(recording_name)
-            .enabled(true) // the file is the product: ignore RERUN=off
+            .enabled(true) // the recording is the product: ignore RERUN=off
+            .send_properties(false)
             .with_blueprint(blueprint)
-            .save(&tmp_path)
-            .with_context(|| format!("cannot open {} for writing", tmp_path.display()))?;
+            .set_sinks(sinks)
+            .context("cannot start the recording")?;
         rec.set_log_time_enabled(false);
-        Ok(FileRecording {
+        rec.send_recording_name(recording_name)?;
+        Ok(Recording {
             rec: Some(rec),
-            tmp_path,
-            final_path: target.to_path_buf(),
+            file,
         })
     }
 
@@ -159,56 +274,68 @@ impl FileRecording {
         self.rec.as_ref().expect("stream is present until commit")
     }
 
-    /// Flushes, writes the footer, and renames the file into place. Returns its size in bytes.
-    pub fn commit(mut self) -> anyhow::Result<u64> {
+    /// Flushes, writes the footer, and renames the file into place. Returns the file's size.
+    pub fn commit(mut self) -> anyhow::Result<Option<u64>> {
         let rec = self.rec.take().expect("commit once");
         rec.flush_blocking().context("cannot flush the recording")?;
-        // Dropping the last handle finalises the file sink: the footer and manifest are written
-        // and its writer thread is joined before `drop` returns.
+        // Dropping the last handle finalises the sinks: the file's footer is written and its
+        // writer thread joined before `drop` returns.
         drop(rec);
-        std::fs::rename(&self.tmp_path, &self.final_path).with_context(|| {
-            format!(
-                "cannot move {} to {}",
-                self.tmp_path.display(),
-                self.final_path.display()
-            )
-        })?;
-        Ok(std::fs::metadata(&self.final_path)?.len())
-    }
-}
-
-impl Drop for FileRecording {
-    fn drop(&mut self) {
-        if let Some(rec) = self.rec.take() {
-            drop(rec);
-            let _ = std::fs::remove_file(&self.tmp_path);
+        match self.file.take() {
+            None => Ok(None),
+            Some((tmp, target)) => {
+                std::fs::rename(&tmp, &target).with_context(|| {
+                    format!("cannot move {} to {}", tmp.display(), target.display())
+                })?;
+                Ok(Some(std::fs::metadata(&target)?.len()))
+            }
         }
     }
 }
 
-/// Sends the run's provenance as recording properties (`/__properties/physlab`).
+impl Drop for Recording {
+    fn drop(&mut self) {
+        if let Some(rec) = self.rec.take() {
+            drop(rec);
+            if let Some((tmp, _)) = &self.file {
+                let _ = std::fs::remove_file(tmp);
+            }
+        }
+    }
+}
+
+/// Sends the run's provenance as recording properties (`/__properties/physlab`): the scene file
+/// that reproduces it, physlab's version and git commit, the Rerun SDK's version, the command
+/// line and the methods.
 pub fn send_provenance(
     rec: &rerun::RecordingStream,
-    scene: &str,
-    config_text: &str,
+    scenes: &str,
+    config_toml: &str,
     methods: &[&str],
 ) -> anyhow::Result<()> {
     let command_line = std::env::args().collect::<Vec<_>>().join(" ");
     rec.send_property(
         "physlab",
         &rerun::AnyValues::default()
-            .with_component::<rerun::components::Text>("scene", [scene])
+            .with_component::<rerun::components::Text>("scenes", [scenes])
             .with_component::<rerun::components::Text>(
                 "physlab_version",
                 [env!("CARGO_PKG_VERSION")],
             )
+            .with_component::<rerun::components::Text>("git_commit", [GIT_COMMIT])
             .with_component::<rerun::components::Text>("rerun_sdk_version", [RERUN_SDK_VERSION])
             .with_component::<rerun::components::Text>("command_line", [command_line])
             .with_component::<rerun::components::Text>("methods", [methods.join(",")])
-            .with_component::<rerun::components::Text>("config", [config_text]),
+            .with_component::<rerun::components::Text>("config", [config_toml]),
     )?;
+    // Written out now, not with the first batch of data, so that even a run cut short carries it.
+    rec.flush_blocking()
+        .context("cannot write the recording's properties")?;
     Ok(())
 }
+
+/// The commit physlab was built from (`-dirty` with uncommitted changes), from build.rs.
+pub const GIT_COMMIT: &str = env!("PHYSLAB_GIT_COMMIT");
 
 /// The Rerun SDK this build links (pinned in Cargo.toml).
 pub const RERUN_SDK_VERSION: &str = "0.36.3";

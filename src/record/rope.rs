@@ -21,7 +21,18 @@ use crate::scene::schedule::Event;
 use crate::table::trim_number;
 
 /// Where each method's rope is drawn.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, clap::ValueEnum)]
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    PartialEq,
+    Eq,
+    Default,
+    clap::ValueEnum,
+    serde::Serialize,
+    serde::Deserialize,
+)]
+#[serde(rename_all = "kebab-case")]
 pub enum Layout {
     /// Each method in its own slot, rows of four.
     #[default]
@@ -41,13 +52,22 @@ pub const PLOTS: [(&str, &str); 4] = [
     ),
 ];
 
-pub fn blueprint() -> Blueprint {
+/// The plots shown: the cost plot only when wall-clock timings are recorded.
+pub fn plots(timings: bool) -> Vec<(&'static str, &'static str)> {
+    PLOTS
+        .iter()
+        .copied()
+        .filter(|(q, _)| timings || *q != "frame_cost")
+        .collect()
+}
+
+pub fn blueprint(timings: bool) -> Blueprint {
     let left = Vertical::new([
         scene_view("rope", "rope: methods side by side", &[]).into(),
         Horizontal::new(about_and_events("rope")).into(),
     ])
     .with_row_shares([3.0, 1.0]);
-    scene_blueprint(left, plot_column("rope", &PLOTS))
+    scene_blueprint(left, plot_column("rope", &plots(timings)))
 }
 
 /// Logs a rope run to a recording stream as it happens.
@@ -59,10 +79,12 @@ pub struct RopeRecorder {
     frame_stride: u64,
     /// f32 scratch for positions, reused every frame.
     points: Vec<[f32; 3]>,
+    /// Whether wall-clock frame costs are plotted.
+    timings: bool,
 }
 
 impl RopeRecorder {
-    pub fn new(rec: RecordingStream, layout: Layout) -> Self {
+    pub fn new(rec: RecordingStream, layout: Layout, timings: bool) -> Self {
         RopeRecorder {
             rec,
             layout,
@@ -70,6 +92,7 @@ impl RopeRecorder {
             offsets: Vec::new(),
             frame_stride: 1,
             points: Vec::new(),
+            timings,
         }
     }
 
@@ -178,7 +201,7 @@ impl RopeObserver for RopeRecorder {
                     .with_labels(labels)
                     .with_show_labels(true),
             )?;
-            for (quantity, _) in PLOTS {
+            for (quantity, _) in plots(self.timings) {
                 rec.log_static(
                     format!("rope/plots/{quantity}/{name}"),
                     &rerun::SeriesLines::new()
@@ -234,7 +257,7 @@ impl RopeObserver for RopeRecorder {
                 format!("rope/{name}/strip"),
                 &rerun::LineStrips3D::update_fields().with_strips([self.points.iter().copied()]),
             )?;
-            if f.step > 0 {
+            if self.timings && f.step > 0 {
                 self.rec.log(
                     format!("rope/plots/frame_cost/{name}"),
                     &rerun::Scalars::single(f.cost_ms[i]),

@@ -10,17 +10,18 @@ pub struct Schedule {
     pub total_steps: u64,
     /// Steps between 3D frames: round(1 / (fps dt)), at least 1.
     pub frame_stride: u64,
-    /// Steps between plotted samples: ceil(total / MAX_PLOT_POINTS).
+    /// Steps between plotted samples: the requested stride, or more so that no series holds
+    /// more than MAX_PLOT_POINTS points.
     pub plot_stride: u64,
 }
 
 impl Schedule {
-    pub fn new(dt: f64, duration: f64, fps: f64) -> Self {
+    pub fn new(dt: f64, duration: f64, fps: f64, plot_every: u64) -> Self {
         let total_steps = ((duration / dt).round() as u64).max(1);
         Schedule {
             total_steps,
             frame_stride: ((1.0 / (fps * dt)).round() as u64).max(1),
-            plot_stride: total_steps.div_ceil(MAX_PLOT_POINTS).max(1),
+            plot_stride: total_steps.div_ceil(MAX_PLOT_POINTS).max(plot_every).max(1),
         }
     }
 }

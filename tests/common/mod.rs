@@ -6,6 +6,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+use rerun::external::arrow::array::Array as _;
 use rerun::external::re_log_encoding::DecoderApp;
 use rerun::log::{Chunk, LogMsg};
 
@@ -82,4 +83,68 @@ pub fn assert_refused(subcommand: &str, out: &Path, extra: &[&str], message: &st
         !out.exists(),
         "{extra:?}: no recording is written for bad input"
     );
+}
+
+/// Every row of a recording's data as text, sorted: entity, component, times on each timeline,
+/// value. Row and chunk ids, the blueprint and the properties (which hold the command line) are
+/// left out, so two runs of the same inputs must give equal lists.
+pub fn canonical_rows(path: &Path) -> Vec<String> {
+    let file = std::io::BufReader::new(std::fs::File::open(path).unwrap());
+    let mut rows = Vec::new();
+    for msg in DecoderApp::decode_lazy(file) {
+        let LogMsg::ArrowMsg(store_id, arrow_msg) = msg.unwrap() else {
+            continue;
+        };
+        if !store_id.is_recording() {
+            continue;
+        }
+        let chunk = Chunk::from_arrow_msg(&arrow_msg).unwrap();
+        let entity = chunk.entity_path().to_string();
+        if entity.starts_with("/__properties") {
+            continue;
+        }
+        let mut timelines: Vec<_> = chunk
+            .timelines()
+            .iter()
+            .map(|(n, c)| (n.to_string(), c.times_raw().to_vec()))
+            .collect();
+        timelines.sort();
+        for descriptor in chunk.component_descriptors() {
+            let list = chunk.components().get_array(descriptor.component).unwrap();
+            for r in 0..chunk.num_rows() {
+                if list.is_null(r) {
+                    continue;
+                }
+                let times: Vec<String> = timelines
+                    .iter()
+                    .map(|(n, t)| format!("{n}={}", t[r]))
+                    .collect();
+                rows.push(format!(
+                    "{entity}|{}|{}|{:?}",
+                    descriptor.component,
+                    times.join(","),
+                    list.value(r)
+                ));
+            }
+        }
+    }
+    rows.sort();
+    rows
+}
+
+/// Runs physlab with `args`; returns (exit code, stdout, stderr).
+pub fn physlab(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_physlab"))
+        .args(args)
+        .output()
+        .unwrap();
+    let (stdout, stderr) = (
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    );
+    assert!(
+        !stderr.contains("panicked"),
+        "physlab {args:?} panicked:\n{stderr}"
+    );
+    (out.status.code().unwrap_or(-1), stdout, stderr)
 }

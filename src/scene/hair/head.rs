@@ -5,7 +5,10 @@
 use glam::{DQuat, DVec3};
 
 /// How the head moves.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize, serde::Deserialize,
+)]
+#[serde(rename_all = "kebab-case")]
 pub enum HeadMotion {
     /// Never moves.
     Still,

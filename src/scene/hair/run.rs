@@ -29,7 +29,7 @@ impl Default for HairConfig {
             params: HairParams::default(),
             rate: 60.0,
             substeps: 1,
-            fps: 20.0,
+            fps: 15.0,
             duration: 8.0,
             methods: HairMethod::ALL.to_vec(),
         }

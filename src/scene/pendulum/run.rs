@@ -29,6 +29,8 @@ pub struct PendulumConfig {
     pub duration: f64,
     /// How often the 3D state is reported, in simulated Hz.
     pub fps: f64,
+    /// Plot every Nth step (thinned further beyond MAX_PLOT_POINTS).
+    pub plot_every: u64,
     /// Methods in the order they are shown.
     pub methods: Vec<Method>,
     pub options: MethodOptions,
@@ -41,6 +43,7 @@ impl Default for PendulumConfig {
             dt: 0.01,
             duration: 20.0,
             fps: 30.0,
+            plot_every: 1,
             methods: Method::ALL.to_vec(),
             options: MethodOptions::default(),
         }
@@ -49,7 +52,7 @@ impl Default for PendulumConfig {
 
 impl PendulumConfig {
     pub fn schedule(&self) -> Schedule {
-        Schedule::new(self.dt, self.duration, self.fps)
+        Schedule::new(self.dt, self.duration, self.fps, self.plot_every)
     }
     pub fn total_steps(&self) -> u64 {
         self.schedule().total_steps

@@ -28,6 +28,9 @@ pub fn energy_scale(rope: &Rope, x0: &[f64], v0: &[f64]) -> f64 {
     p.mass * p.gravity.length() * rope.rest() * n * (n - 1.0) / 2.0 + motion
 }
 
+/// Plot samples collected per lane before they are handed to the observer.
+const SERIES_BATCH: usize = 2048;
+
 /// Everything a rope run needs, resolved and validated.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RopeConfig {
@@ -38,6 +41,10 @@ pub struct RopeConfig {
     pub duration: f64,
     /// 3D frames per simulated second.
     pub fps: f64,
+    /// Plot every Nth step (thinned further beyond MAX_PLOT_POINTS).
+    pub plot_every: u64,
+    /// How the recording lays the methods out (it does not change the numbers).
+    pub layout: crate::record::rope::Layout,
     pub methods: Vec<Method>,
     pub options: MethodOptions,
 }
@@ -49,6 +56,8 @@ impl Default for RopeConfig {
             dt: 1e-3,
             duration: 10.0,
             fps: 30.0,
+            plot_every: 5,
+            layout: Default::default(),
             methods: Method::ALL.to_vec(),
             options: MethodOptions::default(),
         }
@@ -57,7 +66,7 @@ impl Default for RopeConfig {
 
 impl RopeConfig {
     pub fn schedule(&self) -> Schedule {
-        Schedule::new(self.dt, self.duration, self.fps)
+        Schedule::new(self.dt, self.duration, self.fps, self.plot_every)
     }
 }
 
@@ -235,7 +244,10 @@ pub fn run(config: &RopeConfig, observer: &mut dyn RopeObserver) -> anyhow::Resu
             frames += 1;
             for (i, l) in lanes.iter_mut().enumerate() {
                 l.frame_cost = Duration::ZERO;
-                if !l.series.steps.is_empty() {
+                // Plots go out in large batches: every batch becomes a chunk in the recording,
+                // and small chunks cost more than their data.
+                if l.series.steps.len() >= SERIES_BATCH || (!l.alive && !l.series.steps.is_empty())
+                {
                     observer.series(i, &l.series)?;
                     l.series.clear();
                 }

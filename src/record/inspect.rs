@@ -1,0 +1,225 @@
+//! `physlab inspect`: what a recording holds and how it was made, read back with Rerun's own
+//! decoder.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::Path;
+
+use rerun::external::re_log_encoding::DecoderApp;
+use rerun::log::{Chunk, LogMsg};
+
+use crate::app::UsageError;
+use crate::cli::InspectArgs;
+
+/// A warning or info line of a scene's event log.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LoggedEvent {
+    pub entity: String,
+    /// Simulated time [s].
+    pub time: f64,
+    pub level: String,
+    pub text: String,
+}
+
+/// What `inspect` reports.
+#[derive(Clone, Debug, Default)]
+pub struct RecordingInfo {
+    pub application_id: String,
+    /// The `physlab` recording properties: version, commit, config, command line, methods...
+    pub properties: BTreeMap<String, String>,
+    pub entities: BTreeSet<String>,
+    /// Smallest and largest `sim_time` [s].
+    pub time_range: Option<(f64, f64)>,
+    pub events: Vec<LoggedEvent>,
+    pub chunks: usize,
+    pub has_footer: bool,
+}
+
+impl RecordingInfo {
+    /// The scenes: the first component of every entity path but the properties'.
+    pub fn scenes(&self) -> BTreeSet<String> {
+        self.entities
+            .iter()
+            .filter_map(|e| {
+                e.trim_start_matches('/')
+                    .split('/')
+                    .next()
+                    .map(str::to_string)
+            })
+            .filter(|s| !s.is_empty() && !s.starts_with("__"))
+            .collect()
+    }
+}
+
+/// Reads a recording. A missing, empty, non-rrd, corrupt or truncated file is an error naming
+/// the file and what is wrong with it.
+pub fn read_recording(path: &Path) -> Result<RecordingInfo, UsageError> {
+    let fail = |what: String| UsageError(format!("{}: {what}", path.display()));
+    let meta = std::fs::metadata(path).map_err(|e| fail(format!("cannot read it: {e}")))?;
+    if meta.is_dir() {
+        return Err(fail("is a folder, not a recording (.rrd)".into()));
+    }
+    if meta.len() == 0 {
+        return Err(fail("the file is empty, not a recording (.rrd)".into()));
+    }
+    let file = std::fs::File::open(path).map_err(|e| fail(format!("cannot open it: {e}")))?;
+    let mut messages = DecoderApp::decode_lazy(std::io::BufReader::new(file));
+    let mut info = RecordingInfo::default();
+    let sim_time = rerun::TimelineName::from("sim_time");
+    let text = rerun::TextLog::descriptor_text().component;
+    let level = rerun::TextLog::descriptor_level().component;
+    let mut seen_any = false;
+    for msg in messages.by_ref() {
+        let msg = msg.map_err(|e| {
+            if seen_any {
+                fail(format!("the recording is corrupt or truncated: {e}"))
+            } else {
+                fail(format!("not a Rerun recording (.rrd): {e}"))
+            }
+        })?;
+        seen_any = true;
+        let LogMsg::ArrowMsg(store_id, arrow_msg) = msg else {
+            continue;
+        };
+        if !store_id.is_recording() {
+            continue; // the blueprint
+        }
+        if info.application_id.is_empty() {
+            info.application_id = store_id.application_id().to_string();
+        }
+        let chunk = Chunk::from_arrow_msg(&arrow_msg)
+            .map_err(|e| fail(format!("a chunk cannot be decoded: {e}")))?;
+        info.chunks += 1;
+        let entity = chunk.entity_path().to_string();
+        if entity.starts_with("/__properties") {
+            if entity.ends_with("/physlab") {
+                for descriptor in chunk.component_descriptors() {
+                    let key = descriptor.component.as_str();
+                    let key = key.rsplit(':').next().unwrap_or(key).to_string();
+                    if let Some(values) = chunk.iter_slices::<String>(descriptor.component).next()
+                        && let Some(v) = values.first()
+                    {
+                        info.properties.insert(key, v.as_str().to_string());
+                    }
+                }
+            }
+            continue;
+        }
+        info.entities.insert(entity.clone());
+        if let Some(column) = chunk.timelines().get(&sim_time) {
+            let range = column.time_range();
+            let (lo, hi) = (
+                range.min().as_i64() as f64 * 1e-9,
+                range.max().as_i64() as f64 * 1e-9,
+            );
+            info.time_range = Some(match info.time_range {
+                None => (lo, hi),
+                Some((a, b)) => (a.min(lo), b.max(hi)),
+            });
+        }
+        if chunk.components().contains_component(text) && !chunk.is_static() {
+            let levels: Vec<Option<String>> = chunk
+                .iter_slices::<String>(level)
+                .map(|l| l.first().map(|s| s.as_str().to_string()))
+                .collect();
+            for (k, ((t, _), texts)) in chunk
+                .iter_indices(&sim_time)
+                .zip(chunk.iter_slices::<String>(text))
+                .enumerate()
+            {
+                for s in texts {
+                    info.events.push(LoggedEvent {
+                        entity: entity.clone(),
+                        time: t.as_i64() as f64 * 1e-9,
+                        level: levels.get(k).cloned().flatten().unwrap_or_default(),
+                        text: s.as_str().to_string(),
+                    });
+                }
+            }
+        }
+    }
+    if !seen_any {
+        return Err(fail(
+            "not a Rerun recording (.rrd): no messages could be decoded".into(),
+        ));
+    }
+    info.has_footer = messages
+        .rrd_manifests()
+        .map(|m| !m.is_empty())
+        .unwrap_or(false);
+    info.events.sort_by(|a, b| {
+        a.time
+            .total_cmp(&b.time)
+            .then_with(|| a.entity.cmp(&b.entity))
+    });
+    Ok(info)
+}
+
+/// Prints what a recording holds; with --config-out, writes its embedded scene file.
+pub fn inspect_command(args: &InspectArgs) -> anyhow::Result<()> {
+    let info = read_recording(&args.file)?;
+    let p = |k: &str| {
+        info.properties
+            .get(k)
+            .map(String::as_str)
+            .unwrap_or("(not recorded)")
+    };
+    println!("recording: {}", args.file.display());
+    println!(
+        "  written by: physlab {} (commit {}), Rerun SDK {}",
+        p("physlab_version"),
+        p("git_commit"),
+        p("rerun_sdk_version")
+    );
+    println!("  command line: {}", p("command_line"));
+    println!(
+        "  scenes: {}",
+        info.scenes().into_iter().collect::<Vec<_>>().join(", ")
+    );
+    println!("  methods: {}", p("methods"));
+    match info.time_range {
+        Some((a, b)) => println!("  sim_time: {a:.6} s to {b:.6} s"),
+        None => println!("  sim_time: (no timed data)"),
+    }
+    println!(
+        "  {} chunks, {}",
+        info.chunks,
+        if info.has_footer {
+            "complete (footer written)"
+        } else {
+            "no footer: the run was cut short or the file truncated"
+        }
+    );
+    let warnings: Vec<&LoggedEvent> = info
+        .events
+        .iter()
+        .filter(|e| e.level == "WARN" || e.level == "ERROR")
+        .collect();
+    println!("  warnings ({}):", warnings.len());
+    for e in &warnings {
+        println!("    t = {:.6} s  {}  {}", e.time, e.entity, e.text);
+    }
+    println!("  entities ({}):", info.entities.len());
+    for e in &info.entities {
+        println!("    {e}");
+    }
+    println!("  config:");
+    for line in p("config").lines() {
+        println!("    {line}");
+    }
+    if let Some(out) = &args.config_out {
+        let config = info.properties.get("config").ok_or_else(|| {
+            UsageError(format!(
+                "{}: holds no physlab config to write",
+                args.file.display()
+            ))
+        })?;
+        std::fs::write(out, config)
+            .map_err(|e| anyhow::anyhow!("--config-out {}: cannot write it: {e}", out.display()))?;
+        eprintln!(
+            "wrote the scene file to {} (run it again with --config {})",
+            out.display(),
+            out.display()
+        );
+    }
+    Ok(())
+}
