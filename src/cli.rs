@@ -81,6 +81,10 @@ pub struct RunArgs {
     /// No progress bar
     #[arg(short, long)]
     pub quiet: bool,
+
+    /// Exit with code 3 when any method diverged (the recording is still written), for scripts
+    #[arg(long)]
+    pub fail_on_divergence: bool,
 }
 
 #[derive(Args, Debug, Clone)]
@@ -112,7 +116,7 @@ pub struct HairCommand {
     #[command(flatten)]
     pub run: RunArgs,
     /// Worker threads for the strands [default: all cores]; results do not depend on it
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub threads: Option<usize>,
     /// Neither write nor stream a recording (throughput runs)
     #[arg(long)]
@@ -162,7 +166,7 @@ pub struct PendulumArgs {
     pub fps: Option<f64>,
 
     /// Plot every Nth step [default: 1, thinned further to at most 10,000 points per series]
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub plot_every: Option<u64>,
 
     /// Methods to run, comma-separated [default: all seven]: explicit-euler, semi-implicit-euler,
@@ -193,7 +197,7 @@ pub struct RopeArgs {
     pub preset: Option<RopePreset>,
 
     /// Number of point masses, ≥ 2 [default: 16]
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub nodes: Option<usize>,
 
     /// First node's position x,y[,z] [m] [default: 0,0,0]
@@ -242,7 +246,7 @@ pub struct RopeArgs {
     pub fps: Option<f64>,
 
     /// Plot every Nth step [default: 5, thinned further to at most 10,000 points per series]
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub plot_every: Option<u64>,
 
     /// Methods to run, comma-separated [default: all seven]
@@ -255,7 +259,7 @@ pub struct RopeArgs {
 
     /// Newton iterations per implicit-Euler step: 1 = linearised backward Euler
     /// (Baraff–Witkin); more refine towards exact backward Euler, stopping at tolerance [default: 1]
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub newton_iterations: Option<u32>,
 
     /// Where each method's rope is drawn [default: side-by-side]
@@ -267,11 +271,11 @@ pub struct RopeArgs {
 #[serde(deny_unknown_fields)]
 pub struct HairArgs {
     /// Number of strands, rooted by a golden-angle spiral over the upper head [default: 200]
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub strands: Option<usize>,
 
     /// Nodes per strand, the root included [default: 16]
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub nodes: Option<usize>,
 
     /// Rest length of every segment [m] [default: 0.015]
@@ -305,11 +309,11 @@ pub struct HairArgs {
 
     /// Constraint-projection rounds per step (verlet, semi-implicit-euler; ftl needs one pass)
     /// [default: 4]
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub iterations: Option<u32>,
 
     /// Steps per simulation frame [default: 1]
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub substeps: Option<u32>,
 
     /// Simulation frames per simulated second [Hz] [default: 60]

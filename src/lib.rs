@@ -8,6 +8,7 @@ pub mod app;
 pub mod cli;
 pub mod config;
 pub mod elliptic;
+pub mod interrupt;
 pub mod method;
 pub mod progress;
 pub mod record;

@@ -3,8 +3,9 @@
 use std::process::ExitCode;
 
 use clap::Parser as _;
-use physlab::app::{self, UsageError};
+use physlab::app::{self, Diverged, UsageError};
 use physlab::cli::Cli;
+use physlab::interrupt::Interrupted;
 
 fn main() -> ExitCode {
     // Like other command-line tools, end quietly when stdout is closed early (`physlab ... | head`)
@@ -15,12 +16,19 @@ fn main() -> ExitCode {
     }
     // clap prints its own usage errors and exits with code 2.
     let cli = Cli::parse();
+    physlab::interrupt::install();
     match app::run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(err) => {
             if let Some(usage) = err.downcast_ref::<UsageError>() {
                 eprintln!("error: {usage}");
                 ExitCode::from(2)
+            } else if let Some(stop) = err.downcast_ref::<Interrupted>() {
+                eprintln!("{stop}");
+                ExitCode::from(130)
+            } else if let Some(diverged) = err.downcast_ref::<Diverged>() {
+                eprintln!("{diverged}");
+                ExitCode::from(3)
             } else {
                 eprintln!("error: {err:#}");
                 ExitCode::from(1)

@@ -48,6 +48,56 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     }
 }
 
+/// A run in which a method diverged, with --fail-on-divergence. Exit code 3.
+#[derive(Debug)]
+pub struct Diverged(pub String);
+
+impl fmt::Display for Diverged {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for Diverged {}
+
+/// After a run: finalise the recording, print the summaries, then report an interruption
+/// (exit 130) or, with --fail-on-divergence, a divergence (exit 3).
+fn finish(
+    recording: Option<Recording>,
+    d: &Destinations,
+    started: Instant,
+    summaries: &[String],
+    diverged: &[String],
+    run: &RunArgs,
+) -> anyhow::Result<()> {
+    let bytes = match recording {
+        Some(r) => Some(r.commit()?),
+        None => None,
+    };
+    print!("{}", summaries.join("\n"));
+    if let Some(bytes) = bytes {
+        report_recording(d, bytes, started);
+    }
+    if crate::interrupt::requested() {
+        let kept = match &d.file {
+            Some(path) if bytes.is_some() => format!(
+                "; the recording of everything so far is finalised in {}",
+                path.display()
+            ),
+            _ => String::new(),
+        };
+        return Err(crate::interrupt::Interrupted(format!("interrupted{kept}")).into());
+    }
+    if run.fail_on_divergence && !diverged.is_empty() {
+        return Err(Diverged(format!(
+            "--fail-on-divergence: {} diverged",
+            diverged.join(", ")
+        ))
+        .into());
+    }
+    Ok(())
+}
+
 /// The scene file named by --config, or an empty one.
 fn scene_file(run: &RunArgs) -> Result<SceneFile, UsageError> {
     match &run.config {
@@ -113,13 +163,33 @@ fn pendulum(c: &PendulumCommand) -> anyhow::Result<()> {
     let mut progress = Progress::new(c.run.quiet);
     let summary = record_pendulum(&recording, &config, &text, &mut progress)?;
     progress.finish();
-    let bytes = recording.commit()?;
-    print!(
-        "{}",
-        crate::scene::pendulum::summary::summary_text(&summary)
-    );
-    report_recording(&d, bytes, started);
-    Ok(())
+    let diverged = pendulum_diverged(&summary);
+    let text = crate::scene::pendulum::summary::summary_text(&summary);
+    finish(Some(recording), &d, started, &[text], &diverged, &c.run)
+}
+
+fn pendulum_diverged(s: &RunSummary) -> Vec<String> {
+    s.lanes
+        .iter()
+        .filter(|l| l.divergence.is_some())
+        .map(|l| format!("pendulum/{}", l.name))
+        .collect()
+}
+
+fn rope_diverged(s: &RopeSummary) -> Vec<String> {
+    s.lanes
+        .iter()
+        .filter(|l| l.divergence.is_some())
+        .map(|l| format!("rope/{}", l.method))
+        .collect()
+}
+
+fn hair_diverged(s: &HairSummary) -> Vec<String> {
+    s.lanes
+        .iter()
+        .filter(|l| l.divergence.is_some())
+        .map(|l| format!("hair/{}", l.method.name()))
+        .collect()
 }
 
 fn record_pendulum(
@@ -157,10 +227,15 @@ fn rope(c: &RopeCommand) -> anyhow::Result<()> {
     let mut progress = Progress::new(c.run.quiet);
     let summary = record_rope(&recording, &config, &text, c.run.timings, &mut progress)?;
     progress.finish();
-    let bytes = recording.commit()?;
-    print!("{}", crate::scene::rope::summary::summary_text(&summary));
-    report_recording(&d, bytes, started);
-    Ok(())
+    let diverged = rope_diverged(&summary);
+    finish(
+        Some(recording),
+        &d,
+        started,
+        &[crate::scene::rope::summary::summary_text(&summary)],
+        &diverged,
+        &c.run,
+    )
 }
 
 fn record_rope(
@@ -216,22 +291,26 @@ fn hair(c: &HairCommand) -> anyhow::Result<()> {
             )
         })?;
         progress.finish();
-        print!("{}", crate::scene::hair::summary::summary_text(&summary));
-        println!(
-            "\nno recording (--no-record), {:.1} s",
-            started.elapsed().as_secs_f64()
+        let text = crate::scene::hair::summary::summary_text(&summary);
+        let none = Destinations::default();
+        println!("(--no-record: nothing written)");
+        return finish(
+            None,
+            &none,
+            started,
+            &[text],
+            &hair_diverged(&summary),
+            &c.run,
         );
-        return Ok(());
     }
     let d = destinations(&c.run, "hair");
     let recording = Recording::create(&d, "hair", crate::record::hair::blueprint(c.run.timings))?;
     let summary =
         pool.install(|| record_hair(&recording, &config, &text, c.run.timings, &mut progress))?;
     progress.finish();
-    let bytes = recording.commit()?;
-    print!("{}", crate::scene::hair::summary::summary_text(&summary));
-    report_recording(&d, bytes, started);
-    Ok(())
+    let diverged = hair_diverged(&summary);
+    let text = crate::scene::hair::summary::summary_text(&summary);
+    finish(Some(recording), &d, started, &[text], &diverged, &c.run)
 }
 
 fn record_hair(
@@ -295,42 +374,42 @@ fn all(c: &AllArgs) -> anyhow::Result<()> {
     let mut progress = Progress::new(c.run.quiet);
     let rec = recording.stream().clone();
 
+    let mut summaries = Vec::new();
+    let mut diverged = Vec::new();
+    // Scenes run one after another; after an interruption the remaining ones are skipped.
     progress.stage("pendulum", p_cfg.schedule().total_steps as f64 * p_cfg.dt);
     let mut pendulum = crate::record::pendulum::PendulumRecorder::new(rec.clone());
-    let p_sum = crate::scene::pendulum::run::run(
-        &p_cfg,
-        &mut WithProgress {
-            inner: &mut pendulum,
-            progress: &mut progress,
-        },
-    )?;
-    progress.stage("rope", r_cfg.schedule().total_steps as f64 * r_cfg.dt);
-    let mut rope = crate::record::rope::RopeRecorder::new(rec.clone(), r_cfg.layout, c.run.timings);
-    let r_sum = crate::scene::rope::run::run(
-        &r_cfg,
-        &mut WithProgress {
+    let mut observer = WithProgress {
+        inner: &mut pendulum,
+        progress: &mut progress,
+    };
+    let p_sum = crate::scene::pendulum::run::run(&p_cfg, &mut observer)?;
+    summaries.push(crate::scene::pendulum::summary::summary_text(&p_sum));
+    diverged.extend(pendulum_diverged(&p_sum));
+    if !crate::interrupt::requested() {
+        progress.stage("rope", r_cfg.schedule().total_steps as f64 * r_cfg.dt);
+        let mut rope =
+            crate::record::rope::RopeRecorder::new(rec.clone(), r_cfg.layout, c.run.timings);
+        let mut observer = WithProgress {
             inner: &mut rope,
             progress: &mut progress,
-        },
-    )?;
-    progress.stage("hair", h_cfg.duration);
-    let mut hair = crate::record::hair::HairRecorder::new(rec, c.run.timings);
-    let h_sum = crate::scene::hair::run::run(
-        &h_cfg,
-        &mut WithProgress {
+        };
+        let r_sum = crate::scene::rope::run::run(&r_cfg, &mut observer)?;
+        summaries.push(crate::scene::rope::summary::summary_text(&r_sum));
+        diverged.extend(rope_diverged(&r_sum));
+    }
+    if !crate::interrupt::requested() {
+        progress.stage("hair", h_cfg.duration);
+        let mut hair = crate::record::hair::HairRecorder::new(rec.clone(), c.run.timings);
+        let mut observer = WithProgress {
             inner: &mut hair,
             progress: &mut progress,
-        },
-    )?;
+        };
+        let h_sum = crate::scene::hair::run::run(&h_cfg, &mut observer)?;
+        summaries.push(crate::scene::hair::summary::summary_text(&h_sum));
+        diverged.extend(hair_diverged(&h_sum));
+    }
     progress.finish();
-    drop((pendulum, rope, hair));
-
-    let bytes = recording.commit()?;
-    print!("{}", crate::scene::pendulum::summary::summary_text(&p_sum));
-    println!();
-    print!("{}", crate::scene::rope::summary::summary_text(&r_sum));
-    println!();
-    print!("{}", crate::scene::hair::summary::summary_text(&h_sum));
-    report_recording(&d, bytes, started);
-    Ok(())
+    drop(rec);
+    finish(Some(recording), &d, started, &summaries, &diverged, &c.run)
 }

@@ -160,6 +160,28 @@ pub fn pendulum_config(args: &PendulumArgs) -> Result<PendulumConfig, UsageError
     })
 }
 
+/// The memory this machine has available [bytes] (MemAvailable), if it can be read.
+fn available_memory() -> Option<f64> {
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024.0)
+}
+
+/// Refuses a run whose state would not fit in memory, naming the estimate and what to change.
+fn check_memory(what: &str, bytes: f64, change: &str) -> Result<(), UsageError> {
+    if let Some(available) = available_memory()
+        && bytes > 0.8 * available
+    {
+        return Err(UsageError(format!(
+            "{what} needs about {:.1} GB of memory, more than the {:.1} GB available; {change}",
+            bytes / 1e9,
+            available / 1e9
+        )));
+    }
+    Ok(())
+}
+
 fn check_plot_every(n: u64) -> Result<u64, UsageError> {
     if n == 0 {
         Err(UsageError(
@@ -310,6 +332,14 @@ pub fn rope_config(args: &RopeArgs) -> Result<RopeConfig, UsageError> {
         ));
     }
     check_time(dt, duration, fps, p.nodes)?;
+    let methods = resolve_methods(&a.methods.unwrap());
+    // Per node and method: state, scratch and Verlet's history (~10 × 24 B) and the implicit
+    // solver's 3×3 blocks (~6 × 72 B): about 1 kB.
+    check_memory(
+        &format!("--nodes {} with {} methods", p.nodes, methods.len()),
+        p.nodes as f64 * methods.len() as f64 * 1000.0,
+        "use fewer --nodes or --methods",
+    )?;
     check_verlet_damping(verlet_damping)?;
     let plot_every = check_plot_every(a.plot_every.unwrap())?;
     Ok(RopeConfig {
@@ -319,7 +349,7 @@ pub fn rope_config(args: &RopeArgs) -> Result<RopeConfig, UsageError> {
         fps,
         plot_every,
         layout: a.layout.unwrap(),
-        methods: resolve_methods(&a.methods.unwrap()),
+        methods,
         options: MethodOptions { verlet_damping },
     })
 }
@@ -410,5 +440,14 @@ pub fn hair_config(args: &HairArgs) -> Result<HairConfig, UsageError> {
             config.frames()
         )));
     }
+    // Per node and method: position, previous position and velocity, 3 × 24 B.
+    check_memory(
+        &format!(
+            "--strands {strands} × --nodes {nodes} with {} methods",
+            config.methods.len()
+        ),
+        (strands * nodes) as f64 * config.methods.len() as f64 * 72.0,
+        "use fewer --strands or --nodes",
+    )?;
     Ok(config)
 }

@@ -14,7 +14,7 @@ use super::{
 };
 use crate::scene::rope::node;
 use crate::scene::rope::run::{
-    ENERGY_GAIN_BOUND, RopeFrame, RopeObserver, RopeSeries, RopeSetup, RopeSummary, STRAIN_BOUND,
+    ENERGY_GAIN_BOUND, RopeFrame, RopeObserver, RopeSeries, RopeSetup, RopeSummary,
 };
 use crate::scene::rope::summary::cost_per_step;
 use crate::scene::schedule::Event;
@@ -318,7 +318,7 @@ fn about_text(setup: &RopeSetup) -> String {
          | plotted | every {} steps |\n| Verlet damping d | {} |\n| implicit Newton iterations | {} |\n\n\
          Highest mode of the pinned-free chain: ω_max = {:.4} rad/s, ω_max·dt = {:.4}.\n\
          Energy E0 = {:.6} J (gravity's zero at the origin), energy scale {:.4} J. A method stops when its \
-         state is not finite, a strain exceeds {STRAIN_BOUND}, or it gains more than {ENERGY_GAIN_BOUND} × \
+         state is not finite, a strain exceeds {:.3}, or it gains more than {ENERGY_GAIN_BOUND} × \
          the energy scale (a passive rope never gains energy); the events panel shows when. Frame cost is \
          wall-clock time.\n\n\
          | method | cost per step |\n|---|---|\n{}\n",
@@ -342,6 +342,7 @@ fn about_text(setup: &RopeSetup) -> String {
         setup.omega_max * c.dt,
         setup.initial_energy,
         setup.energy_scale,
+        setup.strain_bound,
         methods.join("\n"),
     )
 }

@@ -291,7 +291,8 @@ pub fn run(
     frames += 1;
 
     let mut first = 1u64;
-    while first <= total {
+    // A stop request (Ctrl-C) ends the run at a block boundary; what was done so far stands.
+    while first <= total && !crate::interrupt::requested() {
         let len = ((total - first + 1) as usize).min(BLOCK_STEPS);
 
         // Reference over the block (not timed).

@@ -7,16 +7,31 @@ use super::{Rope, RopeParams, step_rope};
 use crate::method::{Integrator, Method, MethodOptions};
 use crate::scene::schedule::{Event, EventKind, Schedule};
 
-/// A method diverges when its state stops being finite, a spring is stretched or compressed by
-/// more than this many rest lengths, or it gains more than [`ENERGY_GAIN_BOUND`] times the
-/// rope's energy scale: a passive rope never gains energy, so only an unstable method does.
+/// A method diverges when its state stops being finite, a spring's strain passes
+/// [`strain_bound`], or it gains more than [`ENERGY_GAIN_BOUND`] times the rope's energy scale:
+/// a passive rope never gains energy, so only an unstable method does.
 pub const STRAIN_BOUND: f64 = 10.0;
+
+/// The strain beyond which a rope has blown up: 10, plus four times the strain of the top spring
+/// of the chain hanging at rest, (N-1) m |g| / (ks ℓ0), so that a very soft rope stretching under
+/// its own weight (a real, stable motion) is not mistaken for a blow-up.
+pub fn strain_bound(p: &RopeParams) -> f64 {
+    let hanging =
+        (p.nodes - 1) as f64 * p.mass * p.gravity.length() / (p.stiffness * p.rest_length());
+    if hanging.is_finite() {
+        STRAIN_BOUND + 4.0 * hanging
+    } else {
+        f64::INFINITY
+    }
+}
 
 /// See [`STRAIN_BOUND`]. Generous, because stable methods near their limit oscillate strongly.
 pub const ENERGY_GAIN_BOUND: f64 = 100.0;
 
 /// The rope's energy scale [J]: what a straight rope hanging from its first node has released,
-/// m |g| ℓ0 N(N-1)/2, plus the start's kinetic and elastic energy.
+/// m |g| ℓ0 N(N-1)/2, plus the start's kinetic and elastic energy, plus the elastic energy of
+/// every spring stretched by 1% (so that a weightless rope at rest still has a scale, and
+/// round-off energy of 1e-31 J is not mistaken for a blow-up).
 pub fn energy_scale(rope: &Rope, x0: &[f64], v0: &[f64]) -> f64 {
     let p = &rope.params;
     let n = p.nodes as f64;
@@ -25,7 +40,8 @@ pub fn energy_scale(rope: &Rope, x0: &[f64], v0: &[f64]) -> f64 {
         ..p.clone()
     };
     let motion = Rope::new(weightless).energy(x0, v0);
-    p.mass * p.gravity.length() * rope.rest() * n * (n - 1.0) / 2.0 + motion
+    let one_percent = 0.5 * p.stiffness * (0.01 * rope.rest()).powi(2) * (n - 1.0);
+    p.mass * p.gravity.length() * rope.rest() * n * (n - 1.0) / 2.0 + motion + one_percent
 }
 
 /// Plot samples collected per lane before they are handed to the observer.
@@ -78,6 +94,8 @@ pub struct RopeSetup {
     pub initial_energy: f64,
     /// See [`energy_scale`].
     pub energy_scale: f64,
+    /// See [`strain_bound`].
+    pub strain_bound: f64,
     pub rest_length: f64,
     /// Highest linear mode of the chain pinned at node 0 with the rest free [rad/s].
     pub omega_max: f64,
@@ -208,6 +226,7 @@ pub fn run(config: &RopeConfig, observer: &mut dyn RopeObserver) -> anyhow::Resu
         initial_positions: x0.clone(),
         initial_energy: e0,
         energy_scale: e_scale,
+        strain_bound: strain_bound(&config.params),
         rest_length: rope.rest(),
         omega_max: config.params.omega_max_pinned_free(),
     };
@@ -253,7 +272,8 @@ pub fn run(config: &RopeConfig, observer: &mut dyn RopeObserver) -> anyhow::Resu
                 }
             }
         }
-        if step == schedule.total_steps {
+        // A stop request (Ctrl-C) ends the run at a frame; what was done so far stands.
+        if step == schedule.total_steps || crate::interrupt::requested() {
             break;
         }
 
@@ -334,11 +354,12 @@ fn sample(
     let time = step as f64 * dt;
     let gained = energy - e0;
     let too_energetic = e_scale > 0.0 && gained > ENERGY_GAIN_BOUND * e_scale;
-    if !finite || strain > STRAIN_BOUND || too_energetic {
+    let bound = strain_bound(&rope.params);
+    if !finite || strain > bound || too_energetic {
         let why = if !finite {
             "the state is not finite".to_string()
-        } else if strain > STRAIN_BOUND {
-            format!("a spring's strain reached {strain:.3e} (bound {STRAIN_BOUND})")
+        } else if strain > bound {
+            format!("a spring's strain reached {strain:.3e} (bound {bound:.3})")
         } else {
             format!(
                 "it gained {gained:.3e} J, over {ENERGY_GAIN_BOUND} × the energy scale {e_scale:.3e} J"

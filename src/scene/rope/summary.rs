@@ -1,6 +1,6 @@
 //! The rope run's summary table, as printed on stdout.
 
-use super::run::{ENERGY_GAIN_BOUND, RopeSummary, STRAIN_BOUND};
+use super::run::{ENERGY_GAIN_BOUND, RopeSummary};
 use crate::method::{EvalsPerStep, Method};
 use crate::table::{Table, trim_number};
 
@@ -31,7 +31,7 @@ pub fn summary_text(s: &RopeSummary) -> String {
          ka = {} N·s/m, g = {} m/s², pinned {:?}\n\
          dt = {} s, {} steps to t = {} s; ω_max (pinned-free chain) = {:.4} rad/s, so ω_max·dt = {:.4} \
          (semi-implicit Euler and Verlet need < 2, RK4 < 2.83 without damping)\n\
-         E0 = {:.6} J, energy scale {:.4} J; divergence = non-finite state, strain > {STRAIN_BOUND}, \
+         E0 = {:.6} J, energy scale {:.4} J; divergence = non-finite state, strain > {:.3}, \
          or an energy gain > {ENERGY_GAIN_BOUND} × the scale\n\
          ns/step: wall time of the stepping alone, read between plot samples (`cargo bench --bench rope_step` \
          times it without the clock reads)\n\n",
@@ -52,6 +52,7 @@ pub fn summary_text(s: &RopeSummary) -> String {
         s.setup.omega_max * c.dt,
         s.setup.initial_energy,
         s.setup.energy_scale,
+        s.setup.strain_bound,
     );
     let mut table = Table::new([
         "method",

@@ -1,0 +1,104 @@
+//! Property tests over random valid parameters (issue 7): no panic anywhere, and within its
+//! stability limit no method produces a NaN or diverges.
+
+use glam::DVec3;
+use physlab::method::{Method, MethodOptions};
+use physlab::scene::hair::run::{HairConfig, NoHairObserver};
+use physlab::scene::hair::{HairMethod, HairParams, HeadMotion};
+use physlab::scene::pendulum::PendulumParams;
+use physlab::scene::pendulum::run::{NoObserver, PendulumConfig};
+use physlab::scene::rope::RopeParams;
+use physlab::scene::rope::run::{NoRopeObserver, RopeConfig};
+use proptest::prelude::*;
+
+/// Methods with a stability limit on the undamped oscillator, and that limit in h = ω dt.
+const STABLE: [(Method, f64); 4] = [
+    (Method::SemiImplicitEuler, 2.0),
+    (Method::Verlet, 2.0),
+    (Method::Rk4, 2.828),
+    (Method::ImplicitEuler, f64::INFINITY),
+];
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+
+    /// Any valid pendulum runs without panicking; at a third of its stability limit (against
+    /// the fastest rate the energy allows) no stable method diverges.
+    #[test]
+    fn pendulum_runs_and_stable_methods_stay_finite(
+        g in 0.1f64..50.0, l in 0.1f64..10.0, theta0 in -179.0f64..179.0, omega0 in -3.0f64..3.0,
+        fraction in 0.01f64..0.33,
+    ) {
+        let p = PendulumParams { gravity: g, length: l, theta0: theta0.to_radians(), omega0 };
+        let rate = p.omega_n().max((2.0 * p.initial_energy()).sqrt() / l);
+        let dt = fraction * 2.0 / rate;
+        let config = PendulumConfig {
+            params: p, dt, duration: 300.0 * dt, fps: 1.0 / dt, plot_every: 1,
+            methods: Method::ALL.to_vec(), options: MethodOptions::default(),
+        };
+        let summary = physlab::scene::pendulum::run::run(&config, &mut NoObserver).unwrap();
+        for lane in &summary.lanes {
+            if STABLE.iter().any(|(m, _)| Some(*m) == lane.method) {
+                prop_assert!(lane.divergence.is_none(), "{} diverged: {:?}", lane.name, lane.divergence);
+                prop_assert!(lane.max_theta_error.is_finite() && lane.max_energy_error.is_finite());
+            }
+        }
+    }
+
+    /// Any valid rope runs without panicking; below its stability limit (dt < limit / ω_max with
+    /// ω_max < 2 sqrt(k/m), light damping) no stable method produces a NaN or diverges.
+    #[test]
+    fn rope_runs_and_stable_methods_stay_finite(
+        nodes in 2usize..24, k in 1.0f64..1e4, m in 0.01f64..1.0, fraction in 0.05f64..0.9,
+        damping_ratio in 0.0f64..0.05, pin_both in any::<bool>(), gx in -5.0f64..5.0, gy in -10.0f64..0.0,
+    ) {
+        let critical = 2.0 * (k * m).sqrt();
+        let pinned = if pin_both { vec![0, nodes - 1] } else { vec![0] };
+        let params = RopeParams {
+            nodes, start: DVec3::ZERO, end: DVec3::new(1.0, 0.5, 0.0), mass: m, stiffness: k,
+            spring_damping: damping_ratio * critical, air_drag: damping_ratio * critical,
+            gravity: DVec3::new(gx, gy, 0.0), pinned, newton_iterations: 1,
+        };
+        let ceiling = 2.0 * (k / m).sqrt();
+        for (method, limit) in STABLE {
+            // Implicit Euler is unconditionally stable only in linear theory: the linearised step
+            // (one Newton iteration) can overshoot on a sagging rope at steps far beyond the
+            // explicit limits, so it is held to the same steps as the others here; the linear
+            // chain test checks it at 100 × the Verlet limit.
+            let dt = fraction * limit.min(2.0) / ceiling;
+            let config = RopeConfig {
+                params: params.clone(), dt, duration: 300.0 * dt, fps: 0.1 / dt, plot_every: 1,
+                layout: Default::default(), methods: vec![method], options: MethodOptions::default(),
+            };
+            let summary = physlab::scene::rope::run::run(&config, &mut NoRopeObserver).unwrap();
+            let lane = &summary.lanes[0];
+            prop_assert!(lane.divergence.is_none(), "{method} at dt = {dt:e}: {:?}", lane.divergence);
+            prop_assert!(lane.final_energy.is_some_and(f64::is_finite));
+        }
+    }
+
+    /// Any valid hair runs without panicking and keeps its invariants.
+    #[test]
+    fn hair_runs_and_keeps_its_invariants(
+        strands in 1usize..40, nodes in 2usize..24, segment in 0.002f64..0.05, radius in 0.02f64..0.3,
+        iterations in 1u32..8, substeps in 1u32..3, wind in 0.0f64..20.0, motion in 0usize..5,
+    ) {
+        let motion = [HeadMotion::Still, HeadMotion::Sway, HeadMotion::Turn, HeadMotion::Nod, HeadMotion::Tour][motion];
+        let config = HairConfig {
+            params: HairParams {
+                strands, nodes, segment_length: segment, head_radius: radius, iterations, motion,
+                wind: DVec3::new(wind, 0.0, 0.0), ..HairParams::default()
+            },
+            substeps, duration: 0.5, methods: HairMethod::ALL.to_vec(), ..HairConfig::default()
+        };
+        let summary = physlab::scene::hair::run::run(&config, &mut NoHairObserver).unwrap();
+        for lane in &summary.lanes {
+            prop_assert!(lane.divergence.is_none(), "{}: {:?}", lane.method.name(), lane.divergence);
+            prop_assert!(lane.max_penetration <= 1e-6 * radius, "{}: penetration {:e}", lane.method.name(), lane.max_penetration);
+            prop_assert!(lane.max_root_error <= 1e-12);
+            if lane.method == HairMethod::Ftl {
+                prop_assert!(lane.max_stretch <= 1e-6, "ftl stretch {:e}", lane.max_stretch);
+            }
+        }
+    }
+}
