@@ -40,6 +40,8 @@ pub enum Command {
     /// Hair strands on a moving head: Verlet, PBD and follow-the-leader with length constraints,
     /// sphere collision and wind
     Hair(HairCommand),
+    /// Measure the speed/accuracy trade and the stability limits against theory
+    Study(StudyArgs),
     /// What a recording holds: provenance, scenes, methods, entity paths, time range, warnings
     Inspect(InspectArgs),
     /// Print the integrator registry: order, kind, symplecticity, force evaluations, stability
@@ -177,6 +179,9 @@ pub struct PendulumArgs {
     /// Verlet's damping factor d in x1 = x0 + (1-d)(x0 - x_-1) + a dt², 0 ≤ d < 1 [default: 0]
     #[arg(long, value_name = "D", allow_negative_numbers = true)]
     pub verlet_damping: Option<f64>,
+    /// dopri5's relative tolerance per substep (the absolute one equals it) [default: 1e-6]
+    #[arg(long, value_name = "TOL", allow_negative_numbers = true)]
+    pub rtol: Option<f64>,
 }
 
 /// Parameter sets that reproduce a known setup; flags given with a preset override it.
@@ -265,6 +270,9 @@ pub struct RopeArgs {
     /// Where each method's rope is drawn [default: side-by-side]
     #[arg(long, value_enum)]
     pub layout: Option<Layout>,
+    /// dopri5's relative tolerance per substep (the absolute one equals it) [default: 1e-6]
+    #[arg(long, value_name = "TOL", allow_negative_numbers = true)]
+    pub rtol: Option<f64>,
 }
 
 #[derive(Args, Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
@@ -335,4 +343,104 @@ pub struct HairArgs {
     /// Methods to run, comma-separated [default: verlet, semi-implicit-euler, ftl]
     #[arg(long, value_delimiter = ',', value_name = "LIST")]
     pub methods: Option<Vec<HairMethod>>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum StudyKind {
+    /// Error against dt, fitted order per method
+    Convergence,
+    /// Error against median wall time and against force evaluations; cheapest method per target
+    WorkPrecision,
+    /// Largest stable dt per method by bisection, against theory
+    Stability,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum StudyScene {
+    Pendulum,
+    Rope,
+}
+
+#[derive(Args, Debug, Clone)]
+pub struct StudyArgs {
+    /// What to measure
+    #[arg(value_enum)]
+    pub kind: StudyKind,
+
+    /// The scene
+    #[arg(long, value_enum, default_value_t = StudyScene::Pendulum)]
+    pub scene: StudyScene,
+
+    /// Scene parameters from a scene file (its [pendulum] or [rope] table); flags override it
+    #[arg(long, value_name = "FILE.toml")]
+    pub config: Option<PathBuf>,
+
+    /// Pendulum: initial angle [degrees] [default: 60]
+    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
+    pub theta0: Option<f64>,
+
+    /// Pendulum: initial angular velocity [rad/s] [default: 0]
+    #[arg(long, value_name = "RAD/S", allow_negative_numbers = true)]
+    pub omega0: Option<f64>,
+
+    /// Rope: nodes [default: 16]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub nodes: Option<usize>,
+
+    /// Rope: spring stiffness [N/m] [default: 100 for convergence and work-precision, the scene's 5000 for stability]
+    #[arg(long, value_name = "N/M", allow_negative_numbers = true)]
+    pub stiffness: Option<f64>,
+
+    /// Rope: node mass [kg] [default: 0.1]
+    #[arg(long, value_name = "KG", allow_negative_numbers = true)]
+    pub mass: Option<f64>,
+
+    /// Rope: spring damping [N·s/m] [default: 0, so that the theory's orders apply]
+    #[arg(long, value_name = "N·S/M", allow_negative_numbers = true)]
+    pub spring_damping: Option<f64>,
+
+    /// Rope: air drag [N·s/m] [default: 0]
+    #[arg(long, value_name = "N·S/M", allow_negative_numbers = true)]
+    pub air_drag: Option<f64>,
+
+    /// Simulated time [s] [default: 10 for the pendulum, 1 for the rope]
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
+    pub duration: Option<f64>,
+
+    /// Coarsest step; each level halves it [s] [default: 0.02 pendulum, 0.002 rope]
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
+    pub dt: Option<f64>,
+
+    /// Number of step sizes [default: 6]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub levels: Option<u32>,
+
+    /// Methods, comma-separated [default: all nine]
+    #[arg(long, value_delimiter = ',', value_name = "LIST")]
+    pub methods: Option<Vec<Method>>,
+
+    /// dopri5's tolerances for work-precision, comma-separated [default: 1e-3,1e-4,...,1e-12]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        value_name = "LIST",
+        allow_negative_numbers = true
+    )]
+    pub rtol: Option<Vec<f64>>,
+
+    /// Timed repeats per run for work-precision (the median is kept) [default: 5]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub repeats: Option<u32>,
+
+    /// Steps each stability trial must stay bounded for [default: 2000]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub steps: Option<u64>,
+
+    /// Also write one row per run as CSV
+    #[arg(long, value_name = "FILE.csv")]
+    pub csv: Option<PathBuf>,
+
+    /// Also write the curves and tables as a Rerun recording
+    #[arg(short, long, value_name = "FILE.rrd")]
+    pub output: Option<PathBuf>,
 }

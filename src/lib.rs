@@ -13,4 +13,5 @@ pub mod method;
 pub mod progress;
 pub mod record;
 pub mod scene;
+pub mod study;
 pub mod table;

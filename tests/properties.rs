@@ -34,7 +34,7 @@ proptest! {
         let dt = fraction * 2.0 / rate;
         let config = PendulumConfig {
             params: p, dt, duration: 300.0 * dt, fps: 1.0 / dt, plot_every: 1,
-            methods: Method::ALL.to_vec(), options: MethodOptions::default(),
+            methods: Method::DEFAULT.to_vec(), options: MethodOptions::default(),
         };
         let summary = physlab::scene::pendulum::run::run(&config, &mut NoObserver).unwrap();
         for lane in &summary.lanes {

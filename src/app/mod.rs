@@ -2,6 +2,7 @@
 //! stdout; the progress bar goes to stderr.
 
 mod resolve;
+mod study;
 
 use std::fmt;
 use std::path::PathBuf;
@@ -45,6 +46,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Rope(c) => rope(&c),
         Command::Hair(c) => hair(&c),
         Command::All(c) => all(&c),
+        Command::Study(a) => study::study(&a),
     }
 }
 

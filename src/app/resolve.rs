@@ -30,8 +30,9 @@ pub fn pendulum_defaults() -> PendulumArgs {
         duration: Some(20.0),
         fps: Some(30.0),
         plot_every: Some(1),
-        methods: Some(Method::ALL.to_vec()),
+        methods: Some(Method::DEFAULT.to_vec()),
         verlet_damping: Some(0.0),
+        rtol: Some(1e-6),
     }
 }
 
@@ -53,10 +54,11 @@ pub fn rope_defaults() -> RopeArgs {
         duration: Some(10.0),
         fps: Some(30.0),
         plot_every: Some(5),
-        methods: Some(Method::ALL.to_vec()),
+        methods: Some(Method::DEFAULT.to_vec()),
         verlet_damping: Some(0.0),
         newton_iterations: Some(p.newton_iterations),
         layout: Some(Layout::SideBySide),
+        rtol: Some(1e-6),
     }
 }
 
@@ -156,7 +158,10 @@ pub fn pendulum_config(args: &PendulumArgs) -> Result<PendulumConfig, UsageError
         fps,
         plot_every,
         methods: resolve_methods(&a.methods.unwrap()),
-        options: MethodOptions { verlet_damping: d },
+        options: MethodOptions {
+            verlet_damping: d,
+            rtol: check_rtol(a.rtol.unwrap())?,
+        },
     })
 }
 
@@ -180,6 +185,16 @@ fn check_memory(what: &str, bytes: f64, change: &str) -> Result<(), UsageError> 
         )));
     }
     Ok(())
+}
+
+fn check_rtol(rtol: f64) -> Result<f64, UsageError> {
+    if rtol.is_finite() && (1e-14..=0.1).contains(&rtol) {
+        Ok(rtol)
+    } else {
+        Err(UsageError(format!(
+            "--rtol {rtol}: must be between 1e-14 and 0.1"
+        )))
+    }
 }
 
 fn check_plot_every(n: u64) -> Result<u64, UsageError> {
@@ -221,7 +236,7 @@ fn resolve_methods(given: &[Method]) -> Vec<Method> {
         }
     }
     if methods.is_empty() {
-        Method::ALL.to_vec()
+        Method::DEFAULT.to_vec()
     } else {
         methods
     }
@@ -350,7 +365,10 @@ pub fn rope_config(args: &RopeArgs) -> Result<RopeConfig, UsageError> {
         plot_every,
         layout: a.layout.unwrap(),
         methods,
-        options: MethodOptions { verlet_damping },
+        options: MethodOptions {
+            verlet_damping,
+            rtol: check_rtol(a.rtol.unwrap())?,
+        },
     })
 }
 

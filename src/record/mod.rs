@@ -5,6 +5,7 @@ pub mod hair;
 pub mod inspect;
 pub mod pendulum;
 pub mod rope;
+pub mod study;
 
 use std::path::{Path, PathBuf};
 

@@ -44,7 +44,7 @@ impl Default for PendulumConfig {
             duration: 20.0,
             fps: 30.0,
             plot_every: 1,
-            methods: Method::ALL.to_vec(),
+            methods: Method::DEFAULT.to_vec(),
             options: MethodOptions::default(),
         }
     }

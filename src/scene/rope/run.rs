@@ -74,7 +74,7 @@ impl Default for RopeConfig {
             fps: 30.0,
             plot_every: 5,
             layout: Default::default(),
-            methods: Method::ALL.to_vec(),
+            methods: Method::DEFAULT.to_vec(),
             options: MethodOptions::default(),
         }
     }

@@ -1,0 +1,534 @@
+//! `physlab study`: the speed/accuracy trade and the stability limits, measured against theory.
+//!
+//! Every measurement steps a [`SecondOrderSystem`] with the registry's [`Integrator`] and compares
+//! positions at common sample times (multiples of the coarsest step, so not only turning points)
+//! with a reference: the exact elliptic solution for a pendulum released from rest, otherwise
+//! RK4 at a step 8× finer than the finest tested, whose own error is estimated by Richardson
+//! extrapolation against a run at twice its step.
+
+use std::time::Instant;
+
+use crate::method::{
+    Integrator, Method, MethodOptions, SecondOrderSystem, Stability, yoshida_weights,
+};
+use crate::scene::pendulum::reference::ExactPendulum;
+use crate::scene::pendulum::{Pendulum, PendulumParams};
+use crate::scene::rope::{Rope, RopeParams};
+
+/// One scene set up for a study: its system, start and the rate that sets its stability.
+pub enum Problem {
+    Pendulum(PendulumParams),
+    Rope(RopeParams),
+}
+
+impl Problem {
+    pub fn name(&self) -> &'static str {
+        match self {
+            Problem::Pendulum(_) => "pendulum",
+            Problem::Rope(_) => "rope",
+        }
+    }
+
+    /// The angular frequency stability theory is stated in: sqrt(g/L) for the pendulum (its
+    /// small-angle frequency), the pinned-free chain's highest mode for the rope.
+    pub fn omega(&self) -> f64 {
+        match self {
+            Problem::Pendulum(p) => p.omega_n(),
+            Problem::Rope(p) => p.omega_max_pinned_free(),
+        }
+    }
+
+    fn start(&self) -> (Vec<f64>, Vec<f64>) {
+        match self {
+            Problem::Pendulum(p) => (vec![p.theta0], vec![p.omega0]),
+            Problem::Rope(p) => {
+                let x = p.initial_positions();
+                let v = vec![0.0; x.len()];
+                (x, v)
+            }
+        }
+    }
+}
+
+/// One measured run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Row {
+    pub scene: &'static str,
+    pub method: Method,
+    pub dt: f64,
+    /// dopri5's tolerance; `None` for fixed-step methods.
+    pub rtol: Option<f64>,
+    /// Largest deviation from the reference over the run; `None` when the run diverged.
+    pub error: Option<f64>,
+    pub evals: u64,
+    /// Median wall time over the repeats [s].
+    pub wall_seconds: f64,
+}
+
+/// Steps `method` and returns (largest |x - reference| at the sample times, force evaluations),
+/// or `None` for the error when the state stops being finite.
+fn measure<S: SecondOrderSystem>(
+    sys: &S,
+    start: &(Vec<f64>, Vec<f64>),
+    method: Method,
+    dt: f64,
+    options: MethodOptions,
+    per_sample: u64,
+    reference: &[Vec<f64>],
+) -> (Option<f64>, u64, f64) {
+    let began = Instant::now();
+    let mut it = Integrator::new(method, sys, &start.0, &start.1, dt, options);
+    let mut worst: f64 = 0.0;
+    for r in reference {
+        for _ in 0..per_sample {
+            it.step(sys);
+        }
+        let x = it.position();
+        let err = x
+            .iter()
+            .zip(r)
+            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        if !err.is_finite() {
+            return (None, it.evals(), began.elapsed().as_secs_f64());
+        }
+        worst = worst.max(err);
+    }
+    (Some(worst), it.evals(), began.elapsed().as_secs_f64())
+}
+
+/// The reference positions at t = k·sample_dt, k = 1..=samples, and an estimate of its own error.
+pub fn reference(
+    problem: &Problem,
+    sample_dt: f64,
+    samples: usize,
+    finest_dt: f64,
+) -> (Vec<Vec<f64>>, f64) {
+    if let Problem::Pendulum(p) = problem
+        && let Some(exact) = ExactPendulum::new(p)
+    {
+        let r = (1..=samples)
+            .map(|k| vec![exact.state(k as f64 * sample_dt).0])
+            .collect();
+        return (r, 0.0);
+    }
+    let h = finest_dt / 8.0;
+    let per = (sample_dt / h).round() as u64;
+    let start = problem.start();
+    let run = |h: f64, per: u64| -> Vec<Vec<f64>> {
+        match problem {
+            Problem::Pendulum(p) => fine_run(&Pendulum::new(p), &start, h, per, samples),
+            Problem::Rope(p) => fine_run(&Rope::new(p.clone()), &start, h, per, samples),
+        }
+    };
+    let fine = run(h, per);
+    let coarse = run(2.0 * h, per / 2);
+    let diff = fine
+        .iter()
+        .zip(&coarse)
+        .flat_map(|(a, b)| a.iter().zip(b).map(|(x, y)| (x - y).abs()))
+        .fold(0.0, f64::max);
+    (fine, diff / 15.0)
+}
+
+fn fine_run<S: SecondOrderSystem>(
+    sys: &S,
+    start: &(Vec<f64>, Vec<f64>),
+    h: f64,
+    per: u64,
+    samples: usize,
+) -> Vec<Vec<f64>> {
+    let mut it = Integrator::new(
+        Method::Rk4,
+        sys,
+        &start.0,
+        &start.1,
+        h,
+        MethodOptions::default(),
+    );
+    (0..samples)
+        .map(|_| {
+            for _ in 0..per {
+                it.step(sys);
+            }
+            it.position().to_vec()
+        })
+        .collect()
+}
+
+/// Errors are compared every this many coarsest steps: often enough to catch the largest
+/// deviation (not only turning points), seldom enough that dopri5 chooses its own substeps.
+pub const SAMPLE_EVERY: u64 = 16;
+
+/// How a convergence or work-precision sweep is set up.
+#[derive(Clone, Debug)]
+pub struct Sweep {
+    /// The coarsest step; the samples are taken every SAMPLE_EVERY × dt0.
+    pub dt0: f64,
+    /// Number of step sizes dt0, dt0/2, ...
+    pub levels: u32,
+    pub duration: f64,
+    pub methods: Vec<Method>,
+    pub options: MethodOptions,
+    /// Timed repeats per run (the median is kept).
+    pub repeats: u32,
+    /// dopri5's tolerances (it runs at dt0 with each).
+    pub rtols: Vec<f64>,
+}
+
+/// Every (method, dt) of the sweep: fixed-step methods over the halved steps, dopri5 over its
+/// tolerances. Returns the rows and the reference's estimated error.
+pub fn sweep(problem: &Problem, s: &Sweep) -> (Vec<Row>, f64) {
+    let sample_dt = SAMPLE_EVERY as f64 * s.dt0;
+    let samples = ((s.duration / sample_dt).round() as usize).max(1);
+    let finest = s.dt0 / 2f64.powi(s.levels as i32 - 1);
+    let (reference, reference_error) = reference(problem, sample_dt, samples, finest);
+    let start = problem.start();
+    let mut rows = Vec::new();
+    let mut one = |method: Method, dt: f64, per: u64, options: MethodOptions, rtol: Option<f64>| {
+        let mut walls = Vec::new();
+        let mut result = (None, 0);
+        for _ in 0..s.repeats.max(1) {
+            let (err, evals, wall) = match problem {
+                Problem::Pendulum(p) => measure(
+                    &Pendulum::new(p),
+                    &start,
+                    method,
+                    dt,
+                    options,
+                    per,
+                    &reference,
+                ),
+                Problem::Rope(p) => measure(
+                    &Rope::new(p.clone()),
+                    &start,
+                    method,
+                    dt,
+                    options,
+                    per,
+                    &reference,
+                ),
+            };
+            walls.push(wall);
+            result = (err, evals);
+        }
+        walls.sort_by(f64::total_cmp);
+        rows.push(Row {
+            scene: problem.name(),
+            method,
+            dt,
+            rtol,
+            error: result.0,
+            evals: result.1,
+            wall_seconds: walls[walls.len() / 2],
+        });
+    };
+    for &m in &s.methods {
+        if m == Method::Dopri5 {
+            // Adaptive: it only has to land on the sample times and chooses its substeps itself.
+            for &rtol in &s.rtols {
+                one(
+                    m,
+                    sample_dt,
+                    1,
+                    MethodOptions { rtol, ..s.options },
+                    Some(rtol),
+                );
+            }
+        } else {
+            for k in 0..s.levels {
+                one(
+                    m,
+                    s.dt0 / 2f64.powi(k as i32),
+                    SAMPLE_EVERY << k,
+                    s.options,
+                    None,
+                );
+            }
+        }
+    }
+    (rows, reference_error)
+}
+
+/// The fitted order of one method's rows: the least-squares slope of log error against log dt
+/// over the non-diverged rows, with the smallest and largest order between neighbours.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Order {
+    pub method: Method,
+    pub fitted: Option<f64>,
+    pub range: Option<(f64, f64)>,
+    /// Step sizes at which the method diverged.
+    pub diverged_at: Vec<f64>,
+}
+
+/// Rows whose error is within 100× of the reference's estimated error, or below 1e-11 (where
+/// round-off in the accumulated state takes over), are at the floor and left out of the fits.
+pub fn error_floor(reference_error: f64) -> f64 {
+    (100.0 * reference_error).max(1e-11)
+}
+
+pub fn orders(rows: &[Row], floor: f64) -> Vec<Order> {
+    let mut methods: Vec<Method> = Vec::new();
+    for r in rows {
+        if r.rtol.is_none() && !methods.contains(&r.method) {
+            methods.push(r.method);
+        }
+    }
+    methods
+        .into_iter()
+        .map(|m| {
+            let mine: Vec<&Row> = rows
+                .iter()
+                .filter(|r| r.method == m && r.rtol.is_none())
+                .collect();
+            let diverged_at = mine
+                .iter()
+                .filter(|r| r.error.is_none())
+                .map(|r| r.dt)
+                .collect();
+            let pts: Vec<(f64, f64)> = mine
+                .iter()
+                .filter_map(|r| r.error.filter(|e| *e > floor).map(|e| (r.dt.ln(), e.ln())))
+                .collect();
+            let fitted = (pts.len() >= 2).then(|| {
+                let n = pts.len() as f64;
+                let (mx, my) = (
+                    pts.iter().map(|p| p.0).sum::<f64>() / n,
+                    pts.iter().map(|p| p.1).sum::<f64>() / n,
+                );
+                let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+                let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
+                sxy / sxx
+            });
+            let local: Vec<f64> = pts
+                .windows(2)
+                .map(|w| (w[0].1 - w[1].1) / (w[0].0 - w[1].0))
+                .collect();
+            let range = (!local.is_empty()).then(|| {
+                (
+                    local.iter().copied().fold(f64::INFINITY, f64::min),
+                    local.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+                )
+            });
+            Order {
+                method: m,
+                fitted,
+                range,
+                diverged_at,
+            }
+        })
+        .collect()
+}
+
+/// The cheapest measured run reaching `target` error: by wall time, and by force evaluations.
+pub fn cheapest(rows: &[Row], target: f64) -> (Option<&Row>, Option<&Row>) {
+    let ok = || {
+        rows.iter()
+            .filter(move |r| r.error.is_some_and(|e| e <= target))
+    };
+    (
+        ok().min_by(|a, b| a.wall_seconds.total_cmp(&b.wall_seconds)),
+        ok().min_by_key(|r| r.evals),
+    )
+}
+
+/// One method's measured stability limit next to theory, in dt.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Limit {
+    pub scene: &'static str,
+    pub method: Method,
+    /// Largest dt found stable; for unconditionally stable methods, the largest tried.
+    pub measured_dt: Option<f64>,
+    /// Theory's largest stable dt: limit/ω; infinite when unconditional, `None` when there is
+    /// none (unstable for every dt) or the step is adaptive.
+    pub theory_dt: Option<f64>,
+    pub note: String,
+}
+
+/// The linearised problem stability theory speaks of: the pendulum at 1e-8 rad (so that even
+/// 10⁴-fold growth stays where sin θ = θ; a larger swing saturates and hides instability), the
+/// rope straight, weightless and undamped, displaced along itself by ±1e-6 of its rest length so
+/// that every mode, the highest included, is excited.
+fn linearised(problem: &Problem) -> (Problem, (Vec<f64>, Vec<f64>)) {
+    match problem {
+        Problem::Pendulum(p) => {
+            let q = PendulumParams {
+                theta0: 1e-8,
+                omega0: 0.0,
+                ..*p
+            };
+            (Problem::Pendulum(q), (vec![q.theta0], vec![0.0]))
+        }
+        Problem::Rope(p) => {
+            let q = RopeParams {
+                gravity: glam::DVec3::ZERO,
+                spring_damping: 0.0,
+                air_drag: 0.0,
+                pinned: vec![0],
+                ..p.clone()
+            };
+            let mut x = q.initial_positions();
+            let axis = (q.end - q.start).normalize();
+            let l0 = q.rest_length();
+            for i in 1..q.nodes {
+                let s = if i % 2 == 0 { 1e-6 } else { -1e-6 } * l0;
+                for c in 0..3 {
+                    x[3 * i + c] += s * axis[c];
+                }
+            }
+            let v = vec![0.0; x.len()];
+            (Problem::Rope(q), (x, v))
+        }
+    }
+}
+
+/// Whether `method` at `dt` keeps the linearised problem's displacement within 10⁴ of its start
+/// over `steps` steps.
+fn bounded(
+    problem: &Problem,
+    start: &(Vec<f64>, Vec<f64>),
+    method: Method,
+    dt: f64,
+    steps: u64,
+) -> bool {
+    fn run<S: SecondOrderSystem>(
+        sys: &S,
+        start: &(Vec<f64>, Vec<f64>),
+        rest: &[f64],
+        method: Method,
+        dt: f64,
+        steps: u64,
+    ) -> bool {
+        let size = |x: &[f64]| {
+            x.iter()
+                .zip(rest)
+                .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
+        };
+        let initial = size(&start.0);
+        let mut it = Integrator::new(
+            method,
+            sys,
+            &start.0,
+            &start.1,
+            dt,
+            MethodOptions::default(),
+        );
+        for _ in 0..steps {
+            it.step(sys);
+            let s = size(it.position());
+            // NaN compares false: a non-finite state counts as unbounded.
+            if s.is_nan() || s > 1e4 * initial {
+                return false;
+            }
+        }
+        true
+    }
+    match problem {
+        Problem::Pendulum(p) => run(&Pendulum::new(p), start, &[0.0], method, dt, steps),
+        Problem::Rope(p) => run(
+            &Rope::new(p.clone()),
+            start,
+            &p.initial_positions(),
+            method,
+            dt,
+            steps,
+        ),
+    }
+}
+
+/// Largest stable dt by bisection (geometric, 40 halvings of the bracket), for every method.
+/// A run is stable when its displacement stays within 10⁴ of the start over `steps` steps.
+pub fn stability(problem: &Problem, methods: &[Method], steps: u64) -> Vec<Limit> {
+    let (lin, start) = linearised(problem);
+    let w = lin.omega();
+    methods
+        .iter()
+        .map(|&m| {
+            let theory = match m.info().stability {
+                Stability::Below(h) => Some(h / w),
+                Stability::Always => Some(f64::INFINITY),
+                Stability::Never | Stability::Adaptive => None,
+            };
+            let mut note = String::new();
+            let measured = match m.info().stability {
+                Stability::Adaptive => {
+                    note.push_str("adaptive: error control chooses the substeps");
+                    None
+                }
+                Stability::Always => {
+                    let tried = 1000.0 * 2.0 / w;
+                    if bounded(&lin, &start, m, tried, steps) {
+                        note.push_str("stable at 1000 × 2/ω, the largest tried");
+                        Some(tried)
+                    } else {
+                        note.push_str("unstable at 1000 × 2/ω");
+                        None
+                    }
+                }
+                _ => {
+                    let (mut lo, mut hi) = (1e-4 * 2.0 / w, 10.0 * 2.0 / w);
+                    if !bounded(&lin, &start, m, lo, steps) {
+                        note.push_str("unstable even at 1e-4 × 2/ω");
+                        None
+                    } else {
+                        for _ in 0..40 {
+                            let mid = (lo * hi).sqrt();
+                            if bounded(&lin, &start, m, mid, steps) {
+                                lo = mid;
+                            } else {
+                                hi = mid;
+                            }
+                        }
+                        if m.info().stability == Stability::Never {
+                            note.push_str(&format!(
+                                "no true limit: growth is slow below this, and the value shrinks as the run ({steps} steps) lengthens"
+                            ));
+                        }
+                        Some(lo)
+                    }
+                }
+            };
+            Limit { scene: problem.name(), method: m, measured_dt: measured, theory_dt: theory, note }
+        })
+        .collect()
+}
+
+/// Yoshida's stability limit on the oscillator from theory: the h at which the trace of the
+/// composition's one-step matrix reaches 2 in magnitude, found by bisection on the matrix product.
+pub fn yoshida4_limit() -> f64 {
+    let (w1, w0) = yoshida_weights();
+    let drifts = [0.5 * w1, 0.5 * (w0 + w1), 0.5 * (w0 + w1), 0.5 * w1];
+    let kicks = [w1, w0, w1];
+    let trace = |h: f64| {
+        // Columns: the images of (1, 0) and (0, 1) under x'' = -x.
+        let mut m = [[1.0, 0.0], [0.0, 1.0]];
+        for (stage, d) in drifts.iter().enumerate() {
+            for col in &mut m {
+                col[0] += d * h * col[1];
+                if let Some(k) = kicks.get(stage) {
+                    col[1] -= k * h * col[0];
+                }
+            }
+        }
+        m[0][0] + m[1][1]
+    };
+    let (mut lo, mut hi) = (1.0, 2.0);
+    for _ in 0..80 {
+        let mid = 0.5 * (lo + hi);
+        if trace(mid).abs() <= 2.0 {
+            lo = mid
+        } else {
+            hi = mid
+        }
+    }
+    lo
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn yoshida_limit_from_the_matrix_matches_the_registry() {
+        assert!((yoshida4_limit() - crate::method::YOSHIDA4_STABILITY_LIMIT).abs() < 1e-12);
+    }
+}
