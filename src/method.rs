@@ -182,7 +182,7 @@ impl Method {
                 symplectic: false,
                 evals_per_step: Adaptive,
                 stability: Stability::Adaptive,
-                update: "Dormand-Prince 5(4) substeps within dt, error per substep <= rtol (|y| + 1)",
+                update: "Dormand-Prince 5(4) substeps within dt, error per substep <= rtol (abs(y) + 1)",
             },
         }
     }
