@@ -293,9 +293,12 @@ fn hair(c: &HairCommand) -> anyhow::Result<()> {
             )
         })?;
         progress.finish();
-        let text = crate::scene::hair::summary::summary_text(&summary);
+        let text = format!(
+            "{}\nno recording (--no-record), {:.1} s\n",
+            crate::scene::hair::summary::summary_text(&summary),
+            started.elapsed().as_secs_f64()
+        );
         let none = Destinations::default();
-        println!("(--no-record: nothing written)");
         return finish(
             None,
             &none,
