@@ -93,6 +93,14 @@ pub struct RunArgs {
 pub struct AllArgs {
     #[command(flatten)]
     pub run: RunArgs,
+
+    /// 3D frames logged per simulated second, for every scene (overrides the scene file)
+    #[arg(long, value_name = "HZ", allow_negative_numbers = true)]
+    pub fps: Option<f64>,
+
+    /// Plot every Nth step of the pendulum and the rope (overrides the scene file)
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub plot_every: Option<u64>,
 }
 
 #[derive(Args, Debug, Clone)]

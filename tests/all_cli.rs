@@ -225,3 +225,11 @@ fn live_viewing_options_are_checked_before_simulating() {
     assert!(!out.exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn all_fps_and_plot_every_override_every_scene() {
+    let (code, text, err) = physlab(&["all", "--fps", "5", "--plot-every", "3", "--print-config"]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(text.matches("fps = 5.0").count(), 3, "{text}");
+    assert_eq!(text.matches("plot_every = 3").count(), 2, "{text}");
+}

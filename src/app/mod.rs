@@ -341,11 +341,18 @@ fn record_hair(
 /// `physlab all`: the three scenes, one after another, into one recording on one timeline.
 fn all(c: &AllArgs) -> anyhow::Result<()> {
     let file = scene_file(&c.run)?;
-    let (p_args, r_args, h_args) = (
+    let (mut p_args, mut r_args, mut h_args) = (
         file.pendulum.clone().unwrap_or_default(),
         file.rope.clone().unwrap_or_default(),
         file.hair.clone().unwrap_or_default(),
     );
+    // `all`'s own flags override every scene's table.
+    if let Some(fps) = c.fps {
+        (p_args.fps, r_args.fps, h_args.fps) = (Some(fps), Some(fps), Some(fps));
+    }
+    if let Some(n) = c.plot_every {
+        (p_args.plot_every, r_args.plot_every) = (Some(n), Some(n));
+    }
     let (p_eff, r_eff, h_eff) = (
         pendulum_effective(&p_args),
         rope_effective(&r_args),
