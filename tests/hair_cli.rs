@@ -2,33 +2,22 @@
 
 mod common;
 
-use std::process::Command;
-
-use common::{assert_refused, decode, scratch_dir};
+use common::{assert_refused, decode, physlab, scratch_dir};
 
 #[test]
 fn hair_run_writes_one_strip_entity_per_method() {
     let dir = scratch_dir("hair-e2e");
     let out = dir.join("h.rrd");
-    let result = Command::new(env!("CARGO_BIN_EXE_physlab"))
-        .args([
-            "hair",
-            "--strands",
-            "30",
-            "--duration",
-            "1",
-            "-o",
-            out.to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&result.stdout);
-    assert_eq!(
-        result.status.code(),
-        Some(0),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&result.stderr)
-    );
+    let (code, stdout, stderr) = physlab(&[
+        "hair",
+        "--strands",
+        "30",
+        "--duration",
+        "1",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stdout}\n{stderr}");
     let d = decode(&out);
     assert!(d.has_footer);
     for m in ["verlet", "semi-implicit-euler", "ftl"] {
@@ -62,20 +51,17 @@ fn hair_run_writes_one_strip_entity_per_method() {
 fn no_record_writes_nothing() {
     let dir = scratch_dir("hair-norec");
     let out = dir.join("h.rrd");
-    let result = Command::new(env!("CARGO_BIN_EXE_physlab"))
-        .args([
-            "hair",
-            "--strands",
-            "10",
-            "--duration",
-            "0.5",
-            "--no-record",
-            "-o",
-            out.to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
-    assert_eq!(result.status.code(), Some(0));
+    let (code, _, stderr) = physlab(&[
+        "hair",
+        "--strands",
+        "10",
+        "--duration",
+        "0.5",
+        "--no-record",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
     assert!(!out.exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -4,14 +4,13 @@
 mod common;
 
 use std::collections::BTreeMap;
-use std::process::Command;
 
 use clap::Parser as _;
 use physlab::app::pendulum_config;
 use physlab::cli::{Cli, Command as Sub};
 use physlab::scene::pendulum::run::{PendulumObserver, SeriesBlock, run};
 
-use common::{assert_refused, decode, scratch_dir};
+use common::{assert_refused, decode, physlab, scratch_dir};
 
 /// Collects each lane's θ series as the library reports it.
 #[derive(Default)]
@@ -37,18 +36,9 @@ fn pendulum_run_writes_a_complete_recording_whose_theta_equals_the_simulation() 
         "-o",
         out.to_str().unwrap(),
     ];
-    let result = Command::new(env!("CARGO_BIN_EXE_physlab"))
-        .args(args)
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&result.stdout);
-    let stderr = String::from_utf8_lossy(&result.stderr);
-    assert_eq!(
-        result.status.code(),
-        Some(0),
-        "stdout:\n{stdout}\nstderr:\n{stderr}"
-    );
-    assert!(!stderr.contains("panicked"));
+    // `physlab` also asserts that nothing panicked.
+    let (code, stdout, stderr) = physlab(&args);
+    assert_eq!(code, 0, "stdout:\n{stdout}\nstderr:\n{stderr}");
 
     let methods = [
         "explicit-euler",

@@ -52,7 +52,7 @@ fn energy_errors(method: Method, theta0_deg: f64, dt: f64, steps: usize) -> Vec<
 /// only turning points, where the observed order would double) as dt halves, for every method.
 #[test]
 fn measured_convergence_order_matches_the_registry() {
-    for m in Method::DEFAULT {
+    for &m in Method::DEFAULT {
         let order = m.info().order;
         // Asymptotic ranges: first-order methods need small dt for errors ≪ amplitude; RK4 must
         // stay above round-off (errors here run from 2e-5 down to 6e-9).

@@ -264,6 +264,28 @@ fn folders_and_unwritable_paths_are_refused_before_simulating() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// A hair run of about 20 s writing to `out`, started in the background for a test to
+/// interrupt or kill.
+fn spawn_long_hair_run(out: &std::path::Path, output: fn() -> Stdio) -> std::process::Child {
+    Command::new(env!("CARGO_BIN_EXE_physlab"))
+        .args([
+            "hair",
+            "--strands",
+            "3000",
+            "--nodes",
+            "32",
+            "--duration",
+            "60",
+            "-q",
+            "-o",
+            out.to_str().unwrap(),
+        ])
+        .stdout(output())
+        .stderr(output())
+        .spawn()
+        .unwrap()
+}
+
 #[test]
 fn failed_and_killed_runs_leave_an_existing_recording_byte_identical() {
     let dir = scratch_dir("keep-good");
@@ -278,23 +300,7 @@ fn failed_and_killed_runs_leave_an_existing_recording_byte_identical() {
     assert_eq!(std::fs::read(&good).unwrap(), before);
 
     // A long run killed outright (no chance to clean up) half way.
-    let mut child = Command::new(env!("CARGO_BIN_EXE_physlab"))
-        .args([
-            "hair",
-            "--strands",
-            "3000",
-            "--nodes",
-            "32",
-            "--duration",
-            "60",
-            "-q",
-            "-o",
-            good.to_str().unwrap(),
-        ])
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
+    let mut child = spawn_long_hair_run(&good, Stdio::null);
     std::thread::sleep(Duration::from_millis(1500));
     child.kill().unwrap();
     child.wait().unwrap();
@@ -310,23 +316,7 @@ fn failed_and_killed_runs_leave_an_existing_recording_byte_identical() {
 fn sigint_finalises_a_readable_recording_and_exits_130() {
     let dir = scratch_dir("sigint");
     let out = dir.join("int.rrd");
-    let child = Command::new(env!("CARGO_BIN_EXE_physlab"))
-        .args([
-            "hair",
-            "--strands",
-            "3000",
-            "--nodes",
-            "32",
-            "--duration",
-            "60",
-            "-q",
-            "-o",
-            out.to_str().unwrap(),
-        ])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let child = spawn_long_hair_run(&out, Stdio::piped);
     std::thread::sleep(Duration::from_millis(1500));
     // SAFETY: sending a signal to our own child process.
     unsafe { libc::kill(child.id() as libc::pid_t, libc::SIGINT) };

@@ -2,10 +2,8 @@
 
 mod common;
 
-use std::process::Command;
-
 use clap::Parser as _;
-use common::{assert_refused, decode, scratch_dir};
+use common::{assert_refused, decode, physlab, scratch_dir};
 use physlab::app::rope_config;
 use physlab::cli::{Cli, Command as Sub};
 
@@ -23,26 +21,17 @@ const METHODS: [&str; 7] = [
 fn rope_run_writes_a_recording_with_every_method() {
     let dir = scratch_dir("rope-e2e");
     let out = dir.join("r.rrd");
-    let result = Command::new(env!("CARGO_BIN_EXE_physlab"))
-        .args([
-            "rope",
-            "--duration",
-            "2",
-            "--pinned",
-            "0,15",
-            "--timings",
-            "-o",
-            out.to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&result.stdout);
-    assert_eq!(
-        result.status.code(),
-        Some(0),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&result.stderr)
-    );
+    let (code, stdout, stderr) = physlab(&[
+        "rope",
+        "--duration",
+        "2",
+        "--pinned",
+        "0,15",
+        "--timings",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stdout}\n{stderr}");
     for m in METHODS {
         assert!(
             stdout.lines().any(|l| l.starts_with(&format!("| {m} "))),

@@ -157,7 +157,7 @@ pub fn pendulum_config(args: &PendulumArgs) -> Result<PendulumConfig, UsageError
         duration,
         fps,
         plot_every,
-        methods: resolve_methods(&a.methods.unwrap()),
+        methods: resolve_methods(&a.methods.unwrap(), Method::DEFAULT),
         options: MethodOptions {
             verlet_damping: d,
             rtol: check_rtol(a.rtol.unwrap())?,
@@ -227,16 +227,16 @@ pub(crate) fn positive(option: &str, value: f64, unit: &str) -> Result<(), Usage
     }
 }
 
-/// The methods as given, first occurrence kept; all of them when none is given.
-fn resolve_methods(given: &[Method]) -> Vec<Method> {
-    let mut methods: Vec<Method> = Vec::new();
+/// The methods as given, first occurrence kept; `defaults` when none is given.
+fn resolve_methods<M: Copy + PartialEq>(given: &[M], defaults: &[M]) -> Vec<M> {
+    let mut methods: Vec<M> = Vec::new();
     for &m in given {
         if !methods.contains(&m) {
             methods.push(m);
         }
     }
     if methods.is_empty() {
-        Method::DEFAULT.to_vec()
+        defaults.to_vec()
     } else {
         methods
     }
@@ -347,7 +347,7 @@ pub fn rope_config(args: &RopeArgs) -> Result<RopeConfig, UsageError> {
         ));
     }
     check_time(dt, duration, fps, p.nodes)?;
-    let methods = resolve_methods(&a.methods.unwrap());
+    let methods = resolve_methods(&a.methods.unwrap(), Method::DEFAULT);
     // Per node and method: state, scratch and Verlet's history (~10 × 24 B) and the implicit
     // solver's 3×3 blocks (~6 × 72 B): about 1 kB.
     check_memory(
@@ -432,19 +432,7 @@ pub fn hair_config(args: &HairArgs) -> Result<HairConfig, UsageError> {
         substeps,
         fps: a.fps.unwrap(),
         duration: a.duration.unwrap(),
-        methods: {
-            let mut m: Vec<HairMethod> = Vec::new();
-            for &x in &a.methods.unwrap() {
-                if !m.contains(&x) {
-                    m.push(x);
-                }
-            }
-            if m.is_empty() {
-                HairMethod::ALL.to_vec()
-            } else {
-                m
-            }
-        },
+        methods: resolve_methods(&a.methods.unwrap(), &HairMethod::ALL),
     };
     let work = config.frames() as f64
         * substeps as f64

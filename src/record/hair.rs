@@ -7,7 +7,10 @@
 use rerun::RecordingStream;
 use rerun::blueprint::{Blueprint, Horizontal, Vertical};
 
-use super::{about_and_events, log_stage, method_color, plot_column, scene_blueprint, scene_view};
+use super::{
+    about_and_events, log_series_style, log_stage, method_color, plot_column, scene_blueprint,
+    scene_view,
+};
 use crate::scene::hair::Hair;
 use crate::scene::hair::run::{HairConfig, HairFrame, HairObserver};
 use crate::scene::schedule::{Event, EventKind};
@@ -45,7 +48,6 @@ pub struct HairRecorder {
     names: Vec<&'static str>,
     offsets: Vec<glam::DVec3>,
     nodes: usize,
-    radius: f64,
     /// Whether wall-clock frame costs are plotted.
     timings: bool,
 }
@@ -57,7 +59,6 @@ impl HairRecorder {
             names: Vec::new(),
             offsets: Vec::new(),
             nodes: 1,
-            radius: 0.1,
             timings,
         }
     }
@@ -99,7 +100,6 @@ impl HairObserver for HairRecorder {
         let p = &config.params;
         self.names = config.methods.iter().map(|m| m.name()).collect();
         self.nodes = p.nodes;
-        self.radius = p.head_radius;
         let reach = p.head_radius + p.segment_length * (p.nodes - 1) as f64;
         let spacing = 2.6 * reach + 2.0 * 2.0 * p.head_radius; // room for the sway
         self.offsets = (0..self.names.len())
@@ -149,13 +149,7 @@ impl HairObserver for HairRecorder {
                     .with_show_labels(true),
             )?;
             for (quantity, _) in plots(self.timings) {
-                rec.log_static(
-                    format!("hair/plots/{quantity}/{name}"),
-                    &rerun::SeriesLines::new()
-                        .with_names([*name])
-                        .with_colors([color])
-                        .with_widths([1.5]),
-                )?;
+                log_series_style(rec, format!("hair/plots/{quantity}/{name}"), name)?;
             }
             rec.set_duration_secs("sim_time", 0.0);
             rec.set_time_sequence("frame", 0);

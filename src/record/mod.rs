@@ -107,6 +107,22 @@ pub fn scene_blueprint(left: Vertical, plots: Vertical) -> Blueprint {
         .with_time_panel(TimePanel::new().with_timeline("sim_time"))
 }
 
+/// The legend name and colour of one method's series in a plot (static, logged once).
+pub fn log_series_style(
+    rec: &rerun::RecordingStream,
+    entity: String,
+    name: &str,
+) -> anyhow::Result<()> {
+    rec.log_static(
+        entity,
+        &rerun::SeriesLines::new()
+            .with_names([name])
+            .with_colors([method_color(name)])
+            .with_widths([1.5]),
+    )?;
+    Ok(())
+}
+
 /// A faint floor outline through four corners (static). Besides showing the ground, it widens
 /// the bounding box the viewer's default camera frames, so the nearest slots are not cut off by
 /// perspective (the camera cannot be set from the Rust SDK).

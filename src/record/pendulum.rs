@@ -12,7 +12,8 @@ use rerun::blueprint::{Blueprint, Horizontal, Spatial2DView, Vertical};
 use rerun::{RecordingStream, TimeColumn};
 
 use super::{
-    about_and_events, log_stage, method_color, plot_column, scene_blueprint, scene_view, slot_cells,
+    about_and_events, log_series_style, log_stage, method_color, plot_column, scene_blueprint,
+    scene_view, slot_cells,
 };
 use crate::scene::pendulum::run::{
     Event, EventKind, FrameState, PendulumObserver, RunSetup, RunSummary, SeriesBlock,
@@ -179,13 +180,7 @@ impl PendulumObserver for PendulumRecorder {
                 if quantity == "theta_error" && i == 0 {
                     continue;
                 }
-                rec.log_static(
-                    format!("pendulum/plots/{quantity}/{name}"),
-                    &rerun::SeriesLines::new()
-                        .with_names([*name])
-                        .with_colors([color])
-                        .with_widths([1.5]),
-                )?;
+                log_series_style(rec, format!("pendulum/plots/{quantity}/{name}"), name)?;
             }
             rec.log_static(
                 format!("pendulum/phase/{name}/path"),

@@ -10,7 +10,8 @@ use rerun::blueprint::{Blueprint, Horizontal, Vertical};
 use rerun::{RecordingStream, TimeColumn};
 
 use super::{
-    about_and_events, log_stage, method_color, plot_column, scene_blueprint, scene_view, slot_cells,
+    about_and_events, log_series_style, log_stage, method_color, plot_column, scene_blueprint,
+    scene_view, slot_cells,
 };
 use crate::scene::rope::node;
 use crate::scene::rope::run::{
@@ -202,13 +203,7 @@ impl RopeObserver for RopeRecorder {
                     .with_show_labels(true),
             )?;
             for (quantity, _) in plots(self.timings) {
-                rec.log_static(
-                    format!("rope/plots/{quantity}/{name}"),
-                    &rerun::SeriesLines::new()
-                        .with_names([*name])
-                        .with_colors([color])
-                        .with_widths([1.5]),
-                )?;
+                log_series_style(rec, format!("rope/plots/{quantity}/{name}"), name)?;
             }
         }
         rec.log_static(

@@ -43,3 +43,19 @@ pub struct Event {
     pub kind: EventKind,
     pub message: String,
 }
+
+/// The summaries' "diverged" cell: when the method was stopped (`at` says how precisely: "t" at
+/// the step, "by t" at the first check after it) and how many implicit solves missed their
+/// tolerance.
+pub fn divergence_cell(divergence: Option<&Event>, at: &str, failed_solves: u64) -> String {
+    let mut cell = match divergence {
+        Some(ev) => format!("yes, {at} = {:.4} s", ev.time),
+        None => "no".to_string(),
+    };
+    if failed_solves > 0 {
+        cell.push_str(&format!(
+            "; Newton missed tolerance on {failed_solves} steps"
+        ));
+    }
+    cell
+}

@@ -1,6 +1,7 @@
 //! The hair run's summary table.
 
 use super::run::HairSummary;
+use crate::scene::schedule::divergence_cell;
 use crate::table::{Table, trim_number};
 
 pub fn summary_text(s: &HairSummary) -> String {
@@ -54,9 +55,7 @@ pub fn summary_text(s: &HairSummary) -> String {
             format!("{:.1e}", l.max_penetration),
             format!("{:.1e}", l.max_root_error),
             format!("{:.4e}", l.final_kinetic_energy),
-            l.divergence
-                .as_ref()
-                .map_or("no".into(), |e| format!("yes, t = {:.3} s", e.time)),
+            divergence_cell(l.divergence.as_ref(), "t", 0),
         ]);
     }
     out.push_str(&table.render());

@@ -104,6 +104,28 @@ pub struct SeriesBlock {
 }
 
 impl SeriesBlock {
+    #[allow(clippy::too_many_arguments)]
+    fn push(
+        &mut self,
+        step: u64,
+        t: f64,
+        theta: f64,
+        omega: f64,
+        energy: f64,
+        energy_error: f64,
+        theta_error: Option<f64>,
+    ) {
+        self.steps.push(step);
+        self.times.push(t);
+        self.theta.push(theta);
+        self.omega.push(omega);
+        self.energy.push(energy);
+        self.energy_error.push(energy_error);
+        if let Some(err) = theta_error {
+            self.theta_error.push(err);
+        }
+    }
+
     fn clear(&mut self) {
         self.steps.clear();
         self.times.clear();
@@ -269,17 +291,7 @@ pub fn run(
     for (i, l) in lanes.iter_mut().enumerate() {
         l.meter.push(0.0, p.theta0, p.omega0);
         block.clear();
-        push_sample(
-            &mut block,
-            0,
-            0.0,
-            p.theta0,
-            p.omega0,
-            &p,
-            e0,
-            e_scale,
-            (i > 0).then_some(0.0),
-        );
+        block.push(0, 0.0, p.theta0, p.omega0, e0, 0.0, (i > 0).then_some(0.0));
         observer.series(i, &block)?;
     }
     observer.frame(&FrameState {
@@ -334,8 +346,13 @@ pub fn run(
             if !l.alive {
                 continue;
             }
+            // One pass: each step is checked, then measured and (thinned) sampled; a diverged
+            // lane stops before its bad step, so no NaN reaches a plot.
             let mut accepted = len;
-            for j in 0..len {
+            block.clear();
+            for (j, &theta_ref) in ref_theta[..len].iter().enumerate() {
+                let step = first + j as u64;
+                let t = step as f64 * dt;
                 let (th, w) = (l.theta[j], l.omega[j]);
                 let e = p.energy(th, w);
                 let bad = if !th.is_finite() || !w.is_finite() {
@@ -348,15 +365,13 @@ pub fn run(
                     None
                 };
                 if let Some(why) = bad {
-                    let step = first + j as u64;
-                    let time = step as f64 * dt;
                     let event = Event {
                         lane: i,
-                        time,
+                        time: t,
                         step,
                         kind: EventKind::Divergence,
                         message: format!(
-                            "{} diverged at t = {time:.6} s (step {step}): {why}",
+                            "{} diverged at t = {t:.6} s (step {step}): {why}",
                             l.summary.name
                         ),
                     };
@@ -366,27 +381,19 @@ pub fn run(
                     accepted = j;
                     break;
                 }
-            }
-            l.accepted = accepted;
-            l.summary.steps += accepted as u64;
-
-            block.clear();
-            for (j, &theta_ref) in ref_theta[..accepted].iter().enumerate() {
-                let step = first + j as u64;
-                let t = step as f64 * dt;
-                let (th, w) = (l.theta[j], l.omega[j]);
                 l.meter.push(t, th, w);
-                let e = p.energy(th, w);
-                l.summary.max_energy_error =
-                    l.summary.max_energy_error.max(((e - e0) / e_scale).abs());
+                let energy_error = (e - e0) / e_scale;
+                l.summary.max_energy_error = l.summary.max_energy_error.max(energy_error.abs());
                 let theta_error = (i > 0).then(|| (th - theta_ref).abs());
                 if let Some(err) = theta_error {
                     l.summary.max_theta_error = l.summary.max_theta_error.max(err);
                 }
                 if step.is_multiple_of(plot_stride) {
-                    push_sample(&mut block, step, t, th, w, &p, e0, e_scale, theta_error);
+                    block.push(step, t, th, w, e, energy_error, theta_error);
                 }
             }
+            l.accepted = accepted;
+            l.summary.steps += accepted as u64;
             observer.series(i, &block)?;
 
             if let Some(&offset) = l.unconverged.first() {
@@ -449,28 +456,4 @@ pub fn run(
     };
     observer.finish(&summary)?;
     Ok(summary)
-}
-
-#[allow(clippy::too_many_arguments)]
-fn push_sample(
-    b: &mut SeriesBlock,
-    step: u64,
-    t: f64,
-    theta: f64,
-    omega: f64,
-    p: &PendulumParams,
-    e0: f64,
-    e_scale: f64,
-    theta_error: Option<f64>,
-) {
-    let e = p.energy(theta, omega);
-    b.steps.push(step);
-    b.times.push(t);
-    b.theta.push(theta);
-    b.omega.push(omega);
-    b.energy.push(e);
-    b.energy_error.push((e - e0) / e_scale);
-    if let Some(err) = theta_error {
-        b.theta_error.push(err);
-    }
 }

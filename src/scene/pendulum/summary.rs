@@ -1,6 +1,7 @@
 //! The pendulum run's summary table, as printed on stdout.
 
 use super::run::RunSummary;
+use crate::scene::schedule::divergence_cell;
 use crate::table::Table;
 
 /// The summary: a few header lines (reference, energy, bounds) and one row per lane.
@@ -52,16 +53,7 @@ pub fn summary_text(s: &RunSummary) -> String {
             (Some(m), Some(e)) => format!("{:+.2e}", m / e - 1.0),
             _ => "—".to_string(),
         };
-        let mut diverged = match &l.divergence {
-            Some(ev) => format!("yes, t = {:.4} s", ev.time),
-            None => "no".to_string(),
-        };
-        if l.failed_solves > 0 {
-            diverged.push_str(&format!(
-                "; Newton missed tolerance on {} steps",
-                l.failed_solves
-            ));
-        }
+        let diverged = divergence_cell(l.divergence.as_ref(), "t", l.failed_solves);
         table.row([
             l.name.to_string(),
             l.steps.to_string(),

@@ -170,16 +170,25 @@ impl Rope {
     /// Kinetic + spring + gravitational energy [J], gravity's zero at the origin.
     pub fn energy(&self, x: &[f64], v: &[f64]) -> f64 {
         let p = &self.params;
-        let mut e = 0.0;
-        for i in 0..p.nodes {
-            let vi = node(v, i);
-            e += 0.5 * p.mass * vi.length_squared() - p.mass * p.gravity.dot(node(x, i));
-        }
-        for i in 0..p.nodes - 1 {
-            let stretch = (node(x, i + 1) - node(x, i)).length() - self.rest;
-            e += 0.5 * p.stiffness * stretch * stretch;
-        }
-        e
+        let gravity: f64 = (0..p.nodes)
+            .map(|i| -p.mass * p.gravity.dot(node(x, i)))
+            .sum();
+        self.kinetic_and_elastic_energy(x, v) + gravity
+    }
+
+    /// Kinetic + spring energy [J]: the energy in motion and stretch, without gravity.
+    pub fn kinetic_and_elastic_energy(&self, x: &[f64], v: &[f64]) -> f64 {
+        let p = &self.params;
+        let kinetic: f64 = (0..p.nodes)
+            .map(|i| 0.5 * p.mass * node(v, i).length_squared())
+            .sum();
+        let elastic: f64 = (0..p.nodes - 1)
+            .map(|i| {
+                let stretch = (node(x, i + 1) - node(x, i)).length() - self.rest;
+                0.5 * p.stiffness * stretch * stretch
+            })
+            .sum();
+        kinetic + elastic
     }
 
     /// Largest |ℓ - ℓ0| / ℓ0 over the springs.

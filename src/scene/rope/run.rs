@@ -35,13 +35,10 @@ pub const ENERGY_GAIN_BOUND: f64 = 100.0;
 pub fn energy_scale(rope: &Rope, x0: &[f64], v0: &[f64]) -> f64 {
     let p = &rope.params;
     let n = p.nodes as f64;
-    let weightless = RopeParams {
-        gravity: glam::DVec3::ZERO,
-        ..p.clone()
-    };
-    let motion = Rope::new(weightless).energy(x0, v0);
     let one_percent = 0.5 * p.stiffness * (0.01 * rope.rest()).powi(2) * (n - 1.0);
-    p.mass * p.gravity.length() * rope.rest() * n * (n - 1.0) / 2.0 + motion + one_percent
+    p.mass * p.gravity.length() * rope.rest() * n * (n - 1.0) / 2.0
+        + rope.kinetic_and_elastic_energy(x0, v0)
+        + one_percent
 }
 
 /// Plot samples collected per lane before they are handed to the observer.

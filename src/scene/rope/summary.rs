@@ -2,6 +2,7 @@
 
 use super::run::{ENERGY_GAIN_BOUND, RopeSummary};
 use crate::method::{EvalsPerStep, Method};
+use crate::scene::schedule::divergence_cell;
 use crate::table::{Table, trim_number};
 
 /// What one step of `method` costs on an N-node rope, in words.
@@ -68,16 +69,7 @@ pub fn summary_text(s: &RopeSummary) -> String {
         "diverged",
     ]);
     for l in &s.lanes {
-        let mut diverged = match &l.divergence {
-            Some(ev) => format!("yes, by t = {:.4} s", ev.time),
-            None => "no".to_string(),
-        };
-        if l.failed_solves > 0 {
-            diverged.push_str(&format!(
-                "; Newton missed tolerance on {} steps",
-                l.failed_solves
-            ));
-        }
+        let diverged = divergence_cell(l.divergence.as_ref(), "by t", l.failed_solves);
         table.row([
             l.method.name().to_string(),
             cost_per_step(l.method, p.newton_iterations),
