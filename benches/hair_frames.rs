@@ -7,9 +7,9 @@
 use std::time::Duration;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use physlab::record::hair::HairRecorder;
-use physlab::scene::hair::run::{HairConfig, HairFrame, HairObserver, measure};
+use physlab::scene::hair::run::{HairConfig, HairScene};
 use physlab::scene::hair::{Hair, HairMethod, HairParams};
+use physlab::scene::harness::{Frame, Observer as _, Sampler, Scene as _, SeriesBatch};
 
 fn config() -> HairConfig {
     HairConfig {
@@ -55,13 +55,15 @@ fn hair_frames(c: &mut Criterion) {
                     .save("/dev/null")
                     .unwrap();
                 rec.set_log_time_enabled(false);
-                let mut recorder = HairRecorder::new(rec, true);
-                let cfg = HairConfig {
+                let mut recorder = physlab::record::hair::recorder(rec, true);
+                let scene = HairScene::new(HairConfig {
                     methods: vec![method],
                     ..config.clone()
-                };
-                let mut hair = Hair::new(config.params.clone(), method);
-                recorder.start(&cfg, std::slice::from_ref(&hair)).unwrap();
+                });
+                let schedule = scene.schedule();
+                let (name, mut lane) = scene.lanes().pop().unwrap();
+                recorder.start(&scene, &[(name, &lane)]).unwrap();
+                let mut batch = SeriesBatch::new(scene.quantities(&lane).len());
                 let mut frame = 0u64;
                 group.bench_function(
                     format!("{}/{threads}-thread/record-30fps", method.name()),
@@ -69,17 +71,21 @@ fn hair_frames(c: &mut Criterion) {
                         b.iter(|| {
                             pool.install(|| {
                                 for _ in 0..2 {
-                                    hair.step(1.0 / 60.0);
                                     frame += 1;
-                                    let stats = measure(&hair);
-                                    let view = HairFrame {
-                                        frame,
-                                        time: hair.time,
-                                        log_3d: frame.is_multiple_of(2),
-                                        lanes: vec![Some((&hair, stats))],
-                                    };
-                                    recorder.frame(&view).unwrap();
+                                    scene.advance(&mut lane, frame, 1);
+                                    batch.clear();
+                                    let mut sampler = Sampler::new(&schedule, &mut batch);
+                                    scene.check(&mut lane, frame, 1, &mut sampler);
+                                    recorder.series(&scene, 0, &batch).unwrap();
                                 }
+                                let view = Frame {
+                                    index: frame / 2,
+                                    tick: frame,
+                                    time: schedule.time(frame),
+                                    lanes: vec![Some((&lane, 0))],
+                                    cost_ms: vec![0.0],
+                                };
+                                recorder.frame(&scene, &view).unwrap();
                             })
                         })
                     },

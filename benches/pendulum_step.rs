@@ -5,7 +5,7 @@
 use std::hint::black_box;
 
 use criterion::{BatchSize, Criterion, Throughput, criterion_group, criterion_main};
-use physlab::method::{Integrator, Method, MethodOptions};
+use physlab::integrate::{Integrator, Method, MethodOptions};
 use physlab::scene::pendulum::{Pendulum, PendulumParams, step_block};
 
 const STEPS: usize = 1000;

@@ -6,7 +6,7 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{BatchSize, Criterion, Throughput, criterion_group, criterion_main};
-use physlab::method::{Integrator, Method, MethodOptions};
+use physlab::integrate::{Integrator, Method, MethodOptions};
 use physlab::scene::rope::{Rope, RopeParams, step_rope};
 
 fn rope_step(c: &mut Criterion) {

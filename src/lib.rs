@@ -1,17 +1,24 @@
 //! physlab: numerical integrators compared side by side on small physics scenes, with every
 //! run recorded for the Rerun viewer.
 //!
-//! The simulation core (`method`, `elliptic`, `scene`) is plain Rust and never touches Rerun;
-//! `record` is the only module that does.
+//! Layers, each importing only those below it (see ARCHITECTURE.md):
+//! - the core: `integrate` (methods), `scene` (the scenes and the one harness), `study`
+//!   (measurements), `report` (tables), plus `elliptic`, `interrupt` and `error`; no clap, no
+//!   Rerun;
+//! - `record`: the only module that calls Rerun (cargo feature `rerun`, on by default);
+//! - `cli` (clap types) and `app` (the command pipeline) on top.
 
-pub mod app;
-pub mod cli;
-pub mod config;
 pub mod elliptic;
+pub mod error;
+pub mod integrate;
 pub mod interrupt;
-pub mod method;
-pub mod progress;
-pub mod record;
+pub mod report;
 pub mod scene;
 pub mod study;
-pub mod table;
+
+#[cfg(feature = "rerun")]
+pub mod app;
+#[cfg(feature = "rerun")]
+pub mod cli;
+#[cfg(feature = "rerun")]
+pub mod record;

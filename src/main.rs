@@ -2,9 +2,7 @@
 
 use std::process::ExitCode;
 
-use clap::Parser as _;
 use physlab::app::{self, Diverged, UsageError};
-use physlab::cli::Cli;
 use physlab::interrupt::Interrupted;
 
 fn main() -> ExitCode {
@@ -15,7 +13,7 @@ fn main() -> ExitCode {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
     // clap prints its own usage errors and exits with code 2.
-    let cli = Cli::parse();
+    let cli = physlab::cli::parse();
     physlab::interrupt::install();
     match app::run(cli) {
         Ok(()) => ExitCode::SUCCESS,

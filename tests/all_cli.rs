@@ -1,5 +1,7 @@
 //! `physlab all`, scene files, provenance and `inspect` (issue 5).
 
+#![cfg(feature = "rerun")]
+
 mod common;
 
 use common::{canonical_rows, physlab, scratch_dir};

@@ -1,5 +1,7 @@
 //! The hair command end to end (issue 4): exit code, summary, recording layout, bad input.
 
+#![cfg(feature = "rerun")]
+
 mod common;
 
 use common::{assert_refused, decode, physlab, scratch_dir};

@@ -1,8 +1,9 @@
 //! The hair scene's invariants, checked after every step (issue 4, point 5), and determinism
 //! across thread counts (point 6).
 
-use physlab::scene::hair::run::{HairConfig, NoHairObserver, run};
+use physlab::scene::hair::run::{HairConfig, HairScene};
 use physlab::scene::hair::{Hair, HairMethod, HairParams, HeadMotion};
+use physlab::scene::harness::{NoObserver, run};
 
 fn params(strands: usize) -> HairParams {
     HairParams {
@@ -143,7 +144,7 @@ fn results_do_not_depend_on_the_thread_count() {
             .build()
             .unwrap();
         pool.install(|| {
-            let summary = run(&config, &mut NoHairObserver).unwrap();
+            let summary = run(&mut HairScene::new(config.clone()), &mut NoObserver).unwrap();
             let states: Vec<Vec<[u64; 3]>> = HairMethod::ALL
                 .iter()
                 .map(|&m| {
@@ -160,7 +161,12 @@ fn results_do_not_depend_on_the_thread_count() {
             let stats: Vec<(u64, u64)> = summary
                 .lanes
                 .iter()
-                .map(|l| (l.max_stretch.to_bits(), l.final_kinetic_energy.to_bits()))
+                .map(|l| {
+                    (
+                        l.worst.max_stretch.to_bits(),
+                        l.worst.kinetic_energy.to_bits(),
+                    )
+                })
                 .collect();
             (states, stats)
         })

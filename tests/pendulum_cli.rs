@@ -1,6 +1,8 @@
 //! The binary end to end (issue 2, point 7d): exit code, summary, and the recording read back
 //! with Rerun's own decoder.
 
+#![cfg(feature = "rerun")]
+
 mod common;
 
 use std::collections::BTreeMap;
@@ -8,17 +10,18 @@ use std::collections::BTreeMap;
 use clap::Parser as _;
 use physlab::app::pendulum_config;
 use physlab::cli::{Cli, Command as Sub};
-use physlab::scene::pendulum::run::{PendulumObserver, SeriesBlock, run};
+use physlab::scene::harness::{Observer, SeriesBatch, run};
+use physlab::scene::pendulum::run::PendulumScene;
 
 use common::{assert_refused, decode, physlab, scratch_dir};
 
 /// Collects each lane's θ series as the library reports it.
 #[derive(Default)]
 struct ThetaCollector(BTreeMap<usize, Vec<(u64, f64)>>);
-impl PendulumObserver for ThetaCollector {
-    fn series(&mut self, lane: usize, b: &SeriesBlock) -> anyhow::Result<()> {
+impl Observer<PendulumScene> for ThetaCollector {
+    fn series(&mut self, _: &PendulumScene, lane: usize, b: &SeriesBatch) -> anyhow::Result<()> {
         let rows = self.0.entry(lane).or_default();
-        rows.extend(b.steps.iter().copied().zip(b.theta.iter().copied()));
+        rows.extend(b.ticks.iter().copied().zip(b.columns[0].iter().copied()));
         Ok(())
     }
 }
@@ -100,13 +103,14 @@ fn pendulum_run_writes_a_complete_recording_whose_theta_equals_the_simulation() 
     };
     let config = pendulum_config(&parsed.scene).unwrap();
     let mut collected = ThetaCollector::default();
-    let summary = run(&config, &mut collected).unwrap();
+    let dt = config.dt;
+    let summary = run(&mut PendulumScene::new(config), &mut collected).unwrap();
     for (lane, rows) in &collected.0 {
-        let name = summary.lanes[*lane].name;
+        let name = summary.stats[*lane].name;
         let recorded = &d.scalars[&format!("/pendulum/plots/theta/{name}")];
         assert_eq!(recorded.len(), rows.len(), "{name}: row count");
         for (&(t_ns, v), &(step, theta)) in recorded.iter().zip(rows) {
-            let expected_ns = (step as f64 * config.dt * 1e9).round() as i64;
+            let expected_ns = (step as f64 * dt * 1e9).round() as i64;
             assert!(
                 (t_ns - expected_ns).abs() <= 1,
                 "{name}: time {t_ns} ns vs step {step}"

@@ -2,10 +2,11 @@
 //! Theory: `../shared/reference/oscillator_theory.md`; periods: `tests/data/pendulum_period.csv`
 //! (a verbatim copy of `../shared/reference/pendulum_period.csv`, computed with 40-digit mpmath).
 
-use physlab::method::{Integrator, Method, MethodOptions};
+use physlab::integrate::{Integrator, Method, MethodOptions};
+use physlab::scene::harness::{NoObserver, Run, run};
 use physlab::scene::pendulum::period::PeriodMeter;
 use physlab::scene::pendulum::reference::{ExactPendulum, exact_period};
-use physlab::scene::pendulum::run::{NoObserver, PendulumConfig, run};
+use physlab::scene::pendulum::run::{PendulumConfig, PendulumLane, PendulumScene};
 use physlab::scene::pendulum::{Pendulum, PendulumParams};
 
 fn params(theta0_deg: f64) -> PendulumParams {
@@ -13,6 +14,11 @@ fn params(theta0_deg: f64) -> PendulumParams {
         theta0: theta0_deg.to_radians(),
         ..PendulumParams::default()
     }
+}
+
+/// A run without a recording.
+fn simulate(config: PendulumConfig) -> Run<PendulumLane> {
+    run(&mut PendulumScene::new(config), &mut NoObserver).unwrap()
 }
 
 fn config(method: Method, theta0_deg: f64, dt: f64, duration: f64) -> PendulumConfig {
@@ -64,8 +70,8 @@ fn measured_convergence_order_matches_the_registry() {
         let errors: Vec<f64> = dts
             .iter()
             .map(|&dt| {
-                let s = run(&config(m, 60.0, dt, 10.0), &mut NoObserver).unwrap();
-                assert!(s.lanes[1].divergence.is_none(), "{m} diverged at dt = {dt}");
+                let s = simulate(config(m, 60.0, dt, 10.0));
+                assert!(s.stats[1].divergence.is_none(), "{m} diverged at dt = {dt}");
                 s.lanes[1].max_theta_error
             })
             .collect();
@@ -138,14 +144,14 @@ fn exact_solution_matches_reference_periods() {
 fn rk4_and_verlet_reproduce_reference_periods() {
     for (deg, _, period) in period_table() {
         for (m, dt) in [(Method::Rk4, 1e-3), (Method::Verlet, 1e-4)] {
-            let s = run(&config(m, deg, dt, 10.5 * period), &mut NoObserver).unwrap();
-            let lane = &s.lanes[1];
+            let s = simulate(config(m, deg, dt, 10.5 * period));
+            let meter = &s.lanes[1].meter;
             assert!(
-                lane.periods_seen >= 9,
+                meter.periods_seen() >= 9,
                 "{m} {deg}°: {} periods",
-                lane.periods_seen
+                meter.periods_seen()
             );
-            let measured = lane.period.unwrap();
+            let measured = meter.period().unwrap();
             assert!(
                 (measured / period - 1.0).abs() < 1e-6,
                 "{m} at {deg}°: period {measured} vs reference {period} ({:+.2e})",

@@ -2,13 +2,14 @@
 //! stability limit no method produces a NaN or diverges.
 
 use glam::DVec3;
-use physlab::method::{Method, MethodOptions};
-use physlab::scene::hair::run::{HairConfig, NoHairObserver};
+use physlab::integrate::{Method, MethodOptions};
+use physlab::scene::hair::run::{HairConfig, HairScene};
 use physlab::scene::hair::{HairMethod, HairParams, HeadMotion};
+use physlab::scene::harness::{NoObserver, run};
 use physlab::scene::pendulum::PendulumParams;
-use physlab::scene::pendulum::run::{NoObserver, PendulumConfig};
+use physlab::scene::pendulum::run::{PendulumConfig, PendulumScene};
 use physlab::scene::rope::RopeParams;
-use physlab::scene::rope::run::{NoRopeObserver, RopeConfig};
+use physlab::scene::rope::run::{RopeConfig, RopeScene};
 use proptest::prelude::*;
 
 /// Methods with a stability limit on the undamped oscillator, and that limit in h = ω dt.
@@ -36,10 +37,10 @@ proptest! {
             params: p, dt, duration: 300.0 * dt, fps: 1.0 / dt, plot_every: 1,
             methods: Method::DEFAULT.to_vec(), options: MethodOptions::default(),
         };
-        let summary = physlab::scene::pendulum::run::run(&config, &mut NoObserver).unwrap();
-        for lane in &summary.lanes {
+        let summary = run(&mut PendulumScene::new(config), &mut NoObserver).unwrap();
+        for (lane, stats) in summary.lanes.iter().zip(&summary.stats) {
             if STABLE.iter().any(|(m, _)| Some(*m) == lane.method) {
-                prop_assert!(lane.divergence.is_none(), "{} diverged: {:?}", lane.name, lane.divergence);
+                prop_assert!(stats.divergence.is_none(), "{} diverged: {:?}", stats.name, stats.divergence);
                 prop_assert!(lane.max_theta_error.is_finite() && lane.max_energy_error.is_finite());
             }
         }
@@ -70,10 +71,10 @@ proptest! {
                 params: params.clone(), dt, duration: 300.0 * dt, fps: 0.1 / dt, plot_every: 1,
                 layout: Default::default(), methods: vec![method], options: MethodOptions::default(),
             };
-            let summary = physlab::scene::rope::run::run(&config, &mut NoRopeObserver).unwrap();
-            let lane = &summary.lanes[0];
-            prop_assert!(lane.divergence.is_none(), "{method} at dt = {dt:e}: {:?}", lane.divergence);
-            prop_assert!(lane.final_energy.is_some_and(f64::is_finite));
+            let summary = run(&mut RopeScene::new(config), &mut NoObserver).unwrap();
+            let stats = &summary.stats[0];
+            prop_assert!(stats.divergence.is_none(), "{method} at dt = {dt:e}: {:?}", stats.divergence);
+            prop_assert!(summary.lanes[0].final_energy.is_finite());
         }
     }
 
@@ -91,13 +92,14 @@ proptest! {
             },
             substeps, duration: 0.5, methods: HairMethod::ALL.to_vec(), ..HairConfig::default()
         };
-        let summary = physlab::scene::hair::run::run(&config, &mut NoHairObserver).unwrap();
-        for lane in &summary.lanes {
-            prop_assert!(lane.divergence.is_none(), "{}: {:?}", lane.method.name(), lane.divergence);
-            prop_assert!(lane.max_penetration <= 1e-6 * radius, "{}: penetration {:e}", lane.method.name(), lane.max_penetration);
-            prop_assert!(lane.max_root_error <= 1e-12);
-            if lane.method == HairMethod::Ftl {
-                prop_assert!(lane.max_stretch <= 1e-6, "ftl stretch {:e}", lane.max_stretch);
+        let summary = run(&mut HairScene::new(config), &mut NoObserver).unwrap();
+        for (lane, stats) in summary.lanes.iter().zip(&summary.stats) {
+            let (method, w) = (lane.hair.method, &lane.worst);
+            prop_assert!(stats.divergence.is_none(), "{}: {:?}", method.name(), stats.divergence);
+            prop_assert!(w.max_penetration <= 1e-6 * radius, "{}: penetration {:e}", method.name(), w.max_penetration);
+            prop_assert!(w.max_root_error <= 1e-12);
+            if method == HairMethod::Ftl {
+                prop_assert!(w.max_stretch <= 1e-6, "ftl stretch {:e}", w.max_stretch);
             }
         }
     }

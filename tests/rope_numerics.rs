@@ -1,7 +1,7 @@
 //! The rope against independent references and theory (issue 3, point 6).
 
 use glam::DVec3;
-use physlab::method::{Integrator, Method, MethodOptions, SecondOrderSystem};
+use physlab::integrate::{Integrator, Method, MethodOptions, SecondOrderSystem};
 use physlab::scene::rope::{Rope, RopeParams, node};
 
 fn integrator(rope: &Rope, m: Method, x0: &[f64], dt: f64) -> Integrator {

@@ -2,7 +2,7 @@
 
 mod common;
 
-use physlab::method::{Method, MethodOptions, Stability};
+use physlab::integrate::{Method, MethodOptions, Stability};
 use physlab::scene::pendulum::PendulumParams;
 use physlab::scene::rope::RopeParams;
 use physlab::study::{Problem, Sweep, cheapest, error_floor, orders, stability, sweep};

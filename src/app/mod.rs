@@ -1,39 +1,31 @@
-//! The commands: resolve options into plain configs, run, record, report. Only the summaries go to
-//! stdout; the progress bar goes to stderr.
+//! The commands. Every simulating command goes through one pipeline ([`simulate`]): resolve the
+//! scenes' parameters (defaults < preset < scene file < flags) into validated configs, open the
+//! recording, run each scene through the harness with the recorder and the progress bar as its
+//! observers, print the summaries, and finish (exit codes for interruption and divergence). A
+//! single-scene command is `all` with one scene. Only the summaries go to stdout; the progress
+//! bar goes to stderr.
 
-mod resolve;
+mod file;
+mod inspect;
+mod progress;
 mod study;
 
 use std::fmt;
 use std::path::PathBuf;
 use std::time::Instant;
 
-pub use resolve::{
-    MAX_HAIR_WORK, MAX_NODE_STEPS, MAX_NODES, MAX_STEPS, hair_config, hair_defaults,
-    hair_effective, pendulum_config, pendulum_defaults, pendulum_effective, rope_config,
-    rope_defaults, rope_effective,
-};
+pub use crate::error::UsageError;
+pub use file::SceneFile;
 
-use crate::cli::{AllArgs, Cli, Command, HairCommand, PendulumCommand, RopeCommand, RunArgs};
-use crate::config::SceneFile;
-use crate::method::methods_table;
-use crate::progress::{Progress, WithProgress};
+use crate::cli::{AllArgs, Cli, Command, HairArgs, PendulumArgs, RopeArgs, RunArgs};
+use crate::record::scene::{Draw, SceneRecorder};
 use crate::record::{Destinations, Recording, send_provenance};
-use crate::scene::hair::run::{HairConfig, HairSummary, NoHairObserver};
-use crate::scene::pendulum::run::{PendulumConfig, RunSummary};
-use crate::scene::rope::run::{RopeConfig, RopeSummary};
-
-/// Bad input: the option, the value and what is allowed. Exit code 2.
-#[derive(Debug, Clone, PartialEq)]
-pub struct UsageError(pub String);
-
-impl fmt::Display for UsageError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for UsageError {}
+use crate::report::methods::methods_table;
+use crate::scene::hair::run::{HairConfig, HairScene};
+use crate::scene::harness::{self, NoObserver, Observer, Run, Scene};
+use crate::scene::pendulum::run::{PendulumConfig, PendulumScene};
+use crate::scene::rope::run::{RopeConfig, RopeScene};
+use progress::{Progress, WithProgress};
 
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
@@ -41,11 +33,35 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             print!("{}", methods_table());
             Ok(())
         }
-        Command::Inspect(args) => crate::record::inspect::inspect_command(&args),
-        Command::Pendulum(c) => pendulum(&c),
-        Command::Rope(c) => rope(&c),
-        Command::Hair(c) => hair(&c),
-        Command::All(c) => all(&c),
+        Command::Inspect(args) => inspect::inspect_command(&args),
+        Command::Pendulum(c) => simulate(
+            Plan {
+                pendulum: Some(c.scene),
+                ..Plan::default()
+            },
+            &c.run,
+            &Output::Record,
+        ),
+        Command::Rope(c) => simulate(
+            Plan {
+                rope: Some(c.scene),
+                ..Plan::default()
+            },
+            &c.run,
+            &Output::Record,
+        ),
+        Command::Hair(c) => simulate(
+            Plan {
+                hair: Some(c.scene),
+                ..Plan::default()
+            },
+            &c.run,
+            &Output::Hair {
+                threads: c.threads,
+                no_record: c.no_record,
+            },
+        ),
+        Command::All(c) => simulate(all_plan(&c), &c.run, &Output::Record),
         Command::Study(a) => study::study(&a),
     }
 }
@@ -62,6 +78,252 @@ impl fmt::Display for Diverged {
 
 impl std::error::Error for Diverged {}
 
+/// The scenes a command runs, each with its flags (not yet layered over file and defaults).
+#[derive(Default)]
+struct Plan {
+    pendulum: Option<PendulumArgs>,
+    rope: Option<RopeArgs>,
+    hair: Option<HairArgs>,
+}
+
+/// `physlab all`: the three scenes; its own --fps and --plot-every override every scene's.
+fn all_plan(c: &AllArgs) -> Plan {
+    Plan {
+        pendulum: Some(PendulumArgs {
+            fps: c.fps,
+            plot_every: c.plot_every,
+            ..PendulumArgs::default()
+        }),
+        rope: Some(RopeArgs {
+            fps: c.fps,
+            plot_every: c.plot_every,
+            ..RopeArgs::default()
+        }),
+        hair: Some(HairArgs {
+            fps: c.fps,
+            ..HairArgs::default()
+        }),
+    }
+}
+
+/// What happens to the run's output besides the summary.
+enum Output {
+    /// Record as the run options say.
+    Record,
+    /// Hair's extras: its worker threads and --no-record.
+    Hair {
+        threads: Option<usize>,
+        no_record: bool,
+    },
+}
+
+/// The plan's scenes, layered and validated, and the scene file that reproduces them.
+struct Resolved {
+    pendulum: Option<PendulumConfig>,
+    rope: Option<RopeConfig>,
+    hair: Option<HairConfig>,
+    /// The effective parameters of every scene run, as a scene file.
+    file: SceneFile,
+}
+
+/// Layers each planned scene's flags over the scene file over its defaults and validates it.
+fn resolve(plan: Plan, run: &RunArgs) -> anyhow::Result<Resolved> {
+    let file = match &run.config {
+        Some(path) => SceneFile::load(path)?,
+        None => SceneFile::default(),
+    };
+    let mut effective = SceneFile::default();
+    let mut resolved = Resolved {
+        pendulum: None,
+        rope: None,
+        hair: None,
+        file: SceneFile::default(),
+    };
+    if let Some(flags) = plan.pendulum {
+        let args = flags.over(file.pendulum.clone().unwrap_or_default());
+        resolved.pendulum = Some(pendulum_config(&args)?);
+        effective.pendulum = Some(args.over(PendulumArgs::defaults()));
+    }
+    if let Some(flags) = plan.rope {
+        let args = flags.over(file.rope.clone().unwrap_or_default());
+        resolved.rope = Some(rope_config(&args)?);
+        effective.rope = Some(args.effective());
+    }
+    if let Some(flags) = plan.hair {
+        let args = flags.over(file.hair.clone().unwrap_or_default());
+        resolved.hair = Some(hair_config(&args)?);
+        effective.hair = Some(args.over(HairArgs::defaults()));
+    }
+    resolved.file = effective;
+    Ok(resolved)
+}
+
+/// The pendulum's parameters (missing ones at their defaults), validated.
+pub fn pendulum_config(args: &PendulumArgs) -> Result<PendulumConfig, UsageError> {
+    let config = args.config();
+    config.validate()?;
+    Ok(config)
+}
+
+/// The rope's parameters (missing ones from the preset, if any, or the defaults), validated.
+pub fn rope_config(args: &RopeArgs) -> Result<RopeConfig, UsageError> {
+    let config = args.clone().effective().config();
+    config.validate()?;
+    Ok(config)
+}
+
+/// The hair's parameters (missing ones at their defaults), validated.
+pub fn hair_config(args: &HairArgs) -> Result<HairConfig, UsageError> {
+    let config = args.config();
+    config.validate()?;
+    Ok(config)
+}
+
+/// The one pipeline of every simulating command.
+fn simulate(plan: Plan, run: &RunArgs, output: &Output) -> anyhow::Result<()> {
+    let resolved = resolve(plan, run)?;
+    let text = resolved.file.to_toml()?;
+    let (threads, no_record) = match output {
+        Output::Record => (None, false),
+        Output::Hair { threads, no_record } => (*threads, *no_record),
+    };
+    if threads == Some(0) {
+        return Err(UsageError("--threads 0: must be at least 1".into()).into());
+    }
+    if run.print_config {
+        print!("{text}");
+        return Ok(());
+    }
+    let mut pool = rayon::ThreadPoolBuilder::new();
+    if let Some(n) = threads {
+        pool = pool.num_threads(n);
+    }
+    let pool = pool.build()?;
+
+    let scenes: Vec<&'static str> = [
+        resolved.pendulum.as_ref().map(|_| "pendulum"),
+        resolved.rope.as_ref().map(|_| "rope"),
+        resolved.hair.as_ref().map(|_| "hair"),
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
+    let name = if scenes.len() == 1 { scenes[0] } else { "all" };
+    let started = Instant::now();
+    let d = if no_record {
+        Destinations::default()
+    } else {
+        destinations(run, name)
+    };
+    let recording = if no_record {
+        None
+    } else {
+        let blueprint = if scenes.len() == 1 {
+            crate::record::scene_blueprint_for(name, run.timings)
+        } else {
+            crate::record::all_blueprint(run.timings)
+        };
+        let recording = Recording::create(&d, name, blueprint)?;
+        send_provenance(
+            recording.stream(),
+            &scenes.join(","),
+            &text,
+            &method_names(&resolved),
+        )?;
+        Some(recording)
+    };
+    let mut progress = Progress::new(run.quiet);
+    let mut summaries = Vec::new();
+    let mut diverged = Vec::new();
+    let stream = recording.as_ref().map(|r| r.stream().clone());
+    // Scenes run one after another; after an interruption the remaining ones are skipped.
+    if let Some(config) = resolved.pendulum {
+        let mut scene = PendulumScene::new(config);
+        let recorder = stream
+            .clone()
+            .map(|s| crate::record::pendulum::recorder(s, run.timings));
+        let result = run_scene(&mut scene, recorder, &mut progress)?;
+        summaries.push(crate::report::pendulum::summary_text(&scene, &result));
+        diverged.extend(result.diverged("pendulum"));
+    }
+    if let Some(config) = resolved.rope
+        && !crate::interrupt::requested()
+    {
+        let mut scene = RopeScene::new(config);
+        let recorder = stream
+            .clone()
+            .map(|s| crate::record::rope::recorder(s, run.timings));
+        let result = run_scene(&mut scene, recorder, &mut progress)?;
+        summaries.push(crate::report::rope::summary_text(&scene, &result));
+        diverged.extend(result.diverged("rope"));
+    }
+    if let Some(config) = resolved.hair
+        && !crate::interrupt::requested()
+    {
+        let recorder = stream
+            .clone()
+            .map(|s| crate::record::hair::recorder(s, run.timings));
+        let (scene, result) = pool.install(|| {
+            let mut scene = HairScene::new(config);
+            let result = run_scene(&mut scene, recorder, &mut progress);
+            result.map(|r| (scene, r))
+        })?;
+        let mut text = crate::report::hair::summary_text(&scene, &result);
+        if no_record {
+            text.push_str(&format!(
+                "\nno recording (--no-record), {:.1} s\n",
+                started.elapsed().as_secs_f64()
+            ));
+        }
+        summaries.push(text);
+        diverged.extend(result.diverged("hair"));
+    }
+    progress.finish();
+    drop(stream);
+    finish(recording, &d, started, &summaries, &diverged, run)
+}
+
+/// Runs one scene through the harness, recording it when a recorder is given.
+fn run_scene<S: Scene, D: Draw<S>>(
+    scene: &mut S,
+    recorder: Option<SceneRecorder<D>>,
+    progress: &mut Progress,
+) -> anyhow::Result<Run<S::Lane>> {
+    progress.stage(scene.name(), scene.schedule().end_time());
+    let mut quiet = NoObserver;
+    let mut recorder = recorder;
+    let inner: &mut dyn Observer<S> = match &mut recorder {
+        Some(r) => r,
+        None => &mut quiet,
+    };
+    harness::run(scene, &mut WithProgress { inner, progress })
+}
+
+/// Every method the recording holds, first occurrence kept (pendulum, hair, rope).
+fn method_names(r: &Resolved) -> Vec<&'static str> {
+    let mut names: Vec<&'static str> = Vec::new();
+    let all = r
+        .pendulum
+        .iter()
+        .flat_map(|c| c.methods.iter().map(|m| m.name()))
+        .chain(
+            r.hair
+                .iter()
+                .flat_map(|c| c.methods.iter().map(|m| m.name())),
+        )
+        .chain(
+            r.rope
+                .iter()
+                .flat_map(|c| c.methods.iter().map(|m| m.name())),
+        );
+    for m in all {
+        if !names.contains(&m) {
+            names.push(m);
+        }
+    }
+    names
+}
+
 /// After a run: finalise the recording, print the summaries, then report an interruption
 /// (exit 130) or, with --fail-on-divergence, a divergence (exit 3).
 fn finish(
@@ -72,6 +334,7 @@ fn finish(
     diverged: &[String],
     run: &RunArgs,
 ) -> anyhow::Result<()> {
+    let recorded = recording.is_some();
     let bytes = match recording {
         Some(r) => Some(r.commit()?),
         None => None,
@@ -82,7 +345,7 @@ fn finish(
     }
     if crate::interrupt::requested() {
         let kept = match &d.file {
-            Some(path) if bytes.is_some() => format!(
+            Some(path) if recorded => format!(
                 "; the recording of everything so far is finalised in {}",
                 path.display()
             ),
@@ -98,14 +361,6 @@ fn finish(
         .into());
     }
     Ok(())
-}
-
-/// The scene file named by --config, or an empty one.
-fn scene_file(run: &RunArgs) -> Result<SceneFile, UsageError> {
-    match &run.config {
-        Some(path) => SceneFile::load(path),
-        None => Ok(SceneFile::default()),
-    }
 }
 
 fn destinations(run: &RunArgs, scene: &str) -> Destinations {
@@ -133,295 +388,4 @@ fn report_recording(d: &Destinations, bytes: Option<u64>, started: Instant) {
             started.elapsed().as_secs_f64()
         ),
     }
-}
-
-/// The scene-file text that reproduces a run: the effective parameters of each scene run.
-fn config_text(
-    pendulum: Option<&crate::cli::PendulumArgs>,
-    rope: Option<&crate::cli::RopeArgs>,
-    hair: Option<&crate::cli::HairArgs>,
-) -> String {
-    SceneFile {
-        pendulum: pendulum.cloned(),
-        rope: rope.cloned(),
-        hair: hair.cloned(),
-    }
-    .to_toml()
-}
-
-fn pendulum(c: &PendulumCommand) -> anyhow::Result<()> {
-    let file = scene_file(&c.run)?;
-    let args = crate::config::layered(&[&file.pendulum.unwrap_or_default(), &c.scene]);
-    let effective = pendulum_effective(&args);
-    let config = pendulum_config(&args)?;
-    let text = config_text(Some(&effective), None, None);
-    if c.run.print_config {
-        print!("{text}");
-        return Ok(());
-    }
-    let started = Instant::now();
-    let d = destinations(&c.run, "pendulum");
-    let recording = Recording::create(&d, "pendulum", crate::record::pendulum::blueprint())?;
-    let mut progress = Progress::new(c.run.quiet);
-    let summary = record_pendulum(&recording, &config, &text, &mut progress)?;
-    progress.finish();
-    let diverged = pendulum_diverged(&summary);
-    let text = crate::scene::pendulum::summary::summary_text(&summary);
-    finish(Some(recording), &d, started, &[text], &diverged, &c.run)
-}
-
-fn pendulum_diverged(s: &RunSummary) -> Vec<String> {
-    s.lanes
-        .iter()
-        .filter(|l| l.divergence.is_some())
-        .map(|l| format!("pendulum/{}", l.name))
-        .collect()
-}
-
-fn rope_diverged(s: &RopeSummary) -> Vec<String> {
-    s.lanes
-        .iter()
-        .filter(|l| l.divergence.is_some())
-        .map(|l| format!("rope/{}", l.method))
-        .collect()
-}
-
-fn hair_diverged(s: &HairSummary) -> Vec<String> {
-    s.lanes
-        .iter()
-        .filter(|l| l.divergence.is_some())
-        .map(|l| format!("hair/{}", l.method.name()))
-        .collect()
-}
-
-fn record_pendulum(
-    recording: &Recording,
-    config: &PendulumConfig,
-    text: &str,
-    progress: &mut Progress,
-) -> anyhow::Result<RunSummary> {
-    let methods: Vec<&str> = config.methods.iter().map(|m| m.name()).collect();
-    send_provenance(recording.stream(), "pendulum", text, &methods)?;
-    progress.stage("pendulum", config.schedule().total_steps as f64 * config.dt);
-    let mut recorder = crate::record::pendulum::PendulumRecorder::new(recording.stream().clone());
-    crate::scene::pendulum::run::run(
-        config,
-        &mut WithProgress {
-            inner: &mut recorder,
-            progress,
-        },
-    )
-}
-
-fn rope(c: &RopeCommand) -> anyhow::Result<()> {
-    let file = scene_file(&c.run)?;
-    let args = crate::config::layered(&[&file.rope.unwrap_or_default(), &c.scene]);
-    let effective = rope_effective(&args);
-    let config = rope_config(&args)?;
-    let text = config_text(None, Some(&effective), None);
-    if c.run.print_config {
-        print!("{text}");
-        return Ok(());
-    }
-    let started = Instant::now();
-    let d = destinations(&c.run, "rope");
-    let recording = Recording::create(&d, "rope", crate::record::rope::blueprint(c.run.timings))?;
-    let mut progress = Progress::new(c.run.quiet);
-    let summary = record_rope(&recording, &config, &text, c.run.timings, &mut progress)?;
-    progress.finish();
-    let diverged = rope_diverged(&summary);
-    finish(
-        Some(recording),
-        &d,
-        started,
-        &[crate::scene::rope::summary::summary_text(&summary)],
-        &diverged,
-        &c.run,
-    )
-}
-
-fn record_rope(
-    recording: &Recording,
-    config: &RopeConfig,
-    text: &str,
-    timings: bool,
-    progress: &mut Progress,
-) -> anyhow::Result<RopeSummary> {
-    let methods: Vec<&str> = config.methods.iter().map(|m| m.name()).collect();
-    send_provenance(recording.stream(), "rope", text, &methods)?;
-    progress.stage("rope", config.schedule().total_steps as f64 * config.dt);
-    let mut recorder =
-        crate::record::rope::RopeRecorder::new(recording.stream().clone(), config.layout, timings);
-    crate::scene::rope::run::run(
-        config,
-        &mut WithProgress {
-            inner: &mut recorder,
-            progress,
-        },
-    )
-}
-
-fn hair(c: &HairCommand) -> anyhow::Result<()> {
-    let file = scene_file(&c.run)?;
-    let args = crate::config::layered(&[&file.hair.unwrap_or_default(), &c.scene]);
-    let effective = hair_effective(&args);
-    let config = hair_config(&args)?;
-    if c.threads == Some(0) {
-        return Err(UsageError("--threads 0: must be at least 1".into()).into());
-    }
-    let text = config_text(None, None, Some(&effective));
-    if c.run.print_config {
-        print!("{text}");
-        return Ok(());
-    }
-    let mut pool = rayon::ThreadPoolBuilder::new();
-    if let Some(n) = c.threads {
-        pool = pool.num_threads(n);
-    }
-    let pool = pool.build()?;
-    let started = Instant::now();
-    let mut progress = Progress::new(c.run.quiet);
-    if c.no_record {
-        progress.stage("hair", config.duration);
-        let summary = pool.install(|| {
-            crate::scene::hair::run::run(
-                &config,
-                &mut WithProgress {
-                    inner: &mut NoHairObserver,
-                    progress: &mut progress,
-                },
-            )
-        })?;
-        progress.finish();
-        let text = format!(
-            "{}\nno recording (--no-record), {:.1} s\n",
-            crate::scene::hair::summary::summary_text(&summary),
-            started.elapsed().as_secs_f64()
-        );
-        let none = Destinations::default();
-        return finish(
-            None,
-            &none,
-            started,
-            &[text],
-            &hair_diverged(&summary),
-            &c.run,
-        );
-    }
-    let d = destinations(&c.run, "hair");
-    let recording = Recording::create(&d, "hair", crate::record::hair::blueprint(c.run.timings))?;
-    let summary =
-        pool.install(|| record_hair(&recording, &config, &text, c.run.timings, &mut progress))?;
-    progress.finish();
-    let diverged = hair_diverged(&summary);
-    let text = crate::scene::hair::summary::summary_text(&summary);
-    finish(Some(recording), &d, started, &[text], &diverged, &c.run)
-}
-
-fn record_hair(
-    recording: &Recording,
-    config: &HairConfig,
-    text: &str,
-    timings: bool,
-    progress: &mut Progress,
-) -> anyhow::Result<HairSummary> {
-    let methods: Vec<&str> = config.methods.iter().map(|m| m.name()).collect();
-    send_provenance(recording.stream(), "hair", text, &methods)?;
-    progress.stage("hair", config.duration);
-    let mut recorder = crate::record::hair::HairRecorder::new(recording.stream().clone(), timings);
-    crate::scene::hair::run::run(
-        config,
-        &mut WithProgress {
-            inner: &mut recorder,
-            progress,
-        },
-    )
-}
-
-/// `physlab all`: the three scenes, one after another, into one recording on one timeline.
-fn all(c: &AllArgs) -> anyhow::Result<()> {
-    let file = scene_file(&c.run)?;
-    let (mut p_args, mut r_args, mut h_args) = (
-        file.pendulum.clone().unwrap_or_default(),
-        file.rope.clone().unwrap_or_default(),
-        file.hair.clone().unwrap_or_default(),
-    );
-    // `all`'s own flags override every scene's table.
-    if let Some(fps) = c.fps {
-        (p_args.fps, r_args.fps, h_args.fps) = (Some(fps), Some(fps), Some(fps));
-    }
-    if let Some(n) = c.plot_every {
-        (p_args.plot_every, r_args.plot_every) = (Some(n), Some(n));
-    }
-    let (p_eff, r_eff, h_eff) = (
-        pendulum_effective(&p_args),
-        rope_effective(&r_args),
-        hair_effective(&h_args),
-    );
-    let (p_cfg, r_cfg, h_cfg) = (
-        pendulum_config(&p_args)?,
-        rope_config(&r_args)?,
-        hair_config(&h_args)?,
-    );
-    let text = config_text(Some(&p_eff), Some(&r_eff), Some(&h_eff));
-    if c.run.print_config {
-        print!("{text}");
-        return Ok(());
-    }
-    let started = Instant::now();
-    let d = destinations(&c.run, "all");
-    let recording = Recording::create(&d, "all", crate::record::all_blueprint(c.run.timings))?;
-    let mut methods: Vec<&str> = p_cfg.methods.iter().map(|m| m.name()).collect();
-    for m in h_cfg
-        .methods
-        .iter()
-        .map(|m| m.name())
-        .chain(r_cfg.methods.iter().map(|m| m.name()))
-    {
-        if !methods.contains(&m) {
-            methods.push(m);
-        }
-    }
-    send_provenance(recording.stream(), "pendulum,rope,hair", &text, &methods)?;
-    let mut progress = Progress::new(c.run.quiet);
-    let rec = recording.stream().clone();
-
-    let mut summaries = Vec::new();
-    let mut diverged = Vec::new();
-    // Scenes run one after another; after an interruption the remaining ones are skipped.
-    progress.stage("pendulum", p_cfg.schedule().total_steps as f64 * p_cfg.dt);
-    let mut pendulum = crate::record::pendulum::PendulumRecorder::new(rec.clone());
-    let mut observer = WithProgress {
-        inner: &mut pendulum,
-        progress: &mut progress,
-    };
-    let p_sum = crate::scene::pendulum::run::run(&p_cfg, &mut observer)?;
-    summaries.push(crate::scene::pendulum::summary::summary_text(&p_sum));
-    diverged.extend(pendulum_diverged(&p_sum));
-    if !crate::interrupt::requested() {
-        progress.stage("rope", r_cfg.schedule().total_steps as f64 * r_cfg.dt);
-        let mut rope =
-            crate::record::rope::RopeRecorder::new(rec.clone(), r_cfg.layout, c.run.timings);
-        let mut observer = WithProgress {
-            inner: &mut rope,
-            progress: &mut progress,
-        };
-        let r_sum = crate::scene::rope::run::run(&r_cfg, &mut observer)?;
-        summaries.push(crate::scene::rope::summary::summary_text(&r_sum));
-        diverged.extend(rope_diverged(&r_sum));
-    }
-    if !crate::interrupt::requested() {
-        progress.stage("hair", h_cfg.duration);
-        let mut hair = crate::record::hair::HairRecorder::new(rec.clone(), c.run.timings);
-        let mut observer = WithProgress {
-            inner: &mut hair,
-            progress: &mut progress,
-        };
-        let h_sum = crate::scene::hair::run::run(&h_cfg, &mut observer)?;
-        summaries.push(crate::scene::hair::summary::summary_text(&h_sum));
-        diverged.extend(hair_diverged(&h_sum));
-    }
-    progress.finish();
-    drop(rec);
-    finish(Some(recording), &d, started, &summaries, &diverged, &c.run)
 }

@@ -3,12 +3,12 @@
 
 use std::fmt::Write as _;
 
+use super::SceneFile;
 use super::UsageError;
 use crate::cli::{PendulumArgs, RopeArgs, StudyArgs, StudyKind, StudyScene};
-use crate::config::{SceneFile, layered};
-use crate::method::{Method, MethodOptions};
+use crate::integrate::{Method, MethodOptions};
+use crate::report::table::Table;
 use crate::study::{Limit, Problem, Row, Sweep, cheapest, error_floor, orders, stability, sweep};
-use crate::table::Table;
 
 /// The study's problem and sweep from its flags, over the scene file, over the scene defaults
 /// (for the rope's convergence and cost: a softer, undamped rope, so that explicit methods
@@ -57,7 +57,7 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64), UsageError> {
                 omega0: a.omega0,
                 ..PendulumArgs::default()
             };
-            let args: PendulumArgs = layered(&[&file.pendulum.unwrap_or_default(), &flags]);
+            let args = flags.over(file.pendulum.unwrap_or_default());
             let c = super::pendulum_config(&args)?;
             (
                 Problem::Pendulum(c.params),
@@ -80,8 +80,9 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64), UsageError> {
                 air_drag: a.air_drag,
                 ..RopeArgs::default()
             };
-            let args: RopeArgs =
-                layered(&[&study_defaults, &file.rope.unwrap_or_default(), &flags]);
+            let args = flags
+                .over(file.rope.unwrap_or_default())
+                .over(study_defaults);
             let c = super::rope_config(&args)?;
             (
                 Problem::Rope(c.params),
@@ -90,8 +91,8 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64), UsageError> {
             )
         }
     };
-    super::resolve::positive("--dt", dt0, "s")?;
-    super::resolve::positive("--duration", duration, "s")?;
+    crate::scene::params::positive("--dt", dt0, "s")?;
+    crate::scene::params::positive("--duration", duration, "s")?;
     if dt0 > duration {
         return Err(UsageError(format!(
             "--dt {dt0}: must not exceed --duration {duration} s"

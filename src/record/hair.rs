@@ -7,32 +7,23 @@
 use rerun::RecordingStream;
 use rerun::blueprint::{Blueprint, Horizontal, Vertical};
 
+use super::scene::{Draw, SceneRecorder};
 use super::{
-    about_and_events, log_series_style, log_stage, method_color, plot_column, scene_blueprint,
+    about_and_events, log_stage, method_color, plot_column, plots_shown, scene_blueprint,
     scene_view,
 };
 use crate::scene::hair::Hair;
-use crate::scene::hair::run::{HairConfig, HairFrame, HairObserver};
-use crate::scene::schedule::{Event, EventKind};
+use crate::scene::hair::run::{HairConfig, HairLane, HairScene};
+use crate::scene::harness::{Event, Frame};
 
-pub const PLOTS: [(&str, &str); 4] = [
+pub const PLOTS: [(&str, &str); 3] = [
     ("max_stretch", "maximum relative stretch |ℓ − ℓ0| / ℓ0"),
     ("max_penetration", "maximum penetration into the head [m]"),
     (
         "kinetic_energy",
         "kinetic energy per unit node mass ½Σ|v|² [J/kg]",
     ),
-    ("frame_ms", "simulation time per frame [ms, wall clock]"),
 ];
-
-/// The plots shown: the cost plot only when wall-clock timings are recorded.
-pub fn plots(timings: bool) -> Vec<(&'static str, &'static str)> {
-    PLOTS
-        .iter()
-        .copied()
-        .filter(|(q, _)| timings || *q != "frame_ms")
-        .collect()
-}
 
 pub fn blueprint(timings: bool) -> Blueprint {
     let left = Vertical::new([
@@ -40,30 +31,31 @@ pub fn blueprint(timings: bool) -> Blueprint {
         Horizontal::new(about_and_events("hair")).into(),
     ])
     .with_row_shares([3.0, 1.0]);
-    scene_blueprint(left, plot_column("hair", &plots(timings)))
+    scene_blueprint(left, plot_column("hair", &plots_shown(&PLOTS, timings)))
 }
 
-pub struct HairRecorder {
-    rec: RecordingStream,
+/// Each method's head and strands in its slot.
+pub struct HairDraw {
     names: Vec<&'static str>,
     offsets: Vec<glam::DVec3>,
     nodes: usize,
-    /// Whether wall-clock frame costs are plotted.
-    timings: bool,
 }
 
-impl HairRecorder {
-    pub fn new(rec: RecordingStream, timings: bool) -> Self {
-        HairRecorder {
-            rec,
+/// A recorder of hair runs.
+pub fn recorder(rec: RecordingStream, timings: bool) -> SceneRecorder<HairDraw> {
+    SceneRecorder::new(
+        rec,
+        HairDraw {
             names: Vec::new(),
             offsets: Vec::new(),
             nodes: 1,
-            timings,
-        }
-    }
+        },
+        timings,
+    )
+}
 
-    fn log_state(&self, lane: usize, hair: &Hair) -> anyhow::Result<()> {
+impl HairDraw {
+    fn log_state(&self, rec: &RecordingStream, lane: usize, hair: &Hair) -> anyhow::Result<()> {
         let name = self.names[lane];
         let o = self.offsets[lane];
         let f = |p: glam::DVec3| {
@@ -75,17 +67,17 @@ impl HairRecorder {
             .chunks(self.nodes)
             .map(|s| s.iter().map(|&p| f(p)).collect())
             .collect();
-        self.rec.log(
+        rec.log(
             format!("hair/{name}/strands"),
             &rerun::LineStrips3D::update_fields().with_strips(strips),
         )?;
         let roots: Vec<[f32; 3]> = hair.pos.chunks(self.nodes).map(|s| f(s[0])).collect();
-        self.rec.log(
+        rec.log(
             format!("hair/{name}/roots"),
             &rerun::Points3D::update_fields().with_positions(roots),
         )?;
         let q = hair.head_rotation.as_quat();
-        self.rec.log(
+        rec.log(
             format!("hair/{name}/head"),
             &rerun::Ellipsoids3D::update_fields()
                 .with_centers([f(hair.head_center)])
@@ -95,17 +87,27 @@ impl HairRecorder {
     }
 }
 
-impl HairObserver for HairRecorder {
-    fn start(&mut self, config: &HairConfig, lanes: &[Hair]) -> anyhow::Result<()> {
+impl Draw<HairScene> for HairDraw {
+    /// Hair's `frame` is the simulation frame.
+    fn frame_index(&self, tick: u64) -> i64 {
+        tick as i64
+    }
+
+    fn start(
+        &mut self,
+        rec: &RecordingStream,
+        scene: &HairScene,
+        lanes: &[(&'static str, &HairLane)],
+    ) -> anyhow::Result<()> {
+        let config = &scene.config;
         let p = &config.params;
-        self.names = config.methods.iter().map(|m| m.name()).collect();
+        self.names = lanes.iter().map(|l| l.0).collect();
         self.nodes = p.nodes;
         let reach = p.head_radius + p.segment_length * (p.nodes - 1) as f64;
         let spacing = 2.6 * reach + 2.0 * 2.0 * p.head_radius; // room for the sway
         self.offsets = (0..self.names.len())
             .map(|i| glam::DVec3::new(spacing * i as f64, 0.0, 0.0))
             .collect();
-        let rec = &self.rec;
         rec.log_static("hair", &rerun::ViewCoordinates::RIGHT_HAND_Z_UP())?;
         let x_max = spacing * (self.names.len().max(1) - 1) as f64;
         let (a, b, floor) = (
@@ -125,7 +127,7 @@ impl HairObserver for HairRecorder {
             ],
         )?;
         let r = p.head_radius as f32;
-        for (i, name) in self.names.iter().enumerate() {
+        for name in &self.names {
             let color = method_color(name);
             rec.log_static(
                 format!("hair/{name}/strands"),
@@ -148,12 +150,6 @@ impl HairObserver for HairRecorder {
                     .with_labels([*name])
                     .with_show_labels(true),
             )?;
-            for (quantity, _) in plots(self.timings) {
-                log_series_style(rec, format!("hair/plots/{quantity}/{name}"), name)?;
-            }
-            rec.set_duration_secs("sim_time", 0.0);
-            rec.set_time_sequence("frame", 0);
-            self.log_state(i, &lanes[i])?;
         }
         rec.log_static(
             "hair/about",
@@ -162,52 +158,29 @@ impl HairObserver for HairRecorder {
         Ok(())
     }
 
-    fn frame(&mut self, f: &HairFrame) -> anyhow::Result<()> {
-        self.rec.set_duration_secs("sim_time", f.time);
-        self.rec.set_time_sequence("frame", f.frame as i64);
+    fn frame(
+        &mut self,
+        rec: &RecordingStream,
+        _scene: &HairScene,
+        f: &Frame<HairLane>,
+    ) -> anyhow::Result<()> {
         for (i, lane) in f.lanes.iter().enumerate() {
-            let Some((hair, s)) = lane else { continue };
-            let name = self.names[i];
-            for (quantity, value) in [
-                ("max_stretch", s.max_stretch),
-                ("max_penetration", s.max_penetration),
-                ("kinetic_energy", s.kinetic_energy),
-                ("frame_ms", s.cost_ms),
-            ] {
-                if quantity == "frame_ms" && !self.timings {
-                    continue;
-                }
-                self.rec.log(
-                    format!("hair/plots/{quantity}/{name}"),
-                    &rerun::Scalars::single(value),
-                )?;
-            }
-            if f.log_3d {
-                self.log_state(i, hair)?;
+            if let Some((lane, _)) = lane {
+                self.log_state(rec, i, &lane.hair)?;
             }
         }
         Ok(())
     }
 
-    fn event(&mut self, e: &Event) -> anyhow::Result<()> {
-        self.rec.set_duration_secs("sim_time", e.time);
-        self.rec.set_time_sequence("frame", e.step as i64);
-        self.rec.log(
-            "hair/events",
-            &rerun::TextLog::new(e.message.clone()).with_level(rerun::TextLogLevel::WARN),
+    fn diverged(&mut self, rec: &RecordingStream, e: &Event) -> anyhow::Result<()> {
+        let name = self.names[e.lane];
+        rec.log(format!("hair/{name}/strands"), &rerun::Clear::flat())?;
+        rec.log(format!("hair/{name}/roots"), &rerun::Clear::flat())?;
+        rec.log(
+            format!("hair/{name}/head"),
+            &rerun::Ellipsoids3D::update_fields()
+                .with_labels([format!("{name}: diverged at t = {:.3} s", e.time)]),
         )?;
-        if e.kind == EventKind::Divergence {
-            let name = self.names[e.lane];
-            self.rec
-                .log(format!("hair/{name}/strands"), &rerun::Clear::flat())?;
-            self.rec
-                .log(format!("hair/{name}/roots"), &rerun::Clear::flat())?;
-            self.rec.log(
-                format!("hair/{name}/head"),
-                &rerun::Ellipsoids3D::update_fields()
-                    .with_labels([format!("{name}: diverged at t = {:.3} s", e.time)]),
-            )?;
-        }
         Ok(())
     }
 }

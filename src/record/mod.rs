@@ -5,6 +5,7 @@ pub mod hair;
 pub mod inspect;
 pub mod pendulum;
 pub mod rope;
+pub mod scene;
 pub mod study;
 
 use std::path::{Path, PathBuf};
@@ -44,9 +45,30 @@ fn plot_views(scene: &str, plots: &[(&str, &str)]) -> Vec<ContainerLike> {
         .collect()
 }
 
+/// A scene's plots, and the wall-clock cost plot when timings are recorded.
+pub fn plots_shown(
+    plots: &[(&'static str, &'static str)],
+    timings: bool,
+) -> Vec<(&'static str, &'static str)> {
+    let mut shown = plots.to_vec();
+    if timings {
+        shown.push(scene::FRAME_COST);
+    }
+    shown
+}
+
 /// The scene's plots stacked.
 pub fn plot_column(scene: &str, plots: &[(&str, &str)]) -> Vertical {
     Vertical::new(plot_views(scene, plots))
+}
+
+/// A single scene's layout, by scene name.
+pub fn scene_blueprint_for(scene: &str, timings: bool) -> Blueprint {
+    match scene {
+        "pendulum" => pendulum::blueprint(timings),
+        "rope" => rope::blueprint(timings),
+        _ => hair::blueprint(timings),
+    }
 }
 
 /// `physlab all`: the three scenes side by side, each 3D view above its plots and its event log.
@@ -65,9 +87,13 @@ pub fn all_blueprint(timings: bool) -> Blueprint {
         .into()
     };
     Blueprint::new(Horizontal::new([
-        column("pendulum", &pendulum::PLOTS, &["phase/**"]),
-        column("rope", &rope::plots(timings), &[]),
-        column("hair", &hair::plots(timings), &[]),
+        column(
+            "pendulum",
+            &plots_shown(&pendulum::PLOTS, timings),
+            &["phase/**"],
+        ),
+        column("rope", &plots_shown(&rope::PLOTS, timings), &[]),
+        column("hair", &plots_shown(&hair::PLOTS, timings), &[]),
     ]))
     .with_auto_views(false)
     .with_time_panel(TimePanel::new().with_timeline("sim_time"))
@@ -198,7 +224,7 @@ pub fn check_destinations(d: &Destinations) -> anyhow::Result<()> {
 
 fn parse_proxy_url(url: &str) -> anyhow::Result<rerun::external::re_uri::ProxyUri> {
     url.parse().map_err(|e| {
-        crate::app::UsageError(format!(
+        crate::error::UsageError(format!(
             "--connect {url}: not a viewer URL ({e}); expected e.g. rerun+http://127.0.0.1:9876/proxy"
         ))
         .into()

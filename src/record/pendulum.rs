@@ -8,16 +8,16 @@
 //! - `pendulum/events`: divergence and solver warnings at the moment they happened.
 //! - `pendulum/about`: what was run and what the reference is.
 
+use rerun::RecordingStream;
 use rerun::blueprint::{Blueprint, Horizontal, Spatial2DView, Vertical};
-use rerun::{RecordingStream, TimeColumn};
 
+use super::scene::{Draw, SceneRecorder};
 use super::{
-    about_and_events, log_series_style, log_stage, method_color, plot_column, scene_blueprint,
+    about_and_events, log_stage, method_color, plot_column, plots_shown, scene_blueprint,
     scene_view, slot_cells,
 };
-use crate::scene::pendulum::run::{
-    Event, EventKind, FrameState, PendulumObserver, RunSetup, RunSummary, SeriesBlock,
-};
+use crate::scene::harness::{Event, Frame, Run, Scene as _, SeriesBatch};
+use crate::scene::pendulum::run::{PendulumLane, PendulumScene};
 
 /// The plotted quantities: entity name and plot title (with units).
 pub const PLOTS: [(&str, &str); 5] = [
@@ -33,7 +33,7 @@ const MAX_PHASE_POINTS: usize = 5_000;
 
 /// The pendulum's layout: the 3D slots, phase portrait and events on the left, the plots on
 /// the right, every plot holding all lanes.
-pub fn blueprint() -> Blueprint {
+pub fn blueprint(timings: bool) -> Blueprint {
     let left = Vertical::new([
         scene_view(
             "pendulum",
@@ -51,7 +51,7 @@ pub fn blueprint() -> Blueprint {
         .into(),
     ])
     .with_row_shares([3.0, 2.0]);
-    scene_blueprint(left, plot_column("pendulum", &PLOTS))
+    scene_blueprint(left, plot_column("pendulum", &plots_shown(&PLOTS, timings)))
 }
 
 /// Pivots for `n` lanes: slots 2.2 L apart (a full swing spans 2 L) in rows 2.6 L apart (room
@@ -69,9 +69,8 @@ fn slot_pivots(n: usize, length: f32) -> Vec<[f32; 3]> {
         .collect()
 }
 
-/// Logs a pendulum run to a recording stream as it happens.
-pub struct PendulumRecorder {
-    rec: RecordingStream,
+/// The pendulum's 3D slots, ghosts and phase portrait.
+pub struct PendulumDraw {
     lanes: Vec<&'static str>,
     /// Each lane's pivot [m]: a wall of slots in the x-z plane, above the viewer's ground grid.
     pivots: Vec<[f32; 3]>,
@@ -84,10 +83,11 @@ pub struct PendulumRecorder {
     reference_description: String,
 }
 
-impl PendulumRecorder {
-    pub fn new(rec: RecordingStream) -> Self {
-        PendulumRecorder {
-            rec,
+/// A recorder of pendulum runs.
+pub fn recorder(rec: RecordingStream, timings: bool) -> SceneRecorder<PendulumDraw> {
+    SceneRecorder::new(
+        rec,
+        PendulumDraw {
             lanes: Vec::new(),
             pivots: Vec::new(),
             length: 1.0,
@@ -95,9 +95,12 @@ impl PendulumRecorder {
             phase: Vec::new(),
             phase_stride: 1,
             reference_description: String::new(),
-        }
-    }
+        },
+        timings,
+    )
+}
 
+impl PendulumDraw {
     fn bob_position(&self, lane: usize, theta: f64) -> [f32; 3] {
         let (x, z) = (self.length * theta.sin(), -self.length * theta.cos());
         let [px, py, pz] = self.pivots[lane];
@@ -107,25 +110,29 @@ impl PendulumRecorder {
     fn pivot(&self, lane: usize) -> [f32; 3] {
         self.pivots[lane]
     }
-
-    fn set_time(&self, step: u64, time: f64) {
-        self.rec.set_duration_secs("sim_time", time);
-        self.rec
-            .set_time_sequence("frame", (step / self.frame_stride) as i64);
-    }
 }
 
-impl PendulumObserver for PendulumRecorder {
-    fn start(&mut self, setup: &RunSetup) -> anyhow::Result<()> {
-        let c = &setup.config;
-        let rec = &self.rec;
-        self.lanes = setup.lanes.iter().map(|l| l.name).collect();
+impl Draw<PendulumScene> for PendulumDraw {
+    fn frame_index(&self, tick: u64) -> i64 {
+        (tick / self.frame_stride) as i64
+    }
+
+    fn start(
+        &mut self,
+        rec: &RecordingStream,
+        scene: &PendulumScene,
+        lanes: &[(&'static str, &PendulumLane)],
+    ) -> anyhow::Result<()> {
+        let c = &scene.config;
+        let schedule = scene.schedule();
+        self.lanes = lanes.iter().map(|l| l.0).collect();
         self.pivots = slot_pivots(self.lanes.len(), c.params.length as f32);
         self.length = c.params.length;
-        self.frame_stride = c.frame_stride();
+        self.frame_stride = schedule.frame_stride;
         self.phase = vec![Vec::new(); self.lanes.len()];
-        self.reference_description = setup.reference_description.clone();
-        self.phase_stride = (c.total_steps() / c.plot_stride() / MAX_PHASE_POINTS as u64).max(1);
+        self.reference_description = scene.reference_description();
+        self.phase_stride =
+            (schedule.total / schedule.plot_stride / MAX_PHASE_POINTS as u64).max(1);
 
         rec.log_static("pendulum", &rerun::ViewCoordinates::RIGHT_HAND_Z_UP())?;
         let l = c.params.length as f32;
@@ -176,12 +183,6 @@ impl PendulumObserver for PendulumRecorder {
                         .with_colors([rerun::Color::from_unmultiplied_rgba(220, 220, 220, 70)]),
                 )?;
             }
-            for (quantity, _) in PLOTS {
-                if quantity == "theta_error" && i == 0 {
-                    continue;
-                }
-                log_series_style(rec, format!("pendulum/plots/{quantity}/{name}"), name)?;
-            }
             rec.log_static(
                 format!("pendulum/phase/{name}/path"),
                 &rerun::LineStrips2D::update_fields()
@@ -199,83 +200,59 @@ impl PendulumObserver for PendulumRecorder {
 
         rec.log_static(
             "pendulum/about",
-            &rerun::TextDocument::from_markdown(about_text(setup)),
+            &rerun::TextDocument::from_markdown(about_text(scene)),
         )?;
-        self.set_time(0, 0.0);
+        rec.set_duration_secs("sim_time", 0.0);
+        rec.set_time_sequence("frame", 0);
         rec.log(
             "pendulum/events",
-            &rerun::TextLog::new(setup.reference_description.clone())
+            &rerun::TextLog::new(self.reference_description.clone())
                 .with_level(rerun::TextLogLevel::INFO),
         )?;
         Ok(())
     }
 
-    fn series(&mut self, lane: usize, block: &SeriesBlock) -> anyhow::Result<()> {
-        if block.steps.is_empty() {
-            return Ok(());
-        }
-        let name = self.lanes[lane];
-        let times = || {
-            [
-                TimeColumn::new_duration_secs("sim_time", block.times.iter().copied()),
-                TimeColumn::new_sequence(
-                    "frame",
-                    block.steps.iter().map(|s| (s / self.frame_stride) as i64),
-                ),
-            ]
-        };
-        let columns: [(&str, &Vec<f64>); 5] = [
-            ("theta", &block.theta),
-            ("omega", &block.omega),
-            ("energy", &block.energy),
-            ("energy_error", &block.energy_error),
-            ("theta_error", &block.theta_error),
-        ];
-        for (quantity, values) in columns {
-            if values.is_empty() {
-                continue;
-            }
-            self.rec.send_columns(
-                format!("pendulum/plots/{quantity}/{name}"),
-                times(),
-                rerun::Scalars::new(values.iter().copied()).columns_of_unit_batches()?,
-            )?;
-        }
-        for (k, &step) in block.steps.iter().enumerate() {
-            if step.is_multiple_of(self.phase_stride) {
-                self.phase[lane].push([block.theta[k] as f32, block.omega[k] as f32]);
+    fn series(&mut self, lane: usize, batch: &SeriesBatch) {
+        let (theta, omega) = (&batch.columns[0], &batch.columns[1]);
+        for (k, &tick) in batch.ticks.iter().enumerate() {
+            if tick.is_multiple_of(self.phase_stride) {
+                self.phase[lane].push([theta[k] as f32, omega[k] as f32]);
             }
         }
-        Ok(())
     }
 
-    fn frame(&mut self, frame: &FrameState) -> anyhow::Result<()> {
-        self.set_time(frame.step, frame.time);
-        let reference = frame.states[0];
-        for (i, state) in frame.states.iter().enumerate() {
-            let Some((theta, omega)) = *state else {
+    fn frame(
+        &mut self,
+        rec: &RecordingStream,
+        _scene: &PendulumScene,
+        frame: &Frame<PendulumLane>,
+    ) -> anyhow::Result<()> {
+        let reference = frame.lanes[0].map(|(l, offset)| l.state(offset));
+        for (i, lane) in frame.lanes.iter().enumerate() {
+            let Some((lane, offset)) = lane else {
                 continue;
             };
+            let (theta, omega) = lane.state(*offset);
             let name = self.lanes[i];
             let bob = self.bob_position(i, theta);
-            self.rec.log(
+            rec.log(
                 format!("pendulum/{name}/bob"),
                 &rerun::Points3D::update_fields().with_positions([bob]),
             )?;
-            self.rec.log(
+            rec.log(
                 format!("pendulum/{name}/rod"),
                 &rerun::LineStrips3D::update_fields().with_strips([[self.pivot(i), bob]]),
             )?;
             if i > 0
                 && let Some((theta_ref, _)) = reference
             {
-                self.rec.log(
+                rec.log(
                     format!("pendulum/{name}/exact_ghost"),
                     &rerun::Points3D::update_fields()
                         .with_positions([self.bob_position(i, theta_ref)]),
                 )?;
             }
-            self.rec.log(
+            rec.log(
                 format!("pendulum/phase/{name}/state"),
                 &rerun::Points2D::update_fields().with_positions([[theta as f32, omega as f32]]),
             )?;
@@ -283,61 +260,55 @@ impl PendulumObserver for PendulumRecorder {
         Ok(())
     }
 
-    fn event(&mut self, event: &Event) -> anyhow::Result<()> {
-        self.set_time(event.step, event.time);
-        let level = match event.kind {
-            EventKind::Divergence => rerun::TextLogLevel::WARN,
-            EventKind::SolverNotConverged => rerun::TextLogLevel::WARN,
-        };
-        self.rec.log(
-            "pendulum/events",
-            &rerun::TextLog::new(event.message.clone()).with_level(level),
+    fn diverged(&mut self, rec: &RecordingStream, event: &Event) -> anyhow::Result<()> {
+        // From this moment the lane shows no pendulum, only a marker saying why.
+        let name = self.lanes[event.lane];
+        rec.log(format!("pendulum/{name}/rod"), &rerun::Clear::flat())?;
+        rec.log(
+            format!("pendulum/{name}/exact_ghost"),
+            &rerun::Clear::flat(),
         )?;
-        if event.kind == EventKind::Divergence {
-            // From this moment the lane shows no pendulum, only a marker saying why.
-            let name = self.lanes[event.lane];
-            self.rec
-                .log(format!("pendulum/{name}/rod"), &rerun::Clear::flat())?;
-            self.rec.log(
-                format!("pendulum/{name}/exact_ghost"),
-                &rerun::Clear::flat(),
-            )?;
-            self.rec.log(
-                format!("pendulum/phase/{name}/state"),
-                &rerun::Clear::flat(),
-            )?;
-            self.rec.log(
-                format!("pendulum/{name}/bob"),
-                &rerun::Points3D::new([self.pivot(event.lane)])
-                    .with_labels([format!("{name}: diverged at t = {:.3} s", event.time)])
-                    .with_colors([method_color(name)]),
-            )?;
-        }
+        rec.log(
+            format!("pendulum/phase/{name}/state"),
+            &rerun::Clear::flat(),
+        )?;
+        rec.log(
+            format!("pendulum/{name}/bob"),
+            &rerun::Points3D::new([self.pivot(event.lane)])
+                .with_labels([format!("{name}: diverged at t = {:.3} s", event.time)])
+                .with_colors([method_color(name)]),
+        )?;
         Ok(())
     }
 
-    fn finish(&mut self, summary: &RunSummary) -> anyhow::Result<()> {
+    fn finish(
+        &mut self,
+        rec: &RecordingStream,
+        scene: &PendulumScene,
+        _run: &Run<PendulumLane>,
+    ) -> anyhow::Result<()> {
         for (i, name) in self.lanes.iter().enumerate() {
             let path = std::mem::take(&mut self.phase[i]);
             if path.len() >= 2 {
-                self.rec.log_static(
+                rec.log_static(
                     format!("pendulum/phase/{name}/path"),
                     &rerun::LineStrips2D::update_fields().with_strips([path]),
                 )?;
             }
         }
         // A fine-step reference's error estimate is known only at the end.
-        if summary.setup.reference_description != self.reference_description {
-            let c = &summary.setup.config;
-            self.set_time(c.total_steps(), c.total_steps() as f64 * c.dt);
-            self.rec.log(
+        let description = scene.reference_description();
+        if description != self.reference_description {
+            let schedule = scene.schedule();
+            rec.set_duration_secs("sim_time", schedule.end_time());
+            rec.set_time_sequence("frame", self.frame_index(schedule.total));
+            rec.log(
                 "pendulum/events",
-                &rerun::TextLog::new(summary.setup.reference_description.clone())
-                    .with_level(rerun::TextLogLevel::INFO),
+                &rerun::TextLog::new(description).with_level(rerun::TextLogLevel::INFO),
             )?;
-            self.rec.log_static(
+            rec.log_static(
                 "pendulum/about",
-                &rerun::TextDocument::from_markdown(about_text(&summary.setup)),
+                &rerun::TextDocument::from_markdown(about_text(scene)),
             )?;
         }
         Ok(())
@@ -345,9 +316,10 @@ impl PendulumObserver for PendulumRecorder {
 }
 
 /// The run described in Markdown, for the `about` panel.
-fn about_text(setup: &RunSetup) -> String {
-    let c = &setup.config;
+fn about_text(scene: &PendulumScene) -> String {
+    let c = &scene.config;
     let p = &c.params;
+    let s = scene.schedule();
     format!(
         "# pendulum\n\n\
          θ'' = −(g/L) sin θ, f64, state (θ, ω).\n\n\
@@ -362,23 +334,23 @@ fn about_text(setup: &RunSetup) -> String {
          The phase portrait shows each lane's whole run as a curve and its current state as a dot.\n",
         p.gravity,
         p.length,
-        crate::table::trim_number(p.theta0.to_degrees(), 9),
+        crate::report::table::trim_number(p.theta0.to_degrees(), 9),
         p.omega0,
         c.dt,
-        c.total_steps(),
-        crate::table::trim_number(c.total_steps() as f64 * c.dt, 9),
-        c.frame_stride(),
-        1.0 / (c.frame_stride() as f64 * c.dt),
-        c.plot_stride(),
+        s.total,
+        crate::report::table::trim_number(s.end_time(), 9),
+        s.frame_stride,
+        1.0 / (s.frame_stride as f64 * c.dt),
+        s.plot_stride,
         c.methods
             .iter()
             .map(|m| m.name())
             .collect::<Vec<_>>()
             .join(", "),
         c.options.verlet_damping,
-        setup.reference_description,
-        setup.initial_energy,
-        setup.energy_scale,
-        setup.energy_bound,
+        scene.reference_description(),
+        scene.initial_energy,
+        scene.energy_scale,
+        scene.energy_bound,
     )
 }

@@ -6,61 +6,26 @@
 //! - `rope/plots/<quantity>/<method>`: one plot per quantity with every method in it.
 //! - `rope/events`, `rope/about`: warnings at the moment they happened; what was run.
 
+use rerun::RecordingStream;
 use rerun::blueprint::{Blueprint, Horizontal, Vertical};
-use rerun::{RecordingStream, TimeColumn};
 
+use super::scene::{Draw, SceneRecorder};
 use super::{
-    about_and_events, log_series_style, log_stage, method_color, plot_column, scene_blueprint,
+    about_and_events, log_stage, method_color, plot_column, plots_shown, scene_blueprint,
     scene_view, slot_cells,
 };
+use crate::report::rope::cost_per_step;
+use crate::report::table::trim_number;
+use crate::scene::harness::{Event, Frame, Scene as _};
 use crate::scene::rope::node;
-use crate::scene::rope::run::{
-    ENERGY_GAIN_BOUND, RopeFrame, RopeObserver, RopeSeries, RopeSetup, RopeSummary,
-};
-use crate::scene::rope::summary::cost_per_step;
-use crate::scene::schedule::Event;
-use crate::table::trim_number;
-
-/// Where each method's rope is drawn.
-#[derive(
-    Clone,
-    Copy,
-    Debug,
-    PartialEq,
-    Eq,
-    Default,
-    clap::ValueEnum,
-    serde::Serialize,
-    serde::Deserialize,
-)]
-#[serde(rename_all = "kebab-case")]
-pub enum Layout {
-    /// Each method in its own slot, rows of four.
-    #[default]
-    SideBySide,
-    /// All methods at the same place, told apart by colour.
-    Overlay,
-}
+use crate::scene::rope::run::{ENERGY_GAIN_BOUND, Layout, RopeLane, RopeScene};
 
 /// The plotted quantities: entity name and plot title (with units).
-pub const PLOTS: [(&str, &str); 4] = [
+pub const PLOTS: [(&str, &str); 3] = [
     ("energy", "total energy: kinetic + spring + gravity [J]"),
     ("energy_change", "energy relative to the start, E − E0 [J]"),
     ("max_strain", "maximum strain max |ℓ − ℓ0| / ℓ0"),
-    (
-        "frame_cost",
-        "simulation cost per 3D frame [ms, wall clock]",
-    ),
 ];
-
-/// The plots shown: the cost plot only when wall-clock timings are recorded.
-pub fn plots(timings: bool) -> Vec<(&'static str, &'static str)> {
-    PLOTS
-        .iter()
-        .copied()
-        .filter(|(q, _)| timings || *q != "frame_cost")
-        .collect()
-}
 
 pub fn blueprint(timings: bool) -> Blueprint {
     let left = Vertical::new([
@@ -68,41 +33,33 @@ pub fn blueprint(timings: bool) -> Blueprint {
         Horizontal::new(about_and_events("rope")).into(),
     ])
     .with_row_shares([3.0, 1.0]);
-    scene_blueprint(left, plot_column("rope", &plots(timings)))
+    scene_blueprint(left, plot_column("rope", &plots_shown(&PLOTS, timings)))
 }
 
-/// Logs a rope run to a recording stream as it happens.
-pub struct RopeRecorder {
-    rec: RecordingStream,
-    layout: Layout,
+/// Each method's rope in its slot (or overlaid), pins marked and labelled.
+pub struct RopeDraw {
     names: Vec<&'static str>,
     offsets: Vec<[f64; 3]>,
     frame_stride: u64,
     /// f32 scratch for positions, reused every frame.
     points: Vec<[f32; 3]>,
-    /// Whether wall-clock frame costs are plotted.
-    timings: bool,
 }
 
-impl RopeRecorder {
-    pub fn new(rec: RecordingStream, layout: Layout, timings: bool) -> Self {
-        RopeRecorder {
-            rec,
-            layout,
+/// A recorder of rope runs.
+pub fn recorder(rec: RecordingStream, timings: bool) -> SceneRecorder<RopeDraw> {
+    SceneRecorder::new(
+        rec,
+        RopeDraw {
             names: Vec::new(),
             offsets: Vec::new(),
             frame_stride: 1,
             points: Vec::new(),
-            timings,
-        }
-    }
+        },
+        timings,
+    )
+}
 
-    fn set_time(&self, step: u64, time: f64) {
-        self.rec.set_duration_secs("sim_time", time);
-        self.rec
-            .set_time_sequence("frame", (step / self.frame_stride) as i64);
-    }
-
+impl RopeDraw {
     fn fill_points(&mut self, lane: usize, x: &[f64]) {
         let o = self.offsets[lane];
         self.points.clear();
@@ -116,22 +73,30 @@ impl RopeRecorder {
     }
 }
 
-impl RopeObserver for RopeRecorder {
-    fn start(&mut self, setup: &RopeSetup) -> anyhow::Result<()> {
-        let c = &setup.config;
+impl Draw<RopeScene> for RopeDraw {
+    fn frame_index(&self, tick: u64) -> i64 {
+        (tick / self.frame_stride) as i64
+    }
+
+    fn start(
+        &mut self,
+        rec: &RecordingStream,
+        scene: &RopeScene,
+        lanes: &[(&'static str, &RopeLane)],
+    ) -> anyhow::Result<()> {
+        let c = &scene.config;
         let p = &c.params;
-        self.names = c.methods.iter().map(|m| m.name()).collect();
-        self.frame_stride = c.schedule().frame_stride;
+        self.names = lanes.iter().map(|l| l.0).collect();
+        self.frame_stride = scene.schedule().frame_stride;
         // Slots sized to the rope: hanging from a pin it sweeps a circle of its own length.
         let span = (p.end - p.start).length().max(1e-9);
-        self.offsets = match self.layout {
+        self.offsets = match c.layout {
             Layout::Overlay => vec![[0.0; 3]; self.names.len()],
             Layout::SideBySide => slot_cells(self.names.len())
                 .into_iter()
                 .map(|(col, row)| [2.3 * span * col as f64, 1.6 * span * row as f64, 0.0])
                 .collect(),
         };
-        let rec = &self.rec;
         rec.log_static("rope", &rerun::ViewCoordinates::RIGHT_HAND_Y_UP())?;
         // Floor below the lowest hanging rope, reaching past the outer slots on every side.
         let (x_max, y_max) = self
@@ -175,7 +140,7 @@ impl RopeObserver for RopeRecorder {
                 .pinned
                 .iter()
                 .map(|&k| {
-                    let q = node(&setup.initial_positions, k);
+                    let q = node(&scene.initial_positions, k);
                     let o = self.offsets[i];
                     [
                         (q.x + o[0]) as f32,
@@ -202,95 +167,52 @@ impl RopeObserver for RopeRecorder {
                     .with_labels(labels)
                     .with_show_labels(true),
             )?;
-            for (quantity, _) in plots(self.timings) {
-                log_series_style(rec, format!("rope/plots/{quantity}/{name}"), name)?;
-            }
         }
         rec.log_static(
             "rope/about",
-            &rerun::TextDocument::from_markdown(about_text(setup)),
+            &rerun::TextDocument::from_markdown(about_text(scene)),
         )?;
         Ok(())
     }
 
-    fn series(&mut self, lane: usize, s: &RopeSeries) -> anyhow::Result<()> {
-        let name = self.names[lane];
-        let times = || {
-            [
-                TimeColumn::new_duration_secs("sim_time", s.times.iter().copied()),
-                TimeColumn::new_sequence(
-                    "frame",
-                    s.steps.iter().map(|k| (k / self.frame_stride) as i64),
-                ),
-            ]
-        };
-        for (quantity, values) in [
-            ("energy", &s.energy),
-            ("energy_change", &s.energy_change),
-            ("max_strain", &s.max_strain),
-        ] {
-            self.rec.send_columns(
-                format!("rope/plots/{quantity}/{name}"),
-                times(),
-                rerun::Scalars::new(values.iter().copied()).columns_of_unit_batches()?,
-            )?;
-        }
-        Ok(())
-    }
-
-    fn frame(&mut self, f: &RopeFrame) -> anyhow::Result<()> {
-        self.set_time(f.step, f.time);
-        for (i, x) in f.positions.iter().enumerate() {
-            let Some(x) = x else { continue };
+    fn frame(
+        &mut self,
+        rec: &RecordingStream,
+        _scene: &RopeScene,
+        f: &Frame<RopeLane>,
+    ) -> anyhow::Result<()> {
+        for (i, lane) in f.lanes.iter().enumerate() {
+            let Some((lane, _)) = lane else { continue };
             let name = self.names[i];
-            self.fill_points(i, x);
-            self.rec.log(
+            self.fill_points(i, lane.positions());
+            rec.log(
                 format!("rope/{name}/nodes"),
                 &rerun::Points3D::update_fields().with_positions(self.points.iter().copied()),
             )?;
-            self.rec.log(
+            rec.log(
                 format!("rope/{name}/strip"),
                 &rerun::LineStrips3D::update_fields().with_strips([self.points.iter().copied()]),
             )?;
-            if self.timings && f.step > 0 {
-                self.rec.log(
-                    format!("rope/plots/frame_cost/{name}"),
-                    &rerun::Scalars::single(f.cost_ms[i]),
-                )?;
-            }
         }
         Ok(())
     }
 
-    fn event(&mut self, e: &Event) -> anyhow::Result<()> {
-        self.set_time(e.step, e.time);
-        self.rec.log(
-            "rope/events",
-            &rerun::TextLog::new(e.message.clone()).with_level(rerun::TextLogLevel::WARN),
+    fn diverged(&mut self, rec: &RecordingStream, e: &Event) -> anyhow::Result<()> {
+        let name = self.names[e.lane];
+        // The rope disappears from its slot; its pin marker stays, relabelled.
+        rec.log(format!("rope/{name}/nodes"), &rerun::Clear::flat())?;
+        rec.log(format!("rope/{name}/strip"), &rerun::Clear::flat())?;
+        rec.log(
+            format!("rope/{name}/pinned"),
+            &rerun::Points3D::update_fields()
+                .with_labels([format!("{name}: diverged at t = {:.3} s", e.time)]),
         )?;
-        if e.kind == crate::scene::schedule::EventKind::Divergence {
-            let name = self.names[e.lane];
-            // The rope disappears from its slot; its pin marker stays, relabelled.
-            self.rec
-                .log(format!("rope/{name}/nodes"), &rerun::Clear::flat())?;
-            self.rec
-                .log(format!("rope/{name}/strip"), &rerun::Clear::flat())?;
-            self.rec.log(
-                format!("rope/{name}/pinned"),
-                &rerun::Points3D::update_fields()
-                    .with_labels([format!("{name}: diverged by t = {:.3} s", e.time)]),
-            )?;
-        }
-        Ok(())
-    }
-
-    fn finish(&mut self, _summary: &RopeSummary) -> anyhow::Result<()> {
         Ok(())
     }
 }
 
-fn about_text(setup: &RopeSetup) -> String {
-    let c = &setup.config;
+fn about_text(scene: &RopeScene) -> String {
+    let c = &scene.config;
     let p = &c.params;
     let s = c.schedule();
     let methods: Vec<String> = c
@@ -320,7 +242,7 @@ fn about_text(setup: &RopeSetup) -> String {
         p.nodes,
         p.start.to_array(),
         p.end.to_array(),
-        trim_number(setup.rest_length, 9),
+        trim_number(scene.rope.rest(), 9),
         p.pinned,
         p.mass,
         p.stiffness,
@@ -328,16 +250,16 @@ fn about_text(setup: &RopeSetup) -> String {
         p.air_drag,
         p.gravity.to_array(),
         c.dt,
-        s.total_steps,
+        s.total,
         s.frame_stride,
         s.plot_stride,
         c.options.verlet_damping,
         p.newton_iterations,
-        setup.omega_max,
-        setup.omega_max * c.dt,
-        setup.initial_energy,
-        setup.energy_scale,
-        setup.strain_bound,
+        scene.omega_max,
+        scene.omega_max * c.dt,
+        scene.initial_energy,
+        scene.energy_scale,
+        scene.strain_bound,
         methods.join("\n"),
     )
 }

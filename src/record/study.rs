@@ -4,7 +4,7 @@
 use rerun::blueprint::{Blueprint, Horizontal, Spatial2DView, TextDocumentView, Vertical};
 
 use super::{Destinations, Recording, method_color};
-use crate::method::Method;
+use crate::integrate::Method;
 use crate::study::{Limit, Row};
 
 pub fn record_study(

@@ -1,6 +1,20 @@
-//! The physics scenes. Plain Rust over f64 / glam: nothing here knows about Rerun.
+//! The physics scenes and the one harness that runs them. Plain Rust over f64 / glam: nothing
+//! here knows about Rerun or the command line.
 
 pub mod hair;
+pub mod harness;
 pub mod pendulum;
 pub mod rope;
-pub mod schedule;
+
+/// The value named `name` among `choices`, or an error listing the allowed names.
+pub fn choice<T: Copy>(name: &str, choices: &[(&'static str, T)]) -> Result<T, String> {
+    choices
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map(|&(_, v)| v)
+        .ok_or_else(|| {
+            let allowed: Vec<&str> = choices.iter().map(|c| c.0).collect();
+            format!("'{name}' is not one of {}", allowed.join(", "))
+        })
+}
+pub mod params;

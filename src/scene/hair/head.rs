@@ -5,9 +5,7 @@
 use glam::{DQuat, DVec3};
 
 /// How the head moves.
-#[derive(
-    Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize, serde::Deserialize,
-)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum HeadMotion {
     /// Never moves.
@@ -20,6 +18,23 @@ pub enum HeadMotion {
     Nod,
     /// Sway, turn, nod, then a rest, repeating.
     Tour,
+}
+
+impl HeadMotion {
+    pub const ALL: [(&'static str, HeadMotion); 5] = [
+        ("still", HeadMotion::Still),
+        ("sway", HeadMotion::Sway),
+        ("turn", HeadMotion::Turn),
+        ("nod", HeadMotion::Nod),
+        ("tour", HeadMotion::Tour),
+    ];
+}
+
+impl std::str::FromStr for HeadMotion {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        crate::scene::choice(s, &HeadMotion::ALL)
+    }
 }
 
 /// Length of one motion pulse [s]; a tour is four of them (sway, turn, nod, rest).

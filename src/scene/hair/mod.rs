@@ -9,7 +9,6 @@
 
 pub mod head;
 pub mod run;
-pub mod summary;
 
 use glam::{DQuat, DVec3};
 use rayon::prelude::*;

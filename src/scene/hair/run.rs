@@ -1,10 +1,10 @@
-//! One hair comparison run: every method on its own copy of the head and strands, stepped frame
-//! by frame (`substeps` steps per frame), with the invariants measured every frame.
-
-use std::time::{Duration, Instant};
+//! Hair as a [`Scene`]: every method on its own copy of the head and strands, stepped frame by
+//! frame (`substeps` steps per frame), with the invariants measured every frame. A tick of the
+//! harness is one simulation frame.
 
 use super::{Hair, HairMethod, HairParams};
-use crate::scene::schedule::{Event, EventKind};
+use crate::scene::harness::{Checked, Clock, Sampler, Scene, Schedule};
+use crate::scene::params::{self, Invalid};
 
 /// A method diverges when a position stops being finite or a segment is stretched past this many
 /// rest lengths. Position-based methods do not blow up the way force-based ones do, but with one
@@ -37,7 +37,62 @@ impl Default for HairConfig {
     }
 }
 
+/// Node-steps × (iterations + 1) per method beyond which a hair run is refused.
+pub const MAX_HAIR_WORK: f64 = 1e12;
+
 impl HairConfig {
+    /// Every value in range, or the first that is not, named by its flag.
+    pub fn validate(&self) -> Result<(), Invalid> {
+        let p = &self.params;
+        let (strands, nodes, iterations, substeps) =
+            (p.strands, p.nodes, p.iterations, self.substeps);
+        if !(1..=1_000_000).contains(&strands) {
+            return Err(Invalid(format!(
+                "--strands {strands}: must be between 1 and 1000000"
+            )));
+        }
+        if !(2..=10_000).contains(&nodes) {
+            return Err(Invalid(format!(
+                "--nodes {nodes}: must be between 2 and 10000"
+            )));
+        }
+        params::positive("--segment-length", p.segment_length, "m")?;
+        params::positive("--head-radius", p.head_radius, "m")?;
+        params::non_negative("--gust", p.gust, "fraction")?;
+        params::non_negative("--damping", p.damping, "1/s")?;
+        if !(p.margin.is_finite() && (0.0..0.5).contains(&p.margin)) {
+            return Err(Invalid(format!(
+                "--margin {}: must be in [0, 0.5) head radii",
+                p.margin
+            )));
+        }
+        params::at_least_one("--iterations", iterations.into())?;
+        params::at_least_one("--substeps", substeps.into())?;
+        params::positive("--rate", self.rate, "Hz")?;
+        params::time(1.0 / self.rate, self.duration, self.fps, 1)?;
+        let work = self.frames() as f64
+            * substeps as f64
+            * (strands * nodes) as f64
+            * (iterations + 1) as f64;
+        if work > MAX_HAIR_WORK {
+            return Err(Invalid(format!(
+                "--strands {strands} × --nodes {nodes} × --iterations {iterations} over {} frames × {substeps} substeps \
+                 is {work:.2e} node-updates per method; at most {MAX_HAIR_WORK:.0e} are allowed (fewer strands or a \
+                 shorter --duration)",
+                self.frames()
+            )));
+        }
+        // Per node and method: position, previous position and velocity, 3 × 24 B.
+        params::memory(
+            &format!(
+                "--strands {strands} × --nodes {nodes} with {} methods",
+                self.methods.len()
+            ),
+            (strands * nodes) as f64 * self.methods.len() as f64 * 72.0,
+            "use fewer --strands or --nodes",
+        )
+    }
+
     pub fn frames(&self) -> u64 {
         ((self.duration * self.rate).round() as u64).max(1)
     }
@@ -48,69 +103,25 @@ impl HairConfig {
     pub fn step_dt(&self) -> f64 {
         1.0 / (self.rate * self.substeps as f64)
     }
+    /// One tick per simulation frame; series every frame; 3D every `log_stride` frames.
+    pub fn schedule(&self) -> Schedule {
+        Schedule {
+            total: self.frames(),
+            frame_stride: self.log_stride(),
+            plot_stride: 1,
+            clock: Clock::Rate(self.rate),
+        }
+    }
 }
 
-/// What was measured on one lane after one simulation frame.
+/// What is measured on one lane after one simulation frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct HairStats {
     pub max_stretch: f64,
     pub max_penetration: f64,
     pub max_root_error: f64,
     pub kinetic_energy: f64,
-    /// Wall-clock milliseconds the frame's steps took.
-    pub cost_ms: f64,
 }
-
-/// Every lane after one simulation frame.
-pub struct HairFrame<'a> {
-    pub frame: u64,
-    pub time: f64,
-    /// Whether the 3D state should be logged at this frame (every `log_stride` frames).
-    pub log_3d: bool,
-    /// Per lane: its state and stats, `None` once it has diverged.
-    pub lanes: Vec<Option<(&'a Hair, HairStats)>>,
-}
-
-#[derive(Clone, Debug)]
-pub struct HairLaneSummary {
-    pub method: HairMethod,
-    pub frames: u64,
-    pub wall: Duration,
-    pub max_stretch: f64,
-    pub max_penetration: f64,
-    pub max_root_error: f64,
-    pub final_kinetic_energy: f64,
-    pub divergence: Option<Event>,
-}
-
-impl HairLaneSummary {
-    /// Simulated frames per wall-clock second.
-    pub fn frames_per_second(&self) -> f64 {
-        self.frames as f64 / self.wall.as_secs_f64().max(1e-12)
-    }
-}
-
-#[derive(Clone, Debug)]
-pub struct HairSummary {
-    pub config: HairConfig,
-    pub lanes: Vec<HairLaneSummary>,
-    pub threads: usize,
-}
-
-pub trait HairObserver {
-    fn start(&mut self, _config: &HairConfig, _lanes: &[Hair]) -> anyhow::Result<()> {
-        Ok(())
-    }
-    fn frame(&mut self, _frame: &HairFrame) -> anyhow::Result<()> {
-        Ok(())
-    }
-    fn event(&mut self, _event: &Event) -> anyhow::Result<()> {
-        Ok(())
-    }
-}
-
-pub struct NoHairObserver;
-impl HairObserver for NoHairObserver {}
 
 /// Measures a lane's invariants.
 pub fn measure(hair: &Hair) -> HairStats {
@@ -119,105 +130,108 @@ pub fn measure(hair: &Hair) -> HairStats {
         max_penetration: hair.max_penetration(),
         max_root_error: hair.max_root_error(),
         kinetic_energy: hair.kinetic_energy(),
-        cost_ms: 0.0,
     }
 }
 
-/// Runs the comparison on the current rayon pool.
-pub fn run(config: &HairConfig, observer: &mut dyn HairObserver) -> anyhow::Result<HairSummary> {
-    let mut lanes: Vec<Hair> = config
-        .methods
-        .iter()
-        .map(|&m| Hair::new(config.params.clone(), m))
-        .collect();
-    let mut alive = vec![true; lanes.len()];
-    let mut summaries: Vec<HairLaneSummary> = config
-        .methods
-        .iter()
-        .map(|&method| HairLaneSummary {
-            method,
-            frames: 0,
-            wall: Duration::ZERO,
-            max_stretch: 0.0,
-            max_penetration: 0.0,
-            max_root_error: 0.0,
-            final_kinetic_energy: 0.0,
-            divergence: None,
-        })
-        .collect();
-    observer.start(config, &lanes)?;
-    let dt = config.step_dt();
-    let log_stride = config.log_stride();
-    let mut stats = vec![HairStats::default(); lanes.len()];
+/// The plotted quantities, in order.
+pub const QUANTITIES: [&str; 3] = ["max_stretch", "max_penetration", "kinetic_energy"];
 
-    for frame in 1..=config.frames() {
-        // A stop request (Ctrl-C) ends the run between frames; what was done so far stands.
-        if crate::interrupt::requested() {
-            break;
+/// One method's hair and the largest values measured on it.
+pub struct HairLane {
+    pub hair: Hair,
+    /// Largest values over the accepted frames; the kinetic energy is the last frame's.
+    pub worst: HairStats,
+}
+
+/// A hair run.
+pub struct HairScene {
+    pub config: HairConfig,
+    /// Worker threads the strands are spread over (for the summary; results do not depend on it).
+    pub threads: usize,
+}
+
+impl HairScene {
+    pub fn new(config: HairConfig) -> Self {
+        HairScene {
+            config,
+            threads: rayon::current_num_threads(),
         }
-        for (i, hair) in lanes.iter_mut().enumerate() {
-            if !alive[i] {
-                continue;
-            }
-            let start = Instant::now();
-            for _ in 0..config.substeps {
-                hair.step(dt);
-            }
-            let elapsed = start.elapsed();
-            let s = &mut summaries[i];
-            s.wall += elapsed;
-            s.frames += 1;
-            stats[i] = HairStats {
-                cost_ms: elapsed.as_secs_f64() * 1e3,
-                ..measure(hair)
-            };
-            let st = stats[i];
-            // The kinetic energy sums |Δx/dt|² over every node, so it is finite exactly when
-            // every position is (no second pass over the state needed).
-            let finite = st.kinetic_energy.is_finite();
-            if !finite || st.max_stretch > STRETCH_BOUND {
-                let time = hair.time;
-                let why = if finite {
-                    format!("stretch reached {:.3e}", st.max_stretch)
-                } else {
-                    "state not finite".into()
-                };
-                let event = Event {
-                    lane: i,
-                    time,
-                    step: frame,
-                    kind: EventKind::Divergence,
-                    message: format!(
-                        "{} diverged at t = {time:.4} s (frame {frame}): {why}",
-                        hair.method.name()
-                    ),
-                };
-                observer.event(&event)?;
-                s.divergence = Some(event);
-                alive[i] = false;
-                continue;
-            }
-            s.max_stretch = s.max_stretch.max(st.max_stretch);
-            s.max_penetration = s.max_penetration.max(st.max_penetration);
-            s.max_root_error = s.max_root_error.max(st.max_root_error);
-            s.final_kinetic_energy = st.kinetic_energy;
-        }
-        let view = HairFrame {
-            frame,
-            time: frame as f64 / config.rate,
-            log_3d: frame.is_multiple_of(log_stride),
-            lanes: lanes
-                .iter()
-                .zip(&stats)
-                .zip(&alive)
-                .map(|((h, s), &a)| a.then_some((h, *s)))
-                .collect(),
-        };
-        observer.frame(&view)?;
     }
-    Ok(HairSummary {
-        config: config.clone(),
-        lanes: summaries,
-        threads: rayon::current_num_threads(),
-    })
+}
+
+impl Scene for HairScene {
+    type Lane = HairLane;
+
+    fn name(&self) -> &'static str {
+        "hair"
+    }
+
+    fn schedule(&self) -> Schedule {
+        self.config.schedule()
+    }
+
+    fn lanes(&self) -> Vec<(&'static str, HairLane)> {
+        self.config
+            .methods
+            .iter()
+            .map(|&m| {
+                let lane = HairLane {
+                    hair: Hair::new(self.config.params.clone(), m),
+                    worst: HairStats::default(),
+                };
+                (m.name(), lane)
+            })
+            .collect()
+    }
+
+    fn quantities(&self, _lane: &HairLane) -> &'static [&'static str] {
+        &QUANTITIES
+    }
+
+    /// The plots start at the first frame (nothing has moved at 0).
+    fn initial(&self, _lane: &HairLane) -> Option<Vec<f64>> {
+        None
+    }
+
+    /// One frame at a time: a frame is milliseconds of work, and measuring it outside the timed
+    /// step needs its state.
+    fn max_block(&self) -> u64 {
+        1
+    }
+
+    fn advance(&self, lane: &mut HairLane, _first: u64, _len: usize) {
+        let dt = self.config.step_dt();
+        for _ in 0..self.config.substeps {
+            lane.hair.step(dt);
+        }
+    }
+
+    fn check(&self, lane: &mut HairLane, first: u64, _len: usize, out: &mut Sampler) -> Checked {
+        let st = measure(&lane.hair);
+        // The kinetic energy sums |Δx/dt|² over every node, so it is finite exactly when every
+        // position is (no second pass over the state needed).
+        let finite = st.kinetic_energy.is_finite();
+        if !finite || st.max_stretch > STRETCH_BOUND {
+            let why = if finite {
+                format!("stretch reached {:.3e}", st.max_stretch)
+            } else {
+                "state not finite".into()
+            };
+            return Checked {
+                accepted: 0,
+                divergence: Some(why),
+                solver_miss: None,
+            };
+        }
+        let w = &mut lane.worst;
+        w.max_stretch = w.max_stretch.max(st.max_stretch);
+        w.max_penetration = w.max_penetration.max(st.max_penetration);
+        w.max_root_error = w.max_root_error.max(st.max_root_error);
+        w.kinetic_energy = st.kinetic_energy;
+        out.push(
+            first,
+            &[st.max_stretch, st.max_penetration, st.kinetic_energy],
+        );
+        Checked::all(1)
+    }
 }

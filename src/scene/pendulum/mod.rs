@@ -6,9 +6,8 @@
 pub mod period;
 pub mod reference;
 pub mod run;
-pub mod summary;
 
-use crate::method::{ImplicitSolve, Integrator, SecondOrderSystem};
+use crate::integrate::{ImplicitSolve, Integrator, SecondOrderSystem};
 
 /// Newton's tolerance on the implicit-Euler step: stop when |Δω| ≤ NEWTON_TOL·(1 + |ω|) [rad/s].
 pub const NEWTON_TOL: f64 = 1e-12;
@@ -33,7 +32,7 @@ impl Default for PendulumParams {
         PendulumParams {
             gravity: 9.81,
             length: 3.521,
-            theta0: 60f64.to_radians(),
+            theta0: run::DEFAULT_THETA0_DEGREES.to_radians(),
             omega0: 0.0,
         }
     }

@@ -3,7 +3,7 @@
 
 use super::{Pendulum, PendulumParams};
 use crate::elliptic::{complete_k, jacobi};
-use crate::method::{Integrator, Method, MethodOptions};
+use crate::integrate::{Integrator, Method, MethodOptions};
 
 /// θ(t) = 2 asin(k sn(K - ωn t | k²)), ω(t) = -2 k ωn cn(K - ωn t | k²), with k = sin(θ0/2),
 /// ωn = sqrt(g/L): the exact motion after release from rest at θ0, |θ0| < 180°.

@@ -11,7 +11,7 @@
 use glam::{DMat3, DVec3};
 
 use super::{Rope, node};
-use crate::method::ImplicitSolve;
+use crate::integrate::ImplicitSolve;
 
 /// Newton stops early when max |δv| ≤ NEWTON_TOL · (1 + max |v|) [m/s].
 pub const NEWTON_TOL: f64 = 1e-10;

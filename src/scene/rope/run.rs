@@ -1,11 +1,10 @@
-//! One rope comparison run: every chosen method stepping its own copy of the rope over the same
-//! time grid, with energy, strain, cost and divergence reported to a [`RopeObserver`].
+//! The rope as a [`Scene`]: every chosen method stepping its own copy of the rope over the same
+//! time grid, with energy and strain measured and checked after every step.
 
-use std::time::{Duration, Instant};
-
-use super::{Rope, RopeParams, step_rope};
-use crate::method::{Integrator, Method, MethodOptions};
-use crate::scene::schedule::{Event, EventKind, Schedule};
+use super::{Rope, RopeParams};
+use crate::integrate::{Counts, Integrator, Method, MethodOptions};
+use crate::scene::harness::{Checked, Sampler, Scene, Schedule};
+use crate::scene::params::{self, Invalid};
 
 /// A method diverges when its state stops being finite, a spring's strain passes
 /// [`strain_bound`], or it gains more than [`ENERGY_GAIN_BOUND`] times the rope's energy scale:
@@ -41,8 +40,30 @@ pub fn energy_scale(rope: &Rope, x0: &[f64], v0: &[f64]) -> f64 {
         + one_percent
 }
 
-/// Plot samples collected per lane before they are handed to the observer.
-const SERIES_BATCH: usize = 2048;
+/// Where each method's rope is drawn (a presentation choice; it does not change the numbers).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Layout {
+    /// Each method in its own slot, rows of four.
+    #[default]
+    SideBySide,
+    /// All methods at the same place, told apart by colour.
+    Overlay,
+}
+
+impl Layout {
+    pub const ALL: [(&'static str, Layout); 2] = [
+        ("side-by-side", Layout::SideBySide),
+        ("overlay", Layout::Overlay),
+    ];
+}
+
+impl std::str::FromStr for Layout {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        crate::scene::choice(s, &Layout::ALL)
+    }
+}
 
 /// Everything a rope run needs, resolved and validated.
 #[derive(Clone, Debug, PartialEq)]
@@ -56,8 +77,8 @@ pub struct RopeConfig {
     pub fps: f64,
     /// Plot every Nth step (thinned further beyond MAX_PLOT_POINTS).
     pub plot_every: u64,
-    /// How the recording lays the methods out (it does not change the numbers).
-    pub layout: crate::record::rope::Layout,
+    /// How the recording lays the methods out.
+    pub layout: Layout,
     pub methods: Vec<Method>,
     pub options: MethodOptions,
 }
@@ -70,320 +91,244 @@ impl Default for RopeConfig {
             duration: 10.0,
             fps: 30.0,
             plot_every: 5,
-            layout: Default::default(),
+            layout: Layout::default(),
             methods: Method::DEFAULT.to_vec(),
             options: MethodOptions::default(),
         }
     }
 }
 
+/// Nodes beyond which a rope is refused (~1 kB per node per method including the implicit solver).
+pub const MAX_NODES: usize = 10_000_000;
+
 impl RopeConfig {
+    /// Every value in range, or the first that is not, named by its flag.
+    pub fn validate(&self) -> Result<(), Invalid> {
+        let p = &self.params;
+        if !(2..=MAX_NODES).contains(&p.nodes) {
+            return Err(Invalid(format!(
+                "--nodes {}: must be between 2 and {MAX_NODES}",
+                p.nodes
+            )));
+        }
+        if (p.end - p.start).length() == 0.0 {
+            return Err(Invalid(format!(
+                "--end {},{},{}: must differ from --start (the spacing is the springs' rest length)",
+                p.end.x, p.end.y, p.end.z
+            )));
+        }
+        params::positive("--mass", p.mass, "kg")?;
+        params::non_negative("--stiffness", p.stiffness, "N/m")?;
+        params::non_negative("--spring-damping", p.spring_damping, "N·s/m")?;
+        params::non_negative("--air-drag", p.air_drag, "N·s/m")?;
+        if let Some(&bad) = p.pinned.iter().find(|&&i| i >= p.nodes) {
+            return Err(Invalid(format!(
+                "--pinned {bad}: node index out of range; the rope has nodes 0..={}",
+                p.nodes - 1
+            )));
+        }
+        params::at_least_one("--newton-iterations", p.newton_iterations.into())?;
+        params::time(self.dt, self.duration, self.fps, p.nodes)?;
+        // Per node and method: state, scratch and Verlet's history (~10 × 24 B) and the implicit
+        // solver's 3×3 blocks (~6 × 72 B): about 1 kB.
+        params::memory(
+            &format!("--nodes {} with {} methods", p.nodes, self.methods.len()),
+            p.nodes as f64 * self.methods.len() as f64 * 1000.0,
+            "use fewer --nodes or --methods",
+        )?;
+        params::verlet_damping(self.options.verlet_damping)?;
+        if self.plot_every == 0 {
+            return Err(Invalid(
+                "--plot-every 0: must be at least 1 (plot every Nth step)".into(),
+            ));
+        }
+        params::rtol(self.options.rtol)
+    }
+
     pub fn schedule(&self) -> Schedule {
-        Schedule::new(self.dt, self.duration, self.fps, self.plot_every)
+        Schedule::fixed_step(self.dt, self.duration, self.fps, self.plot_every)
     }
 }
 
-/// What an observer learns before the first step.
-#[derive(Clone, Debug)]
-pub struct RopeSetup {
+/// The plotted quantities, in order.
+pub const QUANTITIES: [&str; 3] = ["energy", "energy_change", "max_strain"];
+
+/// One method's rope and what has been measured on it.
+pub struct RopeLane {
+    pub method: Method,
+    integrator: Integrator,
+    /// Sampled rows of the current block: (step, [energy, E - E0, max strain]).
+    rows: Vec<(u64, [f64; 3])>,
+    /// The failed check of the current block: its offset and why.
+    failed: Option<(usize, String)>,
+    /// The first step of the current block whose implicit solve missed its tolerance.
+    first_miss: Option<usize>,
+    /// Largest strain over every accepted step.
+    pub max_strain: f64,
+    /// Energy after the last accepted step [J].
+    pub final_energy: f64,
+}
+
+impl RopeLane {
+    pub fn positions(&self) -> &[f64] {
+        self.integrator.position()
+    }
+}
+
+/// A rope run.
+pub struct RopeScene {
     pub config: RopeConfig,
+    pub rope: Rope,
     pub initial_positions: Vec<f64>,
     pub initial_energy: f64,
     /// See [`energy_scale`].
     pub energy_scale: f64,
     /// See [`strain_bound`].
     pub strain_bound: f64,
-    pub rest_length: f64,
     /// Highest linear mode of the chain pinned at node 0 with the rest free [rad/s].
     pub omega_max: f64,
 }
 
-/// Plot samples of one lane (thinned per [`Schedule::plot_stride`]); never NaN or infinite.
-#[derive(Clone, Debug, Default)]
-pub struct RopeSeries {
-    pub steps: Vec<u64>,
-    pub times: Vec<f64>,
-    /// Kinetic + spring + gravity [J].
-    pub energy: Vec<f64>,
-    /// E - E0 [J].
-    pub energy_change: Vec<f64>,
-    /// max |ℓ - ℓ0| / ℓ0.
-    pub max_strain: Vec<f64>,
-}
-
-impl RopeSeries {
-    fn clear(&mut self) {
-        self.steps.clear();
-        self.times.clear();
-        self.energy.clear();
-        self.energy_change.clear();
-        self.max_strain.clear();
-    }
-}
-
-/// Every lane's positions at one 3D frame, and what the frame cost to simulate.
-#[derive(Debug)]
-pub struct RopeFrame<'a> {
-    pub frame: u64,
-    pub step: u64,
-    pub time: f64,
-    /// Flat positions per lane; `None` once the lane has diverged.
-    pub positions: Vec<Option<&'a [f64]>>,
-    /// Wall-clock milliseconds each lane spent stepping since the previous frame.
-    pub cost_ms: Vec<f64>,
-}
-
-#[derive(Clone, Debug)]
-pub struct RopeLaneSummary {
-    pub method: Method,
-    pub steps: u64,
-    pub wall: Duration,
-    pub evals: u64,
-    pub final_energy: Option<f64>,
-    pub max_strain: f64,
-    pub divergence: Option<Event>,
-    pub failed_solves: u64,
-}
-
-impl RopeLaneSummary {
-    pub fn ns_per_step(&self) -> Option<f64> {
-        (self.steps > 0).then(|| self.wall.as_nanos() as f64 / self.steps as f64)
-    }
-}
-
-#[derive(Clone, Debug)]
-pub struct RopeSummary {
-    pub setup: RopeSetup,
-    pub lanes: Vec<RopeLaneSummary>,
-}
-
-/// Receives a rope run as it happens. Errors stop the run.
-pub trait RopeObserver {
-    fn start(&mut self, _setup: &RopeSetup) -> anyhow::Result<()> {
-        Ok(())
-    }
-    fn series(&mut self, _lane: usize, _series: &RopeSeries) -> anyhow::Result<()> {
-        Ok(())
-    }
-    fn frame(&mut self, _frame: &RopeFrame) -> anyhow::Result<()> {
-        Ok(())
-    }
-    fn event(&mut self, _event: &Event) -> anyhow::Result<()> {
-        Ok(())
-    }
-    fn finish(&mut self, _summary: &RopeSummary) -> anyhow::Result<()> {
-        Ok(())
-    }
-}
-
-pub struct NoRopeObserver;
-impl RopeObserver for NoRopeObserver {}
-
-struct Lane {
-    integrator: Integrator,
-    summary: RopeLaneSummary,
-    series: RopeSeries,
-    frame_cost: Duration,
-    alive: bool,
-}
-
-/// Runs the comparison, reporting to `observer`; returns the summary.
-pub fn run(config: &RopeConfig, observer: &mut dyn RopeObserver) -> anyhow::Result<RopeSummary> {
-    let rope = Rope::new(config.params.clone());
-    let x0 = config.params.initial_positions();
-    let v0 = vec![0.0; x0.len()];
-    let e0 = rope.energy(&x0, &v0);
-    let e_scale = energy_scale(&rope, &x0, &v0);
-    let dt = config.dt;
-    let schedule = config.schedule();
-
-    let mut lanes: Vec<Lane> = config
-        .methods
-        .iter()
-        .map(|&m| Lane {
-            integrator: Integrator::new(m, &rope, &x0, &v0, dt, config.options),
-            summary: RopeLaneSummary {
-                method: m,
-                steps: 0,
-                wall: Duration::ZERO,
-                evals: 0,
-                final_energy: None,
-                max_strain: 0.0,
-                divergence: None,
-                failed_solves: 0,
-            },
-            series: RopeSeries::default(),
-            frame_cost: Duration::ZERO,
-            alive: true,
-        })
-        .collect();
-
-    let setup = RopeSetup {
-        config: config.clone(),
-        initial_positions: x0.clone(),
-        initial_energy: e0,
-        energy_scale: e_scale,
-        strain_bound: strain_bound(&config.params),
-        rest_length: rope.rest(),
-        omega_max: config.params.omega_max_pinned_free(),
-    };
-    observer.start(&setup)?;
-
-    let mut frames = 0u64;
-    let mut step = 0u64;
-    loop {
-        // Sample (and check) every lane at plot steps and at the end.
-        let at_sample = step.is_multiple_of(schedule.plot_stride) || step == schedule.total_steps;
-        let at_frame = step.is_multiple_of(schedule.frame_stride);
-        if at_sample || at_frame {
-            for (i, l) in lanes.iter_mut().enumerate() {
-                if l.alive {
-                    sample(&rope, l, i, step, dt, e0, e_scale, observer)?;
-                }
-            }
-        }
-        if at_frame {
-            let frame = RopeFrame {
-                frame: frames,
-                step,
-                time: step as f64 * dt,
-                positions: lanes
-                    .iter()
-                    .map(|l| l.alive.then(|| l.integrator.position()))
-                    .collect(),
-                cost_ms: lanes
-                    .iter()
-                    .map(|l| l.frame_cost.as_secs_f64() * 1e3)
-                    .collect(),
-            };
-            observer.frame(&frame)?;
-            frames += 1;
-            for (i, l) in lanes.iter_mut().enumerate() {
-                l.frame_cost = Duration::ZERO;
-                // Plots go out in large batches: every batch becomes a chunk in the recording,
-                // and small chunks cost more than their data.
-                if l.series.steps.len() >= SERIES_BATCH || (!l.alive && !l.series.steps.is_empty())
-                {
-                    observer.series(i, &l.series)?;
-                    l.series.clear();
-                }
-            }
-        }
-        // A stop request (Ctrl-C) ends the run at a frame; what was done so far stands.
-        if step == schedule.total_steps || crate::interrupt::requested() {
-            break;
-        }
-
-        // Step every live lane to the next sample or frame, timing only the stepping.
-        let next = [
-            step.next_multiple_of(schedule.plot_stride).max(step + 1),
-            (step + 1).next_multiple_of(schedule.frame_stride),
-            schedule.total_steps,
-        ]
-        .into_iter()
-        .filter(|&s| s > step)
-        .min()
-        .unwrap_or(schedule.total_steps);
-        let len = next - step;
-        for (i, l) in lanes.iter_mut().enumerate() {
-            if !l.alive {
-                continue;
-            }
-            let failed_before = l.integrator.failed_solves();
-            let start = Instant::now();
-            step_rope(&mut l.integrator, &rope, len);
-            let elapsed = start.elapsed();
-            l.summary.wall += elapsed;
-            l.frame_cost += elapsed;
-            l.summary.steps += len;
-            l.summary.evals = l.integrator.evals();
-            l.summary.failed_solves = l.integrator.failed_solves();
-            if failed_before == 0 && l.summary.failed_solves > 0 {
-                // Reported once per lane (the summary has the count), so the log stays readable.
-                let time = next as f64 * dt;
-                observer.event(&Event {
-                    lane: i,
-                    time,
-                    step: next,
-                    kind: EventKind::SolverNotConverged,
-                    message: format!(
-                        "{}: an implicit step before t = {time:.4} s missed the Newton tolerance \
-                         (max |δv| ≤ {:e}·(1 + max |v|)); the summary counts all such steps",
-                        l.summary.method,
-                        super::implicit::NEWTON_TOL
-                    ),
-                })?;
-            }
-        }
-        step = next;
-    }
-    for (i, l) in lanes.iter_mut().enumerate() {
-        if !l.series.steps.is_empty() {
-            observer.series(i, &l.series)?;
-            l.series.clear();
+impl RopeScene {
+    pub fn new(config: RopeConfig) -> Self {
+        let rope = Rope::new(config.params.clone());
+        let x0 = config.params.initial_positions();
+        let v0 = vec![0.0; x0.len()];
+        RopeScene {
+            initial_energy: rope.energy(&x0, &v0),
+            energy_scale: energy_scale(&rope, &x0, &v0),
+            strain_bound: strain_bound(&config.params),
+            omega_max: config.params.omega_max_pinned_free(),
+            initial_positions: x0,
+            rope,
+            config,
         }
     }
-    let summary = RopeSummary {
-        setup,
-        lanes: lanes.into_iter().map(|l| l.summary).collect(),
-    };
-    observer.finish(&summary)?;
-    Ok(summary)
-}
 
-#[allow(clippy::too_many_arguments)]
-/// Measures one lane at `step`; marks it diverged (and reports it) if its state is bad.
-fn sample(
-    rope: &Rope,
-    l: &mut Lane,
-    lane: usize,
-    step: u64,
-    dt: f64,
-    e0: f64,
-    e_scale: f64,
-    observer: &mut dyn RopeObserver,
-) -> anyhow::Result<()> {
-    let x = l.integrator.position();
-    let v = l.integrator.velocity();
-    let energy = rope.energy(x, v);
-    let strain = rope.max_strain(x);
-    let finite = energy.is_finite() && x.iter().chain(v).all(|c| c.is_finite());
-    let time = step as f64 * dt;
-    let gained = energy - e0;
-    let too_energetic = e_scale > 0.0 && gained > ENERGY_GAIN_BOUND * e_scale;
-    let bound = strain_bound(&rope.params);
-    if !finite || strain > bound || too_energetic {
-        let why = if !finite {
-            "the state is not finite".to_string()
-        } else if strain > bound {
-            format!("a spring's strain reached {strain:.3e} (bound {bound:.3})")
+    /// The failed check at this state, if any: not finite, overstretched, or too energetic.
+    fn verdict(&self, x: &[f64], v: &[f64], energy: f64, strain: f64) -> Option<String> {
+        let finite = energy.is_finite() && x.iter().chain(v).all(|c| c.is_finite());
+        let gained = energy - self.initial_energy;
+        if !finite {
+            Some("the state is not finite".to_string())
+        } else if strain > self.strain_bound {
+            Some(format!(
+                "a spring's strain reached {strain:.3e} (bound {:.3})",
+                self.strain_bound
+            ))
+        } else if self.energy_scale > 0.0 && gained > ENERGY_GAIN_BOUND * self.energy_scale {
+            Some(format!(
+                "it gained {gained:.3e} J, over {ENERGY_GAIN_BOUND} × the energy scale {:.3e} J",
+                self.energy_scale
+            ))
         } else {
-            format!(
-                "it gained {gained:.3e} J, over {ENERGY_GAIN_BOUND} × the energy scale {e_scale:.3e} J"
-            )
-        };
-        let event = Event {
-            lane,
-            time,
-            step,
-            kind: EventKind::Divergence,
-            message: format!(
-                "{} diverged by t = {time:.4} s (step {step}): {why}",
-                l.summary.method
-            ),
-        };
-        observer.event(&event)?;
-        l.summary.divergence = Some(event);
-        l.alive = false;
-        // The reported steps are those that passed the last check.
-        return Ok(());
+            None
+        }
     }
-    l.summary.max_strain = l.summary.max_strain.max(strain);
-    l.summary.final_energy = Some(energy);
-    l.series.steps.push(step);
-    l.series.times.push(time);
-    l.series.energy.push(energy);
-    l.series.energy_change.push(energy - e0);
-    l.series.max_strain.push(strain);
-    Ok(())
+}
+
+impl Scene for RopeScene {
+    type Lane = RopeLane;
+
+    fn name(&self) -> &'static str {
+        "rope"
+    }
+
+    fn schedule(&self) -> Schedule {
+        self.config.schedule()
+    }
+
+    fn lanes(&self) -> Vec<(&'static str, RopeLane)> {
+        let x0 = &self.initial_positions;
+        let v0 = vec![0.0; x0.len()];
+        self.config
+            .methods
+            .iter()
+            .map(|&m| {
+                let lane = RopeLane {
+                    method: m,
+                    integrator: Integrator::new(
+                        m,
+                        &self.rope,
+                        x0,
+                        &v0,
+                        self.config.dt,
+                        self.config.options,
+                    ),
+                    rows: Vec::new(),
+                    failed: None,
+                    first_miss: None,
+                    max_strain: self.rope.max_strain(x0),
+                    final_energy: self.initial_energy,
+                };
+                (m.name(), lane)
+            })
+            .collect()
+    }
+
+    fn quantities(&self, _lane: &RopeLane) -> &'static [&'static str] {
+        &QUANTITIES
+    }
+
+    fn initial(&self, _lane: &RopeLane) -> Option<Vec<f64>> {
+        let x0 = &self.initial_positions;
+        Some(vec![self.initial_energy, 0.0, self.rope.max_strain(x0)])
+    }
+
+    /// Steps and checks every step: a rope cannot keep every step's state, so the O(N) energy
+    /// and strain check runs inside the timed loop (ns/step includes it).
+    fn advance(&self, lane: &mut RopeLane, first: u64, len: usize) {
+        lane.rows.clear();
+        lane.failed = None;
+        lane.first_miss = None;
+        let schedule = self.config.schedule();
+        for k in 0..len {
+            let failed_before = lane.integrator.failed_solves();
+            lane.integrator.step(&self.rope);
+            let (x, v) = (lane.integrator.position(), lane.integrator.velocity());
+            let (energy, strain) = self.rope.energy_and_strain(x, v);
+            if let Some(why) = self.verdict(x, v, energy, strain) {
+                lane.failed = Some((k, why));
+                return;
+            }
+            if lane.first_miss.is_none() && lane.integrator.failed_solves() > failed_before {
+                lane.first_miss = Some(k);
+            }
+            lane.max_strain = lane.max_strain.max(strain);
+            lane.final_energy = energy;
+            let step = first + k as u64;
+            // TEMPORARY (refactor check): the seeds' rope also sampled at every 3D frame.
+            if schedule.samples(step) || step.is_multiple_of(schedule.frame_stride) {
+                lane.rows
+                    .push((step, [energy, energy - self.initial_energy, strain]));
+            }
+        }
+    }
+
+    fn check(&self, lane: &mut RopeLane, _first: u64, len: usize, out: &mut Sampler) -> Checked {
+        for (step, row) in &lane.rows {
+            out.push(*step, row);
+        }
+        let (accepted, divergence) = match lane.failed.take() {
+            Some((k, why)) => (k, Some(why)),
+            None => (len, None),
+        };
+        Checked {
+            accepted,
+            divergence,
+            solver_miss: lane.first_miss.map(|k| {
+                (
+                    k,
+                    format!("max |δv| ≤ {:e}·(1 + max |v|)", super::implicit::NEWTON_TOL),
+                )
+            }),
+        }
+    }
+
+    fn counts(&self, lane: &RopeLane) -> Counts {
+        Counts {
+            evals: lane.integrator.evals(),
+            failed_solves: lane.integrator.failed_solves(),
+        }
+    }
 }

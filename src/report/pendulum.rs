@@ -1,31 +1,32 @@
 //! The pendulum run's summary table, as printed on stdout.
 
-use super::run::RunSummary;
-use crate::scene::schedule::divergence_cell;
-use crate::table::Table;
+use crate::report::table::{Table, trim_number};
+use crate::scene::harness::{Run, Scene as _, divergence_cell};
+use crate::scene::pendulum::run::{PendulumLane, PendulumScene};
 
 /// The summary: a few header lines (reference, energy, bounds) and one row per lane.
-pub fn summary_text(s: &RunSummary) -> String {
-    let c = &s.setup.config;
+pub fn summary_text(scene: &PendulumScene, run: &Run<PendulumLane>) -> String {
+    let c = &scene.config;
     let p = &c.params;
+    let schedule = scene.schedule();
     let mut out = String::new();
     out.push_str(&format!(
         "pendulum: g = {} m/s², L = {} m, θ0 = {}°, ω0 = {} rad/s, dt = {} s, {} steps to t = {} s\n",
         p.gravity,
         p.length,
-        crate::table::trim_number(p.theta0.to_degrees(), 9),
+        trim_number(p.theta0.to_degrees(), 9),
         p.omega0,
         c.dt,
-        c.total_steps(),
-        crate::table::trim_number(c.total_steps() as f64 * c.dt, 9)
+        schedule.total,
+        trim_number(schedule.end_time(), 9)
     ));
-    out.push_str(&format!("{}\n", s.setup.reference_description));
+    out.push_str(&format!("{}\n", scene.reference_description()));
     out.push_str(&format!(
         "E0 = {:.6} J/kg (per unit mass, zero at the bottom); energy errors are (E - E0)/{:.6}; \
          divergence = non-finite state or E > {:.4} J/kg\n",
-        s.setup.initial_energy, s.setup.energy_scale, s.setup.energy_bound
+        scene.initial_energy, scene.energy_scale, scene.energy_bound
     ));
-    match s.setup.exact_period {
+    match scene.exact_period {
         Some(t) => out.push_str(&format!("exact period from E0: {t:.9} s\n\n")),
         None => {
             out.push_str("exact period: none (at rest at the bottom, or on the separatrix)\n\n")
@@ -44,42 +45,37 @@ pub fn summary_text(s: &RunSummary) -> String {
         "period rel. err",
         "diverged",
     ]);
-    for l in &s.lanes {
-        let timed = l.method.is_some();
-        let period = l
-            .period
-            .map_or_else(|| "— (< 2 crossings)".to_string(), |t| format!("{t:.9}"));
-        let period_err = match (l.period, s.setup.exact_period) {
+    let dash = || "—".to_string();
+    for (lane, s) in run.lanes.iter().zip(&run.stats) {
+        let timed = s.is_method;
+        let period = lane.meter.period();
+        let period_err = match (period, scene.exact_period) {
             (Some(m), Some(e)) => format!("{:+.2e}", m / e - 1.0),
-            _ => "—".to_string(),
+            _ => dash(),
         };
-        let diverged = divergence_cell(l.divergence.as_ref(), "t", l.failed_solves);
         table.row([
-            l.name.to_string(),
-            l.steps.to_string(),
+            s.name.to_string(),
+            s.ticks.to_string(),
             if timed {
-                l.evals.to_string()
+                s.counts.evals.to_string()
             } else {
-                "—".into()
-            },
-            if timed {
-                format!("{:.3}", l.wall.as_secs_f64() * 1e3)
-            } else {
-                "—".into()
-            },
-            match (timed, l.ns_per_step()) {
-                (true, Some(ns)) => format!("{ns:.1}"),
-                _ => "—".into(),
+                dash()
             },
             if timed {
-                format!("{:.3e}", l.max_theta_error)
+                format!("{:.3}", s.wall.as_secs_f64() * 1e3)
             } else {
-                "—".into()
+                dash()
             },
-            format!("{:.3e}", l.max_energy_error),
-            period,
+            s.ns_per_tick().map_or_else(dash, |ns| format!("{ns:.1}")),
+            if timed {
+                format!("{:.3e}", lane.max_theta_error)
+            } else {
+                dash()
+            },
+            format!("{:.3e}", lane.max_energy_error),
+            period.map_or_else(|| "— (< 2 crossings)".to_string(), |t| format!("{t:.9}")),
             period_err,
-            diverged,
+            divergence_cell(s),
         ]);
     }
     out.push_str(&table.render());

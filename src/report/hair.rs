@@ -1,11 +1,11 @@
 //! The hair run's summary table.
 
-use super::run::HairSummary;
-use crate::scene::schedule::divergence_cell;
-use crate::table::{Table, trim_number};
+use crate::report::table::{Table, trim_number};
+use crate::scene::hair::run::{HairLane, HairScene};
+use crate::scene::harness::{Run, divergence_cell};
 
-pub fn summary_text(s: &HairSummary) -> String {
-    let c = &s.config;
+pub fn summary_text(scene: &HairScene, run: &Run<HairLane>) -> String {
+    let c = &scene.config;
     let p = &c.params;
     let mut out = format!(
         "hair: {} strands × {} nodes, segment {} m, head radius {} m ({:?}), wind {:?} m/s² ± {}%, damping {} 1/s\n\
@@ -26,7 +26,7 @@ pub fn summary_text(s: &HairSummary) -> String {
         c.step_dt(),
         c.frames(),
         trim_number(c.frames() as f64 / c.rate, 6),
-        s.threads,
+        scene.threads,
         p.margin,
     );
     let mut table = Table::new([
@@ -42,20 +42,22 @@ pub fn summary_text(s: &HairSummary) -> String {
         "final KE [J/kg]",
         "diverged",
     ]);
-    for l in &s.lanes {
-        let fps = l.frames_per_second();
+    for (lane, s) in run.lanes.iter().zip(&run.stats) {
+        let wall = s.wall.as_secs_f64();
+        let fps = s.timed_ticks as f64 / wall.max(1e-12);
+        let w = &lane.worst;
         table.row([
-            l.method.name().to_string(),
-            l.frames.to_string(),
-            format!("{:.1}", l.wall.as_secs_f64() * 1e3),
-            format!("{:.3}", l.wall.as_secs_f64() * 1e3 / l.frames.max(1) as f64),
+            s.name.to_string(),
+            s.ticks.to_string(),
+            format!("{:.1}", wall * 1e3),
+            format!("{:.3}", wall * 1e3 / s.timed_ticks.max(1) as f64),
             format!("{fps:.0}"),
             format!("{:.1}", fps / c.rate),
-            format!("{:.2e}", l.max_stretch),
-            format!("{:.1e}", l.max_penetration),
-            format!("{:.1e}", l.max_root_error),
-            format!("{:.4e}", l.final_kinetic_energy),
-            divergence_cell(l.divergence.as_ref(), "t", 0),
+            format!("{:.2e}", w.max_stretch),
+            format!("{:.1e}", w.max_penetration),
+            format!("{:.1e}", w.max_root_error),
+            format!("{:.4e}", w.kinetic_energy),
+            divergence_cell(s),
         ]);
     }
     out.push_str(&table.render());

@@ -8,7 +8,7 @@
 
 use std::time::Instant;
 
-use crate::method::{
+use crate::integrate::{
     Integrator, Method, MethodOptions, SecondOrderSystem, Stability, yoshida_weights,
 };
 use crate::scene::pendulum::reference::ExactPendulum;
@@ -529,6 +529,6 @@ mod tests {
 
     #[test]
     fn yoshida_limit_from_the_matrix_matches_the_registry() {
-        assert!((yoshida4_limit() - crate::method::YOSHIDA4_STABILITY_LIMIT).abs() < 1e-12);
+        assert!((yoshida4_limit() - crate::integrate::YOSHIDA4_STABILITY_LIMIT).abs() < 1e-12);
     }
 }

@@ -1,0 +1,293 @@
+//! The command line, as clap derive types. Resolution and validation live in `app` and in the
+//! scenes' `validate()`; the defaults `--help` shows are read from the scenes' `Default`
+//! ([`command`]), never typed here.
+
+mod scenes;
+mod vector;
+
+use std::path::PathBuf;
+
+use clap::{Args, CommandFactory as _, Parser, Subcommand};
+use serde::Serialize;
+
+pub use scenes::{HairArgs, PendulumArgs, RopeArgs, RopePreset, games101_preset};
+pub use vector::Vector;
+
+use crate::integrate::Method;
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "physlab",
+    version,
+    about = "A lab for numerical integration: physics scenes stepped by several integrators side by side, \
+             recorded to Rerun .rrd files",
+    after_help = "Open a recording with the Rerun viewer 0.36: `rerun recordings/all.rrd` \
+                  (pip install rerun-sdk==0.36.3)."
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// All three scenes in one recording on one timeline (parameters from --config, a table per scene)
+    All(AllArgs),
+    /// Simple pendulum θ'' = -(g/L) sin θ: every method side by side against the exact solution
+    Pendulum(PendulumCommand),
+    /// Mass-spring rope: point masses, Hooke springs, spring damping, air drag, pinned nodes
+    Rope(RopeCommand),
+    /// Hair strands on a moving head: Verlet, PBD and follow-the-leader with length constraints,
+    /// sphere collision and wind
+    Hair(HairCommand),
+    /// Measure the speed/accuracy trade and the stability limits against theory
+    Study(StudyArgs),
+    /// What a recording holds: provenance, scenes, methods, entity paths, time range, warnings
+    Inspect(InspectArgs),
+    /// Print the integrator registry: order, kind, symplecticity, force evaluations, stability
+    Methods,
+}
+
+/// Where a run's output goes and how it reports; shared by every simulating command.
+#[derive(Args, Debug, Clone, Default)]
+pub struct RunArgs {
+    /// Read parameters from a TOML scene file; flags given as well override it
+    #[arg(long, value_name = "FILE.toml")]
+    pub config: Option<PathBuf>,
+
+    /// Print the resolved parameters as TOML (a scene file) and exit without simulating
+    #[arg(long)]
+    pub print_config: bool,
+
+    /// Where to write the recording (.rrd); its folder is created [default: recordings/<scene>.rrd]
+    #[arg(short, long, value_name = "PATH")]
+    pub output: Option<PathBuf>,
+
+    /// Also stream to a running Rerun viewer [default URL: rerun+http://127.0.0.1:9876/proxy]
+    #[arg(long, value_name = "URL", num_args = 0..=1, default_missing_value = "rerun+http://127.0.0.1:9876/proxy")]
+    pub connect: Option<String>,
+
+    /// Also start a Rerun viewer (`rerun` from PATH) and stream to it
+    #[arg(long)]
+    pub spawn: bool,
+
+    /// Do not write the recording file (with --connect or --spawn: stream only)
+    #[arg(long)]
+    pub no_save: bool,
+
+    /// Also plot wall-clock costs (ms per frame); off by default so that a recording depends only
+    /// on its inputs
+    #[arg(long)]
+    pub timings: bool,
+
+    /// No progress bar
+    #[arg(short, long)]
+    pub quiet: bool,
+
+    /// Exit with code 3 when any method diverged (the recording is still written), for scripts
+    #[arg(long)]
+    pub fail_on_divergence: bool,
+}
+
+#[derive(Args, Debug, Clone)]
+pub struct AllArgs {
+    #[command(flatten)]
+    pub run: RunArgs,
+
+    /// 3D frames logged per simulated second, for every scene (overrides the scene file)
+    #[arg(long, value_name = "HZ", allow_negative_numbers = true)]
+    pub fps: Option<f64>,
+
+    /// Plot every Nth step of the pendulum and the rope (overrides the scene file)
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub plot_every: Option<u64>,
+}
+
+#[derive(Args, Debug, Clone)]
+pub struct PendulumCommand {
+    #[command(flatten)]
+    pub scene: PendulumArgs,
+    #[command(flatten)]
+    pub run: RunArgs,
+}
+
+#[derive(Args, Debug, Clone)]
+pub struct RopeCommand {
+    #[command(flatten)]
+    pub scene: RopeArgs,
+    #[command(flatten)]
+    pub run: RunArgs,
+}
+
+#[derive(Args, Debug, Clone)]
+pub struct HairCommand {
+    #[command(flatten)]
+    pub scene: HairArgs,
+    #[command(flatten)]
+    pub run: RunArgs,
+    /// Worker threads for the strands [default: all cores]; results do not depend on it
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub threads: Option<usize>,
+    /// Neither write nor stream a recording (throughput runs)
+    #[arg(long)]
+    pub no_record: bool,
+}
+
+#[derive(Args, Debug, Clone)]
+pub struct InspectArgs {
+    /// The recording to describe
+    pub file: PathBuf,
+    /// Write the recording's embedded scene file here, to run the same thing again with --config
+    #[arg(long, value_name = "FILE.toml")]
+    pub config_out: Option<PathBuf>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum StudyKind {
+    /// Error against dt, fitted order per method
+    Convergence,
+    /// Error against median wall time and against force evaluations; cheapest method per target
+    WorkPrecision,
+    /// Largest stable dt per method by bisection, against theory
+    Stability,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum StudyScene {
+    Pendulum,
+    Rope,
+}
+
+#[derive(Args, Debug, Clone)]
+pub struct StudyArgs {
+    /// What to measure
+    #[arg(value_enum)]
+    pub kind: StudyKind,
+
+    /// The scene
+    #[arg(long, value_enum, default_value_t = StudyScene::Pendulum)]
+    pub scene: StudyScene,
+
+    /// Scene parameters from a scene file (its [pendulum] or [rope] table); flags override it
+    #[arg(long, value_name = "FILE.toml")]
+    pub config: Option<PathBuf>,
+
+    /// Pendulum: initial angle [degrees] [default: 60]
+    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
+    pub theta0: Option<f64>,
+
+    /// Pendulum: initial angular velocity [rad/s] [default: 0]
+    #[arg(long, value_name = "RAD/S", allow_negative_numbers = true)]
+    pub omega0: Option<f64>,
+
+    /// Rope: nodes [default: 16]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub nodes: Option<usize>,
+
+    /// Rope: spring stiffness [N/m] [default: 100 for convergence and work-precision, the scene's 5000 for stability]
+    #[arg(long, value_name = "N/M", allow_negative_numbers = true)]
+    pub stiffness: Option<f64>,
+
+    /// Rope: node mass [kg] [default: 0.1]
+    #[arg(long, value_name = "KG", allow_negative_numbers = true)]
+    pub mass: Option<f64>,
+
+    /// Rope: spring damping [N·s/m] [default: 0, so that the theory's orders apply]
+    #[arg(long, value_name = "N·S/M", allow_negative_numbers = true)]
+    pub spring_damping: Option<f64>,
+
+    /// Rope: air drag [N·s/m] [default: 0]
+    #[arg(long, value_name = "N·S/M", allow_negative_numbers = true)]
+    pub air_drag: Option<f64>,
+
+    /// Simulated time [s] [default: 10 for the pendulum, 1 for the rope]
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
+    pub duration: Option<f64>,
+
+    /// Coarsest step; each level halves it [s] [default: 0.02 pendulum, 0.002 rope]
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
+    pub dt: Option<f64>,
+
+    /// Number of step sizes [default: 6]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub levels: Option<u32>,
+
+    /// Methods, comma-separated [default: all nine]
+    #[arg(long, value_delimiter = ',', value_name = "LIST")]
+    pub methods: Option<Vec<Method>>,
+
+    /// dopri5's tolerances for work-precision, comma-separated [default: 1e-3,1e-4,...,1e-12]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        value_name = "LIST",
+        allow_negative_numbers = true
+    )]
+    pub rtol: Option<Vec<f64>>,
+
+    /// Timed repeats per run for work-precision (the median is kept) [default: 5]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub repeats: Option<u32>,
+
+    /// Steps each stability trial must stay bounded for [default: 2000]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub steps: Option<u64>,
+
+    /// Also write one row per run as CSV
+    #[arg(long, value_name = "FILE.csv")]
+    pub csv: Option<PathBuf>,
+
+    /// Also write the curves and tables as a Rerun recording
+    #[arg(short, long, value_name = "FILE.rrd")]
+    pub output: Option<PathBuf>,
+}
+
+/// The command line with every scene flag's default appended to its help, read from the scene's
+/// `Default` (so a default is written once, in the scene).
+pub fn command() -> clap::Command {
+    Cli::command()
+        .mut_subcommand("pendulum", |c| with_defaults(c, &PendulumArgs::defaults()))
+        .mut_subcommand("rope", |c| with_defaults(c, &RopeArgs::defaults()))
+        .mut_subcommand("hair", |c| with_defaults(c, &HairArgs::defaults()))
+}
+
+/// Parses the process's arguments (clap prints usage errors and exits with code 2).
+pub fn parse() -> Cli {
+    use clap::FromArgMatches as _;
+    Cli::from_arg_matches(&command().get_matches()).unwrap_or_else(|e| e.exit())
+}
+
+/// Appends ` [default: VALUE]` to the help of every flag whose name is a key of `defaults`.
+fn with_defaults<T: Serialize>(mut cmd: clap::Command, defaults: &T) -> clap::Command {
+    let Ok(toml::Value::Table(table)) = toml::Value::try_from(defaults) else {
+        return cmd;
+    };
+    for (key, value) in table {
+        if !cmd.get_arguments().any(|a| a.get_id() == key.as_str()) {
+            continue;
+        }
+        let shown = format!("[default: {}]", show(&value));
+        cmd = cmd.mut_arg(key.as_str(), |a| {
+            let help = a.get_help().map(|h| h.to_string()).unwrap_or_default();
+            let long = a.get_long_help().map(|h| h.to_string());
+            let a = a.help(format!("{help} {shown}"));
+            match long {
+                Some(long) => a.long_help(format!("{long} {shown}")),
+                None => a,
+            }
+        });
+    }
+    cmd
+}
+
+/// A default as it is typed on the command line: 0.01, 0,-9.81,0, rk4,verlet.
+fn show(value: &toml::Value) -> String {
+    match value {
+        toml::Value::String(s) => s.clone(),
+        toml::Value::Float(x) => format!("{x}"),
+        toml::Value::Integer(n) => n.to_string(),
+        toml::Value::Boolean(b) => b.to_string(),
+        toml::Value::Array(items) => items.iter().map(show).collect::<Vec<_>>().join(","),
+        other => other.to_string(),
+    }
+}

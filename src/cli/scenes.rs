@@ -1,0 +1,483 @@
+//! Each scene's flags. A scene's flag struct doubles as its table in a scene file
+//! (`--config FILE.toml`): every field is optional, so a value comes from a flag, the file, a
+//! preset or the scene's default, in that order ([`PendulumArgs::over`]). Defaults are read
+//! from the scene's `Default` ([`PendulumArgs::defaults`]), never typed here.
+
+use clap::Args;
+use serde::{Deserialize, Serialize};
+
+use super::Vector;
+use crate::integrate::{Method, MethodOptions};
+use crate::scene::hair::run::HairConfig;
+use crate::scene::hair::{HairMethod, HeadMotion};
+use crate::scene::params::dedup_methods;
+use crate::scene::pendulum::run::{DEFAULT_THETA0_DEGREES, PendulumConfig};
+use crate::scene::rope::run::{Layout, RopeConfig};
+
+/// `a.over(b)`: a's given values, b's for the rest.
+macro_rules! overlay {
+    ($ty:ident { $($field:ident),* $(,)? }) => {
+        impl $ty {
+            /// These values where given, `below`'s elsewhere.
+            pub fn over(self, below: Self) -> Self {
+                $ty { $($field: self.$field.or(below.$field)),* }
+            }
+        }
+    };
+}
+
+#[derive(Args, Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct PendulumArgs {
+    /// Gravitational acceleration g [m/s²]
+    #[arg(long, value_name = "M/S²", allow_negative_numbers = true)]
+    pub gravity: Option<f64>,
+
+    /// Rod length L, pivot to bob [m]
+    #[arg(long, value_name = "M", allow_negative_numbers = true)]
+    pub length: Option<f64>,
+
+    /// Initial angle θ0 from straight down [degrees]. Release from rest with
+    /// |θ0| < 180° is compared with the exact elliptic solution; any other start with a converged
+    /// fine-step one
+    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
+    pub theta0: Option<f64>,
+
+    /// Initial angular velocity ω0 [rad/s]
+    #[arg(long, value_name = "RAD/S", allow_negative_numbers = true)]
+    pub omega0: Option<f64>,
+
+    /// Time step dt [s], the same for every method
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
+    pub dt: Option<f64>,
+
+    /// Simulated time [s]; the run takes round(duration / dt) steps
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
+    pub duration: Option<f64>,
+
+    /// How often the 3D state is logged [Hz of simulated time]
+    #[arg(long, value_name = "HZ", allow_negative_numbers = true)]
+    pub fps: Option<f64>,
+
+    /// Plot every Nth step (thinned further to at most 10,000 points per series)
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub plot_every: Option<u64>,
+
+    /// Methods to run, comma-separated, any of `physlab methods`
+    #[arg(long, value_delimiter = ',', value_name = "LIST")]
+    pub methods: Option<Vec<Method>>,
+
+    /// Verlet's damping factor d in x1 = x0 + (1-d)(x0 - x_-1) + a dt², 0 ≤ d < 1
+    #[arg(long, value_name = "D", allow_negative_numbers = true)]
+    pub verlet_damping: Option<f64>,
+    /// dopri5's relative tolerance per substep (the absolute one equals it)
+    #[arg(long, value_name = "TOL", allow_negative_numbers = true)]
+    pub rtol: Option<f64>,
+}
+
+/// Parameter sets that reproduce a known setup; flags given with a preset override it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum RopePreset {
+    /// GAMES101 assignment 8 (seed 003): 16 nodes from (0,200) to (-400,200), mass 1, ks 100,
+    /// no spring damping or drag, gravity (0,-1), dt = 1/64 with 64 steps per frame, node 0
+    /// pinned, Verlet damping 0.00005, 20 time units
+    Games101,
+}
+
+#[derive(Args, Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct RopeArgs {
+    /// Start from a known parameter set; flags given as well override it
+    #[arg(long, value_enum)]
+    pub preset: Option<RopePreset>,
+
+    /// Number of point masses, ≥ 2
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub nodes: Option<usize>,
+
+    /// First node's position x,y[,z] [m]
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    pub start: Option<Vector>,
+
+    /// Last node's position x,y[,z] [m]; nodes are spaced evenly, and that spacing is every
+    /// spring's rest length
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    pub end: Option<Vector>,
+
+    /// Mass of each node [kg]
+    #[arg(long, value_name = "KG", allow_negative_numbers = true)]
+    pub mass: Option<f64>,
+
+    /// Spring stiffness ks [N/m]
+    #[arg(long, value_name = "N/M", allow_negative_numbers = true)]
+    pub stiffness: Option<f64>,
+
+    /// Spring damping kd on the relative velocity along each spring [N·s/m]
+    #[arg(long, value_name = "N·S/M", allow_negative_numbers = true)]
+    pub spring_damping: Option<f64>,
+
+    /// Air drag ka, force -ka·v on every node [N·s/m]
+    #[arg(long, value_name = "N·S/M", allow_negative_numbers = true)]
+    pub air_drag: Option<f64>,
+
+    /// Gravitational acceleration x,y[,z] [m/s²]
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    pub gravity: Option<Vector>,
+
+    /// Indices of pinned nodes, comma-separated, e.g. 0,15 for both ends
+    #[arg(long, value_delimiter = ',', value_name = "LIST")]
+    pub pinned: Option<Vec<usize>>,
+
+    /// Time step [s]
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
+    pub dt: Option<f64>,
+
+    /// Simulated time [s]
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
+    pub duration: Option<f64>,
+
+    /// 3D frames per simulated second
+    #[arg(long, value_name = "HZ", allow_negative_numbers = true)]
+    pub fps: Option<f64>,
+
+    /// Plot every Nth step (thinned further to at most 10,000 points per series)
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub plot_every: Option<u64>,
+
+    /// Methods to run, comma-separated, any of `physlab methods`
+    #[arg(long, value_delimiter = ',', value_name = "LIST")]
+    pub methods: Option<Vec<Method>>,
+
+    /// Verlet's damping factor d, 0 ≤ d < 1 (0.00005 with --preset games101)
+    #[arg(long, value_name = "D", allow_negative_numbers = true)]
+    pub verlet_damping: Option<f64>,
+
+    /// Newton iterations per implicit-Euler step: 1 = linearised backward Euler
+    /// (Baraff–Witkin); more refine towards exact backward Euler, stopping at tolerance
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub newton_iterations: Option<u32>,
+
+    /// Where each method's rope is drawn: side-by-side or overlay
+    #[arg(long, value_name = "LAYOUT")]
+    pub layout: Option<Layout>,
+    /// dopri5's relative tolerance per substep (the absolute one equals it)
+    #[arg(long, value_name = "TOL", allow_negative_numbers = true)]
+    pub rtol: Option<f64>,
+}
+
+#[derive(Args, Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct HairArgs {
+    /// Number of strands, rooted by a golden-angle spiral over the upper head
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub strands: Option<usize>,
+
+    /// Nodes per strand, the root included
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub nodes: Option<usize>,
+
+    /// Rest length of every segment [m]
+    #[arg(long, value_name = "M", allow_negative_numbers = true)]
+    pub segment_length: Option<f64>,
+
+    /// Head (sphere) radius [m]
+    #[arg(long, value_name = "M", allow_negative_numbers = true)]
+    pub head_radius: Option<f64>,
+
+    /// Scripted head path: smooth pulses that start and end at rest
+    #[arg(long, value_name = "MOTION")]
+    pub head_motion: Option<HeadMotion>,
+
+    /// Wind as an acceleration x,y[,z] on every node [m/s²], z up
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    pub wind: Option<Vector>,
+
+    /// Gust strength as a fraction of the wind: the wind varies by ±this, smoothly and
+    /// deterministically
+    #[arg(long, value_name = "FRACTION", allow_negative_numbers = true)]
+    pub gust: Option<f64>,
+
+    /// Gravitational acceleration x,y[,z] [m/s²], z up
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    pub gravity: Option<Vector>,
+
+    /// Velocity damping rate c [1/s]: velocities decay as exp(-c t)
+    #[arg(long, value_name = "1/S", allow_negative_numbers = true)]
+    pub damping: Option<f64>,
+
+    /// Constraint-projection rounds per step (verlet, semi-implicit-euler; ftl needs one pass)
+    ///
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub iterations: Option<u32>,
+
+    /// Steps per simulation frame
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub substeps: Option<u32>,
+
+    /// Simulation frames per simulated second [Hz]
+    #[arg(long, value_name = "HZ", allow_negative_numbers = true)]
+    pub rate: Option<f64>,
+
+    /// How often the 3D state is logged [Hz of simulated time]; plots get every frame
+    #[arg(long, value_name = "HZ", allow_negative_numbers = true)]
+    pub fps: Option<f64>,
+
+    /// Simulated time [s] (one tour of the head takes 8 s)
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
+    pub duration: Option<f64>,
+
+    /// Collision margin as a fraction of the head radius
+    #[arg(long, value_name = "FRACTION", allow_negative_numbers = true)]
+    pub margin: Option<f64>,
+
+    /// Methods to run, comma-separated: verlet, semi-implicit-euler, ftl
+    #[arg(long, value_delimiter = ',', value_name = "LIST")]
+    pub methods: Option<Vec<HairMethod>>,
+}
+
+overlay!(PendulumArgs {
+    gravity,
+    length,
+    theta0,
+    omega0,
+    dt,
+    duration,
+    fps,
+    plot_every,
+    methods,
+    verlet_damping,
+    rtol
+});
+
+impl PendulumArgs {
+    /// Every value at the scene's default.
+    pub fn defaults() -> Self {
+        let c = PendulumConfig::default();
+        PendulumArgs {
+            gravity: Some(c.params.gravity),
+            length: Some(c.params.length),
+            theta0: Some(DEFAULT_THETA0_DEGREES),
+            omega0: Some(c.params.omega0),
+            dt: Some(c.dt),
+            duration: Some(c.duration),
+            fps: Some(c.fps),
+            plot_every: Some(c.plot_every),
+            methods: Some(c.methods),
+            verlet_damping: Some(c.options.verlet_damping),
+            rtol: Some(c.options.rtol),
+        }
+    }
+
+    /// The config with these values where given, the defaults elsewhere (not yet validated).
+    pub fn config(&self) -> PendulumConfig {
+        let mut c = PendulumConfig::default();
+        let p = &mut c.params;
+        set(&mut p.gravity, self.gravity);
+        set(&mut p.length, self.length);
+        set(&mut p.theta0, self.theta0.map(f64::to_radians));
+        set(&mut p.omega0, self.omega0);
+        set(&mut c.dt, self.dt);
+        set(&mut c.duration, self.duration);
+        set(&mut c.fps, self.fps);
+        set(&mut c.plot_every, self.plot_every);
+        if let Some(m) = &self.methods {
+            c.methods = dedup_methods(m, Method::DEFAULT);
+        }
+        set_options(&mut c.options, self.verlet_damping, self.rtol);
+        c
+    }
+}
+
+overlay!(RopeArgs {
+    preset,
+    nodes,
+    start,
+    end,
+    mass,
+    stiffness,
+    spring_damping,
+    air_drag,
+    gravity,
+    pinned,
+    dt,
+    duration,
+    fps,
+    plot_every,
+    methods,
+    verlet_damping,
+    newton_iterations,
+    layout,
+    rtol
+});
+
+impl RopeArgs {
+    /// Every value at the scene's default.
+    pub fn defaults() -> Self {
+        let c = RopeConfig::default();
+        let p = c.params;
+        RopeArgs {
+            preset: None,
+            nodes: Some(p.nodes),
+            start: Some(Vector(p.start)),
+            end: Some(Vector(p.end)),
+            mass: Some(p.mass),
+            stiffness: Some(p.stiffness),
+            spring_damping: Some(p.spring_damping),
+            air_drag: Some(p.air_drag),
+            gravity: Some(Vector(p.gravity)),
+            pinned: Some(p.pinned),
+            dt: Some(c.dt),
+            duration: Some(c.duration),
+            fps: Some(c.fps),
+            plot_every: Some(c.plot_every),
+            methods: Some(c.methods),
+            verlet_damping: Some(c.options.verlet_damping),
+            newton_iterations: Some(p.newton_iterations),
+            layout: Some(c.layout),
+            rtol: Some(c.options.rtol),
+        }
+    }
+
+    /// These values over the preset they name (if any) over the defaults, every field given.
+    pub fn effective(self) -> Self {
+        let below = match self.preset {
+            Some(RopePreset::Games101) => games101_preset().over(RopeArgs::defaults()),
+            None => RopeArgs::defaults(),
+        };
+        self.over(below)
+    }
+
+    /// The config with these values where given, the defaults elsewhere (not yet validated).
+    pub fn config(&self) -> RopeConfig {
+        let mut c = RopeConfig::default();
+        let p = &mut c.params;
+        set(&mut p.nodes, self.nodes);
+        set(&mut p.start, self.start.map(|v| v.0));
+        set(&mut p.end, self.end.map(|v| v.0));
+        set(&mut p.mass, self.mass);
+        set(&mut p.stiffness, self.stiffness);
+        set(&mut p.spring_damping, self.spring_damping);
+        set(&mut p.air_drag, self.air_drag);
+        set(&mut p.gravity, self.gravity.map(|v| v.0));
+        if let Some(pinned) = &self.pinned {
+            p.pinned = pinned.clone();
+            p.pinned.sort_unstable();
+            p.pinned.dedup();
+        }
+        set(&mut p.newton_iterations, self.newton_iterations);
+        set(&mut c.dt, self.dt);
+        set(&mut c.duration, self.duration);
+        set(&mut c.fps, self.fps);
+        set(&mut c.plot_every, self.plot_every);
+        if let Some(m) = &self.methods {
+            c.methods = dedup_methods(m, Method::DEFAULT);
+        }
+        set(&mut c.layout, self.layout);
+        set_options(&mut c.options, self.verlet_damping, self.rtol);
+        c
+    }
+}
+
+/// The GAMES101 assignment's parameters (a layer over the defaults).
+pub fn games101_preset() -> RopeArgs {
+    RopeArgs {
+        nodes: Some(16),
+        start: Some(Vector(glam::DVec3::new(0.0, 200.0, 0.0))),
+        end: Some(Vector(glam::DVec3::new(-400.0, 200.0, 0.0))),
+        mass: Some(1.0),
+        stiffness: Some(100.0),
+        spring_damping: Some(0.0),
+        air_drag: Some(0.0),
+        gravity: Some(Vector(glam::DVec3::new(0.0, -1.0, 0.0))),
+        pinned: Some(vec![0]),
+        dt: Some(1.0 / 64.0),
+        fps: Some(1.0), // one frame per time unit = 64 steps per frame
+        duration: Some(20.0),
+        plot_every: Some(1),
+        verlet_damping: Some(0.00005),
+        ..RopeArgs::default()
+    }
+}
+
+overlay!(HairArgs {
+    strands,
+    nodes,
+    segment_length,
+    head_radius,
+    head_motion,
+    wind,
+    gust,
+    gravity,
+    damping,
+    iterations,
+    substeps,
+    rate,
+    fps,
+    duration,
+    margin,
+    methods
+});
+
+impl HairArgs {
+    /// Every value at the scene's default.
+    pub fn defaults() -> Self {
+        let c = HairConfig::default();
+        let p = c.params;
+        HairArgs {
+            strands: Some(p.strands),
+            nodes: Some(p.nodes),
+            segment_length: Some(p.segment_length),
+            head_radius: Some(p.head_radius),
+            head_motion: Some(p.motion),
+            wind: Some(Vector(p.wind)),
+            gust: Some(p.gust),
+            gravity: Some(Vector(p.gravity)),
+            damping: Some(p.damping),
+            iterations: Some(p.iterations),
+            substeps: Some(c.substeps),
+            rate: Some(c.rate),
+            fps: Some(c.fps),
+            duration: Some(c.duration),
+            margin: Some(p.margin),
+            methods: Some(c.methods),
+        }
+    }
+
+    /// The config with these values where given, the defaults elsewhere (not yet validated).
+    pub fn config(&self) -> HairConfig {
+        let mut c = HairConfig::default();
+        let p = &mut c.params;
+        set(&mut p.strands, self.strands);
+        set(&mut p.nodes, self.nodes);
+        set(&mut p.segment_length, self.segment_length);
+        set(&mut p.head_radius, self.head_radius);
+        set(&mut p.motion, self.head_motion);
+        set(&mut p.wind, self.wind.map(|v| v.0));
+        set(&mut p.gust, self.gust);
+        set(&mut p.gravity, self.gravity.map(|v| v.0));
+        set(&mut p.damping, self.damping);
+        set(&mut p.iterations, self.iterations);
+        set(&mut p.margin, self.margin);
+        set(&mut c.substeps, self.substeps);
+        set(&mut c.rate, self.rate);
+        set(&mut c.fps, self.fps);
+        set(&mut c.duration, self.duration);
+        if let Some(m) = &self.methods {
+            c.methods = dedup_methods(m, &HairMethod::ALL);
+        }
+        c
+    }
+}
+
+/// `*slot = value` when a value was given.
+fn set<T>(slot: &mut T, value: Option<T>) {
+    if let Some(v) = value {
+        *slot = v;
+    }
+}
+
+fn set_options(o: &mut MethodOptions, verlet_damping: Option<f64>, rtol: Option<f64>) {
+    set(&mut o.verlet_damping, verlet_damping);
+    set(&mut o.rtol, rtol);
+}

@@ -1,0 +1,283 @@
+//! The method registry: every integrator's name, order, cost and stability as data. The CLI,
+//! `physlab methods`, the summaries, the studies and the tests read these instead of repeating
+//! them.
+
+use std::fmt;
+use std::str::FromStr;
+
+use super::composition::YOSHIDA4_STABILITY_LIMIT;
+
+/// The integrators physlab knows, by their canonical command-line names.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Method {
+    ExplicitEuler,
+    SemiImplicitEuler,
+    ImplicitEuler,
+    Midpoint,
+    Trapezoid,
+    Rk4,
+    Verlet,
+    /// Fourth-order symplectic composition of three position-Verlet steps (Yoshida 1990).
+    Yoshida4,
+    /// Dormand–Prince 5(4), adaptive, error-controlled by `MethodOptions::rtol`.
+    Dopri5,
+}
+
+/// How many force (acceleration) evaluations one step costs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EvalsPerStep {
+    /// Always exactly this many.
+    Fixed(u32),
+    /// One force and one Jacobian evaluation per Newton iteration; the count varies by step.
+    NewtonIterations,
+    /// Six per accepted substep (first-same-as-last), as many substeps as error control needs.
+    Adaptive,
+}
+
+impl fmt::Display for EvalsPerStep {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            EvalsPerStep::Fixed(n) => write!(f, "{n}"),
+            EvalsPerStep::NewtonIterations => write!(f, "Newton"),
+            EvalsPerStep::Adaptive => write!(f, "adaptive"),
+        }
+    }
+}
+
+/// How large a step stays stable on the undamped oscillator x'' = -ω² x, in h = ω dt.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Stability {
+    /// Unstable for every h > 0 (energy grows, however slowly).
+    Never,
+    /// Stable for h below this.
+    Below(f64),
+    /// Stable for every h.
+    Always,
+    /// The step size is chosen by error control, not by the user.
+    Adaptive,
+}
+
+/// The family a method belongs to; each family is one module of `integrate`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Family {
+    Explicit,
+    SemiImplicit,
+    Implicit,
+    Verlet,
+    RungeKutta,
+    Composition,
+    Adaptive,
+}
+
+/// What a method is, as numbers a user can check against theory.
+#[derive(Clone, Copy, Debug)]
+pub struct MethodInfo {
+    pub name: &'static str,
+    pub family: Family,
+    /// Global order of accuracy.
+    pub order: u32,
+    pub implicit: bool,
+    pub symplectic: bool,
+    pub evals_per_step: EvalsPerStep,
+    /// Stability on the undamped oscillator.
+    pub stability: Stability,
+    /// The update rule in one line.
+    pub update: &'static str,
+}
+
+/// The registry, one row per method, in the order of tables and layouts.
+const REGISTRY: [MethodInfo; 9] = [
+    MethodInfo {
+        name: "explicit-euler",
+        family: Family::Explicit,
+        order: 1,
+        implicit: false,
+        symplectic: false,
+        evals_per_step: EvalsPerStep::Fixed(1),
+        stability: Stability::Never,
+        update: "x += v dt; v += a(x,v) dt (both from the old state)",
+    },
+    MethodInfo {
+        name: "semi-implicit-euler",
+        family: Family::SemiImplicit,
+        order: 1,
+        implicit: false,
+        symplectic: true,
+        evals_per_step: EvalsPerStep::Fixed(1),
+        stability: Stability::Below(2.0),
+        update: "v += a(x,v) dt; x += v_new dt",
+    },
+    MethodInfo {
+        name: "implicit-euler",
+        family: Family::Implicit,
+        order: 1,
+        implicit: true,
+        symplectic: false,
+        evals_per_step: EvalsPerStep::NewtonIterations,
+        stability: Stability::Always,
+        update: "solve x1 = x0 + dt v1, v1 = v0 + dt a(x1,v1) (Newton)",
+    },
+    MethodInfo {
+        name: "midpoint",
+        family: Family::Explicit,
+        order: 2,
+        implicit: false,
+        symplectic: false,
+        evals_per_step: EvalsPerStep::Fixed(2),
+        stability: Stability::Never,
+        update: "explicit RK2 through the half step",
+    },
+    MethodInfo {
+        name: "trapezoid",
+        family: Family::Explicit,
+        order: 2,
+        implicit: false,
+        symplectic: false,
+        evals_per_step: EvalsPerStep::Fixed(2),
+        stability: Stability::Never,
+        update: "Heun: Euler predictor, trapezoid corrector",
+    },
+    MethodInfo {
+        name: "rk4",
+        family: Family::RungeKutta,
+        order: 4,
+        implicit: false,
+        symplectic: false,
+        evals_per_step: EvalsPerStep::Fixed(4),
+        stability: Stability::Below(2.0 * std::f64::consts::SQRT_2),
+        update: "classic Runge-Kutta",
+    },
+    MethodInfo {
+        name: "verlet",
+        family: Family::Verlet,
+        order: 2,
+        implicit: false,
+        symplectic: true,
+        evals_per_step: EvalsPerStep::Fixed(1),
+        stability: Stability::Below(2.0),
+        update: "x1 = x0 + (1-d)(x0 - x_-1) + a dt^2; v synchronous (velocity-Verlet identity)",
+    },
+    MethodInfo {
+        name: "yoshida4",
+        family: Family::Composition,
+        order: 4,
+        implicit: false,
+        symplectic: true,
+        evals_per_step: EvalsPerStep::Fixed(3),
+        stability: Stability::Below(YOSHIDA4_STABILITY_LIMIT),
+        update: "velocity Verlet at w1 dt, w0 dt, w1 dt, w1 = 1/(2 - 2^(1/3)), w0 = 1 - 2 w1",
+    },
+    MethodInfo {
+        name: "dopri5",
+        family: Family::Adaptive,
+        order: 5,
+        implicit: false,
+        symplectic: false,
+        evals_per_step: EvalsPerStep::Adaptive,
+        stability: Stability::Adaptive,
+        update: "Dormand-Prince 5(4) substeps within dt, error per substep <= rtol (abs(y) + 1)",
+    },
+];
+
+impl Method {
+    /// Every method in the registry, in registry order.
+    pub const ALL: [Method; 9] = [
+        Method::ExplicitEuler,
+        Method::SemiImplicitEuler,
+        Method::ImplicitEuler,
+        Method::Midpoint,
+        Method::Trapezoid,
+        Method::Rk4,
+        Method::Verlet,
+        Method::Yoshida4,
+        Method::Dopri5,
+    ];
+
+    /// The seven methods the scenes run by default, in the order of tables and layouts; the
+    /// study's `yoshida4` and `dopri5` are available with --methods.
+    pub const DEFAULT: &'static [Method] = Method::ALL.split_at(7).0;
+
+    pub fn info(self) -> MethodInfo {
+        REGISTRY[self as usize]
+    }
+
+    pub fn name(self) -> &'static str {
+        self.info().name
+    }
+
+    pub fn names() -> impl Iterator<Item = &'static str> {
+        Method::ALL.iter().map(|m| m.name())
+    }
+}
+
+impl fmt::Display for Method {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// An unknown method name; the message lists what is allowed.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct UnknownMethod(pub String);
+
+impl fmt::Display for UnknownMethod {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let allowed: Vec<_> = Method::names().collect();
+        write!(
+            f,
+            "unknown method '{}' (allowed: {})",
+            self.0,
+            allowed.join(", ")
+        )
+    }
+}
+
+impl std::error::Error for UnknownMethod {}
+
+impl serde::Serialize for Method {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(self.name())
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for Method {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let name = String::deserialize(d)?;
+        name.parse().map_err(serde::de::Error::custom)
+    }
+}
+
+impl FromStr for Method {
+    type Err = UnknownMethod;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Method::ALL
+            .into_iter()
+            .find(|m| m.name() == s)
+            .ok_or_else(|| UnknownMethod(s.to_string()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn registry_rows_are_in_enum_order() {
+        for (i, m) in Method::ALL.into_iter().enumerate() {
+            assert_eq!(m as usize, i);
+            assert_eq!(REGISTRY[i].name, m.name());
+        }
+    }
+
+    #[test]
+    fn names_round_trip_and_unknown_names_list_the_allowed_ones() {
+        for m in Method::ALL {
+            assert_eq!(m.name().parse::<Method>().unwrap(), m);
+        }
+        let err = "euler".parse::<Method>().unwrap_err().to_string();
+        assert!(
+            err.contains("'euler'") && err.contains("semi-implicit-euler"),
+            "{err}"
+        );
+    }
+}

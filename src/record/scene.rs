@@ -1,0 +1,160 @@
+//! One recorder for every scene: it logs the sampled series, the events and (with --timings)
+//! the frame costs the same way for all of them, and leaves the 3D picture to the scene's
+//! [`Draw`].
+
+use rerun::{RecordingStream, TimeColumn};
+
+use super::log_series_style;
+use crate::scene::harness::{Event, EventKind, Frame, Observer, Run, Scene, SeriesBatch};
+
+/// The plot of wall-clock costs, shown with --timings.
+pub const FRAME_COST: (&str, &str) = (
+    "frame_cost",
+    "simulation cost per 3D frame [ms, wall clock]",
+);
+
+/// What is particular to one scene's recording: its 3D picture.
+pub trait Draw<S: Scene> {
+    /// The value of the `frame` timeline at a tick.
+    fn frame_index(&self, tick: u64) -> i64;
+    /// Static styles, the stage, the run's description.
+    fn start(
+        &mut self,
+        rec: &RecordingStream,
+        scene: &S,
+        lanes: &[(&'static str, &S::Lane)],
+    ) -> anyhow::Result<()>;
+    /// Sampled series of one lane arrived (the pendulum's phase portrait follows them).
+    fn series(&mut self, _lane: usize, _batch: &SeriesBatch) {}
+    /// The 3D state at one frame; the time is already set.
+    fn frame(
+        &mut self,
+        rec: &RecordingStream,
+        scene: &S,
+        frame: &Frame<S::Lane>,
+    ) -> anyhow::Result<()>;
+    /// A lane diverged at this moment (the time is already set): show it is gone, and why.
+    fn diverged(&mut self, rec: &RecordingStream, event: &Event) -> anyhow::Result<()>;
+    fn finish(
+        &mut self,
+        _rec: &RecordingStream,
+        _scene: &S,
+        _run: &Run<S::Lane>,
+    ) -> anyhow::Result<()> {
+        Ok(())
+    }
+}
+
+/// Records a scene's run: `<scene>/plots/<quantity>/<lane>` series, `<scene>/events`, and the
+/// scene's own 3D entities.
+pub struct SceneRecorder<D> {
+    rec: RecordingStream,
+    draw: D,
+    names: Vec<&'static str>,
+    /// Each lane's plotted quantities, in the order of its batches' columns.
+    quantities: Vec<&'static [&'static str]>,
+    /// Whether wall-clock frame costs are plotted.
+    timings: bool,
+}
+
+impl<D> SceneRecorder<D> {
+    pub fn new(rec: RecordingStream, draw: D, timings: bool) -> Self {
+        SceneRecorder {
+            rec,
+            draw,
+            names: Vec::new(),
+            quantities: Vec::new(),
+            timings,
+        }
+    }
+
+    fn set_time<S: Scene>(&self, tick: u64, time: f64)
+    where
+        D: Draw<S>,
+    {
+        self.rec.set_duration_secs("sim_time", time);
+        self.rec
+            .set_time_sequence("frame", self.draw.frame_index(tick));
+    }
+}
+
+impl<S: Scene, D: Draw<S>> Observer<S> for SceneRecorder<D> {
+    fn start(&mut self, scene: &S, lanes: &[(&'static str, &S::Lane)]) -> anyhow::Result<()> {
+        self.names = lanes.iter().map(|l| l.0).collect();
+        self.quantities = lanes.iter().map(|l| scene.quantities(l.1)).collect();
+        self.draw.start(&self.rec, scene, lanes)?;
+        for &(name, lane) in lanes {
+            for quantity in scene.quantities(lane) {
+                log_series_style(
+                    &self.rec,
+                    format!("{}/plots/{quantity}/{name}", scene.name()),
+                    name,
+                )?;
+            }
+            if self.timings && scene.is_method(lane) {
+                log_series_style(
+                    &self.rec,
+                    format!("{}/plots/{}/{name}", scene.name(), FRAME_COST.0),
+                    name,
+                )?;
+            }
+        }
+        Ok(())
+    }
+
+    fn series(&mut self, scene: &S, lane: usize, batch: &SeriesBatch) -> anyhow::Result<()> {
+        self.draw.series(lane, batch);
+        let name = self.names[lane];
+        let times = || {
+            [
+                TimeColumn::new_duration_secs("sim_time", batch.times.iter().copied()),
+                TimeColumn::new_sequence(
+                    "frame",
+                    batch.ticks.iter().map(|&t| self.draw.frame_index(t)),
+                ),
+            ]
+        };
+        for (quantity, values) in self.quantities[lane].iter().zip(&batch.columns) {
+            self.rec.send_columns(
+                format!("{}/plots/{quantity}/{name}", scene.name()),
+                times(),
+                rerun::Scalars::new(values.iter().copied()).columns_of_unit_batches()?,
+            )?;
+        }
+        Ok(())
+    }
+
+    fn frame(&mut self, scene: &S, frame: &Frame<S::Lane>) -> anyhow::Result<()> {
+        self.set_time::<S>(frame.tick, frame.time);
+        self.draw.frame(&self.rec, scene, frame)?;
+        if self.timings && frame.tick > 0 {
+            for (i, lane) in frame.lanes.iter().enumerate() {
+                if let Some((l, _)) = lane
+                    && scene.is_method(l)
+                {
+                    self.rec.log(
+                        format!("{}/plots/{}/{}", scene.name(), FRAME_COST.0, self.names[i]),
+                        &rerun::Scalars::single(frame.cost_ms[i]),
+                    )?;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn event(&mut self, scene: &S, event: &Event) -> anyhow::Result<()> {
+        self.set_time::<S>(event.tick, event.time);
+        self.rec.log(
+            format!("{}/events", scene.name()),
+            &rerun::TextLog::new(event.message.clone()).with_level(rerun::TextLogLevel::WARN),
+        )?;
+        if event.kind == EventKind::Divergence {
+            self.draw.diverged(&self.rec, event)?;
+        }
+        Ok(())
+    }
+
+    fn finish(&mut self, scene: &S, run: &Run<S::Lane>) -> anyhow::Result<()> {
+        self.draw.finish(&self.rec, scene, run)
+    }
+}

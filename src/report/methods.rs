@@ -1,0 +1,41 @@
+//! The registry as the table `physlab methods` prints.
+
+use crate::integrate::{EvalsPerStep, Method, Stability};
+use crate::report::table::Table;
+
+pub fn methods_table() -> String {
+    let mut table = Table::new([
+        "method",
+        "order",
+        "kind",
+        "symplectic",
+        "force evals/step",
+        "stable h = ω dt (undamped oscillator)",
+        "update",
+    ]);
+    for m in Method::ALL {
+        let i = m.info();
+        let stability = match i.stability {
+            Stability::Never => "none (unstable for every h > 0)".to_string(),
+            Stability::Always => "unconditional".to_string(),
+            Stability::Below(h) => format!("h < {h:.6}"),
+            Stability::Adaptive => "error-controlled substeps".to_string(),
+        };
+        table.row([
+            i.name.to_string(),
+            i.order.to_string(),
+            if i.implicit { "implicit" } else { "explicit" }.to_string(),
+            if i.symplectic { "yes" } else { "no" }.to_string(),
+            match i.evals_per_step {
+                EvalsPerStep::Fixed(n) => n.to_string(),
+                EvalsPerStep::NewtonIterations => {
+                    "1 force + 1 Jacobian per Newton iteration".into()
+                }
+                EvalsPerStep::Adaptive => "6 per accepted substep (FSAL)".into(),
+            },
+            stability,
+            i.update.to_string(),
+        ]);
+    }
+    table.render()
+}

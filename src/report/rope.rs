@@ -1,0 +1,89 @@
+//! The rope run's summary table, as printed on stdout.
+
+use crate::integrate::{EvalsPerStep, Method};
+use crate::report::table::{Table, trim_number};
+use crate::scene::harness::{Run, Scene as _, divergence_cell};
+use crate::scene::rope::run::{ENERGY_GAIN_BOUND, RopeLane, RopeScene};
+
+/// What one step of `method` costs on an N-node rope, in words.
+pub fn cost_per_step(method: Method, newton_iterations: u32) -> String {
+    match method.info().evals_per_step {
+        EvalsPerStep::Fixed(k) => format!("{k} force eval{} O(N)", if k == 1 { "" } else { "s" }),
+        EvalsPerStep::NewtonIterations => {
+            format!("≤{newton_iterations} × (force + Jacobian + block-tridiagonal solve) O(N)")
+        }
+        EvalsPerStep::Adaptive => "6 force evals O(N) per accepted substep".to_string(),
+    }
+}
+
+/// A vector as "(x, y, z)" with at most six decimals each.
+pub fn vector_text(d: glam::DVec3) -> String {
+    format!(
+        "({}, {}, {})",
+        trim_number(d.x, 6),
+        trim_number(d.y, 6),
+        trim_number(d.z, 6)
+    )
+}
+
+pub fn summary_text(scene: &RopeScene, run: &Run<RopeLane>) -> String {
+    let c = &scene.config;
+    let p = &c.params;
+    let schedule = scene.schedule();
+    let mut out = format!(
+        "rope: {} nodes from {} to {} m, rest length {} m, mass {} kg/node, ks = {} N/m, kd = {} N·s/m, \
+         ka = {} N·s/m, g = {} m/s², pinned {:?}\n\
+         dt = {} s, {} steps to t = {} s; ω_max (pinned-free chain) = {:.4} rad/s, so ω_max·dt = {:.4} \
+         (semi-implicit Euler and Verlet need < 2, RK4 < 2.83 without damping)\n\
+         E0 = {:.6} J, energy scale {:.4} J; divergence = non-finite state, strain > {:.3}, \
+         or an energy gain > {ENERGY_GAIN_BOUND} × the scale, checked after every step\n\
+         ns/step: wall time of the stepping and its O(N) energy and strain check \
+         (`cargo bench --bench rope_step` times the stepping alone)\n\n",
+        p.nodes,
+        vector_text(p.start),
+        vector_text(p.end),
+        trim_number(scene.rope.rest(), 9),
+        p.mass,
+        p.stiffness,
+        p.spring_damping,
+        p.air_drag,
+        vector_text(p.gravity),
+        p.pinned,
+        c.dt,
+        schedule.total,
+        trim_number(schedule.end_time(), 9),
+        scene.omega_max,
+        scene.omega_max * c.dt,
+        scene.initial_energy,
+        scene.energy_scale,
+        scene.strain_bound,
+    );
+    let mut table = Table::new([
+        "method",
+        "cost per step",
+        "steps",
+        "force evals",
+        "wall [ms]",
+        "ns/step",
+        "final E [J]",
+        "E - E0 [J]",
+        "max strain",
+        "diverged",
+    ]);
+    for (lane, s) in run.lanes.iter().zip(&run.stats) {
+        table.row([
+            s.name.to_string(),
+            cost_per_step(lane.method, p.newton_iterations),
+            s.ticks.to_string(),
+            s.counts.evals.to_string(),
+            format!("{:.3}", s.wall.as_secs_f64() * 1e3),
+            s.ns_per_tick().map_or("—".into(), |ns| format!("{ns:.0}")),
+            format!("{:.6}", lane.final_energy),
+            format!("{:+.3e}", lane.final_energy - scene.initial_energy),
+            format!("{:.3e}", lane.max_strain),
+            divergence_cell(s),
+        ]);
+    }
+    out.push_str(&table.render());
+    out
+}

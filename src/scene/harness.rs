@@ -1,0 +1,618 @@
+//! The one run loop every scene shares: N lanes (methods, and a reference where a scene has
+//! one) side by side on one schedule. The harness steps each lane a block at a time (timing only
+//! the stepping), has the scene check every tick of the block, stops a lane that diverged with
+//! its event, batches the sampled series, hands 3D frames to the observer, and ends early and
+//! cleanly on Ctrl-C. A scene says only what is particular to it through [`Scene`].
+//!
+//! A "tick" is the scene's unit of time on the schedule: one step of dt for the pendulum and the
+//! rope, one simulation frame (of `substeps` steps) for hair.
+
+use std::time::{Duration, Instant};
+
+use crate::integrate::Counts;
+
+/// Series are thinned evenly so that no plot holds more than this many points per lane.
+pub const MAX_PLOT_POINTS: u64 = 10_000;
+
+/// Sampled values are handed to the observer in batches of about this many rows: every batch
+/// becomes a chunk in a recording, and small chunks cost more than their data.
+const SERIES_BATCH: usize = 2048;
+
+/// How a tick maps to simulated time.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Clock {
+    /// Each tick is one step of this many seconds: t = tick · dt.
+    Step(f64),
+    /// This many ticks per second: t = tick / rate.
+    Rate(f64),
+}
+
+impl Clock {
+    pub fn time(self, tick: u64) -> f64 {
+        match self {
+            Clock::Step(dt) => tick as f64 * dt,
+            Clock::Rate(rate) => tick as f64 / rate,
+        }
+    }
+}
+
+/// When a run ticks, hands 3D frames to the observer and samples its series.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Schedule {
+    /// Ticks in the run, at least 1.
+    pub total: u64,
+    /// Ticks between 3D frames, at least 1.
+    pub frame_stride: u64,
+    /// Ticks between sampled series values (the final tick is always sampled), at least 1.
+    pub plot_stride: u64,
+    pub clock: Clock,
+}
+
+impl Schedule {
+    /// A fixed-step schedule: round(duration / dt) steps, 3D frames every round(1 / (fps dt))
+    /// steps, series every `plot_every` steps or more, so that no series holds more than
+    /// [`MAX_PLOT_POINTS`] points.
+    pub fn fixed_step(dt: f64, duration: f64, fps: f64, plot_every: u64) -> Self {
+        let total = ((duration / dt).round() as u64).max(1);
+        Schedule {
+            total,
+            frame_stride: ((1.0 / (fps * dt)).round() as u64).max(1),
+            plot_stride: total.div_ceil(MAX_PLOT_POINTS).max(plot_every).max(1),
+            clock: Clock::Step(dt),
+        }
+    }
+
+    /// Whether the series are sampled at `tick`.
+    pub fn samples(&self, tick: u64) -> bool {
+        tick.is_multiple_of(self.plot_stride) || tick == self.total
+    }
+
+    pub fn time(&self, tick: u64) -> f64 {
+        self.clock.time(tick)
+    }
+
+    /// Simulated time at the end of the run [s].
+    pub fn end_time(&self) -> f64 {
+        self.time(self.total)
+    }
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum EventKind {
+    /// The lane stopped: its state is not finite or past the scene's stated bound.
+    Divergence,
+    /// An implicit step's Newton solve missed its tolerance (the step is kept).
+    SolverNotConverged,
+}
+
+/// Something that happened to one lane at one moment, for the recording's event log.
+#[derive(Clone, Debug)]
+pub struct Event {
+    pub lane: usize,
+    pub time: f64,
+    pub tick: u64,
+    pub kind: EventKind,
+    pub message: String,
+}
+
+/// What a scene found when it checked a block of ticks.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Checked {
+    /// Ticks that passed, from the block's first; fewer than the block when the lane diverged.
+    pub accepted: usize,
+    /// Why the tick after the accepted ones failed its check.
+    pub divergence: Option<String>,
+    /// The first tick (offset in the block, among the accepted) whose implicit solve missed its
+    /// tolerance, and what the solver was asked for.
+    pub solver_miss: Option<(usize, String)>,
+}
+
+impl Checked {
+    /// Every tick of the block passed.
+    pub fn all(len: usize) -> Self {
+        Checked {
+            accepted: len,
+            ..Checked::default()
+        }
+    }
+}
+
+/// One scene: its lanes, how a block of ticks is stepped and checked, what is observed.
+pub trait Scene {
+    /// One lane's working state: a method's integrator and measurements, or the reference.
+    type Lane;
+
+    /// The scene's name: `pendulum`, `rope`, `hair`.
+    fn name(&self) -> &'static str;
+    fn schedule(&self) -> Schedule;
+    /// Every lane, in the order of tables and layouts, with its name.
+    fn lanes(&self) -> Vec<(&'static str, Self::Lane)>;
+    /// Whether this lane is a method (timed, counted) rather than a reference.
+    fn is_method(&self, _lane: &Self::Lane) -> bool {
+        true
+    }
+    /// The scalar series a lane observes, in the order [`Scene::check`] samples them.
+    fn quantities(&self, lane: &Self::Lane) -> &'static [&'static str];
+    /// The values at tick 0, if the series start there.
+    fn initial(&self, lane: &Self::Lane) -> Option<Vec<f64>>;
+    /// Longest block of ticks stepped between checks.
+    fn max_block(&self) -> u64 {
+        u64::MAX
+    }
+    /// Whether a lane keeps every tick of its block, so that a 3D frame inside a block can be
+    /// read back ([`Scene::check`] then sees them all). Otherwise blocks end at 3D frames.
+    fn traced(&self) -> bool {
+        false
+    }
+    /// Work shared by every lane over ticks first..first+len (the pendulum's reference).
+    fn prepare(&mut self, _first: u64, _len: usize) {}
+    /// Steps the lane over ticks first..first+len. This is what is timed.
+    fn advance(&self, lane: &mut Self::Lane, first: u64, len: usize);
+    /// Checks every tick the last `advance` took, in order, stopping at the first that fails,
+    /// and samples the series where the schedule asks.
+    fn check(&self, lane: &mut Self::Lane, first: u64, len: usize, out: &mut Sampler) -> Checked;
+    /// Force evaluations and missed implicit solves so far.
+    fn counts(&self, _lane: &Self::Lane) -> Counts {
+        Counts::default()
+    }
+}
+
+/// Sampled values of one lane: the ticks, their times and one column per quantity.
+#[derive(Clone, Debug, Default)]
+pub struct SeriesBatch {
+    pub ticks: Vec<u64>,
+    pub times: Vec<f64>,
+    pub columns: Vec<Vec<f64>>,
+}
+
+impl SeriesBatch {
+    pub fn new(quantities: usize) -> Self {
+        SeriesBatch {
+            columns: vec![Vec::new(); quantities],
+            ..SeriesBatch::default()
+        }
+    }
+
+    pub fn len(&self) -> usize {
+        self.ticks.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.ticks.is_empty()
+    }
+
+    pub fn clear(&mut self) {
+        self.ticks.clear();
+        self.times.clear();
+        self.columns.iter_mut().for_each(Vec::clear);
+    }
+}
+
+/// Where a scene's check puts the values it samples.
+pub struct Sampler<'a> {
+    schedule: &'a Schedule,
+    batch: &'a mut SeriesBatch,
+}
+
+impl<'a> Sampler<'a> {
+    pub fn new(schedule: &'a Schedule, batch: &'a mut SeriesBatch) -> Self {
+        Sampler { schedule, batch }
+    }
+
+    /// Whether the series are sampled at `tick`.
+    #[inline]
+    pub fn wants(&self, tick: u64) -> bool {
+        self.schedule.samples(tick)
+    }
+
+    /// Records one row: a value per quantity, in [`Scene::quantities`] order.
+    pub fn push(&mut self, tick: u64, values: &[f64]) {
+        debug_assert_eq!(values.len(), self.batch.columns.len());
+        self.batch.ticks.push(tick);
+        self.batch.times.push(self.schedule.time(tick));
+        for (column, &v) in self.batch.columns.iter_mut().zip(values) {
+            column.push(v);
+        }
+    }
+}
+
+/// One lane's bookkeeping: what the summary needs besides the scene's own measurements.
+#[derive(Clone, Debug)]
+pub struct LaneStats {
+    pub name: &'static str,
+    pub is_method: bool,
+    /// Ticks accepted (up to divergence).
+    pub ticks: u64,
+    /// Wall time spent in `advance`.
+    pub wall: Duration,
+    /// Ticks stepped while timed (a diverged block may step past its divergence).
+    pub timed_ticks: u64,
+    pub counts: Counts,
+    pub divergence: Option<Event>,
+}
+
+impl LaneStats {
+    /// Wall time per tick [ns], for method lanes that stepped.
+    pub fn ns_per_tick(&self) -> Option<f64> {
+        (self.is_method && self.timed_ticks > 0)
+            .then(|| self.wall.as_nanos() as f64 / self.timed_ticks as f64)
+    }
+}
+
+/// Every lane at one 3D frame.
+pub struct Frame<'a, L> {
+    /// Frames counted from 0 at tick 0.
+    pub index: u64,
+    pub tick: u64,
+    pub time: f64,
+    /// Per lane: its state and the offset of this tick in its last block (0 for untraced
+    /// scenes' lanes, whose state is at this tick), or `None` once the lane has diverged.
+    pub lanes: Vec<Option<(&'a L, usize)>>,
+    /// Wall-clock milliseconds each lane spent stepping since the previous frame.
+    pub cost_ms: Vec<f64>,
+}
+
+/// A finished (or interrupted) run: the lanes' final states and their bookkeeping.
+pub struct Run<L> {
+    pub lanes: Vec<L>,
+    pub stats: Vec<LaneStats>,
+    /// 3D frames handed out.
+    pub frames: u64,
+    /// Whether the run stopped early on request (Ctrl-C).
+    pub interrupted: bool,
+}
+
+impl<L> Run<L> {
+    /// `scene/lane` for every lane that diverged.
+    pub fn diverged(&self, scene: &str) -> Vec<String> {
+        self.stats
+            .iter()
+            .filter(|s| s.divergence.is_some())
+            .map(|s| format!("{scene}/{}", s.name))
+            .collect()
+    }
+}
+
+/// Receives a run as it happens: the recorder, a progress bar, a test's collector. Errors stop
+/// the run.
+pub trait Observer<S: Scene> {
+    fn start(&mut self, _scene: &S, _lanes: &[(&'static str, &S::Lane)]) -> anyhow::Result<()> {
+        Ok(())
+    }
+    fn series(&mut self, _scene: &S, _lane: usize, _batch: &SeriesBatch) -> anyhow::Result<()> {
+        Ok(())
+    }
+    fn frame(&mut self, _scene: &S, _frame: &Frame<S::Lane>) -> anyhow::Result<()> {
+        Ok(())
+    }
+    fn event(&mut self, _scene: &S, _event: &Event) -> anyhow::Result<()> {
+        Ok(())
+    }
+    fn finish(&mut self, _scene: &S, _run: &Run<S::Lane>) -> anyhow::Result<()> {
+        Ok(())
+    }
+}
+
+/// An observer that ignores everything (measurements without a recording).
+pub struct NoObserver;
+impl<S: Scene> Observer<S> for NoObserver {}
+
+/// Runs every lane of `scene` over its schedule, reporting to `observer`.
+pub fn run<S: Scene>(
+    scene: &mut S,
+    observer: &mut dyn Observer<S>,
+) -> anyhow::Result<Run<S::Lane>> {
+    let schedule = scene.schedule();
+    let (names, mut lanes): (Vec<&'static str>, Vec<S::Lane>) = scene.lanes().into_iter().unzip();
+    let mut stats: Vec<LaneStats> = names
+        .iter()
+        .zip(&lanes)
+        .map(|(&name, lane)| LaneStats {
+            name,
+            is_method: scene.is_method(lane),
+            ticks: 0,
+            wall: Duration::ZERO,
+            timed_ticks: 0,
+            counts: scene.counts(lane),
+            divergence: None,
+        })
+        .collect();
+    let mut batches: Vec<SeriesBatch> = lanes
+        .iter()
+        .map(|l| SeriesBatch::new(scene.quantities(l).len()))
+        .collect();
+    let mut alive = vec![true; lanes.len()];
+    let mut accepted = vec![0usize; lanes.len()];
+    let mut cost = vec![Duration::ZERO; lanes.len()];
+    let mut missed = vec![false; lanes.len()];
+    {
+        let named: Vec<(&'static str, &S::Lane)> = names.iter().copied().zip(&lanes).collect();
+        observer.start(scene, &named)?;
+    }
+
+    // Tick 0: the initial state is every lane's first sample and frame 0.
+    for (i, lane) in lanes.iter().enumerate() {
+        if let Some(values) = scene.initial(lane) {
+            Sampler {
+                schedule: &schedule,
+                batch: &mut batches[i],
+            }
+            .push(0, &values);
+        }
+    }
+    observer.frame(
+        scene,
+        &Frame {
+            index: 0,
+            tick: 0,
+            time: 0.0,
+            lanes: lanes.iter().map(|l| Some((l, 0))).collect(),
+            cost_ms: vec![0.0; lanes.len()],
+        },
+    )?;
+    let mut frames = 1u64;
+
+    let mut first = 1u64;
+    let mut interrupted = false;
+    while first <= schedule.total {
+        // A stop request (Ctrl-C) ends the run at a block boundary; what was done so far stands.
+        if crate::interrupt::requested() {
+            interrupted = true;
+            break;
+        }
+        let mut last = schedule
+            .total
+            .min(first.saturating_add(scene.max_block() - 1));
+        if !scene.traced() {
+            last = last.min(first.next_multiple_of(schedule.frame_stride));
+        }
+        let len = (last - first + 1) as usize;
+        scene.prepare(first, len);
+
+        for (i, lane) in lanes.iter_mut().enumerate() {
+            accepted[i] = 0;
+            if !alive[i] {
+                continue;
+            }
+            let started = Instant::now();
+            scene.advance(lane, first, len);
+            let elapsed = started.elapsed();
+            let s = &mut stats[i];
+            s.wall += elapsed;
+            s.timed_ticks += len as u64;
+            cost[i] += elapsed;
+
+            let checked = scene.check(
+                lane,
+                first,
+                len,
+                &mut Sampler {
+                    schedule: &schedule,
+                    batch: &mut batches[i],
+                },
+            );
+            accepted[i] = checked.accepted;
+            s.ticks += checked.accepted as u64;
+            s.counts = scene.counts(lane);
+            if let Some((offset, what)) = checked.solver_miss
+                && !missed[i]
+            {
+                // Reported once per lane (the summary has the count), so the log stays readable.
+                missed[i] = true;
+                let tick = first + offset as u64;
+                let time = schedule.time(tick);
+                observer.event(
+                    scene,
+                    &Event {
+                        lane: i,
+                        time,
+                        tick,
+                        kind: EventKind::SolverNotConverged,
+                        message: format!(
+                            "{}: an implicit step at t = {time:.6} s missed its Newton tolerance \
+                             ({what}); the summary counts all such steps",
+                            s.name
+                        ),
+                    },
+                )?;
+            }
+            if let Some(why) = checked.divergence {
+                let tick = first + checked.accepted as u64;
+                let time = schedule.time(tick);
+                let event = Event {
+                    lane: i,
+                    time,
+                    tick,
+                    kind: EventKind::Divergence,
+                    message: format!(
+                        "{} diverged at t = {time:.6} s (tick {tick}): {why}",
+                        s.name
+                    ),
+                };
+                observer.event(scene, &event)?;
+                s.divergence = Some(event);
+                alive[i] = false;
+            }
+            let batch = &mut batches[i];
+            if !batch.is_empty() && (batch.len() >= SERIES_BATCH || !alive[i]) {
+                observer.series(scene, i, batch)?;
+                batch.clear();
+            }
+        }
+
+        // 3D frames that fall in this block.
+        let mut tick = first.next_multiple_of(schedule.frame_stride);
+        while tick <= last {
+            let offset = (tick - first) as usize;
+            let view = Frame {
+                index: frames,
+                tick,
+                time: schedule.time(tick),
+                lanes: lanes
+                    .iter()
+                    .enumerate()
+                    .map(|(i, l)| (offset < accepted[i]).then_some((l, offset)))
+                    .collect(),
+                cost_ms: cost.iter().map(|c| c.as_secs_f64() * 1e3).collect(),
+            };
+            observer.frame(scene, &view)?;
+            cost.fill(Duration::ZERO);
+            frames += 1;
+            tick += schedule.frame_stride;
+        }
+        first = last + 1;
+    }
+    for (i, batch) in batches.iter_mut().enumerate() {
+        if !batch.is_empty() {
+            observer.series(scene, i, batch)?;
+            batch.clear();
+        }
+    }
+    let run = Run {
+        lanes,
+        stats,
+        frames,
+        interrupted,
+    };
+    observer.finish(scene, &run)?;
+    Ok(run)
+}
+
+/// The summaries' "diverged" cell: when the lane was stopped and how many implicit solves
+/// missed their tolerance.
+pub fn divergence_cell(stats: &LaneStats) -> String {
+    let mut cell = match &stats.divergence {
+        Some(ev) => format!("yes, t = {:.4} s", ev.time),
+        None => "no".to_string(),
+    };
+    let failed = stats.counts.failed_solves;
+    if failed > 0 {
+        cell.push_str(&format!("; Newton missed tolerance on {failed} steps"));
+    }
+    cell
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A scene whose one lane counts ticks and "diverges" at a given tick; series = the tick.
+    struct Counter {
+        schedule: Schedule,
+        diverge_at: u64,
+        traced: bool,
+    }
+
+    struct Lane {
+        at: u64,
+        bad: Option<u64>,
+    }
+
+    impl Scene for Counter {
+        type Lane = Lane;
+        fn name(&self) -> &'static str {
+            "counter"
+        }
+        fn schedule(&self) -> Schedule {
+            self.schedule
+        }
+        fn lanes(&self) -> Vec<(&'static str, Lane)> {
+            vec![("a", Lane { at: 0, bad: None })]
+        }
+        fn quantities(&self, _: &Lane) -> &'static [&'static str] {
+            &["tick"]
+        }
+        fn initial(&self, _: &Lane) -> Option<Vec<f64>> {
+            Some(vec![0.0])
+        }
+        fn max_block(&self) -> u64 {
+            7
+        }
+        fn traced(&self) -> bool {
+            self.traced
+        }
+        fn advance(&self, lane: &mut Lane, first: u64, len: usize) {
+            for k in 0..len as u64 {
+                lane.at = first + k;
+                if lane.at == self.diverge_at {
+                    lane.bad = Some(k);
+                    return;
+                }
+            }
+        }
+        fn check(&self, lane: &mut Lane, first: u64, len: usize, out: &mut Sampler) -> Checked {
+            let ok = lane.bad.map_or(len, |k| k as usize);
+            for k in 0..ok as u64 {
+                if out.wants(first + k) {
+                    out.push(first + k, &[(first + k) as f64]);
+                }
+            }
+            Checked {
+                accepted: ok,
+                divergence: lane.bad.map(|_| "bad".to_string()),
+                solver_miss: None,
+            }
+        }
+    }
+
+    #[derive(Default)]
+    struct Collect {
+        rows: Vec<u64>,
+        frames: Vec<(u64, bool)>,
+        events: Vec<u64>,
+    }
+
+    impl Observer<Counter> for Collect {
+        fn series(&mut self, _: &Counter, _: usize, b: &SeriesBatch) -> anyhow::Result<()> {
+            self.rows.extend(&b.ticks);
+            Ok(())
+        }
+        fn frame(&mut self, _: &Counter, f: &Frame<Lane>) -> anyhow::Result<()> {
+            self.frames.push((f.tick, f.lanes[0].is_some()));
+            Ok(())
+        }
+        fn event(&mut self, _: &Counter, e: &Event) -> anyhow::Result<()> {
+            self.events.push(e.tick);
+            Ok(())
+        }
+    }
+
+    fn schedule(total: u64, frame_stride: u64, plot_stride: u64) -> Schedule {
+        Schedule {
+            total,
+            frame_stride,
+            plot_stride,
+            clock: Clock::Step(0.5),
+        }
+    }
+
+    #[test]
+    fn samples_strides_and_the_last_tick_frames_every_stride_and_stops_at_divergence() {
+        for traced in [false, true] {
+            let mut scene = Counter {
+                schedule: schedule(20, 3, 4),
+                diverge_at: 100,
+                traced,
+            };
+            let mut seen = Collect::default();
+            let result = run(&mut scene, &mut seen).unwrap();
+            assert_eq!(seen.rows, [0, 4, 8, 12, 16, 20]);
+            let frames: Vec<u64> = seen.frames.iter().map(|f| f.0).collect();
+            assert_eq!(frames, [0, 3, 6, 9, 12, 15, 18]);
+            assert_eq!(result.stats[0].ticks, 20);
+
+            let mut scene = Counter {
+                schedule: schedule(20, 3, 1),
+                diverge_at: 10,
+                traced,
+            };
+            let mut seen = Collect::default();
+            let result = run(&mut scene, &mut seen).unwrap();
+            assert_eq!(seen.rows, (0..10).collect::<Vec<_>>());
+            assert_eq!(seen.events, [10]);
+            assert_eq!(result.stats[0].ticks, 9, "ticks 1..=9 passed");
+            // Frames after the divergence show the lane as gone.
+            assert!(seen.frames.iter().all(|&(t, alive)| alive == (t < 10)));
+        }
+    }
+}

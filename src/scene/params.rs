@@ -1,0 +1,132 @@
+//! Checks shared by every scene's `validate()`: each names the parameter (as its flag), the value
+//! and what is allowed, so the same message serves a flag and a scene-file key.
+
+pub use crate::error::UsageError as Invalid;
+
+/// Runs longer than this many steps per method are refused: a typo in --dt should not
+/// start an hours-long run.
+pub const MAX_STEPS: f64 = 1e9;
+
+/// Node-steps per method beyond which a run is refused (about an hour at ~30 ns per node-step).
+pub const MAX_NODE_STEPS: f64 = 1e11;
+
+pub fn finite(option: &str, value: f64, unit: &str) -> Result<(), Invalid> {
+    if value.is_finite() {
+        Ok(())
+    } else {
+        Err(Invalid(format!(
+            "{option} {value}: must be a finite number [{unit}]"
+        )))
+    }
+}
+
+pub fn positive(option: &str, value: f64, unit: &str) -> Result<(), Invalid> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(Invalid(format!(
+            "{option} {value}: must be a finite number > 0 [{unit}]"
+        )))
+    }
+}
+
+pub fn non_negative(option: &str, value: f64, unit: &str) -> Result<(), Invalid> {
+    if value.is_finite() && value >= 0.0 {
+        Ok(())
+    } else {
+        Err(Invalid(format!(
+            "{option} {value}: must be a finite number ≥ 0 [{unit}]"
+        )))
+    }
+}
+
+pub fn at_least_one(option: &str, value: u64) -> Result<(), Invalid> {
+    if value == 0 {
+        Err(Invalid(format!("{option} 0: must be at least 1")))
+    } else {
+        Ok(())
+    }
+}
+
+pub fn rtol(rtol: f64) -> Result<(), Invalid> {
+    if rtol.is_finite() && (1e-14..=0.1).contains(&rtol) {
+        Ok(())
+    } else {
+        Err(Invalid(format!(
+            "--rtol {rtol}: must be between 1e-14 and 0.1"
+        )))
+    }
+}
+
+pub fn verlet_damping(d: f64) -> Result<(), Invalid> {
+    if d.is_finite() && (0.0..1.0).contains(&d) {
+        Ok(())
+    } else {
+        Err(Invalid(format!("--verlet-damping {d}: must be in [0, 1)")))
+    }
+}
+
+/// dt, duration and fps, and a refusal of runs whose work (steps × `work_per_step`, e.g. nodes)
+/// would take hours.
+pub fn time(dt: f64, duration: f64, fps: f64, work_per_step: usize) -> Result<(), Invalid> {
+    positive("--dt", dt, "s")?;
+    positive("--duration", duration, "s")?;
+    positive("--fps", fps, "Hz")?;
+    if dt > duration {
+        return Err(Invalid(format!(
+            "--dt {dt}: must not exceed --duration {duration} s"
+        )));
+    }
+    let steps = duration / dt;
+    if steps > MAX_STEPS {
+        return Err(Invalid(format!(
+            "--dt {dt} with --duration {duration} is {steps:.2e} steps per method; at most {MAX_STEPS:.0e} \
+             are allowed (raise --dt or shorten --duration)"
+        )));
+    }
+    let work = steps * work_per_step as f64;
+    if work > MAX_NODE_STEPS {
+        return Err(Invalid(format!(
+            "--duration {duration} / --dt {dt} × {work_per_step} nodes is {work:.2e} node-steps per method; \
+             at most {MAX_NODE_STEPS:.0e} are allowed (raise --dt, shorten --duration or use fewer --nodes)"
+        )));
+    }
+    Ok(())
+}
+
+/// The memory this machine has available [bytes] (MemAvailable), if it can be read.
+fn available_memory() -> Option<f64> {
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024.0)
+}
+
+/// Refuses a run whose state would not fit in memory, naming the estimate and what to change.
+pub fn memory(what: &str, bytes: f64, change: &str) -> Result<(), Invalid> {
+    if let Some(available) = available_memory()
+        && bytes > 0.8 * available
+    {
+        return Err(Invalid(format!(
+            "{what} needs about {:.1} GB of memory, more than the {:.1} GB available; {change}",
+            bytes / 1e9,
+            available / 1e9
+        )));
+    }
+    Ok(())
+}
+
+/// The methods as given, first occurrence kept; `defaults` when none is given.
+pub fn dedup_methods<M: Copy + PartialEq>(given: &[M], defaults: &[M]) -> Vec<M> {
+    let mut methods: Vec<M> = Vec::new();
+    for &m in given {
+        if !methods.contains(&m) {
+            methods.push(m);
+        }
+    }
+    if methods.is_empty() {
+        defaults.to_vec()
+    } else {
+        methods
+    }
+}
