@@ -7,7 +7,7 @@
 use rerun::RecordingStream;
 use rerun::blueprint::{Blueprint, Horizontal, Vertical};
 
-use super::scene::{Draw, SceneRecorder};
+use super::scene::{Draw, SceneRecorder, clear_diverged};
 use super::{
     about_and_events, log_stage, method_color, plot_column, plots_shown, scene_blueprint,
     scene_view,
@@ -174,12 +174,10 @@ impl Draw<HairScene> for HairDraw {
 
     fn diverged(&mut self, rec: &RecordingStream, e: &Event) -> anyhow::Result<()> {
         let name = self.names[e.lane];
-        rec.log(format!("hair/{name}/strands"), &rerun::Clear::flat())?;
-        rec.log(format!("hair/{name}/roots"), &rerun::Clear::flat())?;
+        let label = clear_diverged(rec, "hair", name, &["strands", "roots"], e)?;
         rec.log(
             format!("hair/{name}/head"),
-            &rerun::Ellipsoids3D::update_fields()
-                .with_labels([format!("{name}: diverged at t = {:.3} s", e.time)]),
+            &rerun::Ellipsoids3D::update_fields().with_labels([label]),
         )?;
         Ok(())
     }

@@ -11,7 +11,7 @@
 use rerun::RecordingStream;
 use rerun::blueprint::{Blueprint, Horizontal, Spatial2DView, Vertical};
 
-use super::scene::{Draw, SceneRecorder};
+use super::scene::{Draw, SceneRecorder, clear_diverged};
 use super::{
     about_and_events, log_stage, method_color, plot_column, plots_shown, scene_blueprint,
     scene_view, slot_cells,
@@ -263,11 +263,7 @@ impl Draw<PendulumScene> for PendulumDraw {
     fn diverged(&mut self, rec: &RecordingStream, event: &Event) -> anyhow::Result<()> {
         // From this moment the lane shows no pendulum, only a marker saying why.
         let name = self.lanes[event.lane];
-        rec.log(format!("pendulum/{name}/rod"), &rerun::Clear::flat())?;
-        rec.log(
-            format!("pendulum/{name}/exact_ghost"),
-            &rerun::Clear::flat(),
-        )?;
+        let label = clear_diverged(rec, "pendulum", name, &["rod", "exact_ghost"], event)?;
         rec.log(
             format!("pendulum/phase/{name}/state"),
             &rerun::Clear::flat(),
@@ -275,7 +271,7 @@ impl Draw<PendulumScene> for PendulumDraw {
         rec.log(
             format!("pendulum/{name}/bob"),
             &rerun::Points3D::new([self.pivot(event.lane)])
-                .with_labels([format!("{name}: diverged at t = {:.3} s", event.time)])
+                .with_labels([label])
                 .with_colors([method_color(name)]),
         )?;
         Ok(())

@@ -9,7 +9,7 @@
 use rerun::RecordingStream;
 use rerun::blueprint::{Blueprint, Horizontal, Vertical};
 
-use super::scene::{Draw, SceneRecorder};
+use super::scene::{Draw, SceneRecorder, clear_diverged};
 use super::{
     about_and_events, log_stage, method_color, plot_column, plots_shown, scene_blueprint,
     scene_view, slot_cells,
@@ -200,12 +200,10 @@ impl Draw<RopeScene> for RopeDraw {
     fn diverged(&mut self, rec: &RecordingStream, e: &Event) -> anyhow::Result<()> {
         let name = self.names[e.lane];
         // The rope disappears from its slot; its pin marker stays, relabelled.
-        rec.log(format!("rope/{name}/nodes"), &rerun::Clear::flat())?;
-        rec.log(format!("rope/{name}/strip"), &rerun::Clear::flat())?;
+        let label = clear_diverged(rec, "rope", name, &["nodes", "strip"], e)?;
         rec.log(
             format!("rope/{name}/pinned"),
-            &rerun::Points3D::update_fields()
-                .with_labels([format!("{name}: diverged at t = {:.3} s", e.time)]),
+            &rerun::Points3D::update_fields().with_labels([label]),
         )?;
         Ok(())
     }

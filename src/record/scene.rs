@@ -45,6 +45,21 @@ pub trait Draw<S: Scene> {
     }
 }
 
+/// Clears a diverged lane's moving entities (`<scene>/<lane>/<part>` for each part) and returns
+/// the label that says when it stopped, for the entity that stays in its slot.
+pub fn clear_diverged(
+    rec: &RecordingStream,
+    scene: &str,
+    lane: &str,
+    parts: &[&str],
+    event: &Event,
+) -> anyhow::Result<String> {
+    for part in parts {
+        rec.log(format!("{scene}/{lane}/{part}"), &rerun::Clear::flat())?;
+    }
+    Ok(format!("{lane}: diverged at t = {:.3} s", event.time))
+}
+
 /// Records a scene's run: `<scene>/plots/<quantity>/<lane>` series, `<scene>/events`, and the
 /// scene's own 3D entities.
 pub struct SceneRecorder<D> {

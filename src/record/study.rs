@@ -53,7 +53,7 @@ pub fn record_study(
             // 2D views point y down, so log10 error (negative) puts the accurate runs on top.
             let pts: Vec<[f32; 2]> = mine
                 .iter()
-                .map(|r| [cost(r).log10() as f32, r.error.unwrap().log10() as f32])
+                .filter_map(|r| Some([cost(r).log10() as f32, r.error?.log10() as f32]))
                 .collect();
             if pts.is_empty() {
                 continue;

@@ -297,8 +297,7 @@ impl Scene for RopeScene {
             lane.max_strain = lane.max_strain.max(strain);
             lane.final_energy = energy;
             let step = first + k as u64;
-            // TEMPORARY (refactor check): the seeds' rope also sampled at every 3D frame.
-            if schedule.samples(step) || step.is_multiple_of(schedule.frame_stride) {
+            if schedule.samples(step) {
                 lane.rows
                     .push((step, [energy, energy - self.initial_energy, strain]));
             }
