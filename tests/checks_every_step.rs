@@ -9,7 +9,10 @@ use physlab::scene::rope::run::{RopeConfig, RopeLane, RopeScene};
 
 /// What a summary reports per lane, as bits: accepted ticks, evaluations, divergence tick, and
 /// the scene's own figures.
-fn stats<L>(r: &Run<L>, figures: impl Fn(&L) -> Vec<f64>) -> Vec<(u64, u64, Option<u64>, Vec<u64>)> {
+fn stats<L>(
+    r: &Run<L>,
+    figures: impl Fn(&L) -> Vec<f64>,
+) -> Vec<(u64, u64, Option<u64>, Vec<u64>)> {
     r.lanes
         .iter()
         .zip(&r.stats)
@@ -42,7 +45,11 @@ fn rope_summary_is_the_same_for_any_plot_and_frame_rate() {
     // late): their divergence step must not move with the logging either.
     assert!(reference.iter().filter(|l| l.2.is_some()).count() >= 2);
     for (plot_every, fps) in [(5, 30.0), (50, 30.0), (7, 1.0), (1, 997.0), (333, 0.5)] {
-        assert_eq!(rope(plot_every, fps), reference, "--plot-every {plot_every} --fps {fps}");
+        assert_eq!(
+            rope(plot_every, fps),
+            reference,
+            "--plot-every {plot_every} --fps {fps}"
+        );
     }
 }
 

@@ -19,8 +19,8 @@ pub use file::SceneFile;
 
 use crate::cli::{AllArgs, Cli, Command, HairArgs, PendulumArgs, RopeArgs, RunArgs};
 use crate::record::scene::{Draw, SceneRecorder};
+use crate::{record, report};
 use crate::record::{Destinations, Recording, send_provenance};
-use crate::report::methods::methods_table;
 use crate::scene::hair::run::{HairConfig, HairScene};
 use crate::scene::harness::{self, NoObserver, Observer, Run, Scene};
 use crate::scene::pendulum::run::{PendulumConfig, PendulumScene};
@@ -30,7 +30,7 @@ use progress::{Progress, WithProgress};
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Methods => {
-            print!("{}", methods_table());
+            print!("{}", report::methods::methods_table());
             Ok(())
         }
         Command::Inspect(args) => inspect::inspect_command(&args),
@@ -237,66 +237,75 @@ fn simulate(plan: Plan, run: &RunArgs, output: &Output) -> anyhow::Result<()> {
     let mut diverged = Vec::new();
     let stream = recording.as_ref().map(|r| r.stream().clone());
     // Scenes run one after another; after an interruption the remaining ones are skipped.
+    let timings = run.timings;
+    let mut collect = |text: String, diverged_lanes: Vec<String>| {
+        summaries.push(text);
+        diverged.extend(diverged_lanes);
+    };
     if let Some(config) = resolved.pendulum {
-        let mut scene = PendulumScene::new(config);
-        let recorder = stream
-            .clone()
-            .map(|s| crate::record::pendulum::recorder(s, run.timings));
-        let result = run_scene(&mut scene, recorder, &mut progress)?;
-        summaries.push(crate::report::pendulum::summary_text(&scene, &result));
-        diverged.extend(result.diverged("pendulum"));
+        let recorder = stream.clone().map(|s| record::pendulum::recorder(s, timings));
+        let (text, lanes) = run_scene(
+            PendulumScene::new(config),
+            recorder,
+            report::pendulum::summary_text,
+            &mut progress,
+        )?;
+        collect(text, lanes);
     }
     if let Some(config) = resolved.rope
         && !crate::interrupt::requested()
     {
-        let mut scene = RopeScene::new(config);
-        let recorder = stream
-            .clone()
-            .map(|s| crate::record::rope::recorder(s, run.timings));
-        let result = run_scene(&mut scene, recorder, &mut progress)?;
-        summaries.push(crate::report::rope::summary_text(&scene, &result));
-        diverged.extend(result.diverged("rope"));
+        let recorder = stream.clone().map(|s| record::rope::recorder(s, timings));
+        let (text, lanes) = run_scene(
+            RopeScene::new(config),
+            recorder,
+            report::rope::summary_text,
+            &mut progress,
+        )?;
+        collect(text, lanes);
     }
     if let Some(config) = resolved.hair
         && !crate::interrupt::requested()
     {
-        let recorder = stream
-            .clone()
-            .map(|s| crate::record::hair::recorder(s, run.timings));
-        let (scene, result) = pool.install(|| {
-            let mut scene = HairScene::new(config);
-            let result = run_scene(&mut scene, recorder, &mut progress);
-            result.map(|r| (scene, r))
+        let recorder = stream.clone().map(|s| record::hair::recorder(s, timings));
+        // Hair spreads its strands over the pool (--threads); the results do not depend on it.
+        let (mut text, lanes) = pool.install(|| {
+            run_scene(
+                HairScene::new(config),
+                recorder,
+                report::hair::summary_text,
+                &mut progress,
+            )
         })?;
-        let mut text = crate::report::hair::summary_text(&scene, &result);
         if no_record {
             text.push_str(&format!(
                 "\nno recording (--no-record), {:.1} s\n",
                 started.elapsed().as_secs_f64()
             ));
         }
-        summaries.push(text);
-        diverged.extend(result.diverged("hair"));
+        collect(text, lanes);
     }
     progress.finish();
     drop(stream);
     finish(recording, &d, started, &summaries, &diverged, run)
 }
 
-/// Runs one scene through the harness, recording it when a recorder is given.
+/// Runs one scene through the harness (recording it when a recorder is given) and returns its
+/// summary and the lanes that diverged.
 fn run_scene<S: Scene, D: Draw<S>>(
-    scene: &mut S,
-    recorder: Option<SceneRecorder<D>>,
+    mut scene: S,
+    mut recorder: Option<SceneRecorder<D>>,
+    summary: fn(&S, &Run<S::Lane>) -> String,
     progress: &mut Progress,
-) -> anyhow::Result<Run<S::Lane>> {
+) -> anyhow::Result<(String, Vec<String>)> {
     progress.stage(scene.name(), scene.schedule().end_time());
     let mut quiet = NoObserver;
-    let mut recorder = recorder;
     let inner: &mut dyn Observer<S> = match &mut recorder {
         Some(r) => r,
         None => &mut quiet,
     };
-    harness::run(scene, &mut WithProgress { inner, progress })
+    let run = harness::run(&mut scene, &mut WithProgress { inner, progress })?;
+    Ok((summary(&scene, &run), run.diverged(scene.name())))
 }
 
 /// Every method the recording holds, first occurrence kept (pendulum, hair, rope).

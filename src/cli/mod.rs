@@ -284,6 +284,7 @@ fn with_defaults<T: Serialize>(mut cmd: clap::Command, defaults: &T) -> clap::Co
 fn show(value: &toml::Value) -> String {
     match value {
         toml::Value::String(s) => s.clone(),
+        toml::Value::Float(x) if *x != 0.0 && x.abs() < 1e-3 => format!("{x:e}"),
         toml::Value::Float(x) => format!("{x}"),
         toml::Value::Integer(n) => n.to_string(),
         toml::Value::Boolean(b) => b.to_string(),
