@@ -73,8 +73,8 @@ fn pendulum(plot_every: u64, fps: f64, dt: f64) -> Vec<(u64, u64, Option<u64>, V
 
 #[test]
 fn pendulum_summary_is_the_same_for_any_plot_and_frame_rate() {
-    // dt = 0.6 s: explicit Euler and midpoint diverge within the run.
-    for dt in [0.01, 0.6] {
+    // dt = 1 s: explicit Euler and midpoint diverge within the run.
+    for dt in [0.01, 1.0] {
         let reference = pendulum(1, 30.0, dt);
         assert_eq!(reference.iter().any(|l| l.2.is_some()), dt > 0.1);
         for (plot_every, fps) in [(5, 30.0), (50, 3.0), (7, 1000.0), (4096, 0.05)] {

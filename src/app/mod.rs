@@ -19,12 +19,12 @@ pub use file::SceneFile;
 
 use crate::cli::{AllArgs, Cli, Command, HairArgs, PendulumArgs, RopeArgs, RunArgs};
 use crate::record::scene::{Draw, SceneRecorder};
-use crate::{record, report};
 use crate::record::{Destinations, Recording, send_provenance};
 use crate::scene::hair::run::{HairConfig, HairScene};
 use crate::scene::harness::{self, NoObserver, Observer, Run, Scene};
 use crate::scene::pendulum::run::{PendulumConfig, PendulumScene};
 use crate::scene::rope::run::{RopeConfig, RopeScene};
+use crate::{record, report};
 use progress::{Progress, WithProgress};
 
 pub fn run(cli: Cli) -> anyhow::Result<()> {
@@ -243,7 +243,9 @@ fn simulate(plan: Plan, run: &RunArgs, output: &Output) -> anyhow::Result<()> {
         diverged.extend(diverged_lanes);
     };
     if let Some(config) = resolved.pendulum {
-        let recorder = stream.clone().map(|s| record::pendulum::recorder(s, timings));
+        let recorder = stream
+            .clone()
+            .map(|s| record::pendulum::recorder(s, timings));
         let (text, lanes) = run_scene(
             PendulumScene::new(config),
             recorder,

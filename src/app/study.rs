@@ -7,8 +7,8 @@ use super::SceneFile;
 use super::UsageError;
 use crate::cli::{PendulumArgs, RopeArgs, StudyArgs, StudyKind, StudyScene};
 use crate::integrate::{Method, MethodOptions};
-use crate::report::table::Table;
-use crate::study::{Limit, Problem, Row, Sweep, cheapest, error_floor, orders, stability, sweep};
+use crate::report::study as report;
+use crate::study::{Limit, Problem, Row, Sweep, error_floor, stability, sweep};
 
 /// The study's problem and sweep from its flags, over the scene file, over the scene defaults
 /// (for the rope's convergence and cost: a softer, undamped rope, so that explicit methods
@@ -19,28 +19,25 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64), UsageError> {
         None => SceneFile::default(),
     };
     let stability_study = a.kind == StudyKind::Stability;
-    let levels = a.levels.unwrap_or(6);
+    let levels = a.levels.unwrap_or(crate::study::DEFAULT_LEVELS);
     if !(2..=20).contains(&levels) {
         return Err(UsageError(format!(
             "--levels {levels}: must be between 2 and 20"
         )));
     }
-    let repeats = a.repeats.unwrap_or(5);
+    let repeats = a.repeats.unwrap_or(crate::study::DEFAULT_REPEATS);
     if !(1..=100).contains(&repeats) {
         return Err(UsageError(format!(
             "--repeats {repeats}: must be between 1 and 100"
         )));
     }
-    let steps = a.steps.unwrap_or(2000);
+    let steps = a.steps.unwrap_or(crate::study::DEFAULT_STABILITY_STEPS);
     if !(10..=10_000_000).contains(&steps) {
         return Err(UsageError(format!(
             "--steps {steps}: must be between 10 and 10000000"
         )));
     }
-    let rtols = a
-        .rtol
-        .clone()
-        .unwrap_or_else(|| (3..=12).map(|k| 10f64.powi(-k)).collect());
+    let rtols = a.rtol.clone().unwrap_or_else(crate::study::default_rtols);
     if let Some(bad) = rtols
         .iter()
         .find(|r| !(r.is_finite() && (1e-14..=0.1).contains(*r)))
@@ -50,7 +47,7 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64), UsageError> {
         )));
     }
     let methods = a.methods.clone().unwrap_or_else(|| Method::ALL.to_vec());
-    let (problem, dt0, duration) = match a.scene {
+    let problem = match a.scene {
         StudyScene::Pendulum => {
             let flags = PendulumArgs {
                 theta0: a.theta0,
@@ -58,18 +55,14 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64), UsageError> {
                 ..PendulumArgs::default()
             };
             let args = flags.over(file.pendulum.unwrap_or_default());
-            let c = super::pendulum_config(&args)?;
-            (
-                Problem::Pendulum(c.params),
-                a.dt.unwrap_or(0.02),
-                a.duration.unwrap_or(10.0),
-            )
+            Problem::Pendulum(super::pendulum_config(&args)?.params)
         }
         StudyScene::Rope => {
+            let study = crate::study::study_rope(stability_study);
             let study_defaults = RopeArgs {
-                stiffness: (!stability_study).then_some(100.0),
-                spring_damping: Some(0.0),
-                air_drag: Some(0.0),
+                stiffness: Some(study.stiffness),
+                spring_damping: Some(study.spring_damping),
+                air_drag: Some(study.air_drag),
                 ..RopeArgs::default()
             };
             let flags = RopeArgs {
@@ -83,14 +76,14 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64), UsageError> {
             let args = flags
                 .over(file.rope.unwrap_or_default())
                 .over(study_defaults);
-            let c = super::rope_config(&args)?;
-            (
-                Problem::Rope(c.params),
-                a.dt.unwrap_or(0.002),
-                a.duration.unwrap_or(1.0),
-            )
+            Problem::Rope(super::rope_config(&args)?.params)
         }
     };
+    let (default_dt, default_duration) = crate::study::default_schedule(&problem);
+    let (dt0, duration) = (
+        a.dt.unwrap_or(default_dt),
+        a.duration.unwrap_or(default_duration),
+    );
     crate::scene::params::positive("--dt", dt0, "s")?;
     crate::scene::params::positive("--duration", duration, "s")?;
     if dt0 > duration {
@@ -110,14 +103,10 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64), UsageError> {
     Ok((problem, sweep, steps))
 }
 
-fn sci(x: f64) -> String {
-    format!("{x:.3e}")
-}
-
 pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
     let (problem, sw, steps) = setup(a)?;
     let mut out = String::new();
-    let mut csv = String::new();
+    let csv;
     let mut rows: Vec<Row> = Vec::new();
     let mut limits: Vec<Limit> = Vec::new();
     match a.kind {
@@ -146,104 +135,48 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
                 error_floor(reference_error)
             )?;
             if a.kind == StudyKind::Convergence {
-                let mut t = Table::new([
-                    "method",
-                    "theory order",
-                    "fitted order",
-                    "order range",
-                    "diverged at dt",
-                ]);
-                for o in orders(&rows, error_floor(reference_error)) {
-                    t.row([
-                        o.method.name().to_string(),
-                        o.method.info().order.to_string(),
-                        o.fitted.map_or("— (fewer than 2 usable rows)".into(), |f| {
-                            format!("{f:.3}")
-                        }),
-                        o.range
-                            .map_or("—".into(), |(lo, hi)| format!("{lo:.3} – {hi:.3}")),
-                        if o.diverged_at.is_empty() {
-                            "—".into()
-                        } else {
-                            o.diverged_at
-                                .iter()
-                                .map(|d| format!("{d:.3e}"))
-                                .collect::<Vec<_>>()
-                                .join(", ")
-                        },
-                    ]);
-                }
-                out.push_str(&t.render());
+                out.push_str(&report::orders_table(
+                    &rows,
+                    error_floor(reference_error),
+                    problem.velocity_dependent(),
+                ));
                 out.push('\n');
+                if let Problem::Rope(p) = &problem
+                    && p.spring_damping == 0.0
+                    && p.air_drag == 0.0
+                {
+                    // Velocity-dependent forces change what some methods' orders are: show the
+                    // same rope with the scene's damping beside the undamped one.
+                    let scene = crate::scene::rope::RopeParams::default();
+                    let damped = Problem::Rope(crate::scene::rope::RopeParams {
+                        spring_damping: scene.spring_damping,
+                        air_drag: scene.air_drag,
+                        ..p.clone()
+                    });
+                    let (damped_rows, damped_error) = sweep(&damped, &sw);
+                    writeln!(
+                        out,
+                        "the same rope with the scene's spring damping {} N·s/m and air drag {} N·s/m \
+                         (velocity-dependent forces):\n",
+                        scene.spring_damping, scene.air_drag
+                    )?;
+                    out.push_str(&report::orders_table(
+                        &damped_rows,
+                        error_floor(damped_error),
+                        true,
+                    ));
+                    out.push('\n');
+                }
             }
-            let mut t = Table::new([
-                "method",
-                "dt [s]",
-                "rtol",
-                "error",
-                "force evals",
-                "median wall [s]",
-            ]);
-            for r in &rows {
-                t.row([
-                    r.method.name().to_string(),
-                    sci(r.dt),
-                    r.rtol.map_or("—".into(), sci),
-                    r.error.map_or("diverged".into(), sci),
-                    r.evals.to_string(),
-                    sci(r.wall_seconds),
-                ]);
-            }
-            out.push_str(&t.render());
+            out.push_str(&report::rows_table(&rows));
             if a.kind == StudyKind::WorkPrecision {
                 writeln!(
                     out,
                     "\ncheapest run reaching each error (from the rows above):\n"
                 )?;
-                let mut t = Table::new([
-                    "target error",
-                    "fastest (wall)",
-                    "its wall [s]",
-                    "fewest evaluations",
-                    "its evals",
-                ]);
-                for target in [1e-3, 1e-6, 1e-9] {
-                    let (by_wall, by_evals) = cheapest(&rows, target);
-                    let name = |r: Option<&Row>| {
-                        r.map_or("none reached it".to_string(), |r| {
-                            format!(
-                                "{} (dt {}{})",
-                                r.method.name(),
-                                sci(r.dt),
-                                r.rtol.map_or(String::new(), |t| format!(", rtol {t:.0e}"))
-                            )
-                        })
-                    };
-                    t.row([
-                        format!("{target:.0e}"),
-                        name(by_wall),
-                        by_wall.map_or("—".into(), |r| sci(r.wall_seconds)),
-                        name(by_evals),
-                        by_evals.map_or("—".into(), |r| r.evals.to_string()),
-                    ]);
-                }
-                out.push_str(&t.render());
+                out.push_str(&report::cheapest_table(&rows, &[1e-3, 1e-6, 1e-9]));
             }
-            csv.push_str("scene,method,dt,rtol,error,evals,wall_seconds,stable\n");
-            for r in &rows {
-                writeln!(
-                    csv,
-                    "{},{},{:e},{},{},{},{:e},{}",
-                    r.scene,
-                    r.method,
-                    r.dt,
-                    r.rtol.map_or(String::new(), |t| format!("{t:e}")),
-                    r.error.map_or(String::new(), |e| format!("{e:e}")),
-                    r.evals,
-                    r.wall_seconds,
-                    r.error.is_some()
-                )?;
-            }
+            csv = report::rows_csv(&rows);
         }
         StudyKind::Stability => {
             limits = stability(&problem, &sw.methods, steps);
@@ -259,46 +192,8 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
                 },
                 problem.omega()
             )?;
-            let mut t = Table::new([
-                "method",
-                "measured dt [s]",
-                "theory dt [s]",
-                "measured / theory",
-                "note",
-            ]);
-            for l in &limits {
-                let ratio = match (l.measured_dt, l.theory_dt) {
-                    (Some(m), Some(t)) if t.is_finite() => format!("{:.4}", m / t),
-                    _ => "—".into(),
-                };
-                t.row([
-                    l.method.name().to_string(),
-                    l.measured_dt.map_or("—".into(), sci),
-                    match l.theory_dt {
-                        Some(t) if t.is_infinite() => "unconditional".into(),
-                        Some(t) => sci(t),
-                        None => "none".into(),
-                    },
-                    ratio,
-                    l.note.clone(),
-                ]);
-            }
-            out.push_str(&t.render());
-            csv.push_str("scene,method,measured_dt,theory_dt\n");
-            for l in &limits {
-                writeln!(
-                    csv,
-                    "{},{},{},{}",
-                    l.scene,
-                    l.method,
-                    l.measured_dt.map_or(String::new(), |d| format!("{d:e}")),
-                    l.theory_dt.map_or("none".into(), |d| if d.is_infinite() {
-                        "inf".into()
-                    } else {
-                        format!("{d:e}")
-                    })
-                )?;
-            }
+            out.push_str(&report::stability_table(&limits));
+            csv = report::limits_csv(&limits);
         }
     }
     print!("{out}");

@@ -17,7 +17,8 @@ pub enum Method {
     Trapezoid,
     Rk4,
     Verlet,
-    /// Fourth-order symplectic composition of three position-Verlet steps (Yoshida 1990).
+    /// Fourth-order symplectic composition of three position-Verlet steps (Yoshida 1990);
+    /// second order when the force depends on the velocity.
     Yoshida4,
     /// Dormand–Prince 5(4), adaptive, error-controlled by `MethodOptions::rtol`.
     Dopri5,
@@ -28,9 +29,14 @@ pub enum Method {
 pub enum EvalsPerStep {
     /// Always exactly this many.
     Fixed(u32),
-    /// One force and one Jacobian evaluation per Newton iteration; the count varies by step.
+    /// One force and one Jacobian evaluation per Newton iteration, plus one force evaluation
+    /// for an explicit predictor where the system's solver starts from one (the pendulum's
+    /// explicit-Euler guess; the rope's solver starts from the current state and has none); the
+    /// count varies by step.
     NewtonIterations,
-    /// Six per accepted substep (first-same-as-last), as many substeps as error control needs.
+    /// Six per substep tried, accepted or rejected (first-same-as-last: the last stage of an
+    /// accepted substep is the next one's first; the run's first substep costs seven), as many
+    /// substeps as error control needs.
     Adaptive,
 }
 
@@ -74,8 +80,11 @@ pub enum Family {
 pub struct MethodInfo {
     pub name: &'static str,
     pub family: Family,
-    /// Global order of accuracy.
+    /// Global order of accuracy for forces of position only, a(x).
     pub order: u32,
+    /// Global order of accuracy when the force depends on the velocity too, a(x, v) (damping,
+    /// drag: the rope's springs and air).
+    pub order_velocity_dependent: u32,
     pub implicit: bool,
     pub symplectic: bool,
     pub evals_per_step: EvalsPerStep,
@@ -83,6 +92,8 @@ pub struct MethodInfo {
     pub stability: Stability,
     /// The update rule in one line.
     pub update: &'static str,
+    /// What a user choosing the method should know beyond the numbers; empty when nothing.
+    pub notes: &'static str,
 }
 
 /// The registry, one row per method, in the order of tables and layouts.
@@ -91,91 +102,125 @@ const REGISTRY: [MethodInfo; 9] = [
         name: "explicit-euler",
         family: Family::Explicit,
         order: 1,
+        order_velocity_dependent: 1,
         implicit: false,
         symplectic: false,
         evals_per_step: EvalsPerStep::Fixed(1),
         stability: Stability::Never,
         update: "x += v dt; v += a(x,v) dt (both from the old state)",
+        notes: "",
     },
     MethodInfo {
         name: "semi-implicit-euler",
         family: Family::SemiImplicit,
         order: 1,
+        order_velocity_dependent: 1,
         implicit: false,
         symplectic: true,
         evals_per_step: EvalsPerStep::Fixed(1),
         stability: Stability::Below(2.0),
         update: "v += a(x,v) dt; x += v_new dt",
+        notes: "",
     },
     MethodInfo {
         name: "implicit-euler",
         family: Family::Implicit,
         order: 1,
+        order_velocity_dependent: 1,
         implicit: true,
         symplectic: false,
         evals_per_step: EvalsPerStep::NewtonIterations,
         stability: Stability::Always,
-        update: "solve x1 = x0 + dt v1, v1 = v0 + dt a(x1,v1) (Newton)",
+        update: "solve x1 = x0 + dt v1, v1 = v0 + dt a(x1,v1) by Newton \
+                 (rope: --newton-iterations, default 1)",
+        notes: "'unconditional' is the stability of the converged backward-Euler step. The \
+                pendulum iterates Newton to tolerance. The rope's default --newton-iterations 1 \
+                is one Newton iteration, the linearised step (Baraff-Witkin), and that is not \
+                unconditionally stable: the default rope diverges at dt = 0.3 s (at t = 0.6 s). \
+                With --newton-iterations 20 the solve converges and the rope stays stable there \
+                (tried to dt = 1 s).",
     },
     MethodInfo {
         name: "midpoint",
         family: Family::Explicit,
         order: 2,
+        order_velocity_dependent: 2,
         implicit: false,
         symplectic: false,
         evals_per_step: EvalsPerStep::Fixed(2),
         stability: Stability::Never,
         update: "explicit RK2 through the half step",
+        notes: "",
     },
     MethodInfo {
         name: "trapezoid",
         family: Family::Explicit,
         order: 2,
+        order_velocity_dependent: 2,
         implicit: false,
         symplectic: false,
         evals_per_step: EvalsPerStep::Fixed(2),
         stability: Stability::Never,
-        update: "Heun: Euler predictor, trapezoid corrector",
+        update: "explicit trapezoid rule (Heun): Euler predictor, then the mean of the slopes \
+                 at both ends",
+        notes: "Not the implicit trapezoid rule of the textbooks (Crank-Nicolson, A-stable); \
+                the name is the seeds'.",
     },
     MethodInfo {
         name: "rk4",
         family: Family::RungeKutta,
         order: 4,
+        order_velocity_dependent: 4,
         implicit: false,
         symplectic: false,
         evals_per_step: EvalsPerStep::Fixed(4),
         stability: Stability::Below(2.0 * std::f64::consts::SQRT_2),
         update: "classic Runge-Kutta",
+        notes: "",
     },
     MethodInfo {
         name: "verlet",
         family: Family::Verlet,
         order: 2,
+        order_velocity_dependent: 2,
         implicit: false,
         symplectic: true,
         evals_per_step: EvalsPerStep::Fixed(1),
         stability: Stability::Below(2.0),
-        update: "x1 = x0 + (1-d)(x0 - x_-1) + a dt^2; v synchronous (velocity-Verlet identity)",
+        update: "x1 = x0 + (1-d)(x0 - x_-1) + a0 dt^2; a1 = a(x1, (x1 - x0)/dt + a0 dt/2); \
+                 v1 = (x1 - x0)/dt + a1 dt/2",
+        notes: "One more evaluation at the start, a(x0, v0) for x_-1. The velocity argument of \
+                a(x1, .) predicts v1 with a0, so the order holds with damping and drag too. It \
+                holds for d = 0 (the default): d > 0 adds a drag of rate d/dt, which grows as \
+                dt shrinks.",
     },
     MethodInfo {
         name: "yoshida4",
         family: Family::Composition,
         order: 4,
+        order_velocity_dependent: 2,
         implicit: false,
         symplectic: true,
         evals_per_step: EvalsPerStep::Fixed(3),
         stability: Stability::Below(YOSHIDA4_STABILITY_LIMIT),
-        update: "velocity Verlet at w1 dt, w0 dt, w1 dt, w1 = 1/(2 - 2^(1/3)), w0 = 1 - 2 w1",
+        update: "position Verlet (drift-kick-drift) at w1 dt, w0 dt, w1 dt, \
+                 w1 = 1/(2 - 2^(1/3)), w0 = 1 - 2 w1; a kick of w dt takes a(x, v + w dt/2 a_last)",
+        notes: "Order 4 and symplectic for a(x). With velocity-dependent forces (the rope's \
+                damping and drag) order 2: order 4 would need each kick's mid-velocity exactly \
+                (an implicit kick); it is predicted with the last acceleration evaluated (a kick \
+                with the pre-kick velocity made it order 1).",
     },
     MethodInfo {
         name: "dopri5",
         family: Family::Adaptive,
         order: 5,
+        order_velocity_dependent: 5,
         implicit: false,
         symplectic: false,
         evals_per_step: EvalsPerStep::Adaptive,
         stability: Stability::Adaptive,
         update: "Dormand-Prince 5(4) substeps within dt, error per substep <= rtol (abs(y) + 1)",
+        notes: "",
     },
 ];
 

@@ -2,8 +2,14 @@
 
 use super::{Counts, SecondOrderSystem, State};
 
-/// x1 = x0 + (1-d)(x0 - x_-1) + a dt², then a(x1, ·) and the velocity at x1 from the
-/// velocity-Verlet identity.
+/// x1 = x0 + (1-d)(x0 - x_-1) + a0 dt², then a1 = a(x1, v1*) and the velocity at x1 from the
+/// velocity-Verlet identity v1 = (x1 - x0)/dt + a1 dt/2.
+///
+/// The velocity argument v1* of a(x1, ·) is that identity with a0 in place of the a1 not yet
+/// known: v1* = (x1 - x0)/dt + a0 dt/2, off from v1 by (a0 - a1) dt/2 = O(dt²). That keeps the
+/// method second order with velocity-dependent forces (damping, drag) at one evaluation per
+/// step. The velocity over the step, (x1 - x0)/dt, is the velocity at the half step; used at
+/// x1 it is off by O(dt) and made the method first order with such forces.
 #[derive(Clone, Debug)]
 pub struct Verlet {
     /// 1 - d.
@@ -12,14 +18,14 @@ pub struct Verlet {
     x_prev: Vec<f64>,
     /// a at the current position, kept from the last step (one evaluation per step).
     a: Vec<f64>,
-    /// The velocity over the last step.
+    /// The velocity over the last step, (x1 - x0)/dt.
     vt: Vec<f64>,
 }
 
 impl Verlet {
     /// Second-order start: x_-1 = x0 - v0 dt + a0 dt²/2 (Taylor backwards). The seeds'
     /// x_-1 = x0 makes the first step a symplectic-Euler step and the whole run first order.
-    /// `a` keeps a(x0) for the first step, so this costs no extra evaluation later.
+    /// `a` keeps a(x0, v0) for the first step; this start is the method's one extra evaluation.
     pub fn new<S: SecondOrderSystem>(
         sys: &S,
         x0: &[f64],
@@ -50,14 +56,14 @@ impl Verlet {
             let x1 = x[i] + self.keep * (x[i] - self.x_prev[i]) + self.a[i] * h * h;
             self.x_prev[i] = x[i];
             x[i] = x1;
-            // Velocity over the step, used as the velocity argument of a(x1, ·).
             self.vt[i] = (x1 - self.x_prev[i]) / h;
+            // v1*, the velocity argument of a(x1, ·) (see the type's docs), held in v until v1.
+            v[i] = self.vt[i] + 0.5 * h * self.a[i];
         }
-        sys.acceleration(x, &self.vt, &mut self.a);
+        sys.acceleration(x, v, &mut self.a);
         s.counts.evals += 1;
-        // Velocity at x1 from the velocity-Verlet identity v1 = (x1 - x0)/dt + a1 dt/2:
-        // second order and at the same instant as x1 (a central difference would lag a step).
-        // a1 is kept for the next step, so this is still one evaluation per step.
+        // v1 at the same instant as x1 (a central difference would lag a step). a1 is kept for
+        // the next step, so this is still one evaluation per step.
         for i in 0..x.len() {
             v[i] = self.vt[i] + 0.5 * h * self.a[i];
         }

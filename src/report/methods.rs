@@ -6,7 +6,8 @@ use crate::report::table::Table;
 pub fn methods_table() -> String {
     let mut table = Table::new([
         "method",
-        "order",
+        "order, a(x)",
+        "order, a(x,v)",
         "kind",
         "symplectic",
         "force evals/step",
@@ -24,18 +25,27 @@ pub fn methods_table() -> String {
         table.row([
             i.name.to_string(),
             i.order.to_string(),
+            i.order_velocity_dependent.to_string(),
             if i.implicit { "implicit" } else { "explicit" }.to_string(),
             if i.symplectic { "yes" } else { "no" }.to_string(),
             match i.evals_per_step {
                 EvalsPerStep::Fixed(n) => n.to_string(),
                 EvalsPerStep::NewtonIterations => {
-                    "1 force + 1 Jacobian per Newton iteration".into()
+                    "1 force + 1 Jacobian per Newton iteration (+1 force: pendulum's guess)".into()
                 }
-                EvalsPerStep::Adaptive => "6 per accepted substep (FSAL)".into(),
+                EvalsPerStep::Adaptive => "6 per substep tried (FSAL; the run's first: 7)".into(),
             },
             stability,
             i.update.to_string(),
         ]);
     }
-    table.render()
+    let mut out = table.render();
+    out.push_str("\nNotes:\n");
+    for m in Method::ALL {
+        let notes = m.info().notes;
+        if !notes.is_empty() {
+            out.push_str(&format!("- {m}: {notes}\n"));
+        }
+    }
+    out
 }

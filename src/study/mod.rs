@@ -29,6 +29,15 @@ impl Problem {
         }
     }
 
+    /// Whether its forces depend on the velocity (the rope's spring damping and air drag), which
+    /// lowers some methods' order (see the registry).
+    pub fn velocity_dependent(&self) -> bool {
+        match self {
+            Problem::Pendulum(_) => false,
+            Problem::Rope(p) => p.spring_damping != 0.0 || p.air_drag != 0.0,
+        }
+    }
+
     /// The angular frequency stability theory is stated in: sqrt(g/L) for the pendulum (its
     /// small-angle frequency), the pinned-free chain's highest mode for the rope.
     pub fn omega(&self) -> f64 {
@@ -46,6 +55,63 @@ impl Problem {
                 let v = vec![0.0; x.len()];
                 (x, v)
             }
+        }
+    }
+}
+
+/// The coarsest step [s] and the duration [s] a study uses unless told otherwise: for the
+/// pendulum 0.02 s over 10 s, for the rope 0.002 s over 1 s.
+pub fn default_schedule(scene: &Problem) -> (f64, f64) {
+    match scene {
+        Problem::Pendulum(_) => (0.02, 10.0),
+        Problem::Rope(_) => (0.002, 1.0),
+    }
+}
+
+/// Spring stiffness of the rope the convergence and work-precision studies use by default
+/// [N/m]: softer than the scene's, so that every explicit method converges over the sweep.
+pub const STUDY_ROPE_STIFFNESS: f64 = 100.0;
+
+/// The rope the studies use by default: undamped, so that the theory's orders apply, and (for
+/// convergence and cost, not stability) as soft as [`STUDY_ROPE_STIFFNESS`].
+pub fn study_rope(stability: bool) -> RopeParams {
+    let scene = RopeParams::default();
+    RopeParams {
+        stiffness: if stability {
+            scene.stiffness
+        } else {
+            STUDY_ROPE_STIFFNESS
+        },
+        spring_damping: 0.0,
+        air_drag: 0.0,
+        ..scene
+    }
+}
+
+/// Step sizes a sweep tries by default.
+pub const DEFAULT_LEVELS: u32 = 6;
+/// Timed repeats per run by default (the median is kept).
+pub const DEFAULT_REPEATS: u32 = 5;
+/// Steps a stability trial must stay bounded for by default.
+pub const DEFAULT_STABILITY_STEPS: u64 = 2000;
+
+/// dopri5's tolerances in a work-precision sweep by default: 1e-3 to 1e-12.
+pub fn default_rtols() -> Vec<f64> {
+    (3..=12).map(|k| 10f64.powi(-k)).collect()
+}
+
+impl Sweep {
+    /// The study's default sweep of `problem`: every method, its default schedule.
+    pub fn defaults(problem: &Problem) -> Self {
+        let (dt0, duration) = default_schedule(problem);
+        Sweep {
+            dt0,
+            levels: DEFAULT_LEVELS,
+            duration,
+            methods: Method::ALL.to_vec(),
+            options: MethodOptions::default(),
+            repeats: DEFAULT_REPEATS,
+            rtols: default_rtols(),
         }
     }
 }
@@ -527,8 +593,72 @@ pub fn yoshida4_limit() -> f64 {
 mod tests {
     use super::*;
 
+    /// Yoshida-4's stability limit on x'' = -x: the root of trace(M(w1 h) M(w0 h) M(w1 h)) = 2 for
+    /// the closed-form position-Verlet matrix M, 1.57340194743454005662957944196 by
+    /// `tests/data/yoshida4_stability.py` (mpmath, 80 digits), as the nearest double. Nothing here
+    /// comes from `yoshida4_limit` or `yoshida_weights`.
+    const LIMIT_MPMATH: f64 = 1.573_401_947_434_54;
+
+    /// The same root in f64, by bisection on the closed form written out here: one
+    /// drift-kick-drift step of size t is [[1 - t²/2, t - t³/4], [-t, 1 - t²/2]], and the weights
+    /// are w1 = 1/(2 - ∛2), w0 = 1 - 2 w1.
+    fn limit_from_the_closed_form() -> f64 {
+        type M = [[f64; 2]; 2];
+        let step = |t: f64| -> M {
+            [
+                [1.0 - t * t / 2.0, t - t * t * t / 4.0],
+                [-t, 1.0 - t * t / 2.0],
+            ]
+        };
+        let mul = |a: M, b: M| -> M {
+            [
+                [
+                    a[0][0] * b[0][0] + a[0][1] * b[1][0],
+                    a[0][0] * b[0][1] + a[0][1] * b[1][1],
+                ],
+                [
+                    a[1][0] * b[0][0] + a[1][1] * b[1][0],
+                    a[1][0] * b[0][1] + a[1][1] * b[1][1],
+                ],
+            ]
+        };
+        let w1 = 1.0 / (2.0 - 2f64.cbrt());
+        let w0 = 1.0 - 2.0 * w1;
+        let trace = |h: f64| {
+            let p = mul(step(w1 * h), mul(step(w0 * h), step(w1 * h)));
+            p[0][0] + p[1][1]
+        };
+        // Below 2 on (0, limit), above past it (the script checks the shape on a grid).
+        let (mut lo, mut hi) = (1.4, 1.7);
+        assert!(trace(lo) < 2.0 && trace(hi) > 2.0);
+        while hi - lo > f64::EPSILON * hi {
+            let mid = 0.5 * (lo + hi);
+            if trace(mid) < 2.0 { lo = mid } else { hi = mid }
+        }
+        lo
+    }
+
+    /// The closed-form bisection, `yoshida4_limit()` (bisection on the stepper's own drift/kick
+    /// sequence) and the registry's constant all agree with the mpmath root to 4 eps = 8.9e-16
+    /// (measured: -2.2e-16, +4.4e-16 and +4.4e-16). A relative error of 1e-9 in w1 alone moves the
+    /// root by 5e-9, so anything but the right weights in the right order fails.
     #[test]
-    fn yoshida_limit_from_the_matrix_matches_the_registry() {
-        assert!((yoshida4_limit() - crate::integrate::YOSHIDA4_STABILITY_LIMIT).abs() < 1e-12);
+    fn yoshida_limit_matches_an_independent_root() {
+        let tol = 4.0 * f64::EPSILON;
+        let closed = limit_from_the_closed_form();
+        assert!((closed - LIMIT_MPMATH).abs() <= tol, "closed form {closed}");
+        for (what, value) in [
+            ("yoshida4_limit()", yoshida4_limit()),
+            (
+                "YOSHIDA4_STABILITY_LIMIT",
+                crate::integrate::YOSHIDA4_STABILITY_LIMIT,
+            ),
+        ] {
+            assert!(
+                (value - LIMIT_MPMATH).abs() <= tol,
+                "{what} = {value}, independent root {LIMIT_MPMATH} ({:+.1e})",
+                value - LIMIT_MPMATH
+            );
+        }
     }
 }

@@ -1,0 +1,173 @@
+//! The studies' tables and CSV: the fitted orders, every measured run, the cheapest run per
+//! target error, the stability limits against theory.
+
+use std::fmt::Write as _;
+
+use crate::report::table::Table;
+use crate::study::{Limit, Row, cheapest, orders};
+
+fn sci(x: f64) -> String {
+    format!("{x:.3e}")
+}
+
+/// Fitted order per method against theory (the order for velocity-dependent forces when the
+/// problem has them), leaving out errors below `floor`.
+pub fn orders_table(rows: &[Row], floor: f64, velocity_dependent: bool) -> String {
+    let mut t = Table::new([
+        "method",
+        "theory order",
+        "fitted order",
+        "order range",
+        "diverged at dt",
+    ]);
+    for o in orders(rows, floor) {
+        t.row([
+            o.method.name().to_string(),
+            if velocity_dependent {
+                o.method.info().order_velocity_dependent
+            } else {
+                o.method.info().order
+            }
+            .to_string(),
+            o.fitted.map_or("— (fewer than 2 usable rows)".into(), |f| {
+                format!("{f:.3}")
+            }),
+            o.range
+                .map_or("—".into(), |(lo, hi)| format!("{lo:.3} – {hi:.3}")),
+            if o.diverged_at.is_empty() {
+                "—".into()
+            } else {
+                o.diverged_at
+                    .iter()
+                    .map(|d| format!("{d:.3e}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            },
+        ]);
+    }
+    t.render()
+}
+
+/// Every measured run.
+pub fn rows_table(rows: &[Row]) -> String {
+    let mut t = Table::new([
+        "method",
+        "dt [s]",
+        "rtol",
+        "error",
+        "force evals",
+        "median wall [s]",
+    ]);
+    for r in rows {
+        t.row([
+            r.method.name().to_string(),
+            sci(r.dt),
+            r.rtol.map_or("—".into(), sci),
+            r.error.map_or("diverged".into(), sci),
+            r.evals.to_string(),
+            sci(r.wall_seconds),
+        ]);
+    }
+    t.render()
+}
+
+/// The cheapest measured run reaching each target error, by wall time and by evaluations.
+pub fn cheapest_table(rows: &[Row], targets: &[f64]) -> String {
+    let mut t = Table::new([
+        "target error",
+        "fastest (wall)",
+        "its wall [s]",
+        "fewest evaluations",
+        "its evals",
+    ]);
+    for &target in targets {
+        let (by_wall, by_evals) = cheapest(rows, target);
+        let name = |r: Option<&Row>| {
+            r.map_or("none reached it".to_string(), |r| {
+                format!(
+                    "{} (dt {}{})",
+                    r.method.name(),
+                    sci(r.dt),
+                    r.rtol.map_or(String::new(), |t| format!(", rtol {t:.0e}"))
+                )
+            })
+        };
+        t.row([
+            format!("{target:.0e}"),
+            name(by_wall),
+            by_wall.map_or("—".into(), |r| sci(r.wall_seconds)),
+            name(by_evals),
+            by_evals.map_or("—".into(), |r| r.evals.to_string()),
+        ]);
+    }
+    t.render()
+}
+
+/// Measured stability limits against theory.
+pub fn stability_table(limits: &[Limit]) -> String {
+    let mut t = Table::new([
+        "method",
+        "measured dt [s]",
+        "theory dt [s]",
+        "measured / theory",
+        "note",
+    ]);
+    for l in limits {
+        let ratio = match (l.measured_dt, l.theory_dt) {
+            (Some(m), Some(t)) if t.is_finite() => format!("{:.4}", m / t),
+            _ => "—".into(),
+        };
+        t.row([
+            l.method.name().to_string(),
+            l.measured_dt.map_or("—".into(), sci),
+            match l.theory_dt {
+                Some(t) if t.is_infinite() => "unconditional".into(),
+                Some(t) => sci(t),
+                None => "none".into(),
+            },
+            ratio,
+            l.note.clone(),
+        ]);
+    }
+    t.render()
+}
+
+/// One CSV row per run.
+pub fn rows_csv(rows: &[Row]) -> String {
+    let mut csv = String::from("scene,method,dt,rtol,error,evals,wall_seconds,stable\n");
+    for r in rows {
+        let _ = writeln!(
+            csv,
+            "{},{},{:e},{},{},{},{:e},{}",
+            r.scene,
+            r.method,
+            r.dt,
+            r.rtol.map_or(String::new(), |t| format!("{t:e}")),
+            r.error.map_or(String::new(), |e| format!("{e:e}")),
+            r.evals,
+            r.wall_seconds,
+            r.error.is_some()
+        );
+    }
+    csv
+}
+
+/// One CSV row per method's stability limit.
+pub fn limits_csv(limits: &[Limit]) -> String {
+    let mut csv = String::from("scene,method,measured_dt,theory_dt\n");
+    for l in limits {
+        let _ = writeln!(
+            csv,
+            "{},{},{},{}",
+            l.scene,
+            l.method,
+            l.measured_dt.map_or(String::new(), |d| format!("{d:e}")),
+            l.theory_dt.map_or("none".into(), |d| if d.is_infinite() {
+                "inf".into()
+            } else {
+                format!("{d:e}")
+            })
+        );
+    }
+    csv
+}
