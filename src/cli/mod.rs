@@ -172,51 +172,51 @@ pub struct StudyArgs {
     #[arg(long, value_name = "FILE.toml")]
     pub config: Option<PathBuf>,
 
-    /// Pendulum: initial angle [degrees] [default: 60]
+    /// Pendulum: initial angle [degrees]
     #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
     pub theta0: Option<f64>,
 
-    /// Pendulum: initial angular velocity [rad/s] [default: 0]
+    /// Pendulum: initial angular velocity [rad/s]
     #[arg(long, value_name = "RAD/S", allow_negative_numbers = true)]
     pub omega0: Option<f64>,
 
-    /// Rope: nodes [default: 16]
+    /// Rope: nodes
     #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub nodes: Option<usize>,
 
-    /// Rope: spring stiffness [N/m] [default: 100 for convergence and work-precision, the scene's 5000 for stability]
+    /// Rope: spring stiffness [N/m]
     #[arg(long, value_name = "N/M", allow_negative_numbers = true)]
     pub stiffness: Option<f64>,
 
-    /// Rope: node mass [kg] [default: 0.1]
+    /// Rope: node mass [kg]
     #[arg(long, value_name = "KG", allow_negative_numbers = true)]
     pub mass: Option<f64>,
 
-    /// Rope: spring damping [N·s/m] [default: 0, so that the theory's orders apply]
+    /// Rope: spring damping [N·s/m]
     #[arg(long, value_name = "N·S/M", allow_negative_numbers = true)]
     pub spring_damping: Option<f64>,
 
-    /// Rope: air drag [N·s/m] [default: 0]
+    /// Rope: air drag [N·s/m]
     #[arg(long, value_name = "N·S/M", allow_negative_numbers = true)]
     pub air_drag: Option<f64>,
 
-    /// Simulated time [s] [default: 10 for the pendulum, 1 for the rope]
+    /// Simulated time [s]
     #[arg(long, value_name = "S", allow_negative_numbers = true)]
     pub duration: Option<f64>,
 
-    /// Coarsest step; each level halves it [s] [default: 0.02 pendulum, 0.002 rope]
+    /// Coarsest step; each level halves it [s]
     #[arg(long, value_name = "S", allow_negative_numbers = true)]
     pub dt: Option<f64>,
 
-    /// Number of step sizes [default: 6]
+    /// Number of step sizes
     #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub levels: Option<u32>,
 
-    /// Methods, comma-separated [default: all nine]
+    /// Methods, comma-separated
     #[arg(long, value_delimiter = ',', value_name = "LIST")]
     pub methods: Option<Vec<Method>>,
 
-    /// dopri5's tolerances for work-precision, comma-separated [default: 1e-3,1e-4,...,1e-12]
+    /// dopri5's tolerances for work-precision, comma-separated
     #[arg(
         long,
         value_delimiter = ',',
@@ -225,11 +225,11 @@ pub struct StudyArgs {
     )]
     pub rtol: Option<Vec<f64>>,
 
-    /// Timed repeats per run for work-precision (the median is kept) [default: 5]
+    /// Timed repeats per run for work-precision (the median is kept)
     #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub repeats: Option<u32>,
 
-    /// Steps each stability trial must stay bounded for [default: 2000]
+    /// Steps each stability trial must stay bounded for
     #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub steps: Option<u64>,
 
@@ -249,6 +249,7 @@ pub fn command() -> clap::Command {
         .mut_subcommand("pendulum", |c| with_defaults(c, &PendulumArgs::defaults()))
         .mut_subcommand("rope", |c| with_defaults(c, &RopeArgs::defaults()))
         .mut_subcommand("hair", |c| with_defaults(c, &HairArgs::defaults()))
+        .mut_subcommand("study", |c| with_shown_defaults(c, &study_defaults()))
 }
 
 /// Parses the process's arguments (clap prints usage errors and exits with code 2).
@@ -257,16 +258,73 @@ pub fn parse() -> Cli {
     Cli::from_arg_matches(&command().get_matches()).unwrap_or_else(|e| e.exit())
 }
 
+/// The study's defaults as its help shows them, read from the scenes and the study.
+fn study_defaults() -> Vec<(String, String)> {
+    use crate::study::{self, Problem};
+    let pendulum = Problem::Pendulum(Default::default());
+    let rope = Problem::Rope(study::study_rope(false));
+    let (p, r) = (study::default_schedule(&pendulum), study::default_schedule(&rope));
+    let scene = |args: &PendulumArgs| toml::Value::try_from(args).ok();
+    let pendulum_file = scene(&PendulumArgs::defaults());
+    let rope_file = toml::Value::try_from(RopeArgs::defaults()).ok();
+    let value = |file: &Option<toml::Value>, key: &str| {
+        file.as_ref()
+            .and_then(|f| f.get(key))
+            .map_or(String::new(), show)
+    };
+    let stability_stiffness = study::study_rope(true).stiffness;
+    vec![
+        ("theta0".into(), value(&pendulum_file, "theta0")),
+        ("omega0".into(), value(&pendulum_file, "omega0")),
+        ("nodes".into(), value(&rope_file, "nodes")),
+        ("mass".into(), value(&rope_file, "mass")),
+        (
+            "stiffness".into(),
+            format!(
+                "{} for convergence and work-precision, the scene's {stability_stiffness} for stability",
+                study::STUDY_ROPE_STIFFNESS
+            ),
+        ),
+        (
+            "spring_damping".into(),
+            "0, so that the theory's orders apply; the rope's convergence study also shows the scene's damping"
+                .into(),
+        ),
+        ("air_drag".into(), "0".into()),
+        ("dt".into(), format!("{} pendulum, {} rope", p.0, r.0)),
+        ("duration".into(), format!("{} pendulum, {} rope", p.1, r.1)),
+        ("levels".into(), study::DEFAULT_LEVELS.to_string()),
+        ("methods".into(), "all of `physlab methods`".into()),
+        (
+            "rtol".into(),
+            show(&toml::Value::Array(
+                study::default_rtols()
+                    .into_iter()
+                    .map(toml::Value::Float)
+                    .collect(),
+            )),
+        ),
+        ("repeats".into(), study::DEFAULT_REPEATS.to_string()),
+        ("steps".into(), study::DEFAULT_STABILITY_STEPS.to_string()),
+    ]
+}
+
 /// Appends ` [default: VALUE]` to the help of every flag whose name is a key of `defaults`.
-fn with_defaults<T: Serialize>(mut cmd: clap::Command, defaults: &T) -> clap::Command {
+fn with_defaults<T: Serialize>(cmd: clap::Command, defaults: &T) -> clap::Command {
     let Ok(toml::Value::Table(table)) = toml::Value::try_from(defaults) else {
         return cmd;
     };
-    for (key, value) in table {
+    let shown: Vec<(String, String)> = table.iter().map(|(k, v)| (k.clone(), show(v))).collect();
+    with_shown_defaults(cmd, &shown)
+}
+
+/// Appends ` [default: VALUE]` to the help of each named flag.
+fn with_shown_defaults(mut cmd: clap::Command, defaults: &[(String, String)]) -> clap::Command {
+    for (key, value) in defaults {
         if !cmd.get_arguments().any(|a| a.get_id() == key.as_str()) {
             continue;
         }
-        let shown = format!("[default: {}]", show(&value));
+        let shown = format!("[default: {value}]");
         cmd = cmd.mut_arg(key.as_str(), |a| {
             let help = a.get_help().map(|h| h.to_string()).unwrap_or_default();
             let long = a.get_long_help().map(|h| h.to_string());

@@ -154,7 +154,8 @@ pub struct RopeArgs {
     pub verlet_damping: Option<f64>,
 
     /// Newton iterations per implicit-Euler step: 1 = linearised backward Euler
-    /// (Baraff–Witkin); more refine towards exact backward Euler, stopping at tolerance
+    /// (Baraff–Witkin), which is not unconditionally stable (it diverges on the default rope at
+    /// dt = 0.3 s); more refine towards exact backward Euler, stopping at tolerance
     #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub newton_iterations: Option<u32>,
 
