@@ -63,7 +63,9 @@ fn no_record_writes_nothing() {
         "-o",
         out.to_str().unwrap(),
     ]);
-    assert_eq!(code, 0, "{stderr}");
+    // -o names a file that --no-record would not write: a contradiction, refused.
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("--no-record with -o/--output"), "{stderr}");
     assert!(!out.exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }

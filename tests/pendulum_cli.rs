@@ -133,7 +133,7 @@ fn bad_input_is_refused_with_exit_code_2_and_a_clear_message() {
         (&["--dt", "0"], "--dt 0: must be a finite number > 0"),
         (
             &["--length", "-1"],
-            "--length -1: must be a finite number > 0",
+            "--length -1: must be between 1e-6 and 1e6 [m]",
         ),
         (
             &["--dt", "2", "--duration", "1"],

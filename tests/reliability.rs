@@ -103,12 +103,12 @@ const BAD_INPUTS: &[(&[&str], i32, &str)] = &[
     (
         &["pendulum", "--gravity", "0"],
         2,
-        "--gravity 0: must be a finite number > 0",
+        "--gravity 0: must be between 1e-6 and 1e6 [m/s²]",
     ),
     (
         &["pendulum", "--length", "-2"],
         2,
-        "--length -2: must be a finite number > 0",
+        "--length -2: must be between 1e-6 and 1e6 [m]",
     ),
     (
         &["pendulum", "--theta0", "nan"],
@@ -118,7 +118,7 @@ const BAD_INPUTS: &[(&[&str], i32, &str)] = &[
     (
         &["pendulum", "--omega0", "inf"],
         2,
-        "--omega0 inf: must be a finite number",
+        "--omega0 inf: must be between -1e6 and 1e6 [rad/s]",
     ),
     (
         &["pendulum", "--verlet-damping", "1.5"],
@@ -141,22 +141,22 @@ const BAD_INPUTS: &[(&[&str], i32, &str)] = &[
     (
         &["rope", "--mass", "0"],
         2,
-        "--mass 0: must be a finite number > 0",
+        "--mass 0: must be between 1e-6 and 1e6 [kg]",
     ),
     (
         &["rope", "--stiffness", "-1"],
         2,
-        "--stiffness -1: must be a finite number ≥ 0",
+        "--stiffness -1: must be between 1e-6 and 1e12 [N/m]",
     ),
     (
         &["rope", "--spring-damping", "-1"],
         2,
-        "--spring-damping -1: must be a finite number ≥ 0",
+        "--spring-damping -1: must be between 0 and 1e6 [N·s/m]",
     ),
     (
         &["rope", "--air-drag", "nan"],
         2,
-        "--air-drag NaN: must be a finite number ≥ 0",
+        "--air-drag NaN: must be between 0 and 1e6 [N·s/m]",
     ),
     (
         &["rope", "--newton-iterations", "0"],

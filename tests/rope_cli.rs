@@ -117,10 +117,13 @@ fn bad_rope_input_is_refused_with_exit_code_2() {
         ),
         (&["--end", "0,0,0"], "must differ from --start"),
         (&["--gravity", "0,x"], "expected x,y or x,y,z"),
-        (&["--mass", "0"], "--mass 0: must be a finite number > 0"),
+        (
+            &["--mass", "0"],
+            "--mass 0: must be between 1e-6 and 1e6 [kg]",
+        ),
         (
             &["--stiffness", "-5"],
-            "--stiffness -5: must be a finite number ≥ 0",
+            "--stiffness -5: must be between 1e-6 and 1e12 [N/m]",
         ),
         (
             &["--nodes", "100000", "--duration", "1000000"],

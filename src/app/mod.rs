@@ -132,6 +132,34 @@ fn resolve(plan: Plan, run: &RunArgs) -> anyhow::Result<Resolved> {
         Some(path) => SceneFile::load(path)?,
         None => SceneFile::default(),
     };
+    let single = [
+        plan.pendulum.is_some(),
+        plan.rope.is_some(),
+        plan.hair.is_some(),
+    ]
+    .iter()
+    .filter(|&&p| p)
+    .count()
+        == 1;
+    let table = |name: &str, given: bool| -> Result<(), UsageError> {
+        let Some(path) = &run.config else {
+            return Ok(());
+        };
+        if given {
+            Ok(())
+        } else if single {
+            Err(UsageError(format!(
+                "--config {}: has no [{name}] table, so nothing in it applies to this command",
+                path.display()
+            )))
+        } else {
+            eprintln!(
+                "note: --config {}: no [{name}] table; {name} runs at its defaults",
+                path.display()
+            );
+            Ok(())
+        }
+    };
     let mut effective = SceneFile::default();
     let mut resolved = Resolved {
         pendulum: None,
@@ -140,22 +168,52 @@ fn resolve(plan: Plan, run: &RunArgs) -> anyhow::Result<Resolved> {
         file: SceneFile::default(),
     };
     if let Some(flags) = plan.pendulum {
-        let args = flags.over(file.pendulum.clone().unwrap_or_default());
+        table("pendulum", file.pendulum.is_some())?;
+        let from_file = file.pendulum.clone().unwrap_or_default();
+        in_file(run, "pendulum", pendulum_config(&from_file))?;
+        let args = flags.over(from_file);
         resolved.pendulum = Some(pendulum_config(&args)?);
         effective.pendulum = Some(args.over(PendulumArgs::defaults()));
     }
     if let Some(flags) = plan.rope {
-        let args = flags.over(file.rope.clone().unwrap_or_default());
+        table("rope", file.rope.is_some())?;
+        let from_file = file.rope.clone().unwrap_or_default();
+        in_file(run, "rope", rope_config(&from_file))?;
+        let args = flags.over(from_file);
         resolved.rope = Some(rope_config(&args)?);
         effective.rope = Some(args.effective());
     }
     if let Some(flags) = plan.hair {
-        let args = flags.over(file.hair.clone().unwrap_or_default());
+        table("hair", file.hair.is_some())?;
+        let from_file = file.hair.clone().unwrap_or_default();
+        in_file(run, "hair", hair_config(&from_file))?;
+        let args = flags.over(from_file);
         resolved.hair = Some(hair_config(&args)?);
         effective.hair = Some(args.over(HairArgs::defaults()));
     }
     resolved.file = effective;
     Ok(resolved)
+}
+
+/// A scene file's values checked on their own, so that an error names the file, the table and
+/// the key (`nodes = 1` in [rope]) rather than a flag the user never typed.
+fn in_file<T>(
+    run: &RunArgs,
+    table: &str,
+    checked: Result<T, UsageError>,
+) -> Result<(), UsageError> {
+    match (&run.config, checked) {
+        (Some(path), Err(UsageError(message))) => {
+            // Messages start with the flag and its value: "--nodes 1: must be ...".
+            let (flag, rest) = message.split_once(' ').unwrap_or((&message, ""));
+            let key = flag.trim_start_matches("--").replace('-', "_");
+            Err(UsageError(format!(
+                "--config {}: [{table}] {key} = {rest}",
+                path.display()
+            )))
+        }
+        _ => Ok(()),
+    }
 }
 
 /// The pendulum's parameters (missing ones at their defaults), validated.
@@ -190,6 +248,7 @@ fn simulate(plan: Plan, run: &RunArgs, output: &Output) -> anyhow::Result<()> {
     if threads == Some(0) {
         return Err(UsageError("--threads 0: must be at least 1".into()).into());
     }
+    refuse_contradictions(run, no_record)?;
     if run.print_config {
         print!("{text}");
         return Ok(());
@@ -290,6 +349,39 @@ fn simulate(plan: Plan, run: &RunArgs, output: &Output) -> anyhow::Result<()> {
     progress.finish();
     drop(stream);
     finish(recording, &d, started, &summaries, &diverged, run)
+}
+
+/// Output options that cannot hold together.
+fn refuse_contradictions(run: &RunArgs, no_record: bool) -> Result<(), UsageError> {
+    if run.no_save
+        && let Some(path) = &run.output
+    {
+        return Err(UsageError(format!(
+            "--no-save with -o {}: one says write no file, the other names it; drop one",
+            path.display()
+        )));
+    }
+    if run.no_save && run.connect.is_none() && !run.spawn {
+        return Err(UsageError(
+            "--no-save without --connect or --spawn: the run would go nowhere".into(),
+        ));
+    }
+    if no_record {
+        for (given, flag) in [
+            (run.output.is_some(), "-o/--output"),
+            (run.connect.is_some(), "--connect"),
+            (run.spawn, "--spawn"),
+            (run.no_save, "--no-save"),
+            (run.timings, "--timings"),
+        ] {
+            if given {
+                return Err(UsageError(format!(
+                    "--no-record with {flag}: --no-record writes and streams nothing"
+                )));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Runs one scene through the harness (recording it when a recorder is given) and returns its

@@ -46,7 +46,46 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64), UsageError> {
             "--rtol {bad}: must be between 1e-14 and 0.1"
         )));
     }
-    let methods = a.methods.clone().unwrap_or_else(|| Method::ALL.to_vec());
+    // Flags of the other scene would be silently ignored: refuse them.
+    let (pendulum_flags, rope_flags) = (
+        [
+            ("--theta0", a.theta0.is_some()),
+            ("--omega0", a.omega0.is_some()),
+        ],
+        [
+            ("--nodes", a.nodes.is_some()),
+            ("--stiffness", a.stiffness.is_some()),
+            ("--mass", a.mass.is_some()),
+            ("--spring-damping", a.spring_damping.is_some()),
+            ("--air-drag", a.air_drag.is_some()),
+        ],
+    );
+    let foreign = match a.scene {
+        StudyScene::Pendulum => rope_flags.iter().find(|f| f.1).map(|f| (f.0, "rope")),
+        StudyScene::Rope => pendulum_flags
+            .iter()
+            .find(|f| f.1)
+            .map(|f| (f.0, "pendulum")),
+    };
+    if let Some((flag, scene)) = foreign {
+        return Err(UsageError(format!(
+            "{flag} is a {scene} parameter; add --scene {scene}, or drop it"
+        )));
+    }
+    // The scene file's schedule and methods apply too: its dt is the coarsest step.
+    let (file_dt, file_duration, file_methods) = match a.scene {
+        StudyScene::Pendulum => file.pendulum.as_ref().map_or((None, None, None), |t| {
+            (t.dt, t.duration, t.methods.clone())
+        }),
+        StudyScene::Rope => file.rope.as_ref().map_or((None, None, None), |t| {
+            (t.dt, t.duration, t.methods.clone())
+        }),
+    };
+    let methods = a
+        .methods
+        .clone()
+        .or(file_methods)
+        .unwrap_or_else(|| Method::ALL.to_vec());
     let problem = match a.scene {
         StudyScene::Pendulum => {
             let flags = PendulumArgs {
@@ -81,14 +120,30 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64), UsageError> {
     };
     let (default_dt, default_duration) = crate::study::default_schedule(&problem);
     let (dt0, duration) = (
-        a.dt.unwrap_or(default_dt),
-        a.duration.unwrap_or(default_duration),
+        a.dt.or(file_dt).unwrap_or(default_dt),
+        a.duration.or(file_duration).unwrap_or(default_duration),
     );
     crate::scene::params::positive("--dt", dt0, "s")?;
     crate::scene::params::positive("--duration", duration, "s")?;
-    if dt0 > duration {
+    // Errors are compared every SAMPLE_EVERY coarsest steps; fewer than one sample fits nothing.
+    let longest = duration / crate::study::SAMPLE_EVERY as f64;
+    if dt0 > longest {
         return Err(UsageError(format!(
-            "--dt {dt0}: must not exceed --duration {duration} s"
+            "--dt {dt0}: must not exceed --duration / {} = {longest} s (errors are sampled every {} \
+             coarsest steps)",
+            crate::study::SAMPLE_EVERY,
+            crate::study::SAMPLE_EVERY
+        )));
+    }
+    // The finest level's steps, and the reference's (8× finer, stored at every sample), must
+    // fit in time and memory.
+    let finest = dt0 / 2f64.powi(levels as i32 - 1);
+    let reference_steps = 8.0 * duration / finest;
+    if reference_steps > crate::scene::params::MAX_STEPS {
+        return Err(UsageError(format!(
+            "--dt {dt0} with --levels {levels} over --duration {duration} s needs {reference_steps:.2e} \
+             reference steps; at most {:.0e} are allowed (raise --dt or lower --levels)",
+            crate::scene::params::MAX_STEPS
         )));
     }
     let sweep = Sweep {

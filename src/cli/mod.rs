@@ -263,7 +263,10 @@ fn study_defaults() -> Vec<(String, String)> {
     use crate::study::{self, Problem};
     let pendulum = Problem::Pendulum(Default::default());
     let rope = Problem::Rope(study::study_rope(false));
-    let (p, r) = (study::default_schedule(&pendulum), study::default_schedule(&rope));
+    let (p, r) = (
+        study::default_schedule(&pendulum),
+        study::default_schedule(&rope),
+    );
     let scene = |args: &PendulumArgs| toml::Value::try_from(args).ok();
     let pendulum_file = scene(&PendulumArgs::defaults());
     let rope_file = toml::Value::try_from(RopeArgs::defaults()).ok();

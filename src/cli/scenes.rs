@@ -126,7 +126,12 @@ pub struct RopeArgs {
     pub gravity: Option<Vector>,
 
     /// Indices of pinned nodes, comma-separated, e.g. 0,15 for both ends
-    #[arg(long, value_delimiter = ',', value_name = "LIST")]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        value_name = "LIST",
+        allow_hyphen_values = true
+    )]
     pub pinned: Option<Vec<usize>>,
 
     /// Time step [s]
@@ -276,7 +281,10 @@ impl PendulumArgs {
         let p = &mut c.params;
         set(&mut p.gravity, self.gravity);
         set(&mut p.length, self.length);
-        set(&mut p.theta0, self.theta0.map(f64::to_radians));
+        set(
+            &mut p.theta0,
+            self.theta0.map(|d| wrap_degrees(d).to_radians()),
+        );
         set(&mut p.omega0, self.omega0);
         set(&mut c.dt, self.dt);
         set(&mut c.duration, self.duration);
@@ -469,6 +477,13 @@ impl HairArgs {
         }
         c
     }
+}
+
+/// An angle in (-180°, 180°]: the same pendulum state, so that 181° is the release from -179°
+/// that the closed form covers. (`%` on f64 is exact.)
+fn wrap_degrees(d: f64) -> f64 {
+    let r = d.rem_euclid(360.0);
+    if r > 180.0 { r - 360.0 } else { r }
 }
 
 /// `*slot = value` when a value was given.

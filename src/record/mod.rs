@@ -231,6 +231,18 @@ fn parse_proxy_url(url: &str) -> anyhow::Result<rerun::external::re_uri::ProxyUr
     })
 }
 
+/// Whether something accepts connections at the viewer's address (within a second).
+fn viewer_listens(uri: &rerun::external::re_uri::ProxyUri) -> bool {
+    use std::net::ToSocketAddrs as _;
+    let origin = &uri.origin;
+    let Ok(addrs) = (origin.host.to_string(), origin.port).to_socket_addrs() else {
+        return false;
+    };
+    addrs.into_iter().any(|a| {
+        std::net::TcpStream::connect_timeout(&a, std::time::Duration::from_secs(1)).is_ok()
+    })
+}
+
 fn parent_dir(target: &Path) -> PathBuf {
     match target.parent() {
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
@@ -297,7 +309,20 @@ impl Recording {
             sinks.push(Box::new(rerun::sink::GrpcSink::new(parse_proxy_url(&url)?)));
         }
         if let Some(url) = &d.connect {
-            sinks.push(Box::new(rerun::sink::GrpcSink::new(parse_proxy_url(url)?)));
+            let uri = parse_proxy_url(url)?;
+            if viewer_listens(&uri) {
+                sinks.push(Box::new(rerun::sink::GrpcSink::new(uri)));
+            } else if d.file.is_some() {
+                // A missing viewer must not cost the user the recording.
+                eprintln!(
+                    "warning: --connect {url}: no viewer answers there; writing the file only"
+                );
+            } else {
+                anyhow::bail!(
+                    "--connect {url}: no viewer answers there, and --no-save leaves nothing to write \
+                     (start `rerun`, or drop --no-save)"
+                );
+            }
         }
         let rec = rerun::RecordingStreamBuilder::new("physlab")
             .enabled(true) // the recording is the product: ignore RERUN=off

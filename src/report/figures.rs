@@ -130,7 +130,7 @@ fn rope_default() -> String {
     for (lane, s) in r.lanes.iter().zip(&r.stats) {
         t.row([
             s.name.to_string(),
-            s.ticks.to_string(),
+            s.ticks_taken().to_string(),
             format!("{:+.3e}", lane.final_energy - scene.initial_energy),
             sci(lane.max_strain),
             diverged(s),

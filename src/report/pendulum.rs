@@ -55,7 +55,7 @@ pub fn summary_text(scene: &PendulumScene, run: &Run<PendulumLane>) -> String {
         };
         table.row([
             s.name.to_string(),
-            s.ticks.to_string(),
+            s.ticks_taken().to_string(),
             if timed {
                 s.counts.evals.to_string()
             } else {
@@ -67,12 +67,16 @@ pub fn summary_text(scene: &PendulumScene, run: &Run<PendulumLane>) -> String {
                 dash()
             },
             s.ns_per_tick().map_or_else(dash, |ns| format!("{ns:.1}")),
-            if timed {
+            if timed && !s.failed_at_once() {
                 format!("{:.3e}", lane.max_theta_error)
             } else {
                 dash()
             },
-            format!("{:.3e}", lane.max_energy_error),
+            if s.failed_at_once() {
+                dash()
+            } else {
+                format!("{:.3e}", lane.max_energy_error)
+            },
             period.map_or_else(|| "— (< 2 crossings)".to_string(), |t| format!("{t:.9}")),
             period_err,
             divergence_cell(s),

@@ -33,8 +33,9 @@ pub fn summary_text(scene: &RopeScene, run: &Run<RopeLane>) -> String {
     let mut out = format!(
         "rope: {} nodes from {} to {} m, rest length {} m, mass {} kg/node, ks = {} N/m, kd = {} N·s/m, \
          ka = {} N·s/m, g = {} m/s², pinned {:?}\n\
-         dt = {} s, {} steps to t = {} s; ω_max (pinned-free chain) = {:.4} rad/s, so ω_max·dt = {:.4} \
-         (semi-implicit Euler and Verlet need < 2, RK4 < 2.83 without damping)\n\
+         dt = {} s, {} steps to t = {} s; fastest rates: springs ω_max {} {:.4} rad/s, so ω_max·dt = {:.4} \
+         (undamped, semi-implicit Euler and Verlet need < 2, RK4 < 2.83), damping c_max ≤ (4kd + ka)/m = {:.4} 1/s, \
+         so c_max·dt ≤ {:.4} (explicit methods need it below 2 too)\n\
          E0 = {:.6} J, energy scale {:.4} J; divergence = non-finite state, strain > {:.3}, \
          or an energy gain > {ENERGY_GAIN_BOUND} × the scale, checked after every step\n\
          ns/step: wall time of the stepping and its O(N) energy and strain check \
@@ -52,8 +53,15 @@ pub fn summary_text(scene: &RopeScene, run: &Run<RopeLane>) -> String {
         c.dt,
         schedule.total,
         trim_number(schedule.end_time(), 9),
+        if scene.omega_max_is_exact {
+            "(chain pinned at node 0) ="
+        } else {
+            "≤ 2√(k/m) ="
+        },
         scene.omega_max,
         scene.omega_max * c.dt,
+        scene.damping_rate_max,
+        scene.damping_rate_max * c.dt,
         scene.initial_energy,
         scene.energy_scale,
         scene.strain_bound,
@@ -71,16 +79,24 @@ pub fn summary_text(scene: &RopeScene, run: &Run<RopeLane>) -> String {
         "diverged",
     ]);
     for (lane, s) in run.lanes.iter().zip(&run.stats) {
+        // A lane that failed its first check has only its starting values: show none.
+        let figure = |text: String| {
+            if s.failed_at_once() {
+                "—".to_string()
+            } else {
+                text
+            }
+        };
         table.row([
             s.name.to_string(),
             cost_per_step(lane.method, p.newton_iterations),
-            s.ticks.to_string(),
+            s.ticks_taken().to_string(),
             s.counts.evals.to_string(),
             format!("{:.3}", s.wall.as_secs_f64() * 1e3),
             s.ns_per_tick().map_or("—".into(), |ns| format!("{ns:.0}")),
-            format!("{:.6}", lane.final_energy),
-            format!("{:+.3e}", lane.final_energy - scene.initial_energy),
-            format!("{:.3e}", lane.max_strain),
+            figure(format!("{:.6}", lane.final_energy)),
+            figure(format!("{:+.3e}", lane.final_energy - scene.initial_energy)),
+            figure(format!("{:.3e}", lane.max_strain)),
             divergence_cell(s),
         ]);
     }

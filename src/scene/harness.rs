@@ -232,6 +232,17 @@ pub struct LaneStats {
 }
 
 impl LaneStats {
+    /// Ticks taken: the accepted ones and, if the lane diverged, the one that failed.
+    pub fn ticks_taken(&self) -> u64 {
+        self.ticks + u64::from(self.divergence.is_some())
+    }
+
+    /// Whether the lane failed its first check, so that it has no figures to show (a summary
+    /// shows "—" rather than the zeros it started from).
+    pub fn failed_at_once(&self) -> bool {
+        self.ticks == 0 && self.divergence.is_some()
+    }
+
     /// Wall time per tick [ns], for method lanes that stepped.
     pub fn ns_per_tick(&self) -> Option<f64> {
         (self.is_method && self.timed_ticks > 0)

@@ -15,7 +15,8 @@ pub fn finite(option: &str, value: f64, unit: &str) -> Result<(), Invalid> {
         Ok(())
     } else {
         Err(Invalid(format!(
-            "{option} {value}: must be a finite number [{unit}]"
+            "{option} {}: must be a finite number [{unit}]",
+            shown(value)
         )))
     }
 }
@@ -25,17 +26,56 @@ pub fn positive(option: &str, value: f64, unit: &str) -> Result<(), Invalid> {
         Ok(())
     } else {
         Err(Invalid(format!(
-            "{option} {value}: must be a finite number > 0 [{unit}]"
+            "{option} {}: must be a finite number > 0 [{unit}]",
+            shown(value)
         )))
     }
 }
+
+/// A finite value within [lo, hi], the range the physics and f64 are trusted in.
+pub fn within(option: &str, value: f64, lo: f64, hi: f64, unit: &str) -> Result<(), Invalid> {
+    if value.is_finite() && (lo..=hi).contains(&value) {
+        Ok(())
+    } else {
+        Err(Invalid(format!(
+            "{option} {}: must be between {} and {} [{unit}]",
+            shown(value),
+            bound(lo),
+            bound(hi)
+        )))
+    }
+}
+
+/// A value as given, in exponent form when long (1e155, 1e-9), so that a message keeps every
+/// digit without three hundred of them.
+pub fn shown(x: f64) -> String {
+    if x != 0.0 && x.is_finite() && !(1e-4..1e6).contains(&x.abs()) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
+}
+
+/// A range's end as a person writes it: 0, 0.5, 1e6.
+fn bound(x: f64) -> String {
+    if x == 0.0 || (1e-3..1e4).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+/// The largest magnitude accepted for a coordinate or a physical parameter: far beyond any lab
+/// setup, yet small enough that energies, squares and sums of squares stay finite in f64.
+pub const MAX_MAGNITUDE: f64 = 1e6;
 
 pub fn non_negative(option: &str, value: f64, unit: &str) -> Result<(), Invalid> {
     if value.is_finite() && value >= 0.0 {
         Ok(())
     } else {
         Err(Invalid(format!(
-            "{option} {value}: must be a finite number ≥ 0 [{unit}]"
+            "{option} {}: must be a finite number ≥ 0 [{unit}]",
+            shown(value)
         )))
     }
 }

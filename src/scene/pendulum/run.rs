@@ -54,10 +54,11 @@ impl PendulumConfig {
     /// Every value in range, or the first that is not, named by its flag.
     pub fn validate(&self) -> Result<(), Invalid> {
         let p = &self.params;
-        params::positive("--gravity", p.gravity, "m/s²")?;
-        params::positive("--length", p.length, "m")?;
+        let max = params::MAX_MAGNITUDE;
+        params::within("--gravity", p.gravity, 1.0 / max, max, "m/s²")?;
+        params::within("--length", p.length, 1.0 / max, max, "m")?;
         params::finite("--theta0", p.theta0.to_degrees(), "degrees")?;
-        params::finite("--omega0", p.omega0, "rad/s")?;
+        params::within("--omega0", p.omega0, -max, max, "rad/s")?;
         params::time(self.dt, self.duration, self.fps, 1)?;
         params::verlet_damping(self.options.verlet_damping)?;
         if self.plot_every == 0 {

@@ -117,10 +117,24 @@ impl RopeConfig {
                 p.end.x, p.end.y, p.end.z
             )));
         }
-        params::positive("--mass", p.mass, "kg")?;
-        params::non_negative("--stiffness", p.stiffness, "N/m")?;
-        params::non_negative("--spring-damping", p.spring_damping, "N·s/m")?;
-        params::non_negative("--air-drag", p.air_drag, "N·s/m")?;
+        let max = params::MAX_MAGNITUDE;
+        for (option, v) in [
+            ("--start", p.start),
+            ("--end", p.end),
+            ("--gravity", p.gravity),
+        ] {
+            if !(v.is_finite() && v.abs().max_element() <= max) {
+                return Err(Invalid(format!(
+                    "{option} {},{},{}: every component must be a finite number within ±{max:e}",
+                    v.x, v.y, v.z
+                )));
+            }
+        }
+        params::within("--mass", p.mass, 1.0 / max, max, "kg")?;
+        // A rope without springs is no rope: every method would let it fall apart.
+        params::within("--stiffness", p.stiffness, 1.0 / max, 1e12, "N/m")?;
+        params::within("--spring-damping", p.spring_damping, 0.0, max, "N·s/m")?;
+        params::within("--air-drag", p.air_drag, 0.0, max, "N·s/m")?;
         if let Some(&bad) = p.pinned.iter().find(|&&i| i >= p.nodes) {
             return Err(Invalid(format!(
                 "--pinned {bad}: node index out of range; the rope has nodes 0..={}",
@@ -185,8 +199,15 @@ pub struct RopeScene {
     pub energy_scale: f64,
     /// See [`strain_bound`].
     pub strain_bound: f64,
-    /// Highest linear mode of the chain pinned at node 0 with the rest free [rad/s].
+    /// Highest angular frequency of the linearised springs [rad/s]: the pinned-free chain's
+    /// exact value when only node 0 is pinned, otherwise the bound 2 sqrt(k/m) that holds for
+    /// any pinning.
     pub omega_max: f64,
+    /// Which of the two `omega_max` is.
+    pub omega_max_is_exact: bool,
+    /// Largest damping rate of the linearised chain [1/s]: the damping matrix's Gershgorin bound
+    /// (4 kd + ka)/m. Explicit steps also need it well below 2/dt, whatever the springs allow.
+    pub damping_rate_max: f64,
 }
 
 impl RopeScene {
@@ -198,7 +219,14 @@ impl RopeScene {
             initial_energy: rope.energy(&x0, &v0),
             energy_scale: energy_scale(&rope, &x0, &v0),
             strain_bound: strain_bound(&config.params),
-            omega_max: config.params.omega_max_pinned_free(),
+            omega_max: if config.params.pinned == [0] {
+                config.params.omega_max_pinned_free()
+            } else {
+                2.0 * (config.params.stiffness / config.params.mass).sqrt()
+            },
+            omega_max_is_exact: config.params.pinned == [0],
+            damping_rate_max: (4.0 * config.params.spring_damping + config.params.air_drag)
+                / config.params.mass,
             initial_positions: x0,
             rope,
             config,
