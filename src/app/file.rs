@@ -40,10 +40,75 @@ impl SceneFile {
     }
 
     pub fn parse(text: &str) -> Result<Self, String> {
-        toml::from_str(text).map_err(|e| e.to_string().trim_end().replace('\n', "\n  "))
+        let file: SceneFile =
+            toml::from_str(text).map_err(|e| e.to_string().trim_end().replace('\n', "\n  "))?;
+        check_keys(text)?;
+        Ok(file)
     }
 
     pub fn to_toml(&self) -> anyhow::Result<String> {
         Ok(toml::to_string(self)?)
     }
+}
+
+/// Refuses keys a scene's table does not know (the tables flatten shared flag groups, which
+/// serde cannot combine with `deny_unknown_fields`), naming the line, the key and the known ones.
+fn check_keys(text: &str) -> Result<(), String> {
+    let Ok(file) = toml::from_str::<toml::Table>(text) else {
+        return Ok(()); // already refused by the typed parse
+    };
+    let known = |defaults: Result<toml::Value, toml::ser::Error>, extra: &[&str]| -> Vec<String> {
+        let mut keys: Vec<String> = match defaults {
+            Ok(toml::Value::Table(t)) => t.keys().cloned().collect(),
+            _ => Vec::new(),
+        };
+        keys.extend(extra.iter().map(|k| k.to_string()));
+        keys
+    };
+    let scenes = [
+        (
+            "pendulum",
+            known(toml::Value::try_from(PendulumArgs::defaults()), &[]),
+        ),
+        (
+            "rope",
+            known(toml::Value::try_from(RopeArgs::defaults()), &["preset"]),
+        ),
+        (
+            "hair",
+            known(toml::Value::try_from(HairArgs::defaults()), &[]),
+        ),
+    ];
+    for (scene, keys) in &scenes {
+        let Some(toml::Value::Table(table)) = file.get(*scene) else {
+            continue;
+        };
+        if let Some(unknown) = table.keys().find(|k| !keys.contains(k)) {
+            let line =
+                line_of_key(text, scene, unknown).map_or(String::new(), |l| format!("line {l}: "));
+            return Err(format!(
+                "{line}unknown key `{unknown}` in [{scene}]; expected one of {}",
+                keys.join(", ")
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The 1-based line where `key` is set inside `[scene]`, if it can be found.
+fn line_of_key(text: &str, scene: &str, key: &str) -> Option<usize> {
+    let mut in_table = false;
+    for (i, line) in text.lines().enumerate() {
+        let line = line.trim();
+        if line.starts_with('[') {
+            in_table = line.trim_matches(|c| c == '[' || c == ']').trim() == scene;
+        } else if in_table
+            && line
+                .strip_prefix(key)
+                .is_some_and(|rest| rest.trim_start().starts_with('='))
+        {
+            return Some(i + 1);
+        }
+    }
+    None
 }

@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 
 use super::SceneFile;
 use super::UsageError;
-use crate::cli::{PendulumArgs, RopeArgs, StudyArgs, StudyKind, StudyScene};
+use crate::cli::{PendulumArgs, RopeArgs, RopeBody, StudyArgs, StudyKind, StudyScene};
 use crate::integrate::{Method, MethodOptions};
 use crate::report::study as report;
 use crate::study::{Limit, Problem, Row, Sweep, error_floor, stability, sweep};
@@ -49,15 +49,15 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64), UsageError> {
     // Flags of the other scene would be silently ignored: refuse them.
     let (pendulum_flags, rope_flags) = (
         [
-            ("--theta0", a.theta0.is_some()),
-            ("--omega0", a.omega0.is_some()),
+            ("--theta0", a.pendulum.theta0.is_some()),
+            ("--omega0", a.pendulum.omega0.is_some()),
         ],
         [
-            ("--nodes", a.nodes.is_some()),
-            ("--stiffness", a.stiffness.is_some()),
-            ("--mass", a.mass.is_some()),
-            ("--spring-damping", a.spring_damping.is_some()),
-            ("--air-drag", a.air_drag.is_some()),
+            ("--nodes", a.rope.nodes.is_some()),
+            ("--stiffness", a.rope.stiffness.is_some()),
+            ("--mass", a.rope.mass.is_some()),
+            ("--spring-damping", a.rope.spring_damping.is_some()),
+            ("--air-drag", a.rope.air_drag.is_some()),
         ],
     );
     let foreign = match a.scene {
@@ -89,8 +89,7 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64), UsageError> {
     let problem = match a.scene {
         StudyScene::Pendulum => {
             let flags = PendulumArgs {
-                theta0: a.theta0,
-                omega0: a.omega0,
+                initial: a.pendulum.clone(),
                 ..PendulumArgs::default()
             };
             let args = flags.over(file.pendulum.unwrap_or_default());
@@ -99,17 +98,16 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64), UsageError> {
         StudyScene::Rope => {
             let study = crate::study::study_rope(stability_study);
             let study_defaults = RopeArgs {
-                stiffness: Some(study.stiffness),
-                spring_damping: Some(study.spring_damping),
-                air_drag: Some(study.air_drag),
+                body: RopeBody {
+                    stiffness: Some(study.stiffness),
+                    spring_damping: Some(study.spring_damping),
+                    air_drag: Some(study.air_drag),
+                    ..RopeBody::default()
+                },
                 ..RopeArgs::default()
             };
             let flags = RopeArgs {
-                nodes: a.nodes,
-                stiffness: a.stiffness,
-                mass: a.mass,
-                spring_damping: a.spring_damping,
-                air_drag: a.air_drag,
+                body: a.rope.clone(),
                 ..RopeArgs::default()
             };
             let args = flags

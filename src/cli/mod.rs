@@ -10,7 +10,9 @@ use std::path::PathBuf;
 use clap::{Args, CommandFactory as _, Parser, Subcommand};
 use serde::Serialize;
 
-pub use scenes::{HairArgs, PendulumArgs, RopeArgs, RopePreset, games101_preset};
+pub use scenes::{
+    HairArgs, PendulumArgs, PendulumStart, RopeArgs, RopeBody, RopePreset, games101_preset,
+};
 pub use vector::Vector;
 
 use crate::integrate::Method;
@@ -172,33 +174,13 @@ pub struct StudyArgs {
     #[arg(long, value_name = "FILE.toml")]
     pub config: Option<PathBuf>,
 
-    /// Pendulum: initial angle [degrees]
-    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
-    pub theta0: Option<f64>,
+    /// The pendulum's start (with --scene pendulum)
+    #[command(flatten)]
+    pub pendulum: PendulumStart,
 
-    /// Pendulum: initial angular velocity [rad/s]
-    #[arg(long, value_name = "RAD/S", allow_negative_numbers = true)]
-    pub omega0: Option<f64>,
-
-    /// Rope: nodes
-    #[arg(long, value_name = "N", allow_negative_numbers = true)]
-    pub nodes: Option<usize>,
-
-    /// Rope: spring stiffness [N/m]
-    #[arg(long, value_name = "N/M", allow_negative_numbers = true)]
-    pub stiffness: Option<f64>,
-
-    /// Rope: node mass [kg]
-    #[arg(long, value_name = "KG", allow_negative_numbers = true)]
-    pub mass: Option<f64>,
-
-    /// Rope: spring damping [N·s/m]
-    #[arg(long, value_name = "N·S/M", allow_negative_numbers = true)]
-    pub spring_damping: Option<f64>,
-
-    /// Rope: air drag [N·s/m]
-    #[arg(long, value_name = "N·S/M", allow_negative_numbers = true)]
-    pub air_drag: Option<f64>,
+    /// The rope's size and material (with --scene rope)
+    #[command(flatten)]
+    pub rope: RopeBody,
 
     /// Simulated time [s]
     #[arg(long, value_name = "S", allow_negative_numbers = true)]

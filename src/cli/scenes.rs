@@ -16,27 +16,22 @@ use crate::scene::rope::run::{Layout, RopeConfig};
 
 /// `a.over(b)`: a's given values, b's for the rest.
 macro_rules! overlay {
-    ($ty:ident { $($field:ident),* $(,)? }) => {
+    ($ty:ident { $($field:ident),* $(,)? } $(nested { $($inner:ident),* })?) => {
         impl $ty {
             /// These values where given, `below`'s elsewhere.
             pub fn over(self, below: Self) -> Self {
-                $ty { $($field: self.$field.or(below.$field)),* }
+                $ty {
+                    $($field: self.$field.or(below.$field),)*
+                    $($($inner: self.$inner.over(below.$inner),)*)?
+                }
             }
         }
     };
 }
 
+/// The pendulum's start: the flags `physlab pendulum` and `physlab study` share.
 #[derive(Args, Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct PendulumArgs {
-    /// Gravitational acceleration g [m/s²]
-    #[arg(long, value_name = "M/S²", allow_negative_numbers = true)]
-    pub gravity: Option<f64>,
-
-    /// Rod length L, pivot to bob [m]
-    #[arg(long, value_name = "M", allow_negative_numbers = true)]
-    pub length: Option<f64>,
-
+pub struct PendulumStart {
     /// Initial angle θ0 from straight down [degrees]. Release from rest with
     /// |θ0| < 180° is compared with the exact elliptic solution; any other start with a converged
     /// fine-step one
@@ -46,6 +41,47 @@ pub struct PendulumArgs {
     /// Initial angular velocity ω0 [rad/s]
     #[arg(long, value_name = "RAD/S", allow_negative_numbers = true)]
     pub omega0: Option<f64>,
+}
+
+/// The rope's size and material: the flags `physlab rope` and `physlab study` share.
+#[derive(Args, Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
+pub struct RopeBody {
+    /// Number of point masses, ≥ 2
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub nodes: Option<usize>,
+
+    /// Mass of each node [kg]
+    #[arg(long, value_name = "KG", allow_negative_numbers = true)]
+    pub mass: Option<f64>,
+
+    /// Spring stiffness ks [N/m]
+    #[arg(long, value_name = "N/M", allow_negative_numbers = true)]
+    pub stiffness: Option<f64>,
+
+    /// Spring damping kd on the relative velocity along each spring [N·s/m]
+    #[arg(long, value_name = "N·S/M", allow_negative_numbers = true)]
+    pub spring_damping: Option<f64>,
+
+    /// Air drag ka, force -ka·v on every node [N·s/m]
+    #[arg(long, value_name = "N·S/M", allow_negative_numbers = true)]
+    pub air_drag: Option<f64>,
+}
+
+// No `deny_unknown_fields` here or in the flattened structs (serde does not support it with
+// `flatten`): scene files are checked for unknown keys in `app::file` instead.
+#[derive(Args, Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
+pub struct PendulumArgs {
+    /// Gravitational acceleration g [m/s²]
+    #[arg(long, value_name = "M/S²", allow_negative_numbers = true)]
+    pub gravity: Option<f64>,
+
+    /// Rod length L, pivot to bob [m]
+    #[arg(long, value_name = "M", allow_negative_numbers = true)]
+    pub length: Option<f64>,
+
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub initial: PendulumStart,
 
     /// Time step dt [s], the same for every method
     #[arg(long, value_name = "S", allow_negative_numbers = true)]
@@ -86,15 +122,14 @@ pub enum RopePreset {
 }
 
 #[derive(Args, Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
 pub struct RopeArgs {
     /// Start from a known parameter set; flags given as well override it
     #[arg(long, value_enum)]
     pub preset: Option<RopePreset>,
 
-    /// Number of point masses, ≥ 2
-    #[arg(long, value_name = "N", allow_negative_numbers = true)]
-    pub nodes: Option<usize>,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub body: RopeBody,
 
     /// First node's position x,y[,z] [m]
     #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
@@ -104,22 +139,6 @@ pub struct RopeArgs {
     /// spring's rest length
     #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
     pub end: Option<Vector>,
-
-    /// Mass of each node [kg]
-    #[arg(long, value_name = "KG", allow_negative_numbers = true)]
-    pub mass: Option<f64>,
-
-    /// Spring stiffness ks [N/m]
-    #[arg(long, value_name = "N/M", allow_negative_numbers = true)]
-    pub stiffness: Option<f64>,
-
-    /// Spring damping kd on the relative velocity along each spring [N·s/m]
-    #[arg(long, value_name = "N·S/M", allow_negative_numbers = true)]
-    pub spring_damping: Option<f64>,
-
-    /// Air drag ka, force -ka·v on every node [N·s/m]
-    #[arg(long, value_name = "N·S/M", allow_negative_numbers = true)]
-    pub air_drag: Option<f64>,
 
     /// Gravitational acceleration x,y[,z] [m/s²]
     #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
@@ -242,19 +261,11 @@ pub struct HairArgs {
     pub methods: Option<Vec<HairMethod>>,
 }
 
+overlay!(PendulumStart { theta0, omega0 });
+
 overlay!(PendulumArgs {
-    gravity,
-    length,
-    theta0,
-    omega0,
-    dt,
-    duration,
-    fps,
-    plot_every,
-    methods,
-    verlet_damping,
-    rtol
-});
+    gravity, length, dt, duration, fps, plot_every, methods, verlet_damping, rtol
+} nested { initial });
 
 impl PendulumArgs {
     /// Every value at the scene's default.
@@ -263,8 +274,10 @@ impl PendulumArgs {
         PendulumArgs {
             gravity: Some(c.params.gravity),
             length: Some(c.params.length),
-            theta0: Some(DEFAULT_THETA0_DEGREES),
-            omega0: Some(c.params.omega0),
+            initial: PendulumStart {
+                theta0: Some(DEFAULT_THETA0_DEGREES),
+                omega0: Some(c.params.omega0),
+            },
             dt: Some(c.dt),
             duration: Some(c.duration),
             fps: Some(c.fps),
@@ -283,9 +296,9 @@ impl PendulumArgs {
         set(&mut p.length, self.length);
         set(
             &mut p.theta0,
-            self.theta0.map(|d| wrap_degrees(d).to_radians()),
+            self.initial.theta0.map(|d| wrap_degrees(d).to_radians()),
         );
-        set(&mut p.omega0, self.omega0);
+        set(&mut p.omega0, self.initial.omega0);
         set(&mut c.dt, self.dt);
         set(&mut c.duration, self.duration);
         set(&mut c.fps, self.fps);
@@ -298,27 +311,18 @@ impl PendulumArgs {
     }
 }
 
-overlay!(RopeArgs {
-    preset,
+overlay!(RopeBody {
     nodes,
-    start,
-    end,
     mass,
     stiffness,
     spring_damping,
-    air_drag,
-    gravity,
-    pinned,
-    dt,
-    duration,
-    fps,
-    plot_every,
-    methods,
-    verlet_damping,
-    newton_iterations,
-    layout,
-    rtol
+    air_drag
 });
+
+overlay!(RopeArgs {
+    preset, start, end, gravity, pinned, dt, duration, fps, plot_every, methods, verlet_damping,
+    newton_iterations, layout, rtol
+} nested { body });
 
 impl RopeArgs {
     /// Every value at the scene's default.
@@ -327,13 +331,15 @@ impl RopeArgs {
         let p = c.params;
         RopeArgs {
             preset: None,
-            nodes: Some(p.nodes),
+            body: RopeBody {
+                nodes: Some(p.nodes),
+                mass: Some(p.mass),
+                stiffness: Some(p.stiffness),
+                spring_damping: Some(p.spring_damping),
+                air_drag: Some(p.air_drag),
+            },
             start: Some(Vector(p.start)),
             end: Some(Vector(p.end)),
-            mass: Some(p.mass),
-            stiffness: Some(p.stiffness),
-            spring_damping: Some(p.spring_damping),
-            air_drag: Some(p.air_drag),
             gravity: Some(Vector(p.gravity)),
             pinned: Some(p.pinned),
             dt: Some(c.dt),
@@ -361,13 +367,14 @@ impl RopeArgs {
     pub fn config(&self) -> RopeConfig {
         let mut c = RopeConfig::default();
         let p = &mut c.params;
-        set(&mut p.nodes, self.nodes);
+        let b = &self.body;
+        set(&mut p.nodes, b.nodes);
         set(&mut p.start, self.start.map(|v| v.0));
         set(&mut p.end, self.end.map(|v| v.0));
-        set(&mut p.mass, self.mass);
-        set(&mut p.stiffness, self.stiffness);
-        set(&mut p.spring_damping, self.spring_damping);
-        set(&mut p.air_drag, self.air_drag);
+        set(&mut p.mass, b.mass);
+        set(&mut p.stiffness, b.stiffness);
+        set(&mut p.spring_damping, b.spring_damping);
+        set(&mut p.air_drag, b.air_drag);
         set(&mut p.gravity, self.gravity.map(|v| v.0));
         if let Some(pinned) = &self.pinned {
             p.pinned = pinned.clone();
@@ -391,13 +398,15 @@ impl RopeArgs {
 /// The GAMES101 assignment's parameters (a layer over the defaults).
 pub fn games101_preset() -> RopeArgs {
     RopeArgs {
-        nodes: Some(16),
+        body: RopeBody {
+            nodes: Some(16),
+            mass: Some(1.0),
+            stiffness: Some(100.0),
+            spring_damping: Some(0.0),
+            air_drag: Some(0.0),
+        },
         start: Some(Vector(glam::DVec3::new(0.0, 200.0, 0.0))),
         end: Some(Vector(glam::DVec3::new(-400.0, 200.0, 0.0))),
-        mass: Some(1.0),
-        stiffness: Some(100.0),
-        spring_damping: Some(0.0),
-        air_drag: Some(0.0),
         gravity: Some(Vector(glam::DVec3::new(0.0, -1.0, 0.0))),
         pinned: Some(vec![0]),
         dt: Some(1.0 / 64.0),
