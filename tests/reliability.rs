@@ -342,6 +342,28 @@ fn sigint_finalises_a_readable_recording_and_exits_130() {
 }
 
 #[test]
+fn a_second_sigint_ends_at_once_and_leaves_no_file_behind() {
+    let dir = scratch_dir("sigint2");
+    let out = dir.join("int.rrd");
+    let child = spawn_long_hair_run(&out, Stdio::piped);
+    std::thread::sleep(Duration::from_millis(1500));
+    // SAFETY: sending signals to our own child process.
+    unsafe { libc::kill(child.id() as libc::pid_t, libc::SIGINT) };
+    unsafe { libc::kill(child.id() as libc::pid_t, libc::SIGINT) };
+    let result = child.wait_with_output().unwrap();
+    assert_eq!(result.status.code(), Some(130));
+    // Either the first signal's finalised recording made it, or nothing: never a hidden
+    // `.int.rrd.PID.partial`.
+    let left: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".partial"))
+        .collect();
+    assert!(left.is_empty(), "stray files: {left:?}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
 fn fail_on_divergence_exits_3_and_still_writes_the_recording() {
     let dir = scratch_dir("diverge");
     let out = dir.join("r.rrd");

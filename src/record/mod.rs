@@ -297,6 +297,7 @@ impl Recording {
                 rerun::sink::FileSink::new(&tmp)
                     .with_context(|| format!("cannot open {}", tmp.display()))?,
             ));
+            crate::interrupt::set_partial_file(Some(&tmp));
             file = Some((tmp, target.clone()));
         }
         if d.spawn {
@@ -352,7 +353,10 @@ impl Recording {
         match self.file.take() {
             None => Ok(None),
             Some((tmp, target)) => {
-                std::fs::rename(&tmp, &target).with_context(|| {
+                let renamed = std::fs::rename(&tmp, &target);
+                // Only now: a second Ctrl-C before the rename still removes the partial file.
+                crate::interrupt::set_partial_file(None);
+                renamed.with_context(|| {
                     format!("cannot move {} to {}", tmp.display(), target.display())
                 })?;
                 Ok(Some(std::fs::metadata(&target)?.len()))
@@ -366,6 +370,7 @@ impl Drop for Recording {
         if let Some(rec) = self.rec.take() {
             drop(rec);
             if let Some((tmp, _)) = &self.file {
+                crate::interrupt::set_partial_file(None);
                 let _ = std::fs::remove_file(tmp);
             }
         }
