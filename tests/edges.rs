@@ -287,3 +287,38 @@ fn a_method_that_fails_its_first_check_shows_no_figures() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn tiny_amplitudes_are_the_small_oscillations_they_are() {
+    use physlab::scene::harness::{NoObserver, run};
+    use physlab::scene::pendulum::run::{PendulumConfig, PendulumScene};
+    for degrees in [1e-3, 1e-6, 1e-9, -1e-12] {
+        let mut config = PendulumConfig::default();
+        config.params.theta0 = f64::to_radians(degrees);
+        let mut scene = PendulumScene::new(config);
+        assert!(scene.initial_energy > 0.0, "{degrees}°: E0 > 0");
+        let period = scene.exact_period.expect("a swing has a period");
+        let small = 2.0 * std::f64::consts::PI / scene.config.params.omega_n();
+        assert!(
+            (period / small - 1.0).abs() < 1e-9,
+            "{degrees}°: {period} vs {small}"
+        );
+        let r = run(&mut scene, &mut NoObserver).unwrap();
+        // The exact solution's own energy error is round-off, not 1 - cos θ's cancellation; RK4's
+        // real error (~6e-10 at dt = 0.01 s) stands well above it.
+        let error = |name: &str| {
+            let i = r.stats.iter().position(|s| s.name == name).unwrap();
+            r.lanes[i].max_energy_error
+        };
+        assert!(
+            error("exact") < 1e-13,
+            "{degrees}°: exact {:e}",
+            error("exact")
+        );
+        assert!(
+            error("rk4") > 1e3 * error("exact") && error("rk4") < 1e-8,
+            "{degrees}°: rk4 {:e}",
+            error("rk4")
+        );
+    }
+}

@@ -1,6 +1,6 @@
 //! The pendulum run's summary table, as printed on stdout.
 
-use crate::report::table::{Table, trim_number};
+use crate::report::table::{Table, sig, trim_number};
 use crate::scene::harness::{Run, Scene as _, divergence_cell};
 use crate::scene::pendulum::run::{PendulumLane, PendulumScene};
 
@@ -22,9 +22,11 @@ pub fn summary_text(scene: &PendulumScene, run: &Run<PendulumLane>) -> String {
     ));
     out.push_str(&format!("{}\n", scene.reference_description()));
     out.push_str(&format!(
-        "E0 = {:.6} J/kg (per unit mass, zero at the bottom); energy errors are (E - E0)/{:.6}; \
-         divergence = non-finite state or E > {:.4} J/kg\n",
-        scene.initial_energy, scene.energy_scale, scene.energy_bound
+        "E0 = {} J/kg (per unit mass, zero at the bottom); energy errors are (E - E0)/{}; \
+         divergence = non-finite state or E > {} J/kg\n",
+        sig(scene.initial_energy, 7),
+        sig(scene.energy_scale, 7),
+        sig(scene.energy_bound, 5)
     ));
     match scene.exact_period {
         Some(t) => out.push_str(&format!("exact period from E0: {t:.9} s\n\n")),

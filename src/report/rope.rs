@@ -1,7 +1,7 @@
 //! The rope run's summary table, as printed on stdout.
 
 use crate::integrate::{EvalsPerStep, Method};
-use crate::report::table::{Table, trim_number};
+use crate::report::table::{Table, sig, trim_number};
 use crate::scene::harness::{Run, Scene as _, divergence_cell};
 use crate::scene::rope::run::{ENERGY_GAIN_BOUND, RopeLane, RopeScene};
 
@@ -36,7 +36,7 @@ pub fn summary_text(scene: &RopeScene, run: &Run<RopeLane>) -> String {
          dt = {} s, {} steps to t = {} s; fastest rates: springs ω_max {} {:.4} rad/s, so ω_max·dt = {:.4} \
          (undamped, semi-implicit Euler and Verlet need < 2, RK4 < 2.83), damping c_max ≤ (4kd + ka)/m = {:.4} 1/s, \
          so c_max·dt ≤ {:.4} (explicit methods need it below 2 too)\n\
-         E0 = {:.6} J, energy scale {:.4} J; divergence = non-finite state, strain > {:.3}, \
+         E0 = {} J, energy scale {} J; divergence = non-finite state, strain > {:.3}, \
          or an energy gain > {ENERGY_GAIN_BOUND} × the scale, checked after every step\n\
          ns/step: wall time of the stepping and its O(N) energy and strain check \
          (`cargo bench --bench rope_step` times the stepping alone)\n\n",
@@ -62,8 +62,8 @@ pub fn summary_text(scene: &RopeScene, run: &Run<RopeLane>) -> String {
         scene.omega_max * c.dt,
         scene.damping_rate_max,
         scene.damping_rate_max * c.dt,
-        scene.initial_energy,
-        scene.energy_scale,
+        sig(scene.initial_energy, 7),
+        sig(scene.energy_scale, 5),
         scene.strain_bound,
     );
     let mut table = Table::new([
@@ -94,7 +94,7 @@ pub fn summary_text(scene: &RopeScene, run: &Run<RopeLane>) -> String {
             s.counts.evals.to_string(),
             format!("{:.3}", s.wall.as_secs_f64() * 1e3),
             s.ns_per_tick().map_or("—".into(), |ns| format!("{ns:.0}")),
-            figure(format!("{:.6}", lane.final_energy)),
+            figure(sig(lane.final_energy, 7)),
             figure(format!("{:+.3e}", lane.final_energy - scene.initial_energy)),
             figure(format!("{:.3e}", lane.max_strain)),
             divergence_cell(s),

@@ -66,6 +66,23 @@ impl Table {
     }
 }
 
+/// A number to `digits` significant digits: fixed point between 1e-3 and 1e6 (17.27051,
+/// 0.001234568), exponent form outside (6.198721e8, 4.4e-7), so that no digit a reader needs is
+/// lost to a fixed number of decimals.
+pub fn sig(x: f64, digits: usize) -> String {
+    let digits = digits.max(1);
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    let exponent = x.abs().log10().floor() as i32;
+    if (-3..6).contains(&exponent) {
+        let decimals = (digits as i32 - 1 - exponent).max(0) as usize;
+        format!("{x:.decimals$}")
+    } else {
+        format!("{x:.*e}", digits - 1)
+    }
+}
+
 /// A number with at most `decimals` decimals and no trailing zeros: 59.99999999999999 → "60".
 pub fn trim_number(x: f64, decimals: usize) -> String {
     let s = format!("{x:.decimals$}");
