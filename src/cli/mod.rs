@@ -222,6 +222,10 @@ pub struct StudyArgs {
     /// Also write the curves and tables as a Rerun recording
     #[arg(short, long, value_name = "FILE.rrd")]
     pub output: Option<PathBuf>,
+
+    /// No progress output (accepted like every command's -q; the study prints only its tables)
+    #[arg(short, long)]
+    pub quiet: bool,
 }
 
 /// The command line with every scene flag's default appended to its help, read from the scene's

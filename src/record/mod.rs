@@ -28,8 +28,22 @@ pub fn method_color(name: &str) -> [u8; 3] {
         "rk4" => [55, 126, 184],
         "verlet" => [77, 175, 74],
         "ftl" => [0, 190, 190],
+        "yoshida4" => [188, 189, 34],
+        "dopri5" => [255, 215, 0],
+        "dop853" => [90, 110, 255],
+        "vern9" | "vern7" => [0, 128, 110],
         "exact" | "reference" => [220, 220, 220],
-        _ => [255, 255, 51],
+        // A name without a colour of its own still gets a distinct, stable one.
+        other => {
+            let h = other.bytes().fold(2166136261u32, |h, b| {
+                (h ^ u32::from(b)).wrapping_mul(16777619)
+            });
+            [
+                96 + (h & 0x9f) as u8,
+                96 + ((h >> 8) & 0x9f) as u8,
+                96 + ((h >> 16) & 0x9f) as u8,
+            ]
+        }
     }
 }
 

@@ -76,7 +76,8 @@ pub fn record_study(
     let _ = limits; // the stability table is part of `tables`
     rec.log_static(
         "study/tables",
-        &rerun::TextDocument::from_markdown(format!("```\n{tables}\n```")),
+        // The tables are markdown already: the viewer renders them as tables.
+        &rerun::TextDocument::from_markdown(tables),
     )?;
     recording.commit()
 }
