@@ -231,7 +231,7 @@ fn about_text(scene: &RopeScene) -> String {
          | parameter | value |\n|---|---|\n| mass per node | {} kg |\n| ks | {} N/m |\n| kd | {} N·s/m |\n\
          | ka | {} N·s/m |\n| gravity | {:?} m/s² |\n| dt | {} s |\n| steps | {} |\n| 3D frames | every {} steps |\n\
          | plotted | every {} steps |\n| Verlet damping d | {} |\n| implicit Newton iterations | {} |\n\n\
-         Fastest rates of the linearised rope: springs ω_max {} {:.4} rad/s (ω_max·dt = {:.4}), damping c_max ≤ {:.4} 1/s (c_max·dt ≤ {:.4}).\n\
+         The linearised rope's {}.\n\
          Energy E0 = {:.6} J (gravity's zero at the origin), energy scale {:.4} J. A method stops when its \
          state is not finite, a strain exceeds {:.3}, or it gains more than {ENERGY_GAIN_BOUND} × \
          the energy scale (a passive rope never gains energy); the events panel shows when. Frame cost is \
@@ -253,15 +253,7 @@ fn about_text(scene: &RopeScene) -> String {
         s.plot_stride,
         c.options.verlet_damping,
         p.newton_iterations,
-        if scene.omega_max_is_exact {
-            "(chain pinned at node 0) ="
-        } else {
-            "≤ 2√(k/m) ="
-        },
-        scene.omega_max,
-        scene.omega_max * c.dt,
-        scene.damping_rate_max,
-        scene.damping_rate_max * c.dt,
+        crate::report::rope::rates_text(scene),
         scene.initial_energy,
         scene.energy_scale,
         scene.strain_bound,

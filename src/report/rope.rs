@@ -26,6 +26,25 @@ pub fn vector_text(d: glam::DVec3) -> String {
     )
 }
 
+/// The linearised rope's fastest rates against the step, which decide explicit stability.
+pub fn rates_text(scene: &RopeScene) -> String {
+    let dt = scene.config.dt;
+    format!(
+        "fastest rates: springs ω_max {} {:.4} rad/s, so ω_max·dt = {:.4} (undamped, semi-implicit \
+         Euler and Verlet need < 2, RK4 < 2.83), damping c_max ≤ (4kd + ka)/m = {} 1/s, so \
+         c_max·dt ≤ {} (explicit methods need it below 2 too)",
+        if scene.omega_max_is_exact {
+            "(chain pinned at node 0) ="
+        } else {
+            "≤ 2√(k/m) ="
+        },
+        scene.omega_max,
+        scene.omega_max * dt,
+        sig(scene.damping_rate_max, 5),
+        sig(scene.damping_rate_max * dt, 4),
+    )
+}
+
 pub fn summary_text(scene: &RopeScene, run: &Run<RopeLane>) -> String {
     let c = &scene.config;
     let p = &c.params;
@@ -33,9 +52,7 @@ pub fn summary_text(scene: &RopeScene, run: &Run<RopeLane>) -> String {
     let mut out = format!(
         "rope: {} nodes from {} to {} m, rest length {} m, mass {} kg/node, ks = {} N/m, kd = {} N·s/m, \
          ka = {} N·s/m, g = {} m/s², pinned {:?}\n\
-         dt = {} s, {} steps to t = {} s; fastest rates: springs ω_max {} {:.4} rad/s, so ω_max·dt = {:.4} \
-         (undamped, semi-implicit Euler and Verlet need < 2, RK4 < 2.83), damping c_max ≤ (4kd + ka)/m = {:.4} 1/s, \
-         so c_max·dt ≤ {:.4} (explicit methods need it below 2 too)\n\
+         dt = {} s, {} steps to t = {} s; {}\n\
          E0 = {} J, energy scale {} J; divergence = non-finite state, strain > {:.3}, \
          or an energy gain > {ENERGY_GAIN_BOUND} × the scale, checked after every step\n\
          ns/step: wall time of the stepping and its O(N) energy and strain check \
@@ -53,15 +70,7 @@ pub fn summary_text(scene: &RopeScene, run: &Run<RopeLane>) -> String {
         c.dt,
         schedule.total,
         trim_number(schedule.end_time(), 9),
-        if scene.omega_max_is_exact {
-            "(chain pinned at node 0) ="
-        } else {
-            "≤ 2√(k/m) ="
-        },
-        scene.omega_max,
-        scene.omega_max * c.dt,
-        scene.damping_rate_max,
-        scene.damping_rate_max * c.dt,
+        rates_text(scene),
         sig(scene.initial_energy, 7),
         sig(scene.energy_scale, 5),
         scene.strain_bound,
