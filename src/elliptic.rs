@@ -1,8 +1,12 @@
 //! Complete elliptic integral K(m) and the Jacobi elliptic functions sn, cn, dn, by the
-//! arithmetic-geometric mean (Abramowitz & Stegun 17.6 and 16.4, descending Landen).
+//! arithmetic-geometric mean (Abramowitz & Stegun 17.6 and 16.4; Bulirsch's descending Gauss
+//! transformation for sn, cn, dn).
 //!
 //! The parameter is m = k² (A&S convention), 0 ≤ m < 1. Both converge quadratically, so a
-//! handful of AGM steps reach machine precision even for m within 1e-12 of 1.
+//! handful of AGM steps reach machine precision for any m. Near m = 1 the complement m1 = 1 - m
+//! carries all the information (K ≈ ln(4/√m1)), so [`complete_k_m1`] and [`jacobi_m1`] take it
+//! separately: a caller that knows m1 without cancellation (the pendulum: m1 = cos²(θ0/2)) gets
+//! full relative precision up to the separatrix; [`complete_k`] and [`jacobi`] form 1 - m.
 
 use std::f64::consts::FRAC_PI_2;
 
@@ -11,10 +15,26 @@ const MAX_AGM_STEPS: usize = 40;
 
 /// Complete elliptic integral of the first kind, K(m) = ∫₀^{π/2} dφ / sqrt(1 - m sin²φ).
 ///
-/// Panics if m is outside [0, 1): K diverges at m = 1.
+/// Panics if m is outside [0, 1): K diverges at m = 1. Near m = 1 the complementary parameter
+/// 1 - m is formed here by cancellation; callers that know it better use [`complete_k_m1`].
 pub fn complete_k(m: f64) -> f64 {
     assert!((0.0..1.0).contains(&m), "K(m) needs 0 <= m < 1, got {m}");
-    let (mut a, mut b) = (1.0_f64, (1.0 - m).sqrt());
+    complete_k_m1(m, 1.0 - m)
+}
+
+/// K(m) given the parameter m and its complement m1 = 1 - m separately, so that K keeps full
+/// relative precision up to the logarithmic singularity: K = π / (2 AGM(1, √m1)) depends on m1
+/// only. m is not read (it is part of the signature so that the pair is passed consistently).
+/// Returns +∞ for m1 = 0 (the separatrix); panics if m1 is not in [0, 1] or NaN.
+pub fn complete_k_m1(_m: f64, m1: f64) -> f64 {
+    assert!(
+        (0.0..=1.0).contains(&m1),
+        "K needs 0 <= 1 - m <= 1, got 1 - m = {m1}"
+    );
+    if m1 == 0.0 {
+        return f64::INFINITY;
+    }
+    let (mut a, mut b) = (1.0_f64, m1.sqrt());
     for _ in 0..MAX_AGM_STEPS {
         if (a - b).abs() <= f64::EPSILON * a {
             break;
@@ -35,11 +55,23 @@ pub struct Jacobi {
 /// sn(u|m), cn(u|m), dn(u|m) for 0 ≤ m < 1 by the descending Landen / AGM scheme (A&S 16.4.3).
 ///
 /// The argument is reduced modulo the real period 4K(m) first so that long runs (many periods)
-/// keep full precision in the back-substitution.
+/// keep full precision in the back-substitution. Near m = 1 use [`jacobi_m1`], which takes the
+/// complement 1 - m without cancellation.
 pub fn jacobi(u: f64, m: f64) -> Jacobi {
     assert!(
         (0.0..1.0).contains(&m),
         "Jacobi functions need 0 <= m < 1, got {m}"
+    );
+    jacobi_m1(u, m, 1.0 - m)
+}
+
+/// sn(u|m), cn(u|m), dn(u|m) given m and m1 = 1 - m separately (A&S 16.4.3 with the AGM started
+/// at (1, √m1, √m)), for 0 ≤ m ≤ 1. At m1 = 0 (m = 1) the limits sn = tanh u, cn = dn = sech u.
+/// Panics unless both are in [0, 1].
+pub fn jacobi_m1(u: f64, m: f64, m1: f64) -> Jacobi {
+    assert!(
+        (0.0..=1.0).contains(&m) && (0.0..=1.0).contains(&m1),
+        "Jacobi functions need 0 <= m, 1 - m <= 1, got m = {m}, 1 - m = {m1}"
     );
     if m == 0.0 {
         return Jacobi {
@@ -48,40 +80,92 @@ pub fn jacobi(u: f64, m: f64) -> Jacobi {
             dn: 1.0,
         };
     }
-    let period = 4.0 * complete_k(m);
-    let u = u - period * (u / period).round();
+    if m1 == 0.0 {
+        let sech = 1.0 / u.cosh();
+        return Jacobi {
+            sn: u.tanh(),
+            cn: sech,
+            dn: sech,
+        };
+    }
+    // Reduce to u in [-K, K] (sn and cn change sign over half a period 2K, dn does not), then
+    // fold |u| > K/2 onto v = K - |u| ∈ [0, K/2] with sn(K - v) = cd(v), cn(K - v) = k' sd(v),
+    // dn(K - v) = k' nd(v) (A&S 16.8): the Landen back-substitution below loses digits when
+    // sn → 1 (its asin arguments approach 1), and near m = 1 that costs ~1e-12 absolute in cn
+    // and dn at u ≈ K, where both are O(k') and the pendulum near the top needs them relative.
+    let quarter = complete_k_m1(m, m1);
+    let half = 2.0 * quarter;
+    let turns = (u / half).round();
+    let mut u = u - half * turns;
+    let sign = if turns.rem_euclid(2.0) == 1.0 { -1.0 } else { 1.0 };
+    if !u.is_finite() {
+        // |u| beyond 2^53 K: no digit of the phase is left.
+        u = 0.0;
+    }
+    if u.abs() > 0.5 * quarter {
+        let v = quarter - u.abs();
+        let j = landen(v, m, m1);
+        let k1 = m1.sqrt();
+        return Jacobi {
+            sn: sign * u.signum() * j.cn / j.dn,
+            cn: sign * k1 * j.sn / j.dn,
+            dn: k1 / j.dn,
+        };
+    }
+    let j = landen(u, m, m1);
+    Jacobi {
+        sn: sign * j.sn,
+        cn: sign * j.cn,
+        dn: j.dn,
+    }
+}
 
-    let mut a = [0.0_f64; MAX_AGM_STEPS + 1];
-    let mut c = [0.0_f64; MAX_AGM_STEPS + 1];
-    a[0] = 1.0;
-    c[0] = m.sqrt();
-    let mut b = (1.0 - m).sqrt();
-    let mut n = 0;
-    while c[n].abs() > f64::EPSILON * a[n] && n < MAX_AGM_STEPS {
-        a[n + 1] = 0.5 * (a[n] + b);
-        c[n + 1] = 0.5 * (a[n] - b);
-        b = (a[n] * b).sqrt();
-        n += 1;
+/// Bulirsch's form of the Gauss / descending Landen transformation (Bulirsch 1965, Numer. Math.
+/// 7, 78-90; as `sncndn` in Numerical Recipes §6.11), driven by the complement m1 directly, for
+/// 0 < m1 ≤ 1 and |u| ≤ K/2 (the caller folds the rest). It carries the ratio cn/sn through the
+/// transformations multiplicatively instead of the amplitude through asin, so it has no
+/// asin-near-1 loss where sn → 1, which near m = 1 happens already well inside |u| < K/2.
+fn landen(u: f64, _m: f64, m1: f64) -> Jacobi {
+    /// Stop when the AGM's two means agree to this; the last mean is then good to its square.
+    const CA: f64 = 1e-9;
+    let mut em = [0.0_f64; MAX_AGM_STEPS + 1];
+    let mut en = [0.0_f64; MAX_AGM_STEPS + 1];
+    let (mut a, mut emc, mut c) = (1.0_f64, m1, 1.0_f64);
+    let mut l = 0;
+    for i in 0..MAX_AGM_STEPS {
+        l = i;
+        em[i] = a;
+        emc = emc.sqrt();
+        en[i] = emc;
+        c = 0.5 * (a + emc);
+        if (a - emc).abs() <= CA * a {
+            break;
+        }
+        emc *= a;
+        a = c;
     }
-    // φ_n = 2ⁿ a_n u, then φ_{i-1} = (φ_i + asin(c_i/a_i sin φ_i)) / 2 down to φ_0.
-    let mut phi = 2.0_f64.powi(n as i32) * a[n] * u;
-    let mut phi_above = phi;
-    for i in (1..=n).rev() {
-        phi_above = phi;
-        phi = 0.5 * (phi + (c[i] / a[i] * phi.sin()).asin());
+    let u = u * c;
+    let (mut sn, cn) = u.sin_cos();
+    let mut dn = 1.0_f64;
+    if sn == 0.0 {
+        return Jacobi { sn, cn, dn };
     }
-    let (sn, cn) = phi.sin_cos();
-    // dn = cos φ0 / cos(φ1 - φ0) loses digits where cn → 0. There dn² = 1 - m sn² is written
-    // (1 - m) + m cn²: the same number, but 1 - m sn² cancels when m sn² → 1 (m near 1), which
-    // cost up to 4e-12 absolute (5e-7 relative) at m = 1 - 1e-12; this form is as accurate as cn.
-    let dn = if n == 0 {
-        1.0
-    } else if cn.abs() > 0.5 {
-        cn / (phi_above - phi).cos()
-    } else {
-        ((1.0 - m) + m * cn * cn).sqrt()
-    };
-    Jacobi { sn, cn, dn }
+    let mut a = cn / sn;
+    let mut c = c * a;
+    for ii in (0..=l).rev() {
+        let b = em[ii];
+        a *= c;
+        c *= dn;
+        dn = (en[ii] + a) / (b + a);
+        a = c / b;
+    }
+    let r = 1.0 / c.hypot(1.0);
+    sn = if sn >= 0.0 { r } else { -r };
+    Jacobi {
+        sn,
+        cn: c * sn,
+        dn,
+    }
 }
 
 #[cfg(test)]
@@ -107,12 +191,11 @@ mod tests {
     }
 
     /// The error allowed in sn, cn, dn at argument u, in units of eps (1 + |u|): the argument is
-    /// reduced modulo 4K, which alone costs about eps |u| in u. Measured (max over the table):
-    /// sn 0.56; cn and dn 0.85 for m ≤ 0.999999, but 16.2 at m = 1 - 1e-12, where the Landen
-    /// back-substitution leaves ~1e-14 in φ and cn = cos φ (φ near π/2) shows it in full.
-    fn allowed(m: f64, u: f64) -> (f64, f64) {
-        let cn_dn = if m > 1.0 - 1e-9 { 32.0 } else { 2.0 };
-        (2.0 * EPS * (1.0 + u.abs()), cn_dn * EPS * (1.0 + u.abs()))
+    /// reduced modulo 2K, which alone costs about eps |u| in u. Measured (max over the table):
+    /// sn 0.61, cn 1.00, dn 0.50 for every m up to 1 - 1e-12 (Bulirsch's scheme with the fold
+    /// at K/2; the asin back-substitution it replaced reached 16 for cn and dn at m = 1 - 1e-12).
+    fn allowed(_m: f64, u: f64) -> (f64, f64) {
+        (2.0 * EPS * (1.0 + u.abs()), 2.0 * EPS * (1.0 + u.abs()))
     }
 
     /// K(m) to 2 eps relative (measured ≤ 1 eps) for m from 0 to 1 - 1e-12.
@@ -186,6 +269,26 @@ mod tests {
                 (s - expected).abs() <= 2.0 * EPS,
                 "m={m}: {s} vs {expected}"
             );
+        }
+    }
+
+    /// The separatrix limits: K(m1 = 0) = ∞, sn = tanh, cn = dn = sech at m = 1; and at m1 =
+    /// 1e-300 (far beyond where 1 - m could be formed) K = ln(4/k') to eps and the functions are
+    /// finite and obey sn² + cn² = 1, dn² = m1 + m cn².
+    #[test]
+    fn separatrix_limits() {
+        assert_eq!(complete_k_m1(1.0, 0.0), f64::INFINITY);
+        let j = jacobi_m1(0.7, 1.0, 0.0);
+        assert_eq!((j.sn, j.cn, j.dn), (0.7f64.tanh(), 1.0 / 0.7f64.cosh(), 1.0 / 0.7f64.cosh()));
+        let m1 = 1e-300;
+        let k = complete_k_m1(1.0, m1);
+        assert!((k / (4.0 / m1.sqrt()).ln() - 1.0).abs() <= 4.0 * EPS, "{k}");
+        for u in [0.1, 1.0, 30.0, 0.5 * k, k, 3.3 * k] {
+            let j = jacobi_m1(u, 1.0, m1);
+            assert!(j.sn.is_finite() && j.cn.is_finite() && j.dn.is_finite(), "u {u}");
+            assert!((j.sn * j.sn + j.cn * j.cn - 1.0).abs() <= 4.0 * EPS, "u {u}: {j:?}");
+            let dn2 = m1 + j.cn * j.cn;
+            assert!((j.dn * j.dn / dn2 - 1.0).abs() <= 1e-14, "u {u}: {j:?}");
         }
     }
 }

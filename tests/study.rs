@@ -165,6 +165,8 @@ fn row(method: Method, error: Option<f64>, evals: u64, wall_seconds: f64) -> Row
         rtol: (method == Method::Dopri5).then_some(1e-8),
         error,
         evals,
+        accepted: evals / 6,
+        rejected: 0,
         wall_seconds,
     }
 }
@@ -213,7 +215,8 @@ fn study_writes_csv_and_a_recording() {
     assert!(out.contains("| verlet ") && out.contains("1.0000"), "{out}");
     let text = std::fs::read_to_string(&csv).unwrap();
     assert!(
-        text.starts_with("scene,method,measured_dt,theory_dt\n") && text.lines().count() == 10,
+        text.starts_with("scene,method,measured_dt,theory_dt\n")
+            && text.lines().count() == 1 + Method::ALL.len(),
         "{text}"
     );
 
@@ -234,7 +237,9 @@ fn study_writes_csv_and_a_recording() {
     assert!(out.contains("cheapest run reaching each error"), "{out}");
     let text = std::fs::read_to_string(&csv).unwrap();
     assert!(
-        text.starts_with("scene,method,dt,rtol,error,evals,wall_seconds,stable\n"),
+        text.starts_with(
+            "scene,method,dt,rtol,error,evals,accepted_steps,rejected_steps,wall_seconds,stable\n"
+        ),
         "{text}"
     );
     let d = decode(&rrd);

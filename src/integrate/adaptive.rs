@@ -59,6 +59,10 @@ pub struct Dopri5 {
     h: f64,
     /// Whether k[0..2] holds the derivative at the current state (first same as last).
     fsal: bool,
+    /// Substeps accepted and rejected so far, and the last accepted one's size.
+    pub(crate) accepted: u64,
+    pub(crate) rejected: u64,
+    h_last: f64,
 }
 
 impl Dopri5 {
@@ -68,7 +72,15 @@ impl Dopri5 {
             k: vec![vec![0.0; n]; 16],
             h: dt,
             fsal: false,
+            accepted: 0,
+            rejected: 0,
+            h_last: 0.0,
         }
+    }
+
+    /// Size of the last accepted substep [s] (0 before the first).
+    pub fn last_step(&self) -> f64 {
+        self.h_last
     }
 
     pub fn step<S: SecondOrderSystem>(&mut self, sys: &S, s: State, dt: f64) {
@@ -133,6 +145,8 @@ impl Dopri5 {
                 (0.9 * err.powf(-0.2)).clamp(0.2, 5.0)
             };
             if err <= 1.0 {
+                self.accepted += 1;
+                self.h_last = h;
                 x.copy_from_slice(&self.k[14]);
                 v.copy_from_slice(&self.k[15]);
                 let (first, later) = self.k.split_at_mut(12);
@@ -147,6 +161,7 @@ impl Dopri5 {
                     self.h = h * factor;
                 }
             } else {
+                self.rejected += 1;
                 self.h = h * factor;
             }
             if self.h < 1e-14 * dt {
@@ -155,5 +170,17 @@ impl Dopri5 {
                 return;
             }
         }
+    }
+}
+
+#[cfg(test)]
+pub(crate) mod tableau {
+    //! The tableau for the order-condition checks in `integrate::order_conditions`.
+    pub const STAGES: usize = 7;
+    pub fn a(i: usize, j: usize) -> f64 {
+        if j < i { super::A[i][j] } else { 0.0 }
+    }
+    pub fn b(j: usize) -> f64 {
+        super::A[6].get(j).copied().unwrap_or(0.0)
     }
 }

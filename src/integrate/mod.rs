@@ -11,8 +11,11 @@
 
 mod adaptive;
 mod composition;
+mod dop853;
 mod explicit;
 mod implicit;
+#[cfg(test)]
+mod order_conditions;
 mod registry;
 mod runge_kutta;
 mod semi_implicit;
@@ -52,8 +55,12 @@ pub trait SecondOrderSystem {
 pub struct MethodOptions {
     /// Verlet's damping factor d in `x1 = x0 + (1-d)(x0 - x_-1) + a dt²`; 0 = undamped.
     pub verlet_damping: f64,
-    /// dopri5's relative tolerance per substep (the absolute one is the same, in the state's units).
+    /// The adaptive methods' relative tolerance per step (the absolute one is the same, in the
+    /// state's units).
     pub rtol: f64,
+    /// dop853's largest step [s] (default ∞). With a huge rtol and `max_step` = dt it steps at
+    /// exactly dt, which is how its fixed-step order is measured.
+    pub max_step: f64,
 }
 
 impl Default for MethodOptions {
@@ -61,6 +68,7 @@ impl Default for MethodOptions {
         MethodOptions {
             verlet_damping: 0.0,
             rtol: 1e-6,
+            max_step: f64::INFINITY,
         }
     }
 }
@@ -93,6 +101,7 @@ enum Stepper {
     Verlet(verlet::Verlet),
     Yoshida4(composition::Yoshida4),
     Dopri5(adaptive::Dopri5),
+    Dop853(dop853::Dop853),
 }
 
 /// Advances one [`SecondOrderSystem`] with one [`Method`]. All scratch space is allocated
@@ -106,6 +115,8 @@ pub struct Integrator {
     counts: Counts,
     /// Jacobian evaluations of the implicit method's Newton iterations.
     jacobian_evals: u64,
+    /// Calls of `step` (fixed-step methods: their accepted steps).
+    steps: u64,
     stepper: Stepper,
 }
 
@@ -141,6 +152,7 @@ impl Integrator {
             )),
             Method::Yoshida4 => Stepper::Yoshida4(composition::Yoshida4::new(n)),
             Method::Dopri5 => Stepper::Dopri5(adaptive::Dopri5::new(n, dt, options.rtol)),
+            Method::Dop853 => Stepper::Dop853(dop853::Dop853::new(x0, v0, dt, options.rtol, options.max_step)),
         };
         Integrator {
             method,
@@ -149,6 +161,7 @@ impl Integrator {
             v: v0.to_vec(),
             counts,
             jacobian_evals: 0,
+            steps: 0,
             stepper,
         }
     }
@@ -175,6 +188,32 @@ impl Integrator {
     pub fn jacobian_evals(&self) -> u64 {
         self.jacobian_evals
     }
+    /// Steps the method accepted so far: its own internal steps for an adaptive method (which
+    /// may be more or fewer than the calls of [`Integrator::step`]), the calls otherwise.
+    pub fn accepted_steps(&self) -> u64 {
+        match &self.stepper {
+            Stepper::Dopri5(m) => m.accepted,
+            Stepper::Dop853(m) => m.accepted,
+            _ => self.steps,
+        }
+    }
+    /// Steps the error control rejected so far (0 for fixed-step methods).
+    pub fn rejected_steps(&self) -> u64 {
+        match &self.stepper {
+            Stepper::Dopri5(m) => m.rejected,
+            Stepper::Dop853(m) => m.rejected,
+            _ => 0,
+        }
+    }
+    /// Size of the last accepted step [s]: the adaptive method's own (0 before its first), dt
+    /// otherwise.
+    pub fn last_step_size(&self) -> f64 {
+        match &self.stepper {
+            Stepper::Dopri5(m) => m.last_step(),
+            Stepper::Dop853(m) => m.last_step(),
+            _ => self.dt,
+        }
+    }
     /// Implicit steps whose solve did not converge to tolerance.
     pub fn failed_solves(&self) -> u64 {
         self.counts.failed_solves
@@ -184,6 +223,7 @@ impl Integrator {
     #[inline]
     pub fn step<S: SecondOrderSystem>(&mut self, sys: &S) -> Option<ImplicitSolve> {
         let h = self.dt;
+        self.steps += 1;
         let s = State {
             x: &mut self.x,
             v: &mut self.v,
@@ -203,6 +243,7 @@ impl Integrator {
             Stepper::Verlet(m) => m.step(sys, s, h),
             Stepper::Yoshida4(m) => m.step(sys, s, h),
             Stepper::Dopri5(m) => m.step(sys, s, h),
+            Stepper::Dop853(m) => m.step(sys, s, h),
         }
         None
     }
@@ -338,9 +379,11 @@ pub(crate) mod tests {
                 // One fifth-order substep: local error h⁶/3600 in x, h⁷/5040 in v
                 // (tests/dopri5.rs checks those constants to 1%).
                 Method::Dopri5 => (h.cos(), -h.sin(), 1.01 * h.powi(6) / 3600.0),
+                // Error-controlled at rtol 1e-6, sampled by its dense output.
+                Method::Dop853 => (h.cos(), -h.sin(), 1e-6),
             }
         };
-        for m in Method::ALL {
+        for m in Method::ALL.into_iter().chain(Method::NOT_YET_LISTED) {
             let mut it = Integrator::new(
                 m,
                 &UNIT_OSCILLATOR,

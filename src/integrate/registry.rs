@@ -22,6 +22,9 @@ pub enum Method {
     Yoshida4,
     /// Dormand–Prince 5(4), adaptive, error-controlled by `MethodOptions::rtol`.
     Dopri5,
+    /// Dormand–Prince 8(5,3) (Hairer's DOP853), adaptive with seventh-order dense output,
+    /// error-controlled by `MethodOptions::rtol`.
+    Dop853,
 }
 
 /// How many force (acceleration) evaluations one step costs.
@@ -97,7 +100,7 @@ pub struct MethodInfo {
 }
 
 /// The registry, one row per method, in the order of tables and layouts.
-const REGISTRY: [MethodInfo; 9] = [
+const REGISTRY: [MethodInfo; 10] = [
     MethodInfo {
         name: "explicit-euler",
         family: Family::Explicit,
@@ -222,6 +225,20 @@ const REGISTRY: [MethodInfo; 9] = [
         update: "Dormand-Prince 5(4) substeps within dt, error per substep <= rtol (abs(y) + 1)",
         notes: "",
     },
+    MethodInfo {
+        name: "dop853",
+        family: Family::Adaptive,
+        order: 8,
+        order_velocity_dependent: 8,
+        implicit: false,
+        symplectic: false,
+        evals_per_step: EvalsPerStep::Adaptive,
+        stability: Stability::Adaptive,
+        update: "Dormand-Prince 8(5,3) (Hairer's DOP853) steps of its own size, error per step \
+                 <= rtol (abs(y) + 1); the state at each dt from its 7th-order dense output",
+        notes: "12 evaluations per step (11 per rejected step, FSAL), plus 3 for the dense output \
+                in a step that holds a sample time. Its steps do not end on the dt grid.",
+    },
 ];
 
 impl Method {
@@ -237,6 +254,15 @@ impl Method {
         Method::Yoshida4,
         Method::Dopri5,
     ];
+
+    /// Methods that work (the integrator, `info()`, the tests, `--methods <name>`) but are not
+    /// yet in [`Method::ALL`], the list that `physlab methods`, the studies' defaults and the
+    /// per-method tests iterate. Moving `Dop853` into `ALL` needs two changes outside the
+    /// integrators: `tests/rope_numerics.rs` must skip every adaptive method in its fixed-step
+    /// order check (it skips `Dopri5` by name), and the figures in `docs/results.md` (the
+    /// methods and stability tables) must be regenerated (`cargo run --release --example
+    /// figures`).
+    pub const NOT_YET_LISTED: [Method; 1] = [Method::Dop853];
 
     /// The seven methods the scenes run by default, in the order of tables and layouts; the
     /// study's `yoshida4` and `dopri5` are available with --methods.
@@ -297,6 +323,7 @@ impl FromStr for Method {
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         Method::ALL
             .into_iter()
+            .chain(Method::NOT_YET_LISTED)
             .find(|m| m.name() == s)
             .ok_or_else(|| UnknownMethod(s.to_string()))
     }
@@ -308,7 +335,15 @@ mod tests {
 
     #[test]
     fn registry_rows_are_in_enum_order() {
-        for (i, m) in Method::ALL.into_iter().enumerate() {
+        assert_eq!(
+            Method::ALL.len() + Method::NOT_YET_LISTED.len(),
+            REGISTRY.len()
+        );
+        for (i, m) in Method::ALL
+            .into_iter()
+            .chain(Method::NOT_YET_LISTED)
+            .enumerate()
+        {
             assert_eq!(m as usize, i);
             assert_eq!(REGISTRY[i].name, m.name());
         }
@@ -316,7 +351,7 @@ mod tests {
 
     #[test]
     fn names_round_trip_and_unknown_names_list_the_allowed_ones() {
-        for m in Method::ALL {
+        for m in Method::ALL.into_iter().chain(Method::NOT_YET_LISTED) {
             assert_eq!(m.name().parse::<Method>().unwrap(), m);
         }
         let err = "euler".parse::<Method>().unwrap_err().to_string();

@@ -56,6 +56,8 @@ pub fn rows_table(rows: &[Row]) -> String {
         "rtol",
         "error",
         "force evals",
+        "steps accepted",
+        "rejected",
         "median wall [s]",
     ]);
     for r in rows {
@@ -65,6 +67,8 @@ pub fn rows_table(rows: &[Row]) -> String {
             r.rtol.map_or("—".into(), sci),
             r.error.map_or("diverged".into(), sci),
             r.evals.to_string(),
+            r.accepted.to_string(),
+            r.rejected.to_string(),
             sci(r.wall_seconds),
         ]);
     }
@@ -134,17 +138,21 @@ pub fn stability_table(limits: &[Limit]) -> String {
 
 /// One CSV row per run.
 pub fn rows_csv(rows: &[Row]) -> String {
-    let mut csv = String::from("scene,method,dt,rtol,error,evals,wall_seconds,stable\n");
+    let mut csv = String::from(
+        "scene,method,dt,rtol,error,evals,accepted_steps,rejected_steps,wall_seconds,stable\n",
+    );
     for r in rows {
         let _ = writeln!(
             csv,
-            "{},{},{:e},{},{},{},{:e},{}",
+            "{},{},{:e},{},{},{},{},{},{:e},{}",
             r.scene,
             r.method,
             r.dt,
             r.rtol.map_or(String::new(), |t| format!("{t:e}")),
             r.error.map_or(String::new(), |e| format!("{e:e}")),
             r.evals,
+            r.accepted,
+            r.rejected,
             r.wall_seconds,
             r.error.is_some()
         );

@@ -9,7 +9,7 @@
 use std::time::Instant;
 
 use crate::integrate::{
-    Integrator, Method, MethodOptions, SecondOrderSystem, Stability, yoshida_weights,
+    Family, Integrator, Method, MethodOptions, SecondOrderSystem, Stability, yoshida_weights,
 };
 use crate::scene::pendulum::reference::ExactPendulum;
 use crate::scene::pendulum::{Pendulum, PendulumParams};
@@ -95,7 +95,7 @@ pub const DEFAULT_REPEATS: u32 = 5;
 /// Steps a stability trial must stay bounded for by default.
 pub const DEFAULT_STABILITY_STEPS: u64 = 2000;
 
-/// dopri5's tolerances in a work-precision sweep by default: 1e-3 to 1e-12.
+/// The adaptive methods' tolerances in a work-precision sweep by default: 1e-3 to 1e-12.
 pub fn default_rtols() -> Vec<f64> {
     (3..=12).map(|k| 10f64.powi(-k)).collect()
 }
@@ -122,17 +122,31 @@ pub struct Row {
     pub scene: &'static str,
     pub method: Method,
     pub dt: f64,
-    /// dopri5's tolerance; `None` for fixed-step methods.
+    /// The adaptive method's tolerance; `None` for fixed-step methods.
     pub rtol: Option<f64>,
     /// Largest deviation from the reference over the run; `None` when the run diverged.
     pub error: Option<f64>,
+    /// Force evaluations over the run (rejected steps' included).
     pub evals: u64,
+    /// Steps the method accepted (an adaptive method's own steps; the fixed-step count otherwise).
+    pub accepted: u64,
+    /// Steps the error control rejected (0 for fixed-step methods).
+    pub rejected: u64,
     /// Median wall time over the repeats [s].
     pub wall_seconds: f64,
 }
 
-/// Steps `method` and returns (largest |x - reference| at the sample times, force evaluations),
-/// or `None` for the error when the state stops being finite.
+/// What one measured run gives: the largest |x - reference| at the sample times (`None` when
+/// the state stops being finite), and what it spent.
+struct Measured {
+    error: Option<f64>,
+    evals: u64,
+    accepted: u64,
+    rejected: u64,
+    wall: f64,
+}
+
+/// Steps `method` over the reference's sample times and measures it.
 fn measure<S: SecondOrderSystem>(
     sys: &S,
     start: &(Vec<f64>, Vec<f64>),
@@ -141,7 +155,7 @@ fn measure<S: SecondOrderSystem>(
     options: MethodOptions,
     per_sample: u64,
     reference: &[Vec<f64>],
-) -> (Option<f64>, u64, f64) {
+) -> Measured {
     let began = Instant::now();
     let mut it = Integrator::new(method, sys, &start.0, &start.1, dt, options);
     let mut worst: f64 = 0.0;
@@ -155,11 +169,19 @@ fn measure<S: SecondOrderSystem>(
             .zip(r)
             .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
         if !err.is_finite() {
-            return (None, it.evals(), began.elapsed().as_secs_f64());
+            worst = f64::NAN;
+            break;
         }
         worst = worst.max(err);
     }
-    (Some(worst), it.evals(), began.elapsed().as_secs_f64())
+    let wall = began.elapsed().as_secs_f64();
+    Measured {
+        error: worst.is_finite().then_some(worst),
+        evals: it.evals(),
+        accepted: it.accepted_steps(),
+        rejected: it.rejected_steps(),
+        wall,
+    }
 }
 
 /// The reference positions at t = k·sample_dt, k = 1..=samples, and an estimate of its own error.
@@ -237,12 +259,12 @@ pub struct Sweep {
     pub options: MethodOptions,
     /// Timed repeats per run (the median is kept).
     pub repeats: u32,
-    /// dopri5's tolerances (it runs at dt0 with each).
+    /// The adaptive methods' tolerances (each runs with each, asked for the sample times).
     pub rtols: Vec<f64>,
 }
 
-/// Every (method, dt) of the sweep: fixed-step methods over the halved steps, dopri5 over its
-/// tolerances. Returns the rows and the reference's estimated error.
+/// Every (method, dt) of the sweep: fixed-step methods over the halved steps, the adaptive
+/// methods (family `Adaptive`: dopri5, dop853) over their tolerances. Returns the rows and the reference's estimated error.
 pub fn sweep(problem: &Problem, s: &Sweep) -> (Vec<Row>, f64) {
     let sample_dt = SAMPLE_EVERY as f64 * s.dt0;
     let samples = ((s.duration / sample_dt).round() as usize).max(1);
@@ -252,9 +274,9 @@ pub fn sweep(problem: &Problem, s: &Sweep) -> (Vec<Row>, f64) {
     let mut rows = Vec::new();
     let mut one = |method: Method, dt: f64, per: u64, options: MethodOptions, rtol: Option<f64>| {
         let mut walls = Vec::new();
-        let mut result = (None, 0);
+        let mut result = None;
         for _ in 0..s.repeats.max(1) {
-            let (err, evals, wall) = match problem {
+            let m = match problem {
                 Problem::Pendulum(p) => measure(
                     &Pendulum::new(p),
                     &start,
@@ -274,23 +296,26 @@ pub fn sweep(problem: &Problem, s: &Sweep) -> (Vec<Row>, f64) {
                     &reference,
                 ),
             };
-            walls.push(wall);
-            result = (err, evals);
+            walls.push(m.wall);
+            result = Some(m);
         }
         walls.sort_by(f64::total_cmp);
+        let m = result.expect("at least one repeat");
         rows.push(Row {
             scene: problem.name(),
             method,
             dt,
             rtol,
-            error: result.0,
-            evals: result.1,
+            error: m.error,
+            evals: m.evals,
+            accepted: m.accepted,
+            rejected: m.rejected,
             wall_seconds: walls[walls.len() / 2],
         });
     };
     for &m in &s.methods {
-        if m == Method::Dopri5 {
-            // Adaptive: it only has to land on the sample times and chooses its substeps itself.
+        if m.info().family == Family::Adaptive {
+            // Adaptive: it is asked for the sample times only and chooses its steps itself.
             for &rtol in &s.rtols {
                 one(
                     m,

@@ -2,15 +2,24 @@
 //! and a converged fine-step solution for every other start, plus the exact period for any energy.
 
 use super::{Pendulum, PendulumParams};
-use crate::elliptic::{complete_k, jacobi};
+use crate::elliptic::{complete_k_m1, jacobi_m1};
 use crate::integrate::{Integrator, Method, MethodOptions};
 
-/// θ(t) = 2 asin(k sn(K - ωn t | k²)), ω(t) = -2 k ωn cn(K - ωn t | k²), with k = sin(θ0/2),
+/// θ(t) = 2 atan2(k sn, dn)(K - ωn t | k²) (= 2 asin(k sn), written so that it keeps its
+/// digits near the top, where k sn → 1), ω(t) = -2 k ωn cn(K - ωn t | k²), with k = sin(θ0/2),
 /// ωn = sqrt(g/L): the exact motion after release from rest at θ0, |θ0| < 180°.
+///
+/// Near the separatrix the parameter m = k² rounds to 1, so the complement m1 = k'² is formed
+/// from k' = cos(θ0/2) (no cancellation: θ0/2 is exact and cos of a double is correctly
+/// reduced) and handed to [`complete_k_m1`] and [`jacobi_m1`]. The period and θ(t) then keep
+/// their full precision up to the last double below π; what is left is the input's own rounding
+/// (a release angle in degrees is rounded to radians before it gets here, which at 179.9999999°
+/// already moves k' by up to 1.3e-7 relative and T by up to 7e-9).
 #[derive(Clone, Copy, Debug)]
 pub struct ExactPendulum {
     k: f64,
     m: f64,
+    m1: f64,
     quarter: f64,
     omega_n: f64,
 }
@@ -18,23 +27,24 @@ pub struct ExactPendulum {
 impl ExactPendulum {
     /// `None` unless the start is a release from rest with |θ0| < 180°.
     pub fn new(p: &PendulumParams) -> Option<Self> {
-        if p.omega0 != 0.0 || p.theta0.abs() >= std::f64::consts::PI {
+        if p.omega0 != 0.0 || p.theta0.is_nan() || p.theta0.abs() >= std::f64::consts::PI {
             return None;
         }
-        let k = (0.5 * p.theta0).sin();
-        let m = k * k;
+        let (k, k1) = (0.5 * p.theta0).sin_cos();
+        let (m, m1) = (k * k, k1 * k1);
         Some(ExactPendulum {
             k,
             m,
-            quarter: complete_k(m),
+            m1,
+            quarter: complete_k_m1(m, m1),
             omega_n: p.omega_n(),
         })
     }
 
     /// (θ, ω) at time t [s].
     pub fn state(&self, t: f64) -> (f64, f64) {
-        let j = jacobi(self.quarter - self.omega_n * t, self.m);
-        let theta = 2.0 * (self.k * j.sn).clamp(-1.0, 1.0).asin();
+        let j = jacobi_m1(self.quarter - self.omega_n * t, self.m, self.m1);
+        let theta = 2.0 * (self.k * j.sn).atan2(j.dn);
         let omega = -2.0 * self.k * self.omega_n * j.cn;
         (theta, omega)
     }
@@ -43,20 +53,38 @@ impl ExactPendulum {
     pub fn period(&self) -> f64 {
         4.0 * self.quarter / self.omega_n
     }
+
+    /// The parameter m = k² and its complement m1 = k'² = cos²(θ0/2), as used.
+    pub fn parameters(&self) -> (f64, f64) {
+        (self.m, self.m1)
+    }
 }
 
 /// The exact period [s] of the motion with the start's energy: 4K(k²)/ωn for libration
 /// (k² = E/(2gL) < 1), 2K(1/k²)/(k ωn) for one full revolution (k² > 1);
 /// `None` on the separatrix (k² = 1, infinite period) or at rest at the bottom.
+///
+/// k² = sin²(θ0/2) + L ω0²/(4g) and its complement 1 - k² = cos²(θ0/2) - L ω0²/(4g) are both
+/// formed from half-angle terms, so a release from rest near the top (ω0 = 0) has no
+/// cancellation at all; with ω0 ≠ 0 the one subtraction left is the physics' own.
 pub fn exact_period(p: &PendulumParams) -> Option<f64> {
-    let k2 = p.initial_energy() / p.over_the_top_energy();
+    let e0 = p.initial_energy();
+    if e0.is_nan() || e0 <= 0.0 {
+        return None;
+    }
+    let (s, c) = (0.5 * p.theta0).sin_cos();
+    let kinetic = p.length * p.omega0 * p.omega0 / (4.0 * p.gravity);
+    let k2 = s * s + kinetic;
+    let k2_complement = c * c - kinetic;
     let wn = p.omega_n();
-    if k2 <= 0.0 || k2 == 1.0 {
+    if !k2.is_finite() || k2 <= 0.0 || k2_complement == 0.0 {
         None
-    } else if k2 < 1.0 {
-        Some(4.0 * complete_k(k2) / wn)
+    } else if k2_complement > 0.0 {
+        Some(4.0 * complete_k_m1(k2, k2_complement) / wn)
     } else {
-        Some(2.0 * complete_k(1.0 / k2) / (k2.sqrt() * wn))
+        // Revolution: parameter 1/k², complement 1 - 1/k² = -(1 - k²)/k².
+        let m1 = (-k2_complement / k2).min(1.0);
+        Some(2.0 * complete_k_m1(1.0 / k2, m1) / (k2.sqrt() * wn))
     }
 }
 
@@ -171,8 +199,9 @@ impl Reference {
     pub fn describe(&self) -> String {
         match self {
             Reference::Exact(e) => format!(
-                "exact: closed form θ(t) = 2 asin(k sn(K - ωn t, k²)), k = {:.12}, K = {:.15}, T = {:.12} s",
+                "exact: closed form θ(t) = 2 asin(k sn(K - ωn t, k²)), k = {:.12}, k' = cos(θ0/2) = {:.6e}, K = {:.15}, T = {:.12} s",
                 e.k,
+                e.m1.sqrt(),
                 e.quarter,
                 e.period()
             ),
