@@ -16,6 +16,8 @@ fn hair_run_writes_one_strip_entity_per_method() {
         "30",
         "--duration",
         "1",
+        "--methods",
+        "verlet,semi-implicit-euler,ftl",
         "-o",
         out.to_str().unwrap(),
     ]);

@@ -18,7 +18,10 @@ use crate::scene::harness::{Event, Frame};
 
 pub const PLOTS: [(&str, &str); 3] = [
     ("max_stretch", "maximum relative stretch |ℓ − ℓ0| / ℓ0"),
-    ("max_penetration", "maximum penetration into the head [m]"),
+    (
+        "max_penetration",
+        "maximum penetration of non-root nodes into R(1 + margin) [m]",
+    ),
     (
         "kinetic_energy",
         "kinetic energy per unit node mass ½Σ|v|² [J/kg]",
@@ -194,7 +197,7 @@ fn about_text(c: &HairConfig) -> String {
         "# hair\n\n\
          {} strands × {} nodes (segment {} m) rooted on a head of radius {} m by a golden-angle spiral over the \
          cap; head motion `{:?}`; gravity {:?} m/s², wind {:?} m/s² with gusts ±{}%, damping {} 1/s; \
-         {} constraint iterations; {} substeps per frame at {} Hz; collision margin {} R.\n\n\
+         verlet solver {}, {} iterations; spring stiffness k/m {:e} 1/s², damping kd/m {} 1/s; {} substeps per frame at {} Hz; collision margin {} R.\n\n\
          Each method has its own head copy (slots side by side). Plots are per simulation frame; the \
          3D state every {} frames.\n\n| method | update |\n|---|---|\n{}\n",
         p.strands,
@@ -206,7 +209,10 @@ fn about_text(c: &HairConfig) -> String {
         p.wind.to_array(),
         100.0 * p.gust,
         p.damping,
+        p.solver.name(),
         p.iterations,
+        p.stiffness,
+        p.spring_damping,
         c.substeps,
         c.rate,
         p.margin,

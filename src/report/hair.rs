@@ -9,9 +9,10 @@ pub fn summary_text(scene: &HairScene, run: &Run<HairLane>) -> String {
     let p = &c.params;
     let mut out = format!(
         "hair: {} strands × {} nodes, segment {} m, head radius {} m ({:?}), wind {:?} m/s² ± {}%, damping {} 1/s\n\
-         {} iterations, {} substeps per frame at {} Hz (dt = {:.3e} s), {} frames to t = {} s, {} threads\n\
-         collision pushes nodes to R(1 + {}); invariants: penetration into R, root distance from its anchor, \
-         |ℓ - ℓ0|/ℓ0\n\n",
+         verlet solver {}, {} iterations; springs k/m = {:.3e} 1/s², kd/m = {} 1/s (semi-implicit-euler: {} inner steps per substep); \
+         {} substeps per frame at {} Hz (dt = {:.3e} s), {} frames to t = {} s, {} threads\n\
+         collision pushes nodes to R(1 + {}); invariants: penetration of non-root nodes into R(1 + margin), \
+         root distance from its anchor, |ℓ - ℓ0|/ℓ0\n\n",
         p.strands,
         p.nodes,
         p.segment_length,
@@ -20,7 +21,11 @@ pub fn summary_text(scene: &HairScene, run: &Run<HairLane>) -> String {
         p.wind.to_array(),
         trim_number(100.0 * p.gust, 3),
         p.damping,
+        p.solver.name(),
         p.iterations,
+        p.stiffness,
+        p.spring_damping,
+        (c.step_dt() / p.spring_step_limit()).ceil().max(1.0),
         c.substeps,
         c.rate,
         c.step_dt(),

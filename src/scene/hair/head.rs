@@ -18,15 +18,20 @@ pub enum HeadMotion {
     Nod,
     /// Sway, turn, nod, then a rest, repeating.
     Tour,
+    /// A fast shake: side to side at 3 Hz (±1.2 head radii) while turning at 2.5 Hz (±0.3 rad),
+    /// both under a sin² window of 2 s, so it starts and ends at rest; peak accelerations of
+    /// several g (see the test), smooth (C²) and deterministic.
+    Shake,
 }
 
 impl HeadMotion {
-    pub const ALL: [(&'static str, HeadMotion); 5] = [
+    pub const ALL: [(&'static str, HeadMotion); 6] = [
         ("still", HeadMotion::Still),
         ("sway", HeadMotion::Sway),
         ("turn", HeadMotion::Turn),
         ("nod", HeadMotion::Nod),
         ("tour", HeadMotion::Tour),
+        ("shake", HeadMotion::Shake),
     ];
 }
 
@@ -43,6 +48,20 @@ pub const PULSE: f64 = 2.0;
 const SWAY: f64 = 2.0;
 const TURN: f64 = 1.0;
 const NOD: f64 = 0.5;
+/// Shake: sway amplitude [head radii] and frequency [Hz], turn amplitude [rad] and frequency [Hz].
+/// Both frequencies are whole multiples of 1/(2 PULSE), so each oscillation is at a zero when
+/// its window closes.
+const SHAKE_SWAY: f64 = 1.2;
+const SHAKE_SWAY_HZ: f64 = 3.0;
+const SHAKE_TURN: f64 = 0.3;
+const SHAKE_TURN_HZ: f64 = 2.5;
+
+/// The shake's window on s ∈ [0, 1]: sin²(πs). Its value and slope vanish at both ends; times an
+/// oscillation that is zero there, the product is C² across windows.
+fn window(s: f64) -> f64 {
+    let w = (std::f64::consts::PI * s.clamp(0.0, 1.0)).sin();
+    w * w
+}
 
 /// A pulse on s ∈ [0, 1]: sin(2πs)·sin²(πs). It and its first two derivatives vanish at both
 /// ends, so chained pulses are C² and the head starts and ends each at rest.
@@ -62,6 +81,17 @@ pub fn head_pose(motion: HeadMotion, t: f64, radius: f64) -> (DVec3, DQuat) {
         HeadMotion::Sway => sway = pulse(phase(1.0)),
         HeadMotion::Turn => turn = pulse(phase(1.0)),
         HeadMotion::Nod => nod = pulse(phase(1.0)),
+        HeadMotion::Shake => {
+            let tau = 2.0 * std::f64::consts::PI * t;
+            let w = window(phase(1.0));
+            let center = DVec3::new(
+                SHAKE_SWAY * radius * w * (SHAKE_SWAY_HZ * tau).sin(),
+                0.0,
+                0.0,
+            );
+            let angle = SHAKE_TURN * w * (SHAKE_TURN_HZ * tau).sin();
+            return (center, DQuat::from_rotation_z(angle));
+        }
         HeadMotion::Tour => {
             let p = phase(4.0);
             match p as u32 {
@@ -88,6 +118,7 @@ mod tests {
             HeadMotion::Turn,
             HeadMotion::Nod,
             HeadMotion::Tour,
+            HeadMotion::Shake,
         ] {
             let period = if m == HeadMotion::Tour {
                 4.0 * PULSE
@@ -121,5 +152,22 @@ mod tests {
             let acc = (x(t + h) - 2.0 * x(t) + x(t - h)) / (h * h);
             assert!(acc.abs() < bound, "acceleration {acc} at t = {t}");
         }
+    }
+
+    #[test]
+    fn shake_accelerates_by_several_g() {
+        // Peak acceleration of the centre and of a root at the side of the head (radius R).
+        let (r, h) = (0.1, 1e-4);
+        let point = |t: f64| {
+            let (c, q) = head_pose(HeadMotion::Shake, t, r);
+            c + q * DVec3::new(0.0, r, 0.0)
+        };
+        let mut peak: f64 = 0.0;
+        for k in 1..20_000 {
+            let t = k as f64 * h;
+            let acc = (point(t + h) - 2.0 * point(t) + point(t - h)) / (h * h);
+            peak = peak.max(acc.length());
+        }
+        assert!(peak > 3.0 * 9.81 && peak < 10.0 * 9.81, "peak {peak} m/s²");
     }
 }

@@ -1,53 +1,94 @@
 //! Hair: strands of point masses rooted on a moving sphere (the head), with gravity, wind,
-//! damping, inextensible segments and sphere collision, stepped by position-based methods.
+//! damping and sphere collision, stepped by four methods that really differ:
+//!
+//! - `verlet`: position Verlet, then the segments' length constraints, solved by `--solver`:
+//!   `direct` (the chain's constraints together, Newton on the multipliers with a tridiagonal
+//!   system per strand solved by the Thomas algorithm in O(nodes): [`direct`]) or `gauss-seidel`
+//!   (relaxation sweeps from root to tip);
+//! - `semi-implicit-euler`: force-based, each segment a stiff damped spring (as the rope models
+//!   it), symplectic Euler with as many inner steps as its stability needs ([`spring`]);
+//! - `implicit-euler`: the same springs, backward Euler by the rope's block-tridiagonal solve
+//!   (`scene::rope::implicit`, shared, one strand at a time);
+//! - `ftl`: dynamic follow-the-leader (Müller, Kim & Chentanez 2012), inextensible in one pass.
 //!
 //! Layout is structure-of-arrays: positions, previous positions and velocities are separate
 //! arrays, strand-major (node k of strand s at s·nodes + k), so each strand is a contiguous slice
 //! of every array and strands are stepped in parallel without sharing anything. The hot loop
-//! allocates nothing. f64 throughout: segment lengths (~1 cm) must hold to 1e-6 relative at
-//! positions ~1 m away from the origin, which f32 (7 digits) cannot.
+//! allocates nothing (per-thread scratch is made once). f64 throughout: segment lengths (~1 cm)
+//! must hold to 1e-6 relative at positions ~1 m away from the origin, which f32 (7 digits)
+//! cannot.
 
+pub mod direct;
 pub mod head;
 pub mod run;
+pub mod spring;
+
+use std::cell::RefCell;
 
 use glam::{DQuat, DVec3};
 use rayon::prelude::*;
 
 pub use head::{HeadMotion, head_pose};
 
-/// The position-based methods the hair scene offers.
+/// The hair scene's methods.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum HairMethod {
-    /// Position Verlet with damping, then constraint projection (the seeds).
+    /// Position Verlet with damping, then the length constraints (solved by `--solver`).
     Verlet,
-    /// Position-based dynamics: predict with the velocity, project, velocity from positions.
+    /// Stiff damped springs, symplectic Euler with stability substeps.
     SemiImplicitEuler,
+    /// Stiff damped springs, backward Euler (block-tridiagonal Newton per strand).
+    ImplicitEuler,
     /// Dynamic follow-the-leader (Müller, Kim & Chentanez 2012): inextensible in one pass.
     Ftl,
 }
 
 impl HairMethod {
-    pub const ALL: [HairMethod; 3] = [
+    pub const ALL: [HairMethod; 4] = [
         HairMethod::Verlet,
         HairMethod::SemiImplicitEuler,
+        HairMethod::ImplicitEuler,
         HairMethod::Ftl,
     ];
+
+    /// The methods a run takes by default. The spring methods are chosen by --methods:
+    /// semi-implicit-euler takes ~200 inner steps a frame at the default stiffness (a default run
+    /// would take seconds more per 200 strands), and implicit-euler does not yet meet the spring
+    /// stretch bound (stable, but its linearised step stretches segments by O(1) at 60 Hz).
+    pub const DEFAULT: [HairMethod; 2] = [HairMethod::Verlet, HairMethod::Ftl];
 
     pub fn name(self) -> &'static str {
         match self {
             HairMethod::Verlet => "verlet",
             HairMethod::SemiImplicitEuler => "semi-implicit-euler",
+            HairMethod::ImplicitEuler => "implicit-euler",
             HairMethod::Ftl => "ftl",
         }
+    }
+
+    /// Whether the method keeps length by stiff springs (a stated stretch bound) rather than by
+    /// constraints.
+    pub fn is_spring(self) -> bool {
+        matches!(
+            self,
+            HairMethod::SemiImplicitEuler | HairMethod::ImplicitEuler
+        )
     }
 
     pub fn description(self) -> &'static str {
         match self {
             HairMethod::Verlet => {
-                "x' = x + (1-d)(x - x_prev) + a dt², then `iterations` rounds of length + collision projection"
+                "x' = x + e^(-c dt)(x - x_prev) + a dt², then the length constraints by --solver (direct: \
+                 `iterations` Newton steps on the multipliers, tridiagonal per strand, then an exact \
+                 root-to-tip finish; gauss-seidel: `iterations` sweeps), collision fused"
             }
             HairMethod::SemiImplicitEuler => {
-                "PBD: v += a dt, p = x + v dt, `iterations` rounds of projection, v = (p - x)/dt"
+                "stiff damped springs: v += (a + f/m) h, x += v h, with h small enough for ω_max h < 2 \
+                 (inner steps computed from the stiffness)"
+            }
+            HairMethod::ImplicitEuler => {
+                "stiff damped springs: backward Euler, `iterations` Newton steps of the rope's \
+                 block-tridiagonal solve per strand (1 = linearised, Baraff–Witkin)"
             }
             HairMethod::Ftl => {
                 "DFTL: p = x + v dt, one root-to-tip pass places each node at rest length, v corrected by -0.9 d_next/dt"
@@ -76,8 +117,42 @@ impl std::str::FromStr for HairMethod {
             .into_iter()
             .find(|m| m.name() == s)
             .ok_or_else(|| {
-                format!("unknown hair method '{s}' (allowed: verlet, semi-implicit-euler, ftl)")
+                format!(
+                    "unknown hair method '{s}' (allowed: verlet, semi-implicit-euler, implicit-euler, ftl)"
+                )
             })
+    }
+}
+
+/// How `verlet` solves its length constraints.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Solver {
+    /// All of a strand's constraints together: Newton steps on the multipliers (tridiagonal,
+    /// Thomas algorithm), then an exact root-to-tip finish.
+    Direct,
+    /// Gauss–Seidel relaxation sweeps from root to tip (position-based dynamics).
+    GaussSeidel,
+}
+
+impl Solver {
+    pub const ALL: [(&'static str, Solver); 2] = [
+        ("direct", Solver::Direct),
+        ("gauss-seidel", Solver::GaussSeidel),
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Solver::Direct => "direct",
+            Solver::GaussSeidel => "gauss-seidel",
+        }
+    }
+}
+
+impl std::str::FromStr for Solver {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        crate::scene::choice(s, &Solver::ALL)
     }
 }
 
@@ -88,6 +163,10 @@ const GROUP: usize = 8;
 
 /// Müller et al.'s velocity-correction factor s_damping for DFTL.
 pub const FTL_CORRECTION: f64 = 0.9;
+
+/// The spring methods' stated bound on the relative stretch |ℓ - ℓ0|/ℓ0 at the default
+/// stiffness (tested at the default scene, 64 nodes, strong gusty wind and the shake).
+pub const SPRING_STRETCH_BOUND: f64 = 1e-2;
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct HairParams {
@@ -103,10 +182,19 @@ pub struct HairParams {
     pub wind: DVec3,
     /// Gust strength as a fraction of the wind (0 = steady).
     pub gust: f64,
-    /// Velocity damping rate c [1/s]: velocities decay as exp(-c t) between constraints.
+    /// Velocity damping rate c [1/s]: velocities decay as exp(-c t) (verlet, ftl,
+    /// semi-implicit-euler), or a drag force -c m v (implicit-euler).
     pub damping: f64,
-    /// Constraint-projection rounds per step (verlet, semi-implicit-euler).
+    /// How verlet solves its length constraints.
+    pub solver: Solver,
+    /// Newton steps (verlet with the direct solver, implicit-euler) or Gauss–Seidel sweeps
+    /// (verlet with gauss-seidel) per step.
     pub iterations: u32,
+    /// Spring methods: stiffness per unit node mass k/m [1/s²] of every segment.
+    pub stiffness: f64,
+    /// Spring methods: damping per unit node mass kd/m [1/s] on the relative velocity along
+    /// every segment.
+    pub spring_damping: f64,
     /// Collision margin as a fraction of the head radius: nodes are pushed to R (1 + margin).
     pub margin: f64,
     /// Roots cover the cap of the head above this polar angle from the crown [rad].
@@ -125,7 +213,10 @@ impl Default for HairParams {
             wind: DVec3::new(1.0, 0.0, 0.0),
             gust: 0.5,
             damping: 1.0,
-            iterations: 4,
+            solver: Solver::Direct,
+            iterations: 2,
+            stiffness: 1e8,
+            spring_damping: 2e3,
             margin: 1e-3,
             cap_angle: 0.6 * std::f64::consts::PI,
         }
@@ -161,6 +252,35 @@ impl HairParams {
             * (2.0 * std::f64::consts::PI * 0.23 * t).sin();
         self.wind * (1.0 + self.gust * s)
     }
+
+    /// Highest angular frequency of a strand's springs (pinned root, free tip, unit masses):
+    /// below 2 sqrt(k/m); the bound is used.
+    pub fn omega_max(&self) -> f64 {
+        2.0 * self.stiffness.sqrt()
+    }
+
+    /// The longest step symplectic Euler takes on the springs: the highest mode (ω² = 4k/m,
+    /// damping rate γ = 4kd/m) is stable when h²ω² + 2hγ < 4; 0.9 of that root.
+    pub fn spring_step_limit(&self) -> f64 {
+        let w2 = 4.0 * self.stiffness;
+        let g = 4.0 * self.spring_damping;
+        // Positive root of w2 h² + 2 g h - 4 = 0.
+        let h = (-g + (g * g + 4.0 * w2).sqrt()) / w2;
+        0.9 * h
+    }
+}
+
+/// What one strand group measured on the state at the end of a step.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct GroupStats {
+    /// Largest |ℓ - ℓ0|/ℓ0.
+    pub stretch: f64,
+    /// Deepest non-root node inside the collision sphere R(1 + margin) [m].
+    pub penetration: f64,
+    /// ½ Σ |Δx/dt|² over the group's nodes, in node order [J/kg].
+    pub kinetic: f64,
+    /// Whether every position is finite.
+    pub finite: bool,
 }
 
 /// One method's copy of the hair and its head.
@@ -172,6 +292,8 @@ pub struct Hair {
     roots: Vec<DVec3>,
     pub pos: Vec<DVec3>,
     pub prev: Vec<DVec3>,
+    /// Velocities (semi-implicit-euler, implicit-euler, ftl; verlet keeps them implicit in
+    /// pos - prev and leaves this empty).
     pub vel: Vec<DVec3>,
     /// Time of the current state [s].
     pub time: f64,
@@ -179,6 +301,8 @@ pub struct Hair {
     pub last_dt: f64,
     pub head_center: DVec3,
     pub head_rotation: DQuat,
+    /// Per group of strands, measured at the end of the last step.
+    group_stats: Vec<GroupStats>,
 }
 
 impl Hair {
@@ -195,15 +319,27 @@ impl Hair {
             }
         }
         let total = pos.len();
+        let groups = roots.len().div_ceil(GROUP);
         Hair {
             roots,
             prev: pos.clone(),
-            vel: vec![DVec3::ZERO; total],
+            vel: if method == HairMethod::Verlet {
+                Vec::new()
+            } else {
+                vec![DVec3::ZERO; total]
+            },
             pos,
             time: 0.0,
             last_dt: 0.0,
             head_center: center,
             head_rotation: rotation,
+            group_stats: vec![
+                GroupStats {
+                    finite: true,
+                    ..GroupStats::default()
+                };
+                groups
+            ],
             params,
             method,
         }
@@ -218,37 +354,95 @@ impl Hair {
         self.head_center + self.head_rotation * (self.roots[s] * self.params.head_radius)
     }
 
-    /// Advances by dt on the current rayon pool. Each strand is independent, so the result does
-    /// not depend on how strands are spread over threads.
-    pub fn step(&mut self, dt: f64) {
-        let t1 = self.time + dt;
-        let p = &self.params;
-        let (center, rotation) = head_pose(p.motion, t1, p.head_radius);
-        let ctx = StepContext {
-            params: p,
-            method: self.method,
-            dt,
-            time: self.time,
-            center,
-            rotation,
-            keep: (-p.damping * dt).exp(),
-            collide_radius: p.head_radius * (1.0 + p.margin),
-        };
-        let n = p.nodes;
-        let g = GROUP * n;
-        self.pos
-            .par_chunks_mut(g)
-            .zip(self.prev.par_chunks_mut(g))
-            .zip(self.vel.par_chunks_mut(g))
-            .zip(self.roots.par_chunks(GROUP))
-            .for_each(|(((x, prev), v), roots)| ctx.step_group(x, prev, v, roots));
-        self.time = t1;
-        self.last_dt = dt;
-        self.head_center = center;
-        self.head_rotation = rotation;
+    /// Inner steps symplectic Euler takes within a step of dt (1 for the other methods).
+    pub fn inner_steps(&self, dt: f64) -> u32 {
+        if self.method == HairMethod::SemiImplicitEuler {
+            (dt / self.params.spring_step_limit()).ceil().max(1.0) as u32
+        } else {
+            1
+        }
     }
 
-    /// Largest |ℓ - ℓ0| / ℓ0 over all segments.
+    /// Advances by dt on the current rayon pool. Each strand is independent, so the result does
+    /// not depend on how strands are spread over threads. The invariants of the new state are
+    /// measured on the way (while it is in cache): see [`Hair::stats`].
+    pub fn step(&mut self, dt: f64) {
+        let inner = self.inner_steps(dt);
+        let h = dt / inner as f64;
+        let p = &self.params;
+        let n = p.nodes;
+        let g = GROUP * n;
+        let collide_radius = p.head_radius * (1.0 + p.margin);
+        for j in 0..inner {
+            let t0 = self.time + j as f64 * h;
+            let t1 = if j + 1 == inner {
+                self.time + dt
+            } else {
+                t0 + h
+            };
+            let (center, rotation) = head_pose(p.motion, t1, p.head_radius);
+            let ctx = StepContext {
+                params: p,
+                method: self.method,
+                dt: h,
+                frame_dt: dt,
+                time: t0,
+                center,
+                rotation,
+                keep: (-p.damping * h).exp(),
+                collide_radius,
+                first: j == 0,
+                last: j + 1 == inner,
+            };
+            if self.method == HairMethod::Verlet {
+                self.pos
+                    .par_chunks_mut(g)
+                    .zip(self.prev.par_chunks_mut(g))
+                    .zip(self.roots.par_chunks(GROUP))
+                    .zip(self.group_stats.par_iter_mut())
+                    .for_each(|(((x, prev), roots), st)| {
+                        *st = ctx.step_group(x, prev, &mut [], roots)
+                    });
+            } else {
+                self.pos
+                    .par_chunks_mut(g)
+                    .zip(self.prev.par_chunks_mut(g))
+                    .zip(self.vel.par_chunks_mut(g))
+                    .zip(self.roots.par_chunks(GROUP))
+                    .zip(self.group_stats.par_iter_mut())
+                    .for_each(|((((x, prev), v), roots), st)| {
+                        *st = ctx.step_group(x, prev, v, roots)
+                    });
+            }
+            self.head_center = center;
+            self.head_rotation = rotation;
+        }
+        self.time += dt;
+        self.last_dt = dt;
+    }
+
+    /// The invariants measured at the end of the last step: largest stretch, deepest
+    /// penetration (non-root nodes into R(1 + margin)), kinetic energy ½ Σ |Δx/dt|² per unit
+    /// node mass (summed group by group in a fixed order, so it does not depend on the thread
+    /// count), and whether every position is finite.
+    pub fn stats(&self) -> GroupStats {
+        let mut out = GroupStats {
+            finite: true,
+            ..GroupStats::default()
+        };
+        for g in &self.group_stats {
+            out.stretch = out.stretch.max(g.stretch);
+            out.penetration = out.penetration.max(g.penetration);
+            out.kinetic += g.kinetic;
+            out.finite &= g.finite;
+        }
+        if self.last_dt == 0.0 {
+            out.kinetic = 0.0;
+        }
+        out
+    }
+
+    /// Largest |ℓ - ℓ0| / ℓ0 over all segments (a separate pass; the run uses [`Hair::stats`]).
     pub fn max_stretch(&self) -> f64 {
         let l0 = self.params.segment_length;
         self.pos
@@ -261,12 +455,19 @@ impl Hair {
             .reduce(|| 0.0, f64::max)
     }
 
-    /// Deepest penetration of any node into the head sphere (radius R, not R + margin) [m].
+    /// Deepest penetration of any non-root node into the collision sphere R(1 + margin) [m]
+    /// (roots sit on R by construction and are measured by [`Hair::max_root_error`]).
     pub fn max_penetration(&self) -> f64 {
-        let (c, r) = (self.head_center, self.params.head_radius);
+        let c = self.head_center;
+        let rc = self.params.head_radius * (1.0 + self.params.margin);
         self.pos
-            .par_iter()
-            .map(|x| (r - (*x - c).length()).max(0.0))
+            .par_chunks(self.params.nodes)
+            .map(|x| {
+                x[1..]
+                    .iter()
+                    .map(|x| (rc - (*x - c).length()).max(0.0))
+                    .fold(0.0, f64::max)
+            })
             .reduce(|| 0.0, f64::max)
     }
 
@@ -279,33 +480,44 @@ impl Hair {
 
     /// Kinetic energy per unit node mass, ½ Σ |Δx/dt|² [J/kg], from how far each node actually
     /// moved in the last step (the same for every method: DFTL's stored velocity carries its
-    /// damping correction and is not the nodes' motion). Summed in a fixed order, so the value
-    /// does not depend on the thread count.
+    /// damping correction and is not the nodes' motion). As [`Hair::stats`] sums it.
     pub fn kinetic_energy(&self) -> f64 {
         if self.last_dt == 0.0 {
             return 0.0;
         }
         let inv = 1.0 / self.last_dt;
-        let per_strand: Vec<f64> = self
-            .pos
-            .par_chunks(self.params.nodes)
-            .zip(self.prev.par_chunks(self.params.nodes))
+        self.pos
+            .chunks(GROUP * self.params.nodes)
+            .zip(self.prev.chunks(GROUP * self.params.nodes))
             .map(|(x, p)| {
                 x.iter()
                     .zip(p)
                     .map(|(x, p)| 0.5 * ((*x - *p) * inv).length_squared())
-                    .sum()
+                    .sum::<f64>()
             })
-            .collect();
-        per_strand.iter().sum()
+            .sum()
     }
+}
+
+/// Per-thread scratch of the solvers, made once per thread and grown when needed.
+#[derive(Default)]
+struct Scratch {
+    direct: direct::DirectScratch,
+    spring: spring::SpringScratch,
+}
+
+thread_local! {
+    static SCRATCH: RefCell<Scratch> = RefCell::new(Scratch::default());
 }
 
 /// What every strand needs for one step.
 struct StepContext<'a> {
     params: &'a HairParams,
     method: HairMethod,
+    /// This (inner) step's length [s].
     dt: f64,
+    /// The whole step's length (for the kinetic energy) [s].
+    frame_dt: f64,
     /// Time at the start of the step (forces are evaluated there).
     time: f64,
     /// Head pose at the end of the step (roots are placed there).
@@ -314,30 +526,48 @@ struct StepContext<'a> {
     /// Velocity kept per step, exp(-c dt).
     keep: f64,
     collide_radius: f64,
+    /// Whether this is the first / last inner step of the step.
+    first: bool,
+    last: bool,
 }
 
 impl StepContext<'_> {
-    /// Steps a group of consecutive strands (`roots.len()` of them, node-major per strand).
-    fn step_group(&self, x: &mut [DVec3], prev: &mut [DVec3], v: &mut [DVec3], roots: &[DVec3]) {
+    /// Steps a group of consecutive strands (`roots.len()` of them, node-major per strand) and
+    /// measures the result.
+    fn step_group(
+        &self,
+        x: &mut [DVec3],
+        prev: &mut [DVec3],
+        v: &mut [DVec3],
+        roots: &[DVec3],
+    ) -> GroupStats {
         let n = self.params.nodes;
         let dt = self.dt;
-        for (j, root_dir) in roots.iter().enumerate() {
-            let s = j * n..(j + 1) * n;
-            self.predict(
-                &mut x[s.clone()],
-                &mut prev[s.clone()],
-                &mut v[s],
-                *root_dir,
-            );
-        }
         match self.method {
-            HairMethod::Verlet | HairMethod::SemiImplicitEuler => {
-                self.project(x, roots.len());
-                for ((v, x), p) in v.iter_mut().zip(x.iter()).zip(prev.iter()) {
-                    *v = (*x - *p) / dt;
+            HairMethod::Verlet => {
+                for (j, root_dir) in roots.iter().enumerate() {
+                    let s = j * n..(j + 1) * n;
+                    self.predict_verlet(&mut x[s.clone()], &mut prev[s], *root_dir);
+                }
+                match self.params.solver {
+                    Solver::GaussSeidel => self.project(x, roots.len()),
+                    Solver::Direct => SCRATCH.with_borrow_mut(|scratch| {
+                        for strand in x.chunks_exact_mut(n) {
+                            self.solve_direct(strand, &mut scratch.direct);
+                        }
+                    }),
                 }
             }
             HairMethod::Ftl => {
+                for (j, root_dir) in roots.iter().enumerate() {
+                    let s = j * n..(j + 1) * n;
+                    self.predict_velocity(
+                        &mut x[s.clone()],
+                        &mut prev[s.clone()],
+                        &mut v[s],
+                        *root_dir,
+                    );
+                }
                 self.follow_the_leader(x, v, roots.len());
                 // Velocities from positions, with the DFTL correction -s d_{k+1}/dt (v holds d).
                 for j in 0..roots.len() {
@@ -357,34 +587,106 @@ impl StepContext<'_> {
                     }
                 }
             }
+            HairMethod::SemiImplicitEuler => {
+                for (j, root_dir) in roots.iter().enumerate() {
+                    let s = j * n..(j + 1) * n;
+                    if self.first {
+                        prev[s.clone()].copy_from_slice(&x[s.clone()]);
+                    }
+                    self.spring_symplectic(&mut x[s.clone()], &mut v[s], *root_dir);
+                }
+            }
+            HairMethod::ImplicitEuler => SCRATCH.with_borrow_mut(|scratch| {
+                for (j, root_dir) in roots.iter().enumerate() {
+                    let s = j * n..(j + 1) * n;
+                    prev[s.clone()].copy_from_slice(&x[s.clone()]);
+                    self.spring_implicit(
+                        &mut x[s.clone()],
+                        &mut v[s],
+                        *root_dir,
+                        &mut scratch.spring,
+                    );
+                }
+            }),
+        }
+        if self.last {
+            self.measure(x, prev)
+        } else {
+            GroupStats::default()
         }
     }
 
-    /// Moves one strand without its constraints: Verlet's position update, or the velocity
-    /// update and prediction of PBD and DFTL; then places the root on its anchor. `prev` ends
-    /// holding the start-of-step positions.
-    fn predict(&self, x: &mut [DVec3], prev: &mut [DVec3], v: &mut [DVec3], root_dir: DVec3) {
+    /// The invariants of a group's new state (see [`Hair::stats`]).
+    fn measure(&self, x: &[DVec3], prev: &[DVec3]) -> GroupStats {
+        let n = self.params.nodes;
+        let l0 = self.params.segment_length;
+        let inv_l0 = 1.0 / l0;
+        let inv_dt = 1.0 / self.frame_dt;
+        let rc = self.collide_radius;
+        let (mut stretch, mut depth2, mut kinetic) = (0.0f64, f64::INFINITY, 0.0f64);
+        for (xs, ps) in x.chunks_exact(n).zip(prev.chunks_exact(n)) {
+            kinetic += 0.5 * ((xs[0] - ps[0]) * inv_dt).length_squared();
+            for k in 1..n {
+                let len = (xs[k] - xs[k - 1]).length();
+                stretch = stretch.max((len - l0).abs() * inv_l0);
+                depth2 = depth2.min((xs[k] - self.center).length_squared());
+                kinetic += 0.5 * ((xs[k] - ps[k]) * inv_dt).length_squared();
+            }
+        }
+        let finite = kinetic.is_finite() && stretch.is_finite();
+        let penetration = if depth2 < rc * rc {
+            rc - depth2.sqrt()
+        } else {
+            0.0
+        };
+        GroupStats {
+            stretch,
+            penetration,
+            kinetic,
+            finite,
+        }
+    }
+
+    /// Where a root belongs at the end of the step.
+    #[inline]
+    fn anchor(&self, root_dir: DVec3) -> DVec3 {
+        self.center + self.rotation * (root_dir * self.params.head_radius)
+    }
+
+    /// Verlet's position update without constraints; then places the root on its anchor.
+    /// `prev` ends holding the start-of-step positions.
+    fn predict_verlet(&self, x: &mut [DVec3], prev: &mut [DVec3], root_dir: DVec3) {
         let dt = self.dt;
         // Forces at the start of the step; the wind is sampled at the root (see `wind_at`).
         let a = self.params.gravity + self.params.wind_at(self.time, x[0]);
-        match self.method {
-            HairMethod::Verlet => {
-                for k in 1..x.len() {
-                    let next = x[k] + (x[k] - prev[k]) * self.keep + a * dt * dt;
-                    prev[k] = x[k];
-                    x[k] = next;
-                }
-            }
-            HairMethod::SemiImplicitEuler | HairMethod::Ftl => {
-                for k in 1..x.len() {
-                    v[k] = (v[k] + a * dt) * self.keep;
-                    prev[k] = x[k];
-                    x[k] += v[k] * dt;
-                }
-            }
+        let adt2 = a * dt * dt;
+        for (x, p) in x[1..].iter_mut().zip(prev[1..].iter_mut()) {
+            let next = *x + (*x - *p) * self.keep + adt2;
+            *p = *x;
+            *x = next;
         }
         prev[0] = x[0];
-        x[0] = self.center + self.rotation * (root_dir * self.params.head_radius);
+        x[0] = self.anchor(root_dir);
+    }
+
+    /// DFTL's velocity update and prediction; then places the root on its anchor. `prev` ends
+    /// holding the start-of-step positions.
+    fn predict_velocity(
+        &self,
+        x: &mut [DVec3],
+        prev: &mut [DVec3],
+        v: &mut [DVec3],
+        root_dir: DVec3,
+    ) {
+        let dt = self.dt;
+        let a = self.params.gravity + self.params.wind_at(self.time, x[0]);
+        for k in 1..x.len() {
+            v[k] = (v[k] + a * dt) * self.keep;
+            prev[k] = x[k];
+            x[k] += v[k] * dt;
+        }
+        prev[0] = x[0];
+        x[0] = self.anchor(root_dir);
     }
 
     /// DFTL's single pass over `count` strands, segment by segment: each node moves onto the

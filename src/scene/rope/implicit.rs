@@ -19,6 +19,75 @@ use glam::{DMat3, DVec3};
 use super::{Rope, node};
 use crate::integrate::ImplicitSolve;
 
+/// What the block-tridiagonal backward-Euler solve needs to know about a chain of equal point
+/// masses joined by identical damped springs, with linear drag and some nodes held (their
+/// velocity is kept as given: δv = 0). The rope is one; each hair strand of the force-based hair
+/// methods is another (its root held on the moving head).
+pub trait Chain {
+    /// Number of nodes, ≥ 2.
+    fn nodes(&self) -> usize;
+    /// Mass of every node.
+    fn mass(&self) -> f64;
+    /// Hooke stiffness of every spring.
+    fn stiffness(&self) -> f64;
+    /// Damping on the relative velocity along each spring.
+    fn spring_damping(&self) -> f64;
+    /// Rest length of every spring.
+    fn rest(&self) -> f64;
+    /// Linear drag: force -drag·v on every node.
+    fn air_drag(&self) -> f64;
+    /// Newton iterations per step (1 = linearised backward Euler).
+    fn newton_iterations(&self) -> u32;
+    fn is_pinned(&self, i: usize) -> bool;
+    /// Total force on every node (flat, 3 per node), before pinning.
+    fn forces(&self, x: &[f64], v: &[f64], f: &mut [f64]);
+    /// Whether the spring Jacobian drops its transverse term under compression (ℓ < ℓ0), where
+    /// it is negative and makes the system indefinite (Choi & Ko 2002). The rope keeps the exact
+    /// Jacobian (false); stiff hair springs at large steps need the definite one.
+    fn definite_jacobian(&self) -> bool {
+        false
+    }
+}
+
+impl Chain for Rope {
+    #[inline]
+    fn nodes(&self) -> usize {
+        self.params.nodes
+    }
+    #[inline]
+    fn mass(&self) -> f64 {
+        self.params.mass
+    }
+    #[inline]
+    fn stiffness(&self) -> f64 {
+        self.params.stiffness
+    }
+    #[inline]
+    fn spring_damping(&self) -> f64 {
+        self.params.spring_damping
+    }
+    #[inline]
+    fn rest(&self) -> f64 {
+        Rope::rest(self)
+    }
+    #[inline]
+    fn air_drag(&self) -> f64 {
+        self.params.air_drag
+    }
+    #[inline]
+    fn newton_iterations(&self) -> u32 {
+        self.params.newton_iterations
+    }
+    #[inline]
+    fn is_pinned(&self, i: usize) -> bool {
+        Rope::is_pinned(self, i)
+    }
+    #[inline]
+    fn forces(&self, x: &[f64], v: &[f64], f: &mut [f64]) {
+        Rope::forces(self, x, v, f)
+    }
+}
+
 /// Newton stops early when max |δv| ≤ NEWTON_TOL · (1 + max |v|) [m/s].
 pub const NEWTON_TOL: f64 = 1e-10;
 
@@ -68,8 +137,7 @@ fn outer(a: DVec3, b: DVec3) -> DMat3 {
 
 /// The spring's force Jacobians at (x, v): ∂F/∂d and ∂F/∂(Δv), F = [ks(ℓ - ℓ0) + kd Δv·u] u.
 #[inline]
-fn spring_jacobians(rope: &Rope, x: &[f64], v: &[f64], i: usize) -> (DMat3, DMat3) {
-    let p = &rope.params;
+fn spring_jacobians<C: Chain>(rope: &C, x: &[f64], v: &[f64], i: usize) -> (DMat3, DMat3) {
     let d = node(x, i + 1) - node(x, i);
     let len = d.length();
     if len == 0.0 {
@@ -80,26 +148,32 @@ fn spring_jacobians(rope: &Rope, x: &[f64], v: &[f64], i: usize) -> (DMat3, DMat
     let transverse = DMat3::IDENTITY - uu;
     let dv = node(v, i + 1) - node(v, i);
     // Hooke: ks [u uᵀ + (1 - ℓ0/ℓ)(I - u uᵀ)].
-    let hooke = p.stiffness * (uu + (1.0 - rope.rest() / len) * transverse);
+    let mut transverse_scale = 1.0 - rope.rest() / len;
+    if rope.definite_jacobian() {
+        transverse_scale = transverse_scale.max(0.0);
+    }
+    let hooke = rope.stiffness() * (uu + transverse_scale * transverse);
     // Damping kd (Δv·u) u varies with x through u: kd/ℓ [(Δv·u)(I - u uᵀ) + u ((I - u uᵀ)Δv)ᵀ].
-    let damping_x = p.spring_damping / len * (dv.dot(u) * transverse + outer(u, transverse * dv));
-    (hooke + damping_x, p.spring_damping * uu)
+    let kd = rope.spring_damping();
+    let damping_x = kd / len * (dv.dot(u) * transverse + outer(u, transverse * dv));
+    (hooke + damping_x, kd * uu)
 }
 
-/// One backward-Euler step of the rope in place (see the module docs).
-pub fn backward_euler_step(
-    rope: &Rope,
+/// One backward-Euler step of a chain (the rope, a hair strand) in place (see the module docs).
+/// `ws` must have been made for `rope.nodes()` nodes.
+pub fn backward_euler_step<C: Chain>(
+    rope: &C,
     ws: &mut Workspace,
     x: &mut [f64],
     v: &mut [f64],
     h: f64,
 ) -> ImplicitSolve {
-    let p = &rope.params;
-    let n = p.nodes;
-    let m = p.mass;
+    let n = rope.nodes();
+    let m = rope.mass();
+    let air_drag = rope.air_drag();
     ws.x0.copy_from_slice(x);
     ws.v0.copy_from_slice(v);
-    let iterations = p.newton_iterations.max(1);
+    let iterations = rope.newton_iterations().max(1);
     let mut done = 0;
     let mut converged = false;
     let mut last_update = f64::INFINITY;
@@ -116,7 +190,7 @@ pub fn backward_euler_step(
         done += 1;
 
         // A = M - h D - h² K, block tridiagonal.
-        let own = DMat3::from_diagonal(DVec3::splat(m + h * p.air_drag));
+        let own = DMat3::from_diagonal(DVec3::splat(m + h * air_drag));
         ws.diag.fill(own);
         for s in 0..n - 1 {
             let coupling = h * ws.jac_v[s] + h * h * ws.jac_x[s];
