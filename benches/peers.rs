@@ -48,7 +48,12 @@ struct RunResult {
 }
 
 /// Times `f` (which returns the θ at the sample times) and measures its error.
-fn measure(side: &'static str, setting: String, exact: &[f64], mut f: impl FnMut() -> Vec<f64>) -> RunResult {
+fn measure(
+    side: &'static str,
+    setting: String,
+    exact: &[f64],
+    mut f: impl FnMut() -> Vec<f64>,
+) -> RunResult {
     let mut best = f64::INFINITY;
     let mut thetas = Vec::new();
     for _ in 0..REPEATS {
@@ -61,7 +66,13 @@ fn measure(side: &'static str, setting: String, exact: &[f64], mut f: impl FnMut
         .iter()
         .zip(exact)
         .map(|(a, b)| (a - b).abs())
-        .fold(0.0f64, |m, e| if e.is_finite() { m.max(e) } else { f64::INFINITY });
+        .fold(0.0f64, |m, e| {
+            if e.is_finite() {
+                m.max(e)
+            } else {
+                f64::INFINITY
+            }
+        });
     RunResult {
         side,
         setting,
@@ -107,12 +118,28 @@ mod os {
         thin(s.y_out(), per_sample, super::SAMPLES)
     }
     pub fn dopri5(k: f64, theta0: f64, tol: f64) -> Vec<f64> {
-        let mut s = Dopri5::new(P { k }, 0.0, super::DURATION, super::SAMPLE_DT, State::new(theta0, 0.0), tol, tol);
+        let mut s = Dopri5::new(
+            P { k },
+            0.0,
+            super::DURATION,
+            super::SAMPLE_DT,
+            State::new(theta0, 0.0),
+            tol,
+            tol,
+        );
         s.integrate().unwrap();
         thin(s.y_out(), 1, super::SAMPLES)
     }
     pub fn dop853(k: f64, theta0: f64, tol: f64) -> Vec<f64> {
-        let mut s = Dop853::new(P { k }, 0.0, super::DURATION, super::SAMPLE_DT, State::new(theta0, 0.0), tol, tol);
+        let mut s = Dop853::new(
+            P { k },
+            0.0,
+            super::DURATION,
+            super::SAMPLE_DT,
+            State::new(theta0, 0.0),
+            tol,
+            tol,
+        );
         s.integrate().unwrap();
         thin(s.y_out(), 1, super::SAMPLES)
     }
@@ -144,7 +171,12 @@ mod de {
         }
         .unwrap();
         // Outputs at 0, 0.1, ..., 20 (the last may repeat 20): the 200 after the start.
-        sol.y.iter().skip(1).take(super::SAMPLES).map(|y| y[0]).collect()
+        sol.y
+            .iter()
+            .skip(1)
+            .take(super::SAMPLES)
+            .map(|y| y[0])
+            .collect()
     }
 }
 
@@ -155,7 +187,9 @@ fn table(results: &[RunResult]) {
             .filter(|r| pred(r) && r.error <= target)
             .min_by(|a, b| a.seconds.total_cmp(&b.seconds))
     };
-    println!("\nCheapest run per target error (pendulum 60°, 20 s, 200 samples; min of {REPEATS} runs):");
+    println!(
+        "\nCheapest run per target error (pendulum 60°, 20 s, 200 samples; min of {REPEATS} runs):"
+    );
     println!(
         "| target | physlab (cheapest) | time [µs] | best peer | time [µs] | peer / physlab |"
     );
@@ -165,7 +199,10 @@ fn table(results: &[RunResult]) {
         let peer = best(&|r| !r.side.starts_with("physlab"), target);
         let show = |r: Option<&RunResult>| {
             r.map_or(("none reached it".to_string(), "—".to_string()), |r| {
-                (format!("{} {}", r.side, r.setting), format!("{:.1}", r.seconds * 1e6))
+                (
+                    format!("{} {}", r.side, r.setting),
+                    format!("{:.1}", r.seconds * 1e6),
+                )
             })
         };
         let (on, ot) = show(ours);
@@ -211,11 +248,19 @@ fn main() {
         let per = 1usize << j;
         let h = SAMPLE_DT / per as f64;
         for m in [Method::Rk4, Method::Yoshida4, Method::Verlet] {
-            results.push(measure("physlab-".to_string().leak_name(m), format!("h {h:.1e}"), &exact, || {
-                physlab_run(m, h, per, MethodOptions::default())
-            }));
+            results.push(measure(
+                "physlab-".to_string().leak_name(m),
+                format!("h {h:.1e}"),
+                &exact,
+                || physlab_run(m, h, per, MethodOptions::default()),
+            ));
         }
-        results.push(measure("ode_solvers-rk4", format!("h {h:.1e}"), &exact, || os::rk4(k, p.theta0, h, per)));
+        results.push(measure(
+            "ode_solvers-rk4",
+            format!("h {h:.1e}"),
+            &exact,
+            || os::rk4(k, p.theta0, h, per),
+        ));
     }
     for &tol in &tols {
         for m in [Method::Dopri5, Method::Dop853] {
@@ -223,14 +268,37 @@ fn main() {
                 rtol: tol,
                 ..MethodOptions::default()
             };
-            results.push(measure("physlab-".to_string().leak_name(m), format!("rtol {tol:.0e}"), &exact, || {
-                physlab_run(m, SAMPLE_DT, 1, options)
-            }));
+            results.push(measure(
+                "physlab-".to_string().leak_name(m),
+                format!("rtol {tol:.0e}"),
+                &exact,
+                || physlab_run(m, SAMPLE_DT, 1, options),
+            ));
         }
-        results.push(measure("ode_solvers-dopri5", format!("tol {tol:.0e}"), &exact, || os::dopri5(k, p.theta0, tol)));
-        results.push(measure("ode_solvers-dop853", format!("tol {tol:.0e}"), &exact, || os::dop853(k, p.theta0, tol)));
-        results.push(measure("diffeq-dop853", format!("tol {tol:.0e}"), &exact, || de::run(k, p.theta0, tol, false)));
-        results.push(measure("diffeq-rkv988e", format!("tol {tol:.0e}"), &exact, || de::run(k, p.theta0, tol, true)));
+        results.push(measure(
+            "ode_solvers-dopri5",
+            format!("tol {tol:.0e}"),
+            &exact,
+            || os::dopri5(k, p.theta0, tol),
+        ));
+        results.push(measure(
+            "ode_solvers-dop853",
+            format!("tol {tol:.0e}"),
+            &exact,
+            || os::dop853(k, p.theta0, tol),
+        ));
+        results.push(measure(
+            "diffeq-dop853",
+            format!("tol {tol:.0e}"),
+            &exact,
+            || de::run(k, p.theta0, tol, false),
+        ));
+        results.push(measure(
+            "diffeq-rkv988e",
+            format!("tol {tol:.0e}"),
+            &exact,
+            || de::run(k, p.theta0, tol, true),
+        ));
     }
     results.sort_by_key(|r| r.side);
     table(&results);
@@ -239,9 +307,18 @@ fn main() {
     let mut c = Criterion::default().configure_from_args();
     let mut g = c.benchmark_group("peers_rk4_20s_h1e-3");
     g.bench_function("physlab", |b| {
-        b.iter(|| black_box(physlab_run(Method::Rk4, 1e-3, 100, MethodOptions::default())))
+        b.iter(|| {
+            black_box(physlab_run(
+                Method::Rk4,
+                1e-3,
+                100,
+                MethodOptions::default(),
+            ))
+        })
     });
-    g.bench_function("ode_solvers", |b| b.iter(|| black_box(os::rk4(k, p.theta0, 1e-3, 100))));
+    g.bench_function("ode_solvers", |b| {
+        b.iter(|| black_box(os::rk4(k, p.theta0, 1e-3, 100)))
+    });
     g.finish();
     c.final_summary();
 }

@@ -97,7 +97,11 @@ pub fn jacobi_m1(u: f64, m: f64, m1: f64) -> Jacobi {
     let half = 2.0 * quarter;
     let turns = (u / half).round();
     let mut u = u - half * turns;
-    let sign = if turns.rem_euclid(2.0) == 1.0 { -1.0 } else { 1.0 };
+    let sign = if turns.rem_euclid(2.0) == 1.0 {
+        -1.0
+    } else {
+        1.0
+    };
     if !u.is_finite() {
         // |u| beyond 2^53 K: no digit of the phase is left.
         u = 0.0;
@@ -161,11 +165,7 @@ fn landen(u: f64, _m: f64, m1: f64) -> Jacobi {
     }
     let r = 1.0 / c.hypot(1.0);
     sn = if sn >= 0.0 { r } else { -r };
-    Jacobi {
-        sn,
-        cn: c * sn,
-        dn,
-    }
+    Jacobi { sn, cn: c * sn, dn }
 }
 
 #[cfg(test)]
@@ -279,14 +279,23 @@ mod tests {
     fn separatrix_limits() {
         assert_eq!(complete_k_m1(1.0, 0.0), f64::INFINITY);
         let j = jacobi_m1(0.7, 1.0, 0.0);
-        assert_eq!((j.sn, j.cn, j.dn), (0.7f64.tanh(), 1.0 / 0.7f64.cosh(), 1.0 / 0.7f64.cosh()));
+        assert_eq!(
+            (j.sn, j.cn, j.dn),
+            (0.7f64.tanh(), 1.0 / 0.7f64.cosh(), 1.0 / 0.7f64.cosh())
+        );
         let m1 = 1e-300;
         let k = complete_k_m1(1.0, m1);
         assert!((k / (4.0 / m1.sqrt()).ln() - 1.0).abs() <= 4.0 * EPS, "{k}");
         for u in [0.1, 1.0, 30.0, 0.5 * k, k, 3.3 * k] {
             let j = jacobi_m1(u, 1.0, m1);
-            assert!(j.sn.is_finite() && j.cn.is_finite() && j.dn.is_finite(), "u {u}");
-            assert!((j.sn * j.sn + j.cn * j.cn - 1.0).abs() <= 4.0 * EPS, "u {u}: {j:?}");
+            assert!(
+                j.sn.is_finite() && j.cn.is_finite() && j.dn.is_finite(),
+                "u {u}"
+            );
+            assert!(
+                (j.sn * j.sn + j.cn * j.cn - 1.0).abs() <= 4.0 * EPS,
+                "u {u}: {j:?}"
+            );
             let dn2 = m1 + j.cn * j.cn;
             assert!((j.dn * j.dn / dn2 - 1.0).abs() <= 1e-14, "u {u}: {j:?}");
         }

@@ -37,12 +37,18 @@ fn dop853_is_eighth_order_on_the_pendulum() {
         max_step: dt,
         ..MethodOptions::default()
     };
-    let dts: Vec<f64> = (0..=4).map(|k| 0.2 * 2f64.powf(-f64::from(k) / 4.0)).collect();
+    let dts: Vec<f64> = (0..=4)
+        .map(|k| 0.2 * 2f64.powf(-f64::from(k) / 4.0))
+        .collect();
     let errs: Vec<f64> = dts
         .iter()
         .map(|&dt| max_error(Method::Dop853, fixed(dt), dt, 10.0).0)
         .collect();
-    let pts: Vec<(f64, f64)> = dts.iter().zip(&errs).map(|(d, e)| (d.ln(), e.ln())).collect();
+    let pts: Vec<(f64, f64)> = dts
+        .iter()
+        .zip(&errs)
+        .map(|(d, e)| (d.ln(), e.ln()))
+        .collect();
     let n = pts.len() as f64;
     let (mx, my) = (
         pts.iter().map(|p| p.0).sum::<f64>() / n,
@@ -70,7 +76,10 @@ fn dop853_dense_output_between_steps() {
         let (between, _) = max_error(Method::Dop853, opts, h / 7.0, 10.0);
         let (at_ends, _) = max_error(Method::Dop853, opts, h, 10.0);
         println!("h {h}: error at samples between steps {between:.3e}, at step ends {at_ends:.3e}");
-        assert!(between < 10.0 * at_ends, "h {h}: {between:e} vs {at_ends:e}");
+        assert!(
+            between < 10.0 * at_ends,
+            "h {h}: {between:e} vs {at_ends:e}"
+        );
     }
 }
 
@@ -97,7 +106,10 @@ fn dop853_error_follows_rtol_and_counts_its_steps() {
         assert!(err < 100.0 * rtol, "rtol {rtol:e}: error {err:e}");
         assert!(it.evals() <= 1 + 12 * acc + 11 * rej + 3 * acc);
         assert!(it.evals() >= 1 + 12 * acc + 11 * rej);
-        assert!(acc < 2000, "it stepped past the 0.01 s samples: {acc} steps for 2000 samples");
+        assert!(
+            acc < 2000,
+            "it stepped past the 0.01 s samples: {acc} steps for 2000 samples"
+        );
         pts.push((rtol.ln(), err.ln()));
     }
     let n = pts.len() as f64;

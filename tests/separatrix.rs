@@ -61,10 +61,18 @@ fn period_holds_to_1e_12_up_to_the_separatrix() {
     for r in rows().iter().filter(|r| r.t == 0.0) {
         let p = params(r.rad);
         let exact = ExactPendulum::new(&p).unwrap();
-        for (what, got) in [("ExactPendulum", exact.period()), ("exact_period", exact_period(&p).unwrap())] {
+        for (what, got) in [
+            ("ExactPendulum", exact.period()),
+            ("exact_period", exact_period(&p).unwrap()),
+        ] {
             let rel = (got / r.period - 1.0).abs();
             worst = worst.max(rel);
-            assert!(rel <= 1e-12, "{what} at {}°: {got} vs {}: {rel:.1e}", r.deg, r.period);
+            assert!(
+                rel <= 1e-12,
+                "{what} at {}°: {got} vs {}: {rel:.1e}",
+                r.deg,
+                r.period
+            );
         }
     }
     println!("worst relative period error: {worst:.2e}");
@@ -78,7 +86,10 @@ fn period_holds_to_1e_12_up_to_the_separatrix() {
 /// decimal angle's by about 2e-9 relative. Documents that the table's reference is the right one.
 #[test]
 fn input_rounding_dominates_beyond_179_9999999() {
-    let r = rows().into_iter().find(|r| r.deg == 179.999_999_9 && r.t == 0.0).unwrap();
+    let r = rows()
+        .into_iter()
+        .find(|r| r.deg == 179.999_999_9 && r.t == 0.0)
+        .unwrap();
     let rounding = (r.period / r.period_decimal - 1.0).abs();
     assert!(rounding > 1e-10 && rounding < 1e-8, "{rounding:e}");
 }
@@ -95,8 +106,20 @@ fn motion_holds_to_1e_12_up_to_the_separatrix() {
         let (et, ew) = ((theta - r.theta).abs(), (omega - r.omega).abs() / scale);
         worst_theta = worst_theta.max(et);
         worst_omega = worst_omega.max(ew);
-        assert!(et <= 4e-12, "θ({}) at {}°: {theta} vs {}: {et:.1e}", r.t, r.deg, r.theta);
-        assert!(ew <= 1e-12, "ω({}) at {}°: {omega} vs {}: {ew:.1e}", r.t, r.deg, r.omega);
+        assert!(
+            et <= 4e-12,
+            "θ({}) at {}°: {theta} vs {}: {et:.1e}",
+            r.t,
+            r.deg,
+            r.theta
+        );
+        assert!(
+            ew <= 1e-12,
+            "ω({}) at {}°: {omega} vs {}: {ew:.1e}",
+            r.t,
+            r.deg,
+            r.omega
+        );
     }
     println!("worst |Δθ| {worst_theta:.2e} rad, worst |Δω|/(2ωn) {worst_omega:.2e}");
 }
@@ -113,10 +136,16 @@ fn finite_and_monotone_to_the_last_double_below_pi() {
         let t = e.period();
         assert!(t.is_finite() && t < last, "{theta0}: {t}");
         assert_eq!(exact_period(&p).unwrap(), t);
-        assert!((e.state(0.0).0 - theta0).abs() <= 4.0 * f64::EPSILON, "{theta0}");
+        assert!(
+            (e.state(0.0).0 - theta0).abs() <= 4.0 * f64::EPSILON,
+            "{theta0}"
+        );
         for s in [0.1, 1.0, 7.0, 100.0] {
             let (th, w) = e.state(s);
-            assert!(th.is_finite() && w.is_finite() && th.abs() <= theta0, "{theta0} at {s}");
+            assert!(
+                th.is_finite() && w.is_finite() && th.abs() <= theta0,
+                "{theta0} at {s}"
+            );
         }
         last = t;
         theta0 = f64::from_bits(theta0.to_bits() - (1 << 20));
@@ -152,7 +181,10 @@ fn scene_runs_at_any_release_angle() {
         let mut scene = PendulumScene::new(config);
         let description = scene.reference_description();
         let out = run(&mut scene, &mut NoObserver).unwrap();
-        assert!(started.elapsed().as_secs_f64() < 30.0, "{deg}° took too long");
+        assert!(
+            started.elapsed().as_secs_f64() < 30.0,
+            "{deg}° took too long"
+        );
         assert!(!description.contains("NaN"), "{deg}°: {description}");
         if let Some(t) = scene.exact_period {
             assert!(t.is_finite() && t > 0.0, "{deg}°: {t}");

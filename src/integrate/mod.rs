@@ -152,7 +152,13 @@ impl Integrator {
             )),
             Method::Yoshida4 => Stepper::Yoshida4(composition::Yoshida4::new(n)),
             Method::Dopri5 => Stepper::Dopri5(adaptive::Dopri5::new(n, dt, options.rtol)),
-            Method::Dop853 => Stepper::Dop853(dop853::Dop853::new(x0, v0, dt, options.rtol, options.max_step)),
+            Method::Dop853 => Stepper::Dop853(dop853::Dop853::new(
+                x0,
+                v0,
+                dt,
+                options.rtol,
+                options.max_step,
+            )),
         };
         Integrator {
             method,

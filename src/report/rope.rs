@@ -12,7 +12,10 @@ pub fn cost_per_step(method: Method, newton_iterations: u32) -> String {
         EvalsPerStep::NewtonIterations => {
             format!("≤{newton_iterations} × (force + Jacobian + block-tridiagonal solve) O(N)")
         }
-        EvalsPerStep::Adaptive => "6 force evals O(N) per substep tried".to_string(),
+        EvalsPerStep::Adaptive => format!(
+            "adaptive: {} force evals O(N) per substep tried",
+            if method == Method::Dop853 { 12 } else { 6 }
+        ),
     }
 }
 
