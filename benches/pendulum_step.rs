@@ -16,6 +16,7 @@ fn pendulum_step(c: &mut Criterion) {
     let mut group = c.benchmark_group("pendulum_step");
     group.throughput(Throughput::Elements(STEPS as u64));
     let (mut theta, mut omega) = (vec![0.0; STEPS], vec![0.0; STEPS]);
+    let mut evals = vec![0u64; STEPS];
     let mut unconverged: Vec<usize> = Vec::new();
     for m in Method::ALL {
         // Every sample starts afresh from the default start (θ0 = 60°, dt = 0.01 s), so each
@@ -40,6 +41,7 @@ fn pendulum_step(c: &mut Criterion) {
                         black_box(&sys),
                         &mut theta,
                         &mut omega,
+                        &mut evals,
                         &mut unconverged,
                     );
                     black_box(theta[STEPS - 1])

@@ -322,3 +322,38 @@ fn tiny_amplitudes_are_the_small_oscillations_they_are() {
         );
     }
 }
+
+#[test]
+fn steps_and_evaluations_are_counted_up_to_divergence() {
+    use physlab::integrate::{EvalsPerStep, Method};
+    use physlab::scene::harness::{NoObserver, run};
+    use physlab::scene::pendulum::run::{PendulumConfig, PendulumScene};
+    let mut diverged = 0;
+    for dt in [0.6, 1.0, 2.0, 5.0] {
+        let config = PendulumConfig {
+            dt,
+            duration: 20.0 * dt,
+            ..PendulumConfig::default()
+        };
+        let r = run(&mut PendulumScene::new(config), &mut NoObserver).unwrap();
+        for s in r.stats.iter().filter(|s| s.divergence.is_some()) {
+            let m: Method = s.name.parse().unwrap();
+            if let EvalsPerStep::Fixed(k) = m.info().evals_per_step {
+                // Verlet's start costs one more evaluation.
+                let start = u64::from(m == Method::Verlet);
+                assert_eq!(
+                    s.counts.evals,
+                    s.ticks_taken() * u64::from(k) + start,
+                    "{} at dt {dt}: {} steps",
+                    s.name,
+                    s.ticks_taken()
+                );
+                diverged += 1;
+            }
+        }
+    }
+    assert!(
+        diverged >= 4,
+        "the class was tried ({diverged} diverging lanes)"
+    );
+}

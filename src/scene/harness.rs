@@ -105,6 +105,9 @@ pub struct Checked {
     /// The first tick (offset in the block, among the accepted) whose implicit solve missed its
     /// tolerance, and what the solver was asked for.
     pub solver_miss: Option<(usize, String)>,
+    /// What the lane had spent when it failed, for scenes that step past the failing tick
+    /// within a block (otherwise [`Scene::counts`] after the block is used).
+    pub counts: Option<Counts>,
 }
 
 impl Checked {
@@ -404,7 +407,7 @@ pub fn run<S: Scene>(
             );
             accepted[i] = checked.accepted;
             s.ticks += checked.accepted as u64;
-            s.counts = scene.counts(lane);
+            s.counts = checked.counts.unwrap_or_else(|| scene.counts(lane));
             if let Some((offset, what)) = checked.solver_miss
                 && !missed[i]
             {
@@ -562,6 +565,7 @@ mod tests {
                 accepted: ok,
                 divergence: lane.bad.map(|_| "bad".to_string()),
                 solver_miss: None,
+                counts: None,
             }
         }
     }

@@ -233,6 +233,7 @@ impl Scene for HairScene {
                 accepted: 0,
                 divergence: Some(why),
                 solver_miss: None,
+                counts: None,
             };
         }
         let w = &mut lane.worst;

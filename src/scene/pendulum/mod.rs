@@ -129,8 +129,8 @@ impl SecondOrderSystem for Pendulum {
     }
 }
 
-/// Takes `theta.len()` steps, storing (θ, ω) after each; appends the indices of steps whose
-/// implicit solve missed its tolerance to `unconverged`.
+/// Takes `theta.len()` steps, storing (θ, ω) and the evaluations spent so far after each;
+/// appends the indices of steps whose implicit solve missed its tolerance to `unconverged`.
 ///
 /// This is the loop the lab times and the benchmark measures. It is not generic and never
 /// inlined, so both run the very same machine code (a generic stepper is compiled anew, and
@@ -141,9 +141,15 @@ pub fn step_block(
     system: &Pendulum,
     theta: &mut [f64],
     omega: &mut [f64],
+    evals: &mut [u64],
     unconverged: &mut Vec<usize>,
 ) {
-    for (j, (th, w)) in theta.iter_mut().zip(omega.iter_mut()).enumerate() {
+    for (j, ((th, w), e)) in theta
+        .iter_mut()
+        .zip(omega.iter_mut())
+        .zip(evals.iter_mut())
+        .enumerate()
+    {
         if let Some(solve) = it.step(system)
             && !solve.converged
         {
@@ -151,6 +157,7 @@ pub fn step_block(
         }
         *th = it.position()[0];
         *w = it.velocity()[0];
+        *e = it.evals();
     }
 }
 

@@ -84,6 +84,9 @@ pub struct PendulumLane {
     /// (θ, ω) after every step of the current block (the initial state before the first).
     theta: Vec<f64>,
     omega: Vec<f64>,
+    /// Evaluations spent after every step of the current block (so that a lane that diverged
+    /// inside a block counts only up to its failing step).
+    evals: Vec<u64>,
     /// Offsets in the current block of steps whose implicit solve missed its tolerance.
     unconverged: Vec<usize>,
     pub meter: PeriodMeter,
@@ -158,6 +161,7 @@ impl PendulumScene {
             integrator,
             theta,
             omega,
+            evals: vec![0; BLOCK_STEPS],
             unconverged: Vec::new(),
             meter,
             max_theta_error: 0.0,
@@ -235,6 +239,7 @@ impl Scene for PendulumScene {
                 &self.system,
                 &mut lane.theta[..len],
                 &mut lane.omega[..len],
+                &mut lane.evals[..len],
                 &mut lane.unconverged,
             ),
             None => {
@@ -268,6 +273,14 @@ impl Scene for PendulumScene {
             if bad.is_some() {
                 checked.accepted = j;
                 checked.divergence = bad;
+                if let Some(it) = &lane.integrator {
+                    // Count up to and including the failing step, not the rest of the block.
+                    let later_misses = lane.unconverged.iter().filter(|&&o| o > j).count();
+                    checked.counts = Some(Counts {
+                        evals: lane.evals[j],
+                        failed_solves: it.failed_solves() - later_misses as u64,
+                    });
+                }
                 break;
             }
             lane.meter.push(t, th, w);
