@@ -357,3 +357,29 @@ fn steps_and_evaluations_are_counted_up_to_divergence() {
         "the class was tried ({diverged} diverging lanes)"
     );
 }
+
+#[test]
+fn implicit_euler_warns_when_its_step_equation_has_several_roots() {
+    let dir = scratch_dir("edges-roots");
+    let out = dir.join("p.rrd");
+    // dt² g/L with the default g = 9.81, L = 3.521: 0.70, 1.003, 2.79, 69.7.
+    for (dt, warned) in [("0.5", false), ("0.6", true), ("1", true), ("5", true)] {
+        let (code, stdout, stderr) = physlab(&[
+            "pendulum",
+            "--dt",
+            dt,
+            "--duration",
+            "20",
+            "-q",
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{stderr}");
+        assert_eq!(
+            stdout.contains("has several roots"),
+            warned,
+            "dt {dt}:\n{stdout}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -137,7 +137,9 @@ const REGISTRY: [MethodInfo; 10] = [
         update: "solve x1 = x0 + dt v1, v1 = v0 + dt a(x1,v1) by Newton \
                  (rope: --newton-iterations, default 1)",
         notes: "'unconditional' is the stability of the converged backward-Euler step. The \
-                pendulum iterates Newton to tolerance. The rope's default --newton-iterations 1 \
+                pendulum iterates Newton to tolerance; its step equation has a unique root only \
+                while dt² g/L < 1 (beyond, the summary warns that Newton may find one that gains \
+                energy). The rope's default --newton-iterations 1 \
                 is one Newton iteration, the linearised step (Baraff-Witkin), and that is not \
                 unconditionally stable: the default rope diverges at dt = 0.3 s (at t = 0.6 s). \
                 With --newton-iterations 20 the solve converges and the rope stays stable there \

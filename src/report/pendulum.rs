@@ -29,11 +29,21 @@ pub fn summary_text(scene: &PendulumScene, run: &Run<PendulumLane>) -> String {
         sig(scene.energy_bound, 5)
     ));
     match scene.exact_period {
-        Some(t) => out.push_str(&format!("exact period from E0: {t:.9} s\n\n")),
-        None => {
-            out.push_str("exact period: none (at rest at the bottom, or on the separatrix)\n\n")
-        }
+        Some(t) => out.push_str(&format!("exact period from E0: {t:.9} s\n")),
+        None => out.push_str("exact period: none (at rest at the bottom, or on the separatrix)\n"),
     }
+    let stiffness = c.dt * c.dt * p.gravity / p.length;
+    if stiffness >= 1.0 && c.methods.contains(&crate::integrate::Method::ImplicitEuler) {
+        // θ1 + (dt² g/L) sin θ1 = θ0 + dt ω0 has one root only while dt² g/L < 1.
+        out.push_str(&format!(
+            "implicit-euler: dt²·g/L = {} ≥ 1, so its step equation θ1 + (dt²g/L) sin θ1 = θ0 + dt·ω0 \
+             has several roots; Newton from the explicit-Euler guess may land on one that gains energy \
+             (keep dt < sqrt(L/g) = {} s for a unique, dissipative step)\n",
+            sig(stiffness, 4),
+            sig((p.length / p.gravity).sqrt(), 4)
+        ));
+    }
+    out.push('\n');
 
     let mut table = Table::new([
         "method",
