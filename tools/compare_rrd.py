@@ -72,7 +72,6 @@ def main():
                 continue
             if kind == "temporal":
                 bad += 1
-            only_a = len(ra) if k not in db else None
             print(f"{kind} differs: {k[0]} {k[1]}: {len(ra)} vs {len(rb_)} rows"
                   + (" (only in A)" if k not in db else " (only in B)" if k not in da else ""))
     print(f"{same} temporal columns identical, {bad} differ")

@@ -294,22 +294,16 @@ const A: [[f64; 16]; 16] = [
         0.0,
     ],
 ];
-/// Eighth-order weights (stages 0..12).
-#[allow(clippy::excessive_precision)]
-const B: [f64; 12] = [
-    5.42937341165687622380535766363e-2,
-    0.0,
-    0.0,
-    0.0,
-    0.0,
-    4.45031289275240888144113950566e0,
-    1.89151789931450038304281599044e0,
-    -5.8012039600105847814672114227e0,
-    3.1116436695781989440891606237e-1,
-    -1.52160949662516078556178806805e-1,
-    2.01365400804030348374776537501e-1,
-    4.47106157277725905176885569043e-2,
-];
+/// Eighth-order weights (stages 0..12): row 12 of `A`, the stage at the new solution.
+const B: [f64; 12] = {
+    let mut b = [0.0; 12];
+    let mut j = 0;
+    while j < 12 {
+        b[j] = A[12][j];
+        j += 1;
+    }
+    b
+};
 /// Third-order weights of the second error estimate, on stages 0, 8 and 11.
 #[allow(clippy::excessive_precision)]
 const BHH: [f64; 3] = [

@@ -259,9 +259,6 @@ impl Method {
         Method::Dop853,
     ];
 
-    /// Methods that work but are not yet listed in [`Method::ALL`] (none today).
-    pub const NOT_YET_LISTED: [Method; 0] = [];
-
     /// The seven methods the scenes run by default, in the order of tables and layouts; the
     /// study's `yoshida4` and `dopri5` are available with --methods.
     pub const DEFAULT: &'static [Method] = Method::ALL.split_at(7).0;
@@ -321,7 +318,6 @@ impl FromStr for Method {
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         Method::ALL
             .into_iter()
-            .chain(Method::NOT_YET_LISTED)
             .find(|m| m.name() == s)
             .ok_or_else(|| UnknownMethod(s.to_string()))
     }
@@ -333,15 +329,8 @@ mod tests {
 
     #[test]
     fn registry_rows_are_in_enum_order() {
-        assert_eq!(
-            Method::ALL.len() + Method::NOT_YET_LISTED.len(),
-            REGISTRY.len()
-        );
-        for (i, m) in Method::ALL
-            .into_iter()
-            .chain(Method::NOT_YET_LISTED)
-            .enumerate()
-        {
+        assert_eq!(Method::ALL.len(), REGISTRY.len());
+        for (i, m) in Method::ALL.into_iter().enumerate() {
             assert_eq!(m as usize, i);
             assert_eq!(REGISTRY[i].name, m.name());
         }
@@ -349,7 +338,7 @@ mod tests {
 
     #[test]
     fn names_round_trip_and_unknown_names_list_the_allowed_ones() {
-        for m in Method::ALL.into_iter().chain(Method::NOT_YET_LISTED) {
+        for m in Method::ALL {
             assert_eq!(m.name().parse::<Method>().unwrap(), m);
         }
         let err = "euler".parse::<Method>().unwrap_err().to_string();

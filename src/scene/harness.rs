@@ -259,8 +259,9 @@ pub struct Frame<'a, L> {
     pub index: u64,
     pub tick: u64,
     pub time: f64,
-    /// Per lane: its state and the offset of this tick in its last block (0 for untraced
-    /// scenes' lanes, whose state is at this tick), or `None` once the lane has diverged.
+    /// Per lane: its state and the offset of this tick in its last block (for untraced scenes
+    /// the block ends at this tick, so their state is the lane's current one), or `None` once
+    /// the lane has diverged.
     pub lanes: Vec<Option<(&'a L, usize)>>,
     /// Wall-clock milliseconds each lane spent stepping since the previous frame.
     pub cost_ms: Vec<f64>,
