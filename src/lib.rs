@@ -12,6 +12,7 @@ pub mod elliptic;
 pub mod error;
 pub mod integrate;
 pub mod interrupt;
+pub mod palette;
 pub mod report;
 pub mod scene;
 pub mod study;
@@ -20,5 +21,7 @@ pub mod study;
 pub mod app;
 #[cfg(feature = "rerun")]
 pub mod cli;
+#[cfg(feature = "diagrams")]
+pub mod diagram;
 #[cfg(feature = "rerun")]
 pub mod record;

@@ -245,9 +245,28 @@ fn study_writes_csv_and_a_recording() {
     let d = decode(&rrd);
     assert!(
         d.has_footer
-            && d.entities.contains("/study/wall/rk4")
-            && d.entities.contains("/study/tables")
+            && d.entities.contains("/study/diagrams/0")
+            && d.entities.contains("/study/tables"),
+        "{:?}",
+        d.entities
     );
+    // The diagram beside the recording (no --plots): an SVG with decade ticks, every method in
+    // its palette colour, and a PNG of the diagram's size.
+    let svg = std::fs::read_to_string(dir.join("pendulum-work-precision.svg")).unwrap();
+    assert!(svg.contains("10⁻⁶") && svg.contains("force evaluations"));
+    for m in Method::ALL {
+        let [r, g, b] = physlab::palette::method_color(m.name());
+        let hex = format!("#{r:02X}{g:02X}{b:02X}");
+        assert!(
+            svg.contains(m.name()) && svg.contains(&hex),
+            "{} {hex}",
+            m.name()
+        );
+    }
+    let png = std::fs::read(dir.join("pendulum-work-precision.png")).unwrap();
+    assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+    let size = |at: usize| u32::from_be_bytes(png[at..at + 4].try_into().unwrap());
+    assert_eq!((size(16), size(20)), (1600, 820));
     let (code, _, err) = physlab(&["study", "convergence", "--levels", "1"]);
     assert_eq!(code, 2);
     assert!(

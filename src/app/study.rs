@@ -8,7 +8,7 @@ use super::UsageError;
 use crate::cli::{PendulumArgs, RopeArgs, RopeBody, StudyArgs, StudyKind, StudyScene};
 use crate::integrate::{Method, MethodOptions};
 use crate::report::study as report;
-use crate::study::{Limit, Problem, Row, Sweep, error_floor, stability, sweep};
+use crate::study::{Limit, Problem, Sweep, error_floor, stability, sweep};
 
 /// The study's problem and sweep from its flags, over the scene file, over the scene defaults
 /// (for the rope's convergence and cost: a softer, undamped rope, so that explicit methods
@@ -160,12 +160,10 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
     let (problem, sw, steps) = setup(a)?;
     let mut out = String::new();
     let csv;
-    let mut rows: Vec<Row> = Vec::new();
-    let mut limits: Vec<Limit> = Vec::new();
+    let mut diagrams: Vec<crate::diagram::Diagram> = Vec::new();
     match a.kind {
         StudyKind::Convergence | StudyKind::WorkPrecision => {
-            let (r, reference_error) = sweep(&problem, &sw);
-            rows = r;
+            let (rows, reference_error) = sweep(&problem, &sw);
             let reference = if reference_error == 0.0 {
                 "the exact elliptic solution".to_string()
             } else {
@@ -189,6 +187,12 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
             )?;
             if a.kind == StudyKind::Convergence {
                 out.push_str(&report::orders_table(
+                    &rows,
+                    error_floor(reference_error),
+                    problem.velocity_dependent(),
+                ));
+                diagrams.push(crate::diagram::convergence(
+                    problem.name(),
                     &rows,
                     error_floor(reference_error),
                     problem.velocity_dependent(),
@@ -218,6 +222,12 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
                         error_floor(damped_error),
                         true,
                     ));
+                    diagrams.push(crate::diagram::convergence(
+                        problem.name(),
+                        &damped_rows,
+                        error_floor(damped_error),
+                        true,
+                    ));
                     out.push('\n');
                 }
             }
@@ -228,11 +238,17 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
                     "\ncheapest run reaching each error (from the rows above):\n"
                 )?;
                 out.push_str(&report::cheapest_table(&rows, &[1e-3, 1e-6, 1e-9]));
+                diagrams.push(crate::diagram::work_precision(
+                    problem.name(),
+                    &rows,
+                    error_floor(reference_error),
+                    &format!("wall times: median of {}; machine-dependent.", sw.repeats),
+                ));
             }
             csv = report::rows_csv(&rows);
         }
         StudyKind::Stability => {
-            limits = stability(&problem, &sw.methods, steps);
+            let limits: Vec<Limit> = stability(&problem, &sw.methods, steps);
             writeln!(
                 out,
                 "{} stability: largest dt whose run stays within 10⁴ of its start for {steps} steps (bisection), on the \
@@ -247,6 +263,11 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
             )?;
             out.push_str(&report::stability_table(&limits));
             csv = report::limits_csv(&limits);
+            diagrams.push(crate::diagram::stability(
+                problem.name(),
+                &limits,
+                problem.omega(),
+            ));
         }
     }
     print!("{out}");
@@ -255,12 +276,31 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
             .map_err(|e| anyhow::anyhow!("--csv {}: cannot write it: {e}", path.display()))?;
         eprintln!("wrote {}", path.display());
     }
+    // The diagrams go to --plots, or beside the recording or the CSV; with none of the three
+    // the study only prints.
+    let beside = |p: &std::path::Path| match p.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => std::path::PathBuf::from("."),
+    };
+    let plots_dir = a
+        .plots
+        .clone()
+        .or_else(|| a.output.as_deref().map(beside))
+        .or_else(|| a.csv.as_deref().map(beside));
+    let mut images: Vec<(String, Vec<u8>)> = Vec::new();
+    if let Some(dir) = &plots_dir {
+        for d in &diagrams {
+            let w = d.write(dir)?;
+            eprintln!("wrote {} and {}", w.svg.display(), w.png.display());
+            images.push((d.title.clone(), w.png_bytes));
+        }
+    }
     if let Some(path) = &a.output {
         let d = crate::record::Destinations {
             file: Some(path.clone()),
             ..Default::default()
         };
-        let bytes = crate::record::study::record_study(&d, problem.name(), &rows, &limits, &out)?;
+        let bytes = crate::record::study::record_study(&d, problem.name(), &images, &out)?;
         println!(
             "\nrecording: {} ({:.2} MB)",
             path.display(),

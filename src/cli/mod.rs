@@ -219,9 +219,14 @@ pub struct StudyArgs {
     #[arg(long, value_name = "FILE.csv")]
     pub csv: Option<PathBuf>,
 
-    /// Also write the curves and tables as a Rerun recording
+    /// Also write the diagrams and tables as a Rerun recording
     #[arg(short, long, value_name = "FILE.rrd")]
     pub output: Option<PathBuf>,
+
+    /// Write the diagrams (SVG and PNG) into this folder [default: beside -o, else beside --csv;
+    /// with neither, no diagram]
+    #[arg(long, value_name = "DIR")]
+    pub plots: Option<PathBuf>,
 
     /// No progress output (accepted like every command's -q; the study prints only its tables)
     #[arg(short, long)]

@@ -16,36 +16,8 @@ use rerun::blueprint::{
     TimePanel, TimeSeriesView, Vertical,
 };
 
-/// One colour per method, the same in 3D and in every plot of every scene.
-/// (ColorBrewer Set1, which stays distinguishable on the viewer's dark background.)
-pub fn method_color(name: &str) -> [u8; 3] {
-    match name {
-        "explicit-euler" => [228, 26, 28],
-        "semi-implicit-euler" => [255, 127, 0],
-        "implicit-euler" => [152, 78, 163],
-        "midpoint" => [166, 86, 40],
-        "trapezoid" => [247, 129, 191],
-        "rk4" => [55, 126, 184],
-        "verlet" => [77, 175, 74],
-        "ftl" => [0, 190, 190],
-        "yoshida4" => [188, 189, 34],
-        "dopri5" => [255, 215, 0],
-        "dop853" => [90, 110, 255],
-        "vern9" | "vern7" => [0, 128, 110],
-        "exact" | "reference" => [220, 220, 220],
-        // A name without a colour of its own still gets a distinct, stable one.
-        other => {
-            let h = other.bytes().fold(2166136261u32, |h, b| {
-                (h ^ u32::from(b)).wrapping_mul(16777619)
-            });
-            [
-                96 + (h & 0x9f) as u8,
-                96 + ((h >> 8) & 0x9f) as u8,
-                96 + ((h >> 16) & 0x9f) as u8,
-            ]
-        }
-    }
-}
+/// One colour per method (the palette is shared with the diagrams: `crate::palette`).
+pub use crate::palette::method_color;
 
 /// One plot per quantity, `/<scene>/plots/<name>/*`, every method in each.
 fn plot_views(scene: &str, plots: &[(&str, &str)]) -> Vec<ContainerLike> {

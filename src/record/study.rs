@@ -1,79 +1,62 @@
-//! A study as a recording: work-precision curves (log10 error against log10 cost, one coloured
-//! line per method, the scenes' colours) and the tables as a text document.
+//! A study as a recording: its diagrams (log-log PNGs drawn by `crate::diagram`, the scenes'
+//! colours) beside its tables as a rendered markdown document.
 
-use rerun::blueprint::{Blueprint, Horizontal, Spatial2DView, TextDocumentView, Vertical};
+use rerun::blueprint::components::PanelState;
+use rerun::blueprint::{
+    Blueprint, BlueprintPanel, ContainerLike, Horizontal, SelectionPanel, Spatial2DView,
+    TextDocumentView, TimePanel, Vertical,
+};
 
-use super::{Destinations, Recording, method_color};
-use crate::integrate::Method;
-use crate::study::{Limit, Row};
+use super::{Destinations, Recording};
 
+/// Writes the study recording: one 2D view per diagram (title, PNG bytes), the tables beside.
 pub fn record_study(
     d: &Destinations,
     scene: &str,
-    rows: &[Row],
-    limits: &[Limit],
+    diagrams: &[(String, Vec<u8>)],
     tables: &str,
 ) -> anyhow::Result<Option<u64>> {
-    let blueprint = Blueprint::new(Horizontal::new([
+    let mut views: Vec<ContainerLike> = diagrams
+        .iter()
+        .enumerate()
+        .map(|(i, (title, _))| {
+            Spatial2DView::new(title.as_str())
+                .with_origin(format!("/study/diagrams/{i}"))
+                .into()
+        })
+        .collect();
+    if views.is_empty() {
+        views.push(
+            TextDocumentView::new("no diagram")
+                .with_origin("/study/no_diagram")
+                .into(),
+        );
+    }
+    // The diagrams (wide pictures) across the top, the tables below; the side and time panels
+    // collapsed, since everything is static: the picture gets the window.
+    let n = views.len() as f32;
+    let blueprint = Blueprint::new(
         Vertical::new([
-            Spatial2DView::new(
-                "x = log10 median wall time [s], y = log10 error (accurate at the top)",
-            )
-            .with_origin("/study/wall")
-            .into(),
-            Spatial2DView::new(
-                "x = log10 force evaluations, y = log10 error (accurate at the top)",
-            )
-            .with_origin("/study/evals")
-            .into(),
+            Horizontal::new(views).into(),
+            TextDocumentView::new("tables")
+                .with_origin("/study/tables")
+                .into(),
         ])
-        .into(),
-        TextDocumentView::new("tables")
-            .with_origin("/study/tables")
-            .into(),
-    ]))
-    .with_auto_views(false);
+        .with_row_shares([2.0 + n, 2.0]),
+    )
+    .with_auto_views(false)
+    .with_blueprint_panel(BlueprintPanel::new().with_state(PanelState::Collapsed))
+    .with_selection_panel(SelectionPanel::new().with_state(PanelState::Collapsed))
+    .with_time_panel(TimePanel::new().with_state(PanelState::Collapsed));
     let recording = Recording::create(d, &format!("study {scene}"), blueprint)?;
     let rec = recording.stream();
-    let mut methods: Vec<Method> = Vec::new();
-    for r in rows {
-        if !methods.contains(&r.method) {
-            methods.push(r.method);
-        }
+    for (i, (_, png)) in diagrams.iter().enumerate() {
+        rec.log_static(
+            format!("study/diagrams/{i}"),
+            &rerun::EncodedImage::from_file_contents(png.clone())
+                .with_media_type(rerun::components::MediaType::PNG),
+        )?;
     }
-    for m in methods {
-        let mine: Vec<&Row> = rows
-            .iter()
-            .filter(|r| r.method == m && r.error.is_some_and(|e| e > 0.0))
-            .collect();
-        for (axis, cost) in [
-            ("wall", &(|r: &Row| r.wall_seconds) as &dyn Fn(&Row) -> f64),
-            ("evals", &|r: &Row| r.evals as f64),
-        ] {
-            // 2D views point y down, so log10 error (negative) puts the accurate runs on top.
-            let pts: Vec<[f32; 2]> = mine
-                .iter()
-                .filter_map(|r| Some([cost(r).log10() as f32, r.error?.log10() as f32]))
-                .collect();
-            if pts.is_empty() {
-                continue;
-            }
-            let color = method_color(m.name());
-            rec.log_static(
-                format!("study/{axis}/{}", m.name()),
-                &rerun::LineStrips2D::new([pts.clone()])
-                    .with_colors([color])
-                    .with_labels([m.name()]),
-            )?;
-            rec.log_static(
-                format!("study/{axis}/{}/runs", m.name()),
-                &rerun::Points2D::new(pts)
-                    .with_colors([color])
-                    .with_radii([rerun::Radius::new_ui_points(3.0)]),
-            )?;
-        }
-    }
-    let _ = limits; // the stability table is part of `tables`
     rec.log_static(
         "study/tables",
         // The tables are markdown already: the viewer renders them as tables.
