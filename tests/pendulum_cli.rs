@@ -15,13 +15,25 @@ use physlab::scene::pendulum::run::PendulumScene;
 
 use common::{assert_refused, decode, physlab, scratch_dir};
 
-/// Collects each lane's θ series as the library reports it.
+/// Collects each lane's θ series, and its |θ − θref| where it has one, as the library reports
+/// them.
 #[derive(Default)]
-struct ThetaCollector(BTreeMap<usize, Vec<(u64, f64)>>);
+struct ThetaCollector(
+    BTreeMap<usize, Vec<(u64, f64)>>,
+    BTreeMap<usize, Vec<(u64, f64)>>,
+);
 impl Observer<PendulumScene> for ThetaCollector {
     fn series(&mut self, _: &PendulumScene, lane: usize, b: &SeriesBatch) -> anyhow::Result<()> {
         let rows = self.0.entry(lane).or_default();
         rows.extend(b.ticks.iter().copied().zip(b.columns[0].iter().copied()));
+        let theta_error = physlab::scene::pendulum::run::QUANTITIES
+            .iter()
+            .position(|q| *q == "theta_error")
+            .unwrap();
+        if let Some(errors) = b.columns.get(theta_error) {
+            let rows = self.1.entry(lane).or_default();
+            rows.extend(b.ticks.iter().copied().zip(errors.iter().copied()));
+        }
         Ok(())
     }
 }
@@ -78,7 +90,7 @@ fn pendulum_run_writes_a_complete_recording_whose_theta_equals_the_simulation() 
                 "missing /pendulum/{lane}/{part}"
             );
         }
-        for q in ["theta", "omega", "energy", "energy_error"] {
+        for q in ["theta", "omega", "energy", "log10_energy_error"] {
             assert!(
                 d.scalars
                     .contains_key(&format!("/pendulum/plots/{q}/{lane}")),
@@ -90,7 +102,7 @@ fn pendulum_run_writes_a_complete_recording_whose_theta_equals_the_simulation() 
     for m in methods {
         assert!(
             d.scalars
-                .contains_key(&format!("/pendulum/plots/theta_error/{m}"))
+                .contains_key(&format!("/pendulum/plots/log10_theta_error/{m}"))
         );
         assert!(d.entities.contains(&format!("/pendulum/{m}/exact_ghost")));
     }
@@ -120,6 +132,23 @@ fn pendulum_run_writes_a_complete_recording_whose_theta_equals_the_simulation() 
                 theta.to_bits(),
                 "{name} at step {step}: {v} vs {theta}"
             );
+        }
+    }
+    // The error is plotted as log10 |θ − θref|, zeros (the start) left out: value for value.
+    assert_eq!(collected.1.len(), methods.len());
+    for (lane, rows) in &collected.1 {
+        let name = summary.stats[*lane].name;
+        let recorded = &d.scalars[&format!("/pendulum/plots/log10_theta_error/{name}")];
+        let expected: Vec<(u64, f64)> = rows
+            .iter()
+            .filter(|r| r.1 != 0.0)
+            .map(|&(s, e)| (s, e.abs().log10()))
+            .collect();
+        assert!(expected.len() + 1 >= rows.len() && expected.len() > 100);
+        assert_eq!(recorded.len(), expected.len(), "{name}: log10 row count");
+        for (&(t_ns, v), &(step, log_e)) in recorded.iter().zip(&expected) {
+            assert!((t_ns - (step as f64 * dt * 1e9).round() as i64).abs() <= 1);
+            assert_eq!(v.to_bits(), log_e.to_bits(), "{name} at step {step}");
         }
     }
     std::fs::remove_dir_all(&dir).unwrap();

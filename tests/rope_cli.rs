@@ -55,7 +55,7 @@ fn rope_run_writes_a_recording_with_every_method() {
                 "missing /rope/{m}/{part}"
             );
         }
-        for q in ["energy", "energy_change", "max_strain", "frame_cost"] {
+        for q in ["energy", "log10_energy_change", "max_strain", "frame_cost"] {
             let rows = d
                 .scalars
                 .get(&format!("/rope/plots/{q}/{m}"))

@@ -17,7 +17,10 @@ use crate::scene::hair::run::{HairConfig, HairLane, HairScene};
 use crate::scene::harness::{Event, Frame};
 
 pub const PLOTS: [(&str, &str); 3] = [
-    ("max_stretch", "maximum relative stretch |ℓ − ℓ0| / ℓ0"),
+    (
+        "log10_max_stretch",
+        "log10 max |ℓ − ℓ0| / ℓ0: largest relative stretch",
+    ),
     (
         "max_penetration",
         "maximum penetration of non-root nodes into R(1 + margin) [m]",
@@ -113,12 +116,13 @@ impl Draw<HairScene> for HairDraw {
             .collect();
         rec.log_static("hair", &rerun::ViewCoordinates::RIGHT_HAND_Z_UP())?;
         let x_max = spacing * (self.names.len().max(1) - 1) as f64;
+        // A stage just past the strands' reach, so the default camera frames the heads closely.
         let (a, b, floor) = (
-            (-1.5 * reach) as f32,
-            (x_max + 1.5 * reach) as f32,
-            (-1.2 * reach) as f32,
+            (-1.1 * reach) as f32,
+            (x_max + 1.1 * reach) as f32,
+            (-1.05 * reach) as f32,
         );
-        let depth = (1.5 * reach) as f32;
+        let depth = (1.1 * reach) as f32;
         log_stage(
             rec,
             "hair/stage",

@@ -11,9 +11,10 @@ pub mod study;
 use std::path::{Path, PathBuf};
 
 use anyhow::Context as _;
+use rerun::blueprint::components::PanelState;
 use rerun::blueprint::{
-    Blueprint, ContainerLike, Grid, Horizontal, Spatial3DView, TextDocumentView, TextLogView,
-    TimePanel, TimeSeriesView, Vertical,
+    Blueprint, BlueprintPanel, ContainerLike, Grid, Horizontal, SelectionPanel, Spatial3DView,
+    TextDocumentView, TextLogView, TimePanel, TimeSeriesView, Vertical,
 };
 
 /// One colour per method (the palette is shared with the diagrams: `crate::palette`).
@@ -82,7 +83,13 @@ pub fn all_blueprint(timings: bool) -> Blueprint {
         column("hair", &plots_shown(&hair::PLOTS, timings), &[]),
     ]))
     .with_auto_views(false)
-    .with_time_panel(TimePanel::new().with_timeline("sim_time"))
+    .with_time_panel(
+        TimePanel::new()
+            .with_timeline("sim_time")
+            .with_state(PanelState::Collapsed),
+    )
+    .with_blueprint_panel(BlueprintPanel::new().with_state(PanelState::Collapsed))
+    .with_selection_panel(SelectionPanel::new().with_state(PanelState::Collapsed))
 }
 
 /// The scene's 3D view: everything under `/<scene>` except its plots, events, about text and
@@ -116,7 +123,13 @@ pub fn about_and_events(scene: &str) -> [ContainerLike; 2] {
 pub fn scene_blueprint(left: Vertical, plots: Vertical) -> Blueprint {
     Blueprint::new(Horizontal::new([left.into(), plots.into()]).with_column_shares([1.0, 1.0]))
         .with_auto_views(false)
-        .with_time_panel(TimePanel::new().with_timeline("sim_time"))
+        .with_time_panel(
+            TimePanel::new()
+                .with_timeline("sim_time")
+                .with_state(PanelState::Collapsed),
+        )
+        .with_blueprint_panel(BlueprintPanel::new().with_state(PanelState::Collapsed))
+        .with_selection_panel(SelectionPanel::new().with_state(PanelState::Collapsed))
 }
 
 /// The legend name and colour of one method's series in a plot (static, logged once).

@@ -24,8 +24,14 @@ pub const PLOTS: [(&str, &str); 5] = [
     ("theta", "θ [rad]"),
     ("omega", "ω [rad/s]"),
     ("energy", "total energy E = ½L²ω² + gL(1 − cos θ) [J/kg]"),
-    ("energy_error", "relative energy error (E − E0)/E0"),
-    ("theta_error", "|θ − θ_ref| [rad]"),
+    (
+        "log10_energy_error",
+        "log10 |ΔE/E0|: relative energy error (−16 = machine precision)",
+    ),
+    (
+        "log10_theta_error",
+        "log10 |θ − θref| [θ in rad]: error against the reference",
+    ),
 ];
 
 /// At most this many points per phase-portrait curve.

@@ -23,7 +23,10 @@ use crate::scene::rope::run::{ENERGY_GAIN_BOUND, Layout, RopeLane, RopeScene};
 /// The plotted quantities: entity name and plot title (with units).
 pub const PLOTS: [(&str, &str); 3] = [
     ("energy", "total energy: kinetic + spring + gravity [J]"),
-    ("energy_change", "energy relative to the start, E − E0 [J]"),
+    (
+        "log10_energy_change",
+        "log10 |E − E0| [E in J]: energy change since the start",
+    ),
     ("max_strain", "maximum strain max |ℓ − ℓ0| / ℓ0"),
 ];
 
@@ -59,17 +62,21 @@ pub fn recorder(rec: RecordingStream, timings: bool) -> SceneRecorder<RopeDraw> 
     )
 }
 
+/// The rope's physics is y-up (its parameters keep the GAMES101 convention, where a 2D vector
+/// is x,y); every scene is drawn z-up, so the recording shows the rope turned by a quarter turn
+/// about x: (x, y, z) → (x, −z, y).
+fn z_up(p: [f64; 3]) -> [f32; 3] {
+    [p[0] as f32, -p[2] as f32, p[1] as f32]
+}
+
 impl RopeDraw {
     fn fill_points(&mut self, lane: usize, x: &[f64]) {
         let o = self.offsets[lane];
         self.points.clear();
-        self.points.extend((0..x.len() / 3).map(|i| {
-            [
-                (x[3 * i] + o[0]) as f32,
-                (x[3 * i + 1] + o[1]) as f32,
-                (x[3 * i + 2] + o[2]) as f32,
-            ]
-        }));
+        self.points.extend(
+            (0..x.len() / 3)
+                .map(|i| z_up([x[3 * i] + o[0], x[3 * i + 1] + o[1], x[3 * i + 2] + o[2]])),
+        );
     }
 }
 
@@ -97,7 +104,7 @@ impl Draw<RopeScene> for RopeDraw {
                 .map(|(col, row)| [2.3 * span * col as f64, 1.6 * span * row as f64, 0.0])
                 .collect(),
         };
-        rec.log_static("rope", &rerun::ViewCoordinates::RIGHT_HAND_Y_UP())?;
+        rec.log_static("rope", &rerun::ViewCoordinates::RIGHT_HAND_Z_UP())?;
         // Floor below the lowest hanging rope, reaching past the outer slots on every side.
         let (x_max, y_max) = self
             .offsets
@@ -110,15 +117,16 @@ impl Draw<RopeScene> for RopeDraw {
             (pin_x - 1.5 * span) as f32,
             (pin_x + x_max + 1.5 * span) as f32,
         );
-        let half_depth = (0.5 * (y_max + 2.0 * span)) as f32;
+        let half_depth = 0.5 * (y_max + 2.0 * span);
+        let (x0, x1, floor) = (f64::from(x0), f64::from(x1), f64::from(floor));
         log_stage(
             rec,
             "rope/stage",
             [
-                [x0, floor, -half_depth],
-                [x1, floor, -half_depth],
-                [x1, floor, half_depth],
-                [x0, floor, half_depth],
+                z_up([x0, floor, -half_depth]),
+                z_up([x1, floor, -half_depth]),
+                z_up([x1, floor, half_depth]),
+                z_up([x0, floor, half_depth]),
             ],
         )?;
         let node_radius = (0.012 * span) as f32;
@@ -142,11 +150,7 @@ impl Draw<RopeScene> for RopeDraw {
                 .map(|&k| {
                     let q = node(&scene.initial_positions, k);
                     let o = self.offsets[i];
-                    [
-                        (q.x + o[0]) as f32,
-                        (q.y + o[1]) as f32,
-                        (q.z + o[2]) as f32,
-                    ]
+                    z_up([q.x + o[0], q.y + o[1], q.z + o[2]])
                 })
                 .collect();
             // One label per rope (on its first pinned node), not one per pin.

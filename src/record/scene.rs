@@ -13,6 +13,25 @@ pub const FRAME_COST: (&str, &str) = (
     "simulation cost per 3D frame [ms, wall clock]",
 );
 
+/// Error-like quantities, plotted as log10 |value| under their own name so that methods ten
+/// decades apart are all visible (a linear plot shows everything but the worst method as a flat
+/// line at zero). Samples equal to zero (log10 = −∞: the reference against itself, the start)
+/// are left out of the log series. (quantity, plotted entity name)
+pub const LOG10: [(&str, &str); 4] = [
+    ("theta_error", "log10_theta_error"),
+    ("energy_error", "log10_energy_error"),
+    ("energy_change", "log10_energy_change"),
+    ("max_stretch", "log10_max_stretch"),
+];
+
+/// The entity name a quantity is plotted under: its log10 name for the error-like ones.
+pub fn plotted(quantity: &'static str) -> &'static str {
+    LOG10
+        .iter()
+        .find(|(q, _)| *q == quantity)
+        .map_or(quantity, |(_, log)| *log)
+}
+
 /// What is particular to one scene's recording: its 3D picture.
 pub trait Draw<S: Scene> {
     /// The value of the `frame` timeline at a tick.
@@ -99,10 +118,10 @@ impl<S: Scene, D: Draw<S>> Observer<S> for SceneRecorder<D> {
         self.quantities = lanes.iter().map(|l| scene.quantities(l.1)).collect();
         self.draw.start(&self.rec, scene, lanes)?;
         for &(name, lane) in lanes {
-            for quantity in scene.quantities(lane) {
+            for &quantity in scene.quantities(lane) {
                 log_series_style(
                     &self.rec,
-                    format!("{}/plots/{quantity}/{name}", scene.name()),
+                    format!("{}/plots/{}/{name}", scene.name(), plotted(quantity)),
                     name,
                 )?;
             }
@@ -129,11 +148,32 @@ impl<S: Scene, D: Draw<S>> Observer<S> for SceneRecorder<D> {
                 ),
             ]
         };
-        for (quantity, values) in self.quantities[lane].iter().zip(&batch.columns) {
+        for (&quantity, values) in self.quantities[lane].iter().zip(&batch.columns) {
+            let entity = format!("{}/plots/{}/{name}", scene.name(), plotted(quantity));
+            if plotted(quantity) == quantity {
+                self.rec.send_columns(
+                    entity,
+                    times(),
+                    rerun::Scalars::new(values.iter().copied()).columns_of_unit_batches()?,
+                )?;
+                continue;
+            }
+            // log10 |value|, zeros left out (with their times).
+            let kept: Vec<usize> = (0..values.len()).filter(|&i| values[i] != 0.0).collect();
+            if kept.is_empty() {
+                continue;
+            }
             self.rec.send_columns(
-                format!("{}/plots/{quantity}/{name}", scene.name()),
-                times(),
-                rerun::Scalars::new(values.iter().copied()).columns_of_unit_batches()?,
+                entity,
+                [
+                    TimeColumn::new_duration_secs("sim_time", kept.iter().map(|&i| batch.times[i])),
+                    TimeColumn::new_sequence(
+                        "frame",
+                        kept.iter().map(|&i| self.draw.frame_index(batch.ticks[i])),
+                    ),
+                ],
+                rerun::Scalars::new(kept.iter().map(|&i| values[i].abs().log10()))
+                    .columns_of_unit_batches()?,
             )?;
         }
         Ok(())
