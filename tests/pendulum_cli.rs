@@ -180,3 +180,25 @@ fn bad_input_is_refused_with_exit_code_2_and_a_clear_message() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn dash_output_streams_the_recording_to_stdout_and_the_summary_to_stderr() {
+    let dir = scratch_dir("stdout");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_physlab"))
+        .args(["pendulum", "--duration", "2", "-q", "-o", "-"])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{stderr}");
+    assert!(
+        stderr.contains("| rk4 ") && stderr.contains("recording written to standard output"),
+        "{stderr}"
+    );
+    // Standard output is the recording itself, footer included, and no file named `-` appears.
+    let rrd = dir.join("piped.rrd");
+    std::fs::write(&rrd, &out.stdout).unwrap();
+    let d = decode(&rrd);
+    assert!(d.has_footer && d.scalars.contains_key("/pendulum/plots/theta/rk4"));
+    assert!(!std::path::Path::new("-").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -442,7 +442,12 @@ fn finish(
         Some(r) => Some(r.commit()?),
         None => None,
     };
-    print!("{}", summaries.join("\n"));
+    // With `-o -` standard output carries the recording: the summary goes to stderr.
+    if d.stdout {
+        eprint!("{}", summaries.join("\n"));
+    } else {
+        print!("{}", summaries.join("\n"));
+    }
     if let Some(bytes) = bytes {
         report_recording(d, bytes, started);
     }
@@ -467,14 +472,16 @@ fn finish(
 }
 
 fn destinations(run: &RunArgs, scene: &str) -> Destinations {
+    let to_stdout = run.output.as_ref().is_some_and(|p| p.as_os_str() == "-");
     Destinations {
-        file: (!run.no_save).then(|| {
+        file: (!run.no_save && !to_stdout).then(|| {
             run.output
                 .clone()
                 .unwrap_or_else(|| PathBuf::from(format!("recordings/{scene}.rrd")))
         }),
         connect: run.connect.clone(),
         spawn: run.spawn,
+        stdout: to_stdout,
     }
 }
 
@@ -484,6 +491,10 @@ fn report_recording(d: &Destinations, bytes: Option<u64>, started: Instant) {
             "\nrecording: {} ({:.2} MB), {:.1} s",
             path.display(),
             bytes as f64 / 1e6,
+            started.elapsed().as_secs_f64()
+        ),
+        _ if d.stdout => eprintln!(
+            "\nrecording written to standard output, {:.1} s",
             started.elapsed().as_secs_f64()
         ),
         _ => println!(

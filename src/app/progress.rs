@@ -16,6 +16,8 @@ pub struct Progress {
     bar: Option<ProgressBar>,
     label: String,
     end: f64,
+    /// When the current stage started, for the remaining-time estimate.
+    stage_started: Instant,
 }
 
 impl Progress {
@@ -26,6 +28,7 @@ impl Progress {
             bar: None,
             label: String::new(),
             end: 1.0,
+            stage_started: Instant::now(),
         }
     }
 
@@ -33,8 +36,9 @@ impl Progress {
     pub fn stage(&mut self, label: &str, end: f64) {
         self.label = label.to_string();
         self.end = end.max(1e-12);
+        self.stage_started = Instant::now();
         if let Some(bar) = &self.bar {
-            bar.set_message(self.label.clone());
+            bar.set_prefix(self.label.clone());
             bar.set_position(0);
         }
     }
@@ -47,17 +51,22 @@ impl Progress {
         if self.bar.is_none() && self.started.elapsed() > Duration::from_secs(1) {
             let bar = ProgressBar::new(1000);
             bar.set_style(
+                // indicatif's own {eta} reads 0 s here: the bar appears after a second with
+                // its position already far along, so its rate estimate starts out infinite.
+                // The estimate is ours: the stage's elapsed time scaled by what is left.
                 ProgressStyle::with_template(
-                    "{msg:>9} [{bar:40}] {percent:>3}% {elapsed} (eta {eta})",
+                    "{prefix:>9} [{bar:40}] {percent:>3}% {elapsed} (eta {msg})",
                 )
                 .expect("valid template")
                 .progress_chars("=> "),
             );
-            bar.set_message(self.label.clone());
+            bar.set_prefix(self.label.clone());
             self.bar = Some(bar);
         }
         if let Some(bar) = &self.bar {
-            bar.set_position((1000.0 * (t / self.end).clamp(0.0, 1.0)) as u64);
+            let done = (t / self.end).clamp(0.0, 1.0);
+            bar.set_position((1000.0 * done) as u64);
+            bar.set_message(eta_text(self.stage_started.elapsed(), done));
         }
     }
 
@@ -65,6 +74,20 @@ impl Progress {
         if let Some(bar) = self.bar.take() {
             bar.finish_and_clear();
         }
+    }
+}
+
+/// The remaining time when `done` (0–1) took `elapsed`, rounded for reading: "12s", "3m 05s",
+/// "?" before anything is done.
+fn eta_text(elapsed: Duration, done: f64) -> String {
+    if done <= 0.0 {
+        return "?".into();
+    }
+    let left = (elapsed.as_secs_f64() * (1.0 - done) / done).round() as u64;
+    if left < 60 {
+        format!("{left}s")
+    } else {
+        format!("{}m {:02}s", left / 60, left % 60)
     }
 }
 
@@ -90,5 +113,18 @@ impl<S: Scene, O: Observer<S> + ?Sized> Observer<S> for WithProgress<'_, O> {
     }
     fn finish(&mut self, scene: &S, run: &Run<S::Lane>) -> anyhow::Result<()> {
         self.inner.finish(scene, run)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn eta_scales_elapsed_by_what_is_left() {
+        assert_eq!(eta_text(Duration::from_secs(10), 0.25), "30s");
+        assert_eq!(eta_text(Duration::from_secs(100), 0.5), "1m 40s");
+        assert_eq!(eta_text(Duration::from_secs(3), 0.0), "?");
+        assert_eq!(eta_text(Duration::from_secs(3), 1.0), "0s");
     }
 }

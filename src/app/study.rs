@@ -270,7 +270,13 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
             ));
         }
     }
-    print!("{out}");
+    // With `-o -` standard output carries the recording: the tables go to stderr.
+    let to_stdout = a.output.as_ref().is_some_and(|p| p.as_os_str() == "-");
+    if to_stdout {
+        eprint!("{out}");
+    } else {
+        print!("{out}");
+    }
     if let Some(path) = &a.csv {
         std::fs::write(path, &csv)
             .map_err(|e| anyhow::anyhow!("--csv {}: cannot write it: {e}", path.display()))?;
@@ -285,7 +291,7 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
     let plots_dir = a
         .plots
         .clone()
-        .or_else(|| a.output.as_deref().map(beside))
+        .or_else(|| a.output.as_deref().filter(|_| !to_stdout).map(beside))
         .or_else(|| a.csv.as_deref().map(beside));
     let mut images: Vec<(String, Vec<u8>)> = Vec::new();
     if let Some(dir) = &plots_dir {
@@ -296,11 +302,12 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
         }
     }
     if let Some(path) = &a.output {
-        let d = crate::record::Destinations {
-            file: Some(path.clone()),
-            ..Default::default()
-        };
+        let d = crate::record::Destinations::output(path);
         let bytes = crate::record::study::record_study(&d, problem.name(), &images, &out)?;
+        if to_stdout {
+            eprintln!("\nrecording written to standard output");
+            return Ok(());
+        }
         println!(
             "\nrecording: {} ({:.2} MB)",
             path.display(),

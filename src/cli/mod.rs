@@ -61,7 +61,8 @@ pub struct RunArgs {
     #[arg(long)]
     pub print_config: bool,
 
-    /// Where to write the recording (.rrd); its folder is created [default: recordings/<scene>.rrd]
+    /// Where to write the recording (.rrd); its folder is created; `-` writes it to standard
+    /// output (`physlab pendulum -o - | rerun -`) [default: recordings/<scene>.rrd]
     #[arg(short, long, value_name = "PATH")]
     pub output: Option<PathBuf>,
 
@@ -194,7 +195,7 @@ pub struct StudyArgs {
     #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub levels: Option<u32>,
 
-    /// Methods, comma-separated
+    /// Methods, comma-separated (the names are listed from the registry by `command`)
     #[arg(long, value_delimiter = ',', value_name = "LIST")]
     pub methods: Option<Vec<Method>>,
 
@@ -219,7 +220,7 @@ pub struct StudyArgs {
     #[arg(long, value_name = "FILE.csv")]
     pub csv: Option<PathBuf>,
 
-    /// Also write the diagrams and tables as a Rerun recording
+    /// Also write the diagrams and tables as a Rerun recording (`-` for standard output)
     #[arg(short, long, value_name = "FILE.rrd")]
     pub output: Option<PathBuf>,
 
@@ -237,10 +238,26 @@ pub struct StudyArgs {
 /// `Default` (so a default is written once, in the scene).
 pub fn command() -> clap::Command {
     Cli::command()
-        .mut_subcommand("pendulum", |c| with_defaults(c, &PendulumArgs::defaults()))
-        .mut_subcommand("rope", |c| with_defaults(c, &RopeArgs::defaults()))
+        .mut_subcommand("pendulum", |c| {
+            with_defaults(with_method_names(c), &PendulumArgs::defaults())
+        })
+        .mut_subcommand("rope", |c| {
+            with_defaults(with_method_names(c), &RopeArgs::defaults())
+        })
         .mut_subcommand("hair", |c| with_defaults(c, &HairArgs::defaults()))
-        .mut_subcommand("study", |c| with_shown_defaults(c, &study_defaults()))
+        .mut_subcommand("study", |c| {
+            with_shown_defaults(with_method_names(c), &study_defaults())
+        })
+}
+
+/// `--methods` help naming every registry method, read from the registry.
+fn with_method_names(cmd: clap::Command) -> clap::Command {
+    let names = Method::names().collect::<Vec<_>>().join(", ");
+    cmd.mut_arg("methods", |a| {
+        a.help(format!(
+            "Methods to run, comma-separated, any of: {names} (`physlab methods` describes them)"
+        ))
+    })
 }
 
 /// Parses the process's arguments (clap prints usage errors and exits with code 2).

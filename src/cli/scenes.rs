@@ -99,7 +99,7 @@ pub struct PendulumArgs {
     #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub plot_every: Option<u64>,
 
-    /// Methods to run, comma-separated, any of `physlab methods`
+    /// Methods to run, comma-separated (the names are listed from the registry by `cli::command`)
     #[arg(long, value_delimiter = ',', value_name = "LIST")]
     pub methods: Option<Vec<Method>>,
 
@@ -169,7 +169,7 @@ pub struct RopeArgs {
     #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub plot_every: Option<u64>,
 
-    /// Methods to run, comma-separated, any of `physlab methods`
+    /// Methods to run, comma-separated (the names are listed from the registry by `cli::command`)
     #[arg(long, value_delimiter = ',', value_name = "LIST")]
     pub methods: Option<Vec<Method>>,
 

@@ -200,15 +200,15 @@ fn about_text(c: &HairConfig) -> String {
     format!(
         "# hair\n\n\
          {} strands × {} nodes (segment {} m) rooted on a head of radius {} m by a golden-angle spiral over the \
-         cap; head motion `{:?}`; gravity {:?} m/s², wind {:?} m/s² with gusts ±{}%, damping {} 1/s; \
-         verlet solver {}, {} iterations; spring stiffness k/m {:e} 1/s², damping kd/m {} 1/s; {} substeps per frame at {} Hz; collision margin {} R.\n\n\
+         cap; head motion `{}`; gravity {:?} m/s², wind {:?} m/s² with gusts ±{}%, damping {} 1/s; \
+         verlet solver {}, {} iterations; spring stiffness k/m {:e} 1/s², damping kd/m {} 1/s; {} per frame at {} Hz; collision margin {} R.\n\n\
          Each method has its own head copy (slots side by side). Plots are per simulation frame; the \
          3D state every {} frames.\n\n| method | update |\n|---|---|\n{}\n",
         p.strands,
         p.nodes,
         p.segment_length,
         p.head_radius,
-        p.motion,
+        format!("{:?}", p.motion).to_lowercase(),
         p.gravity.to_array(),
         p.wind.to_array(),
         100.0 * p.gust,
@@ -217,7 +217,7 @@ fn about_text(c: &HairConfig) -> String {
         p.iterations,
         p.stiffness,
         p.spring_damping,
-        c.substeps,
+        crate::report::table::plural(c.substeps, "substep"),
         c.rate,
         p.margin,
         c.log_stride(),

@@ -187,11 +187,41 @@ pub struct Destinations {
     pub connect: Option<String>,
     /// Start `rerun` from PATH and stream to it.
     pub spawn: bool,
+    /// Write the recording to standard output (`-o -`), e.g. piped into `rerun -`.
+    pub stdout: bool,
+}
+
+impl Destinations {
+    /// `-o PATH`, where `-` means standard output.
+    pub fn output(path: &Path) -> Self {
+        if path.as_os_str() == "-" {
+            Destinations {
+                stdout: true,
+                ..Default::default()
+            }
+        } else {
+            Destinations {
+                file: Some(path.to_path_buf()),
+                ..Default::default()
+            }
+        }
+    }
 }
 
 /// Checks the destinations before anything is simulated: the file's folder can be created and
 /// written, the target is not a folder, the viewer URL parses, `rerun` is on PATH for --spawn.
 pub fn check_destinations(d: &Destinations) -> anyhow::Result<()> {
+    if d.stdout {
+        use std::io::IsTerminal as _;
+        if std::io::stdout().is_terminal() {
+            return Err(crate::error::UsageError(
+                "-o -: standard output is a terminal; pipe it into the viewer, e.g. \
+                 `physlab pendulum -o - | rerun -`, or give a file name"
+                    .into(),
+            )
+            .into());
+        }
+    }
     if let Some(target) = &d.file {
         if target.is_dir() {
             anyhow::bail!(
@@ -298,6 +328,11 @@ impl Recording {
             ));
             crate::interrupt::set_partial_file(Some(&tmp));
             file = Some((tmp, target.clone()));
+        }
+        if d.stdout {
+            sinks.push(Box::new(
+                rerun::sink::FileSink::stdout().context("-o -: cannot write to standard output")?,
+            ));
         }
         if d.spawn {
             rerun::spawn(&rerun::SpawnOptions::default())

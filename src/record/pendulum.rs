@@ -2,7 +2,8 @@
 //!
 //! Layout (`<lane>` is `exact`/`reference` or a method name):
 //! - `pendulum/<lane>/{pivot,rod,bob}`: the lanes side by side along x, one slot each;
-//!   `pendulum/<method>/exact_ghost`: the reference bob as a translucent ghost in each slot.
+//!   `pendulum/<method>/<reference lane>_ghost` (`exact_ghost`, or `reference_ghost` when the
+//!   reference is a fine-step RK4 run): the reference bob as a translucent ghost in each slot.
 //! - `pendulum/plots/<quantity>/<lane>`: one plot per quantity with every lane's series.
 //! - `pendulum/phase/<lane>/{path,state}`: the phase portrait, one curve per lane.
 //! - `pendulum/events`: divergence and solver warnings at the moment they happened.
@@ -183,7 +184,7 @@ impl Draw<PendulumScene> for PendulumDraw {
             )?;
             if i > 0 {
                 rec.log_static(
-                    format!("pendulum/{name}/exact_ghost"),
+                    format!("pendulum/{name}/{}_ghost", self.lanes[0]),
                     &rerun::Points3D::update_fields()
                         .with_radii([bob_radius])
                         .with_colors([rerun::Color::from_unmultiplied_rgba(220, 220, 220, 70)]),
@@ -253,7 +254,7 @@ impl Draw<PendulumScene> for PendulumDraw {
                 && let Some((theta_ref, _)) = reference
             {
                 rec.log(
-                    format!("pendulum/{name}/exact_ghost"),
+                    format!("pendulum/{name}/{}_ghost", self.lanes[0]),
                     &rerun::Points3D::update_fields()
                         .with_positions([self.bob_position(i, theta_ref)]),
                 )?;
@@ -269,7 +270,9 @@ impl Draw<PendulumScene> for PendulumDraw {
     fn diverged(&mut self, rec: &RecordingStream, event: &Event) -> anyhow::Result<()> {
         // From this moment the lane shows no pendulum, only a marker saying why.
         let name = self.lanes[event.lane];
-        let label = clear_diverged(rec, "pendulum", name, &["rod", "exact_ghost"], event)?;
+        // The ghost is named after the reference lane: `exact_ghost` or `reference_ghost`.
+        let ghost = format!("{}_ghost", self.lanes[0]);
+        let label = clear_diverged(rec, "pendulum", name, &["rod", &ghost], event)?;
         rec.log(
             format!("pendulum/phase/{name}/state"),
             &rerun::Clear::flat(),

@@ -1,6 +1,6 @@
 //! The hair run's summary table.
 
-use crate::report::table::{Table, trim_number};
+use crate::report::table::{Table, plural, sig, trim_number};
 use crate::scene::hair::run::{HairLane, HairScene};
 use crate::scene::harness::{Run, divergence_cell};
 
@@ -8,16 +8,16 @@ pub fn summary_text(scene: &HairScene, run: &Run<HairLane>) -> String {
     let c = &scene.config;
     let p = &c.params;
     let mut out = format!(
-        "hair: {} strands × {} nodes, segment {} m, head radius {} m ({:?}), wind {:?} m/s² ± {}%, damping {} 1/s\n\
+        "hair: {} strands × {} nodes, segment {} m, head radius {} m (head motion {}), wind {:?} m/s² ± {}%, damping {} 1/s\n\
          verlet solver {}, {} iterations; springs k/m = {:.3e} 1/s², kd/m = {} 1/s (semi-implicit-euler: {} inner steps per substep); \
-         {} substeps per frame at {} Hz (dt = {:.3e} s), {} frames to t = {} s, {} threads\n\
+         {} per frame at {} Hz (dt = {:.3e} s), {} frames to t = {} s, {} threads\n\
          collision pushes nodes to R(1 + {}); invariants: penetration of non-root nodes into R(1 + margin), \
          root distance from its anchor, |ℓ - ℓ0|/ℓ0\n\n",
         p.strands,
         p.nodes,
         p.segment_length,
         p.head_radius,
-        p.motion,
+        format!("{:?}", p.motion).to_lowercase(),
         p.wind.to_array(),
         trim_number(100.0 * p.gust, 3),
         p.damping,
@@ -26,7 +26,7 @@ pub fn summary_text(scene: &HairScene, run: &Run<HairLane>) -> String {
         p.stiffness,
         p.spring_damping,
         (c.step_dt() / p.spring_step_limit()).ceil().max(1.0),
-        c.substeps,
+        plural(c.substeps, "substep"),
         c.rate,
         c.step_dt(),
         c.frames(),
@@ -57,7 +57,7 @@ pub fn summary_text(scene: &HairScene, run: &Run<HairLane>) -> String {
             format!("{:.1}", wall * 1e3),
             format!("{:.3}", wall * 1e3 / s.timed_ticks.max(1) as f64),
             format!("{fps:.0}"),
-            format!("{:.1}", fps / c.rate),
+            sig(fps / c.rate, 3),
             format!("{:.2e}", w.max_stretch),
             format!("{:.1e}", w.max_penetration),
             format!("{:.1e}", w.max_root_error),

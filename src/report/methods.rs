@@ -52,5 +52,12 @@ pub fn methods_table() -> String {
             out.push_str(&format!("- {m}: {notes}\n"));
         }
     }
+    // Hair strands have their own methods (`physlab hair --methods`).
+    out.push_str("\nHair strands (`physlab hair --methods`):\n\n");
+    let mut hair = Table::new(["method", "update"]);
+    for m in crate::scene::hair::HairMethod::ALL {
+        hair.row([m.name().to_string(), m.description().to_string()]);
+    }
+    out.push_str(&hair.render());
     out
 }

@@ -83,6 +83,16 @@ pub fn sig(x: f64, digits: usize) -> String {
     }
 }
 
+/// A count with its noun: "1 substep", "2 substeps".
+pub fn plural(n: impl Into<u64>, noun: &str) -> String {
+    let n = n.into();
+    if n == 1 {
+        format!("1 {noun}")
+    } else {
+        format!("{n} {noun}s")
+    }
+}
+
 /// A number with at most `decimals` decimals and no trailing zeros: 59.99999999999999 → "60".
 pub fn trim_number(x: f64, decimals: usize) -> String {
     let s = format!("{x:.decimals$}");

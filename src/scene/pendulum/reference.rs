@@ -199,11 +199,16 @@ impl Reference {
     pub fn describe(&self) -> String {
         match self {
             Reference::Exact(e) => format!(
-                "exact: closed form θ(t) = 2 asin(k sn(K - ωn t, k²)), k = {:.12}, k' = cos(θ0/2) = {:.6e}, K = {:.15}, T = {:.12} s",
+                "exact: closed form θ(t) = 2 asin(k sn(K - ωn t, k²)), k = {:.12}, k' = cos(θ0/2) = {:.6e}, K = {:.15}, T = {} s",
                 e.k,
                 e.m1.sqrt(),
                 e.quarter,
-                e.period()
+                // 13 significant digits at any scale (fixed point would print a 1e-13 s period
+                // as 0.000000000000).
+                match e.period() {
+                    t if (1e-3..1e6).contains(&t) => format!("{t:.12}"),
+                    t => format!("{t:.12e}"),
+                }
             ),
             Reference::FineStep(f) => format!(
                 "reference: no closed form for this start (ω0 ≠ 0 or |θ0| ≥ 180°); RK4 at h = {:.3e} s, \
