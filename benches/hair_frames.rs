@@ -56,7 +56,7 @@ fn hair_frames(c: &mut Criterion) {
                     .save("/dev/null")
                     .unwrap();
                 rec.set_log_time_enabled(false);
-                let mut recorder = physlab::record::hair::recorder(rec, true);
+                let mut recorder = physlab::record::hair::recorder(rec, true, None);
                 let scene = HairScene::new(HairConfig {
                     methods: vec![method],
                     ..config.clone()

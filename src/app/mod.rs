@@ -59,6 +59,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             &Output::Hair {
                 threads: c.threads,
                 no_record: c.no_record,
+                log_strands: c.log_strands,
             },
         ),
         Command::All(c) => simulate(all_plan(&c), &c.run, &Output::Record),
@@ -110,10 +111,11 @@ fn all_plan(c: &AllArgs) -> Plan {
 enum Output {
     /// Record as the run options say.
     Record,
-    /// Hair's extras: its worker threads and --no-record.
+    /// Hair's extras: its worker threads, --no-record and --log-strands.
     Hair {
         threads: Option<usize>,
         no_record: bool,
+        log_strands: Option<usize>,
     },
 }
 
@@ -241,12 +243,27 @@ pub fn hair_config(args: &HairArgs) -> Result<HairConfig, UsageError> {
 fn simulate(plan: Plan, run: &RunArgs, output: &Output) -> anyhow::Result<()> {
     let resolved = resolve(plan, run)?;
     let text = resolved.file.to_toml()?;
-    let (threads, no_record) = match output {
-        Output::Record => (None, false),
-        Output::Hair { threads, no_record } => (*threads, *no_record),
+    let (threads, no_record, log_strands) = match output {
+        Output::Record => (None, false, None),
+        Output::Hair {
+            threads,
+            no_record,
+            log_strands,
+        } => (*threads, *no_record, *log_strands),
     };
     if threads == Some(0) {
         return Err(UsageError("--threads 0: must be at least 1".into()).into());
+    }
+    if log_strands == Some(0) {
+        return Err(UsageError(
+            "--log-strands 0: must be at least 1 (--no-record draws nothing at all)".into(),
+        )
+        .into());
+    }
+    if no_record && log_strands.is_some() {
+        return Err(
+            UsageError("--no-record with --log-strands: --no-record draws nothing".into()).into(),
+        );
     }
     refuse_contradictions(run, no_record)?;
     if run.print_config {
@@ -328,7 +345,19 @@ fn simulate(plan: Plan, run: &RunArgs, output: &Output) -> anyhow::Result<()> {
     if let Some(config) = resolved.hair
         && !crate::interrupt::requested()
     {
-        let recorder = stream.clone().map(|s| record::hair::recorder(s, timings));
+        // Said before anything is written: how many strands are drawn, and the expected size.
+        let plan = record::hair::strand_plan(&config, log_strands);
+        if stream.is_some() && !run.quiet {
+            eprintln!(
+                "hair: drawing {} of {} strands in 3D; expected recording ≈ {:.0} MB",
+                plan.drawn,
+                plan.strands,
+                plan.expected_bytes / 1e6
+            );
+        }
+        let recorder = stream
+            .clone()
+            .map(|s| record::hair::recorder(s, timings, log_strands));
         // Hair spreads its strands over the pool (--threads); the results do not depend on it.
         let (mut text, lanes) = pool.install(|| {
             run_scene(
@@ -342,6 +371,11 @@ fn simulate(plan: Plan, run: &RunArgs, output: &Output) -> anyhow::Result<()> {
             text.push_str(&format!(
                 "\nno recording (--no-record), {:.1} s\n",
                 started.elapsed().as_secs_f64()
+            ));
+        } else {
+            text.push_str(&format!(
+                "\n3D: {} of {} strands drawn per head (--log-strands); every strand is simulated and measured above\n",
+                plan.drawn, plan.strands
             ));
         }
         collect(text, lanes);

@@ -134,6 +134,10 @@ pub struct HairCommand {
     /// Neither write nor stream a recording (throughput runs)
     #[arg(long)]
     pub no_record: bool,
+    /// Strands drawn in 3D, spread evenly over the head; every strand is still simulated and
+    /// measured [default: as many as keep the 3D part of the recording under 180 MB]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub log_strands: Option<usize>,
 }
 
 #[derive(Args, Debug, Clone)]

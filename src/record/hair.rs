@@ -40,21 +40,73 @@ pub fn blueprint(timings: bool) -> Blueprint {
     scene_blueprint(left, plot_column("hair", &plots_shown(&PLOTS, timings)))
 }
 
+/// Recorded bytes per strand node per logged 3D frame per method, LZ4 included: 12.5–12.9
+/// measured (`physlab hair --strands 500|2000` at the defaults: 25.0 and 100.0 MB; `--strands 1000
+/// --nodes 32 --fps 60 --duration 2`: 96.9 MB), rounded up.
+pub const BYTES_PER_NODE_FRAME: f64 = 13.0;
+
+/// The 3D part of a hair recording the default `--log-strands` keeps within [bytes], so a
+/// recording stays under ~200 MB with its plots.
+pub const DEFAULT_3D_BUDGET: f64 = 180e6;
+
+/// How many strands a run draws in 3D and what its recording is expected to weigh.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StrandPlan {
+    pub drawn: usize,
+    pub strands: usize,
+    pub expected_bytes: f64,
+}
+
+/// The strands drawn: `requested` (at most all), or by default as many as fit the 3D budget
+/// (at least one); and the expected size.
+pub fn strand_plan(c: &HairConfig, requested: Option<usize>) -> StrandPlan {
+    let strands = c.params.strands;
+    let frames = c.frames() / c.log_stride() + 1;
+    let per_strand =
+        BYTES_PER_NODE_FRAME * c.params.nodes as f64 * frames as f64 * c.methods.len() as f64;
+    let drawn = match requested {
+        Some(n) => n.min(strands),
+        None => ((DEFAULT_3D_BUDGET / per_strand.max(1.0)) as usize).clamp(1, strands),
+    };
+    StrandPlan {
+        drawn,
+        strands,
+        expected_bytes: drawn as f64 * per_strand,
+    }
+}
+
+/// `drawn` strand indices spread evenly over `0..strands` (the roots follow a golden-angle
+/// spiral over the cap, so an even spread of indices is an even spread over the head).
+pub fn spread(drawn: usize, strands: usize) -> Vec<usize> {
+    let n = drawn.min(strands).max(1);
+    (0..n).map(|k| k * strands / n).collect()
+}
+
 /// Each method's head and strands in its slot.
 pub struct HairDraw {
     names: Vec<&'static str>,
     offsets: Vec<glam::DVec3>,
     nodes: usize,
+    /// `--log-strands`: how many strands are drawn (None: the budget's default).
+    requested: Option<usize>,
+    /// The strands drawn, as indices.
+    shown: Vec<usize>,
 }
 
-/// A recorder of hair runs.
-pub fn recorder(rec: RecordingStream, timings: bool) -> SceneRecorder<HairDraw> {
+/// A recorder of hair runs, drawing `log_strands` strands in 3D (None: the default).
+pub fn recorder(
+    rec: RecordingStream,
+    timings: bool,
+    log_strands: Option<usize>,
+) -> SceneRecorder<HairDraw> {
     SceneRecorder::new(
         rec,
         HairDraw {
             names: Vec::new(),
             offsets: Vec::new(),
             nodes: 1,
+            requested: log_strands,
+            shown: Vec::new(),
         },
         timings,
     )
@@ -68,16 +120,17 @@ impl HairDraw {
             let q = p + o;
             [q.x as f32, q.y as f32, q.z as f32]
         };
-        let strips: Vec<Vec<[f32; 3]>> = hair
-            .pos
-            .chunks(self.nodes)
-            .map(|s| s.iter().map(|&p| f(p)).collect())
+        let strand = |k: usize| &hair.pos[k * self.nodes..(k + 1) * self.nodes];
+        let strips: Vec<Vec<[f32; 3]>> = self
+            .shown
+            .iter()
+            .map(|&k| strand(k).iter().map(|&p| f(p)).collect())
             .collect();
         rec.log(
             format!("hair/{name}/strands"),
             &rerun::LineStrips3D::update_fields().with_strips(strips),
         )?;
-        let roots: Vec<[f32; 3]> = hair.pos.chunks(self.nodes).map(|s| f(s[0])).collect();
+        let roots: Vec<[f32; 3]> = self.shown.iter().map(|&k| f(strand(k)[0])).collect();
         rec.log(
             format!("hair/{name}/roots"),
             &rerun::Points3D::update_fields().with_positions(roots),
@@ -109,6 +162,8 @@ impl Draw<HairScene> for HairDraw {
         let p = &config.params;
         self.names = lanes.iter().map(|l| l.0).collect();
         self.nodes = p.nodes;
+        let plan = strand_plan(config, self.requested);
+        self.shown = spread(plan.drawn, plan.strands);
         let reach = p.head_radius + p.segment_length * (p.nodes - 1) as f64;
         let spacing = 2.6 * reach + 2.0 * 2.0 * p.head_radius; // room for the sway
         self.offsets = (0..self.names.len())
@@ -160,7 +215,7 @@ impl Draw<HairScene> for HairDraw {
         }
         rec.log_static(
             "hair/about",
-            &rerun::TextDocument::from_markdown(about_text(config)),
+            &rerun::TextDocument::from_markdown(about_text(config, self.shown.len())),
         )?;
         Ok(())
     }
@@ -190,7 +245,7 @@ impl Draw<HairScene> for HairDraw {
     }
 }
 
-fn about_text(c: &HairConfig) -> String {
+fn about_text(c: &HairConfig, drawn: usize) -> String {
     let p = &c.params;
     let methods: Vec<String> = c
         .methods
@@ -203,7 +258,8 @@ fn about_text(c: &HairConfig) -> String {
          cap; head motion `{}`; gravity {:?} m/s², wind {:?} m/s² with gusts ±{}%, damping {} 1/s; \
          verlet solver {}, {} iterations; spring stiffness k/m {:e} 1/s², damping kd/m {} 1/s; {} per frame at {} Hz; collision margin {} R.\n\n\
          Each method has its own head copy (slots side by side). Plots are per simulation frame; the \
-         3D state every {} frames.\n\n| method | update |\n|---|---|\n{}\n",
+         3D state every {} frames, {} of the {} strands drawn (spread evenly over the head; every strand is \
+         simulated and measured, `--log-strands` sets how many are drawn).\n\n| method | update |\n|---|---|\n{}\n",
         p.strands,
         p.nodes,
         p.segment_length,
@@ -221,6 +277,50 @@ fn about_text(c: &HairConfig) -> String {
         c.rate,
         p.margin,
         c.log_stride(),
+        drawn,
+        p.strands,
         methods.join("\n"),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_default_keeps_any_strand_count_within_the_budget() {
+        for strands in [1, 200, 2000, 10_000, 100_000] {
+            for nodes in [2, 16, 32, 64] {
+                let mut c = HairConfig::default();
+                c.params.strands = strands;
+                c.params.nodes = nodes;
+                let plan = strand_plan(&c, None);
+                assert!(plan.drawn >= 1 && plan.drawn <= strands);
+                // Within budget unless a single strand alone exceeds it (it never does here).
+                assert!(
+                    plan.expected_bytes <= DEFAULT_3D_BUDGET,
+                    "{strands}×{nodes}: {plan:?}"
+                );
+            }
+        }
+        // The default run (200 strands × 16 nodes, 2 methods, 121 logged frames) draws all of
+        // them: 200 × 16 × 121 × 2 × 13 B = 10.1 MB.
+        let plan = strand_plan(&HairConfig::default(), None);
+        assert_eq!(plan.drawn, HairConfig::default().params.strands);
+        // 10 000 strands × 16 nodes at the defaults: 180e6 / (13 × 16 × 121 × 2) = 3575 drawn.
+        let mut c = HairConfig::default();
+        c.params.strands = 10_000;
+        assert_eq!(strand_plan(&c, None).drawn, 3575);
+        assert_eq!(strand_plan(&c, Some(50)).drawn, 50);
+        assert_eq!(strand_plan(&c, Some(50_000)).drawn, 10_000);
+    }
+
+    #[test]
+    fn spread_takes_evenly_spaced_distinct_strands() {
+        assert_eq!(spread(4, 10), vec![0, 2, 5, 7]);
+        assert_eq!(spread(3, 3), vec![0, 1, 2]);
+        assert_eq!(spread(5, 2), vec![0, 1]);
+        let s = spread(1000, 10_000);
+        assert!(s.windows(2).all(|w| w[1] - w[0] == 10));
+    }
 }
