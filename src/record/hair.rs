@@ -91,11 +91,6 @@ impl HairDraw {
 }
 
 impl Draw<HairScene> for HairDraw {
-    /// Hair's `frame` is the simulation frame.
-    fn frame_index(&self, tick: u64) -> i64 {
-        tick as i64
-    }
-
     fn start(
         &mut self,
         rec: &RecordingStream,
@@ -199,7 +194,7 @@ fn about_text(c: &HairConfig) -> String {
          cap; head motion `{:?}`; gravity {:?} m/s², wind {:?} m/s² with gusts ±{}%, damping {} 1/s; \
          verlet solver {}, {} iterations; spring stiffness k/m {:e} 1/s², damping kd/m {} 1/s; {} substeps per frame at {} Hz; collision margin {} R.\n\n\
          Each method has its own head copy (slots side by side). Plots are per simulation frame; the \
-         3D state every {} frames.\n\n| method | update |\n|---|---|\n{}\n",
+         3D state {}.\n\n| method | update |\n|---|---|\n{}\n",
         p.strands,
         p.nodes,
         p.segment_length,
@@ -216,7 +211,7 @@ fn about_text(c: &HairConfig) -> String {
         c.substeps,
         c.rate,
         p.margin,
-        c.log_stride(),
+        c.schedule().frames_text(),
         methods.join("\n"),
     )
 }

@@ -13,6 +13,7 @@ pub fn record_study(
     rows: &[Row],
     limits: &[Limit],
     tables: &str,
+    (config, methods): (&str, &[&str]),
 ) -> anyhow::Result<Option<u64>> {
     let blueprint = Blueprint::new(Horizontal::new([
         Vertical::new([
@@ -33,8 +34,9 @@ pub fn record_study(
             .into(),
     ]))
     .with_auto_views(false);
-    let recording = Recording::create(d, &format!("study {scene}"), blueprint)?;
+    let recording = Recording::create(d, "physlab-study", &format!("study {scene}"), blueprint)?;
     let rec = recording.stream();
+    super::send_provenance(rec, &format!("study {scene}"), config, methods)?;
     let mut methods: Vec<Method> = Vec::new();
     for r in rows {
         if !methods.contains(&r.method) {
