@@ -2,7 +2,7 @@
 
 use std::process::ExitCode;
 
-use physlab::app::{self, Diverged, UsageError};
+use physlab::app::{self, Differs, Diverged, UsageError};
 use physlab::interrupt::Interrupted;
 
 fn main() -> ExitCode {
@@ -27,6 +27,9 @@ fn main() -> ExitCode {
             } else if let Some(diverged) = err.downcast_ref::<Diverged>() {
                 eprintln!("{diverged}");
                 ExitCode::from(3)
+            } else if let Some(differs) = err.downcast_ref::<Differs>() {
+                eprintln!("{differs}");
+                ExitCode::from(1)
             } else {
                 eprintln!("error: {err:#}");
                 ExitCode::from(1)

@@ -91,7 +91,7 @@ fn games101_preset_reproduces_the_assignment_and_flags_override_it() {
         (1.0, 100.0, -1.0, vec![0])
     );
     assert_eq!(c.dt, 1.0 / 64.0);
-    assert_eq!(c.schedule().frame_stride, 64, "64 steps per frame");
+    assert_eq!(c.schedule().ticks_per_frame(), 64.0, "64 steps per frame");
     assert_eq!(c.options.verlet_damping, 0.00005);
     let c = config(&["--preset", "games101", "--stiffness", "50", "--nodes", "8"]);
     assert_eq!(

@@ -34,11 +34,20 @@ pub fn inspect_command(args: &InspectArgs) -> anyhow::Result<()> {
         "  {} chunks, {}",
         info.chunks,
         if info.has_footer {
-            "complete (footer written)"
+            "footer written"
         } else {
-            "no footer: the run was cut short or the file truncated"
+            "no footer: the process was killed or the file truncated"
         }
     );
+    let study = p("scenes").starts_with("study");
+    if info.run.is_empty() && !study {
+        println!("  ended: (not recorded: killed before the end, or an older physlab)");
+    }
+    for scene in info.scenes() {
+        if let Some(ended) = info.run.get(&format!("{scene}_ended")) {
+            println!("  {scene}: {ended}");
+        }
+    }
     let warnings: Vec<&LoggedEvent> = info
         .events
         .iter()

@@ -8,6 +8,7 @@
 mod file;
 mod inspect;
 mod progress;
+mod reproduce;
 mod study;
 
 use std::fmt;
@@ -16,10 +17,11 @@ use std::time::Instant;
 
 pub use crate::error::UsageError;
 pub use file::SceneFile;
+pub use reproduce::Differs;
 
 use crate::cli::{AllArgs, Cli, Command, HairArgs, PendulumArgs, RopeArgs, RunArgs};
 use crate::record::scene::{Draw, SceneRecorder};
-use crate::record::{Destinations, Recording, send_provenance};
+use crate::record::{Destinations, Recording, SceneEnd, send_provenance};
 use crate::scene::hair::run::{HairConfig, HairScene};
 use crate::scene::harness::{self, NoObserver, Observer, Run, Scene};
 use crate::scene::pendulum::run::{PendulumConfig, PendulumScene};
@@ -41,6 +43,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             },
             &c.run,
             &Output::Record,
+            &Replay::default(),
         ),
         Command::Rope(c) => simulate(
             Plan {
@@ -49,6 +52,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             },
             &c.run,
             &Output::Record,
+            &Replay::default(),
         ),
         Command::Hair(c) => simulate(
             Plan {
@@ -61,8 +65,11 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                 no_record: c.no_record,
                 log_strands: c.log_strands,
             },
+            &Replay::default(),
         ),
-        Command::All(c) => simulate(all_plan(&c), &c.run, &Output::Record),
+        Command::All(c) => simulate(all_plan(&c), &c.run, &Output::Record, &Replay::default()),
+        Command::Reproduce(args) => reproduce::reproduce_command(&args),
+        Command::Diff(args) => reproduce::diff_command(&args),
         Command::Study(a) => study::study(&a),
     }
 }
@@ -117,6 +124,26 @@ enum Output {
         no_record: bool,
         log_strands: Option<usize>,
     },
+}
+
+/// A re-run of a recording (`physlab reproduce`): where the recorded run stopped each scene.
+#[derive(Default)]
+struct Replay {
+    /// Scenes that were interrupted, with the last tick they reached.
+    stop_after: Vec<(String, u64)>,
+    /// Scenes the recorded run never started.
+    skip: Vec<String>,
+    /// Print no summaries.
+    silent: bool,
+}
+
+impl Replay {
+    /// Whether `scene` runs, and (if so) sets where it stops.
+    fn runs(&self, scene: &str) -> bool {
+        let stop = self.stop_after.iter().find(|s| s.0 == scene).map(|s| s.1);
+        crate::interrupt::set_stop_after(stop);
+        !self.skip.iter().any(|s| s == scene)
+    }
 }
 
 /// The plan's scenes, layered and validated, and the scene file that reproduces them.
@@ -240,7 +267,7 @@ pub fn hair_config(args: &HairArgs) -> Result<HairConfig, UsageError> {
 }
 
 /// The one pipeline of every simulating command.
-fn simulate(plan: Plan, run: &RunArgs, output: &Output) -> anyhow::Result<()> {
+fn simulate(plan: Plan, run: &RunArgs, output: &Output, replay: &Replay) -> anyhow::Result<()> {
     let resolved = resolve(plan, run)?;
     let text = resolved.file.to_toml()?;
     let (threads, no_record, log_strands) = match output {
@@ -299,7 +326,13 @@ fn simulate(plan: Plan, run: &RunArgs, output: &Output) -> anyhow::Result<()> {
         } else {
             crate::record::all_blueprint(run.timings)
         };
-        let recording = Recording::create(&d, name, blueprint)?;
+        let application_id = match name {
+            "pendulum" => "physlab-pendulum",
+            "rope" => "physlab-rope",
+            "hair" => "physlab-hair",
+            _ => "physlab-all",
+        };
+        let recording = Recording::create(&d, application_id, name, blueprint)?;
         send_provenance(
             recording.stream(),
             &scenes.join(","),
@@ -312,38 +345,57 @@ fn simulate(plan: Plan, run: &RunArgs, output: &Output) -> anyhow::Result<()> {
     let mut summaries = Vec::new();
     let mut diverged = Vec::new();
     let stream = recording.as_ref().map(|r| r.stream().clone());
+    // One `frame` timeline for the whole recording: frame N at N / (the highest fps) s.
+    let frame_rate = [
+        resolved.pendulum.as_ref().map(|c| c.fps),
+        resolved.rope.as_ref().map(|c| c.fps),
+        resolved.hair.as_ref().map(|c| c.fps),
+    ]
+    .into_iter()
+    .flatten()
+    .fold(0.0, f64::max);
     // Scenes run one after another; after an interruption the remaining ones are skipped.
     let timings = run.timings;
-    let mut collect = |text: String, diverged_lanes: Vec<String>| {
-        summaries.push(text);
-        diverged.extend(diverged_lanes);
+    let mut ends: Vec<SceneEnd> = Vec::new();
+    let mut collect = |ran: Ran| -> anyhow::Result<()> {
+        if let Some(s) = &stream {
+            record::log_summary(s, ran.end.scene, &ran.summary, &ran.end.text)?;
+        }
+        summaries.push(ran.summary);
+        diverged.extend(ran.diverged);
+        ends.push(ran.end);
+        Ok(())
     };
-    if let Some(config) = resolved.pendulum {
+    if let Some(config) = resolved.pendulum
+        && replay.runs("pendulum")
+    {
         let recorder = stream
             .clone()
-            .map(|s| record::pendulum::recorder(s, timings));
-        let (text, lanes) = run_scene(
+            .map(|s| record::pendulum::recorder(s, timings).with_frame_rate(frame_rate));
+        collect(run_scene(
             PendulumScene::new(config),
             recorder,
             report::pendulum::summary_text,
             &mut progress,
-        )?;
-        collect(text, lanes);
+        )?)?;
     }
     if let Some(config) = resolved.rope
         && !crate::interrupt::requested()
+        && replay.runs("rope")
     {
-        let recorder = stream.clone().map(|s| record::rope::recorder(s, timings));
-        let (text, lanes) = run_scene(
+        let recorder = stream
+            .clone()
+            .map(|s| record::rope::recorder(s, timings).with_frame_rate(frame_rate));
+        collect(run_scene(
             RopeScene::new(config),
             recorder,
             report::rope::summary_text,
             &mut progress,
-        )?;
-        collect(text, lanes);
+        )?)?;
     }
     if let Some(config) = resolved.hair
         && !crate::interrupt::requested()
+        && replay.runs("hair")
     {
         // Said before anything is written: how many strands are drawn, and the expected size.
         let plan = record::hair::strand_plan(&config, log_strands);
@@ -357,9 +409,9 @@ fn simulate(plan: Plan, run: &RunArgs, output: &Output) -> anyhow::Result<()> {
         }
         let recorder = stream
             .clone()
-            .map(|s| record::hair::recorder(s, timings, log_strands));
+            .map(|s| record::hair::recorder(s, timings, log_strands).with_frame_rate(frame_rate));
         // Hair spreads its strands over the pool (--threads); the results do not depend on it.
-        let (mut text, lanes) = pool.install(|| {
+        let mut ran = pool.install(|| {
             run_scene(
                 HairScene::new(config),
                 recorder,
@@ -368,20 +420,39 @@ fn simulate(plan: Plan, run: &RunArgs, output: &Output) -> anyhow::Result<()> {
             )
         })?;
         if no_record {
-            text.push_str(&format!(
+            ran.summary.push_str(&format!(
                 "\nno recording (--no-record), {:.1} s\n",
                 started.elapsed().as_secs_f64()
             ));
         } else {
-            text.push_str(&format!(
+            ran.summary.push_str(&format!(
                 "\n3D: {} of {} strands drawn per head (--log-strands); every strand is simulated and measured above\n",
                 plan.drawn, plan.strands
             ));
         }
-        collect(text, lanes);
+        collect(ran)?;
     }
     progress.finish();
+    crate::interrupt::set_stop_after(None);
+    if let Some(s) = &stream {
+        // Scenes skipped after an interruption say so too.
+        for scene in &scenes {
+            if !ends.iter().any(|e| e.scene == *scene) {
+                ends.push(SceneEnd {
+                    scene,
+                    status: "not run",
+                    last_tick: 0,
+                    end_time: 0.0,
+                    text: "not run: the run was interrupted before this scene started".into(),
+                });
+            }
+        }
+        record::send_run_status(s, &ends)?;
+    }
     drop(stream);
+    if replay.silent {
+        summaries.clear();
+    }
     finish(recording, &d, started, &summaries, &diverged, run)
 }
 
@@ -418,14 +489,21 @@ fn refuse_contradictions(run: &RunArgs, no_record: bool) -> Result<(), UsageErro
     Ok(())
 }
 
+/// One scene's run: its summary, the lanes that diverged, where it ended.
+struct Ran {
+    summary: String,
+    diverged: Vec<String>,
+    end: SceneEnd,
+}
+
 /// Runs one scene through the harness (recording it when a recorder is given) and returns its
-/// summary and the lanes that diverged.
+/// summary, the lanes that diverged and where it ended.
 fn run_scene<S: Scene, D: Draw<S>>(
     mut scene: S,
     mut recorder: Option<SceneRecorder<D>>,
     summary: fn(&S, &Run<S::Lane>) -> String,
     progress: &mut Progress,
-) -> anyhow::Result<(String, Vec<String>)> {
+) -> anyhow::Result<Ran> {
     progress.stage(scene.name(), scene.schedule().end_time());
     let mut quiet = NoObserver;
     let inner: &mut dyn Observer<S> = match &mut recorder {
@@ -433,7 +511,22 @@ fn run_scene<S: Scene, D: Draw<S>>(
         None => &mut quiet,
     };
     let run = harness::run(&mut scene, &mut WithProgress { inner, progress })?;
-    Ok((summary(&scene, &run), run.diverged(scene.name())))
+    let schedule = scene.schedule();
+    Ok(Ran {
+        summary: summary(&scene, &run),
+        diverged: run.diverged(scene.name()),
+        end: SceneEnd {
+            scene: scene.name(),
+            status: if run.interrupted {
+                "interrupted"
+            } else {
+                "complete"
+            },
+            last_tick: run.last_tick,
+            end_time: schedule.time(run.last_tick),
+            text: run.ending(&schedule),
+        },
+    })
 }
 
 /// Every method the recording holds, first occurrence kept (pendulum, hair, rope).
@@ -482,7 +575,9 @@ fn finish(
     } else {
         print!("{}", summaries.join("\n"));
     }
-    if let Some(bytes) = bytes {
+    if let Some(bytes) = bytes
+        && !summaries.is_empty()
+    {
         report_recording(d, bytes, started);
     }
     if crate::interrupt::requested() {

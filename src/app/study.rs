@@ -13,7 +13,9 @@ use crate::study::{Limit, Problem, Sweep, error_floor, stability, sweep};
 /// The study's problem and sweep from its flags, over the scene file, over the scene defaults
 /// (for the rope's convergence and cost: a softer, undamped rope, so that explicit methods
 /// converge and the theory's orders apply).
-fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64), UsageError> {
+/// Also returns the study's scene as a scene file (its problem, dt, duration and methods), the
+/// provenance of its recording.
+fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), UsageError> {
     let file = match &a.config {
         Some(path) => SceneFile::load(path)?,
         None => SceneFile::default(),
@@ -86,6 +88,7 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64), UsageError> {
         .clone()
         .or(file_methods)
         .unwrap_or_else(|| Method::ALL.to_vec());
+    let mut effective = SceneFile::default();
     let problem = match a.scene {
         StudyScene::Pendulum => {
             let flags = PendulumArgs {
@@ -93,6 +96,7 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64), UsageError> {
                 ..PendulumArgs::default()
             };
             let args = flags.over(file.pendulum.unwrap_or_default());
+            effective.pendulum = Some(args.clone().over(PendulumArgs::defaults()));
             Problem::Pendulum(super::pendulum_config(&args)?.params)
         }
         StudyScene::Rope => {
@@ -113,6 +117,7 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64), UsageError> {
             let args = flags
                 .over(file.rope.unwrap_or_default())
                 .over(study_defaults);
+            effective.rope = Some(args.clone().effective());
             Problem::Rope(super::rope_config(&args)?.params)
         }
     };
@@ -153,11 +158,18 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64), UsageError> {
         repeats,
         rtols,
     };
-    Ok((problem, sweep, steps))
+    // The schedule and methods the sweep starts from, in the scene's table.
+    if let Some(t) = effective.pendulum.as_mut() {
+        (t.dt, t.duration, t.methods) = (Some(dt0), Some(duration), Some(sweep.methods.clone()));
+    }
+    if let Some(t) = effective.rope.as_mut() {
+        (t.dt, t.duration, t.methods) = (Some(dt0), Some(duration), Some(sweep.methods.clone()));
+    }
+    Ok((problem, sweep, steps, effective))
 }
 
 pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
-    let (problem, sw, steps) = setup(a)?;
+    let (problem, sw, steps, scene_file) = setup(a)?;
     let mut out = String::new();
     let csv;
     let mut diagrams: Vec<crate::diagram::Diagram> = Vec::new();
@@ -303,7 +315,19 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
     }
     if let Some(path) = &a.output {
         let d = crate::record::Destinations::output(path);
-        let bytes = crate::record::study::record_study(&d, problem.name(), &images, &out)?;
+        let config = format!(
+            "# the scene of `{}`\n{}",
+            std::env::args().collect::<Vec<_>>().join(" "),
+            scene_file.to_toml()?
+        );
+        let methods: Vec<&str> = sw.methods.iter().map(|m| m.name()).collect();
+        let bytes = crate::record::study::record_study(
+            &d,
+            problem.name(),
+            &images,
+            &out,
+            (&config, &methods),
+        )?;
         if to_stdout {
             eprintln!("\nrecording written to standard output");
             return Ok(());

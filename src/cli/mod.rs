@@ -46,6 +46,11 @@ pub enum Command {
     Study(StudyArgs),
     /// What a recording holds: provenance, scenes, methods, entity paths, time range, warnings
     Inspect(InspectArgs),
+    /// Re-run what a recording holds from its embedded configuration and compare every series
+    /// and 3D state with it (exit 0 identical, 1 different, 2 bad input)
+    Reproduce(ReproduceArgs),
+    /// Compare two recordings entity by entity: configurations key by key, then every series
+    Diff(DiffArgs),
     /// Print the integrator registry: order, kind, symplecticity, force evaluations, stability
     Methods,
 }
@@ -147,6 +152,34 @@ pub struct InspectArgs {
     /// Write the recording's embedded scene file here, to run the same thing again with --config
     #[arg(long, value_name = "FILE.toml")]
     pub config_out: Option<PathBuf>,
+}
+
+#[derive(Args, Debug, Clone)]
+pub struct ReproduceArgs {
+    /// The recording to re-run and compare
+    pub file: PathBuf,
+    /// Accept differences up to this fraction of each series' largest magnitude (another CPU or
+    /// compiler) [default: 0, bit-identical]
+    #[arg(long, value_name = "REL", allow_negative_numbers = true)]
+    pub tolerance: Option<f64>,
+    /// Also write the re-run's recording here
+    #[arg(short, long, value_name = "PATH")]
+    pub output: Option<PathBuf>,
+}
+
+#[derive(Args, Debug, Clone)]
+pub struct DiffArgs {
+    /// The first recording (A)
+    pub a: PathBuf,
+    /// The second recording (B)
+    pub b: PathBuf,
+    /// Report the first time a series differs by more than this fraction of A's largest
+    /// magnitude in that series [default: 0, any difference]
+    #[arg(long, value_name = "REL", allow_negative_numbers = true)]
+    pub tolerance: Option<f64>,
+    /// Write a recording of the differences B − A, one series per entity, to see where they part
+    #[arg(short, long, value_name = "D.rrd")]
+    pub output: Option<PathBuf>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]

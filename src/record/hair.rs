@@ -61,7 +61,7 @@ pub struct StrandPlan {
 /// (at least one); and the expected size.
 pub fn strand_plan(c: &HairConfig, requested: Option<usize>) -> StrandPlan {
     let strands = c.params.strands;
-    let frames = c.frames() / c.log_stride() + 1;
+    let frames = c.schedule().frames();
     let per_strand =
         BYTES_PER_NODE_FRAME * c.params.nodes as f64 * frames as f64 * c.methods.len() as f64;
     let drawn = match requested {
@@ -147,11 +147,6 @@ impl HairDraw {
 }
 
 impl Draw<HairScene> for HairDraw {
-    /// Hair's `frame` is the simulation frame.
-    fn frame_index(&self, tick: u64) -> i64 {
-        tick as i64
-    }
-
     fn start(
         &mut self,
         rec: &RecordingStream,
@@ -258,7 +253,7 @@ fn about_text(c: &HairConfig, drawn: usize) -> String {
          cap; head motion `{}`; gravity {:?} m/s², wind {:?} m/s² with gusts ±{}%, damping {} 1/s; \
          verlet solver {}, {} iterations; spring stiffness k/m {:e} 1/s², damping kd/m {} 1/s; {} per frame at {} Hz; collision margin {} R.\n\n\
          Each method has its own head copy (slots side by side). Plots are per simulation frame; the \
-         3D state every {} frames, {} of the {} strands drawn (spread evenly over the head; every strand is \
+         3D state {}, {} of the {} strands drawn (spread evenly over the head; every strand is \
          simulated and measured, `--log-strands` sets how many are drawn).\n\n| method | update |\n|---|---|\n{}\n",
         p.strands,
         p.nodes,
@@ -276,7 +271,7 @@ fn about_text(c: &HairConfig, drawn: usize) -> String {
         crate::report::table::plural(c.substeps, "substep"),
         c.rate,
         p.margin,
-        c.log_stride(),
+        c.schedule().frames_text(),
         drawn,
         p.strands,
         methods.join("\n"),

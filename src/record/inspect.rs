@@ -25,6 +25,8 @@ pub struct RecordingInfo {
     pub application_id: String,
     /// The `physlab` recording properties: version, commit, config, command line, methods...
     pub properties: BTreeMap<String, String>,
+    /// The `physlab_run` properties: where each scene ended (`<scene>_status`, `_ended`...).
+    pub run: BTreeMap<String, String>,
     pub entities: BTreeSet<String>,
     /// Smallest and largest `sim_time` [s].
     pub time_range: Option<(f64, f64)>,
@@ -90,14 +92,21 @@ pub fn read_recording(path: &Path) -> Result<RecordingInfo, UsageError> {
         info.chunks += 1;
         let entity = chunk.entity_path().to_string();
         if entity.starts_with("/__properties") {
-            if entity.ends_with("/physlab") {
+            let target = if entity.ends_with("/physlab") {
+                Some(&mut info.properties)
+            } else if entity.ends_with("/physlab_run") {
+                Some(&mut info.run)
+            } else {
+                None
+            };
+            if let Some(target) = target {
                 for descriptor in chunk.component_descriptors() {
                     let key = descriptor.component.as_str();
                     let key = key.rsplit(':').next().unwrap_or(key).to_string();
                     if let Some(values) = chunk.iter_slices::<String>(descriptor.component).next()
                         && let Some(v) = values.first()
                     {
-                        info.properties.insert(key, v.as_str().to_string());
+                        target.insert(key, v.as_str().to_string());
                     }
                 }
             }

@@ -82,7 +82,6 @@ pub struct PendulumDraw {
     /// Each lane's pivot [m]: a wall of slots in the x-z plane, above the viewer's ground grid.
     pivots: Vec<[f32; 3]>,
     length: f64,
-    frame_stride: u64,
     /// Decimated (θ, ω) per lane for the phase portrait.
     phase: Vec<Vec<[f32; 2]>>,
     phase_stride: u64,
@@ -98,7 +97,6 @@ pub fn recorder(rec: RecordingStream, timings: bool) -> SceneRecorder<PendulumDr
             lanes: Vec::new(),
             pivots: Vec::new(),
             length: 1.0,
-            frame_stride: 1,
             phase: Vec::new(),
             phase_stride: 1,
             reference_description: String::new(),
@@ -120,10 +118,6 @@ impl PendulumDraw {
 }
 
 impl Draw<PendulumScene> for PendulumDraw {
-    fn frame_index(&self, tick: u64) -> i64 {
-        (tick / self.frame_stride) as i64
-    }
-
     fn start(
         &mut self,
         rec: &RecordingStream,
@@ -135,7 +129,6 @@ impl Draw<PendulumScene> for PendulumDraw {
         self.lanes = lanes.iter().map(|l| l.0).collect();
         self.pivots = slot_pivots(self.lanes.len(), c.params.length as f32);
         self.length = c.params.length;
-        self.frame_stride = schedule.frame_stride;
         self.phase = vec![Vec::new(); self.lanes.len()];
         self.reference_description = scene.reference_description();
         self.phase_stride =
@@ -306,7 +299,6 @@ impl Draw<PendulumScene> for PendulumDraw {
         if description != self.reference_description {
             let schedule = scene.schedule();
             rec.set_duration_secs("sim_time", schedule.end_time());
-            rec.set_time_sequence("frame", self.frame_index(schedule.total));
             rec.log(
                 "pendulum/events",
                 &rerun::TextLog::new(description).with_level(rerun::TextLogLevel::INFO),
@@ -330,7 +322,7 @@ fn about_text(scene: &PendulumScene) -> String {
          θ'' = −(g/L) sin θ, f64, state (θ, ω).\n\n\
          | parameter | value |\n|---|---|\n\
          | g | {} m/s² |\n| L | {} m |\n| θ0 | {}° |\n| ω0 | {} rad/s |\n| dt | {} s |\n\
-         | steps | {} (to t = {} s) |\n| 3D frames | every {} steps ({:.3} Hz) |\n| plotted | every {} steps |\n\
+         | steps | {} (to t = {} s) |\n| 3D frames | {} |\n| plotted | every {} steps |\n\
          | methods | {} |\n| Verlet damping d | {} |\n\n\
          **Reference**: {}\n\n\
          Energy is per unit mass with zero at the bottom: E0 = {:.9} J/kg; the relative energy error is \
@@ -344,8 +336,7 @@ fn about_text(scene: &PendulumScene) -> String {
         c.dt,
         s.total,
         crate::report::table::trim_number(s.end_time(), 9),
-        s.frame_stride,
-        1.0 / (s.frame_stride as f64 * c.dt),
+        s.frames_text(),
         s.plot_stride,
         c.methods
             .iter()

@@ -16,7 +16,7 @@ use super::{
 };
 use crate::report::rope::cost_per_step;
 use crate::report::table::trim_number;
-use crate::scene::harness::{Event, Frame, Scene as _};
+use crate::scene::harness::{Event, Frame};
 use crate::scene::rope::node;
 use crate::scene::rope::run::{ENERGY_GAIN_BOUND, Layout, RopeLane, RopeScene};
 
@@ -43,7 +43,6 @@ pub fn blueprint(timings: bool) -> Blueprint {
 pub struct RopeDraw {
     names: Vec<&'static str>,
     offsets: Vec<[f64; 3]>,
-    frame_stride: u64,
     /// f32 scratch for positions, reused every frame.
     points: Vec<[f32; 3]>,
 }
@@ -55,7 +54,6 @@ pub fn recorder(rec: RecordingStream, timings: bool) -> SceneRecorder<RopeDraw> 
         RopeDraw {
             names: Vec::new(),
             offsets: Vec::new(),
-            frame_stride: 1,
             points: Vec::new(),
         },
         timings,
@@ -81,10 +79,6 @@ impl RopeDraw {
 }
 
 impl Draw<RopeScene> for RopeDraw {
-    fn frame_index(&self, tick: u64) -> i64 {
-        (tick / self.frame_stride) as i64
-    }
-
     fn start(
         &mut self,
         rec: &RecordingStream,
@@ -94,7 +88,6 @@ impl Draw<RopeScene> for RopeDraw {
         let c = &scene.config;
         let p = &c.params;
         self.names = lanes.iter().map(|l| l.0).collect();
-        self.frame_stride = scene.schedule().frame_stride;
         // Slots sized to the rope: hanging from a pin it sweeps a circle of its own length.
         let span = (p.end - p.start).length().max(1e-9);
         self.offsets = match c.layout {
@@ -233,7 +226,7 @@ fn about_text(scene: &RopeScene) -> String {
          {} point masses from {:?} to {:?} m, Hooke springs between neighbours (rest length = initial spacing \
          {} m), spring damping along each spring, air drag, gravity; pinned nodes {:?}. f64.\n\n\
          | parameter | value |\n|---|---|\n| mass per node | {} kg |\n| ks | {} N/m |\n| kd | {} N·s/m |\n\
-         | ka | {} N·s/m |\n| gravity | {:?} m/s² |\n| dt | {} s |\n| steps | {} |\n| 3D frames | every {} steps |\n\
+         | ka | {} N·s/m |\n| gravity | {:?} m/s² |\n| dt | {} s |\n| steps | {} |\n| 3D frames | {} |\n\
          | plotted | every {} steps |\n| Verlet damping d | {} |\n| implicit Newton iterations | {} |\n\n\
          The linearised rope's {}.\n\
          Energy E0 = {:.6} J (gravity's zero at the origin), energy scale {:.4} J. A method stops when its \
@@ -253,7 +246,7 @@ fn about_text(scene: &RopeScene) -> String {
         p.gravity.to_array(),
         c.dt,
         s.total,
-        s.frame_stride,
+        s.frames_text(),
         s.plot_stride,
         c.options.verlet_damping,
         p.newton_iterations,

@@ -34,8 +34,6 @@ pub fn plotted(quantity: &'static str) -> &'static str {
 
 /// What is particular to one scene's recording: its 3D picture.
 pub trait Draw<S: Scene> {
-    /// The value of the `frame` timeline at a tick.
-    fn frame_index(&self, tick: u64) -> i64;
     /// Static styles, the stage, the run's description.
     fn start(
         &mut self,
@@ -81,6 +79,11 @@ pub fn clear_diverged(
 
 /// Records a scene's run: `<scene>/plots/<quantity>/<lane>` series, `<scene>/events`, and the
 /// scene's own 3D entities.
+///
+/// Timelines: `sim_time` for everything; `frame` for the 3D frames only (and the events, at the
+/// last frame before them), with frame N at N / `frame_rate` s in every scene of a recording, so
+/// that in `physlab all` frame N is one moment. The series are on `sim_time` alone: they are
+/// sampled more often than frames, and one frame index must not hold several samples.
 pub struct SceneRecorder<D> {
     rec: RecordingStream,
     draw: D,
@@ -89,6 +92,8 @@ pub struct SceneRecorder<D> {
     quantities: Vec<&'static [&'static str]>,
     /// Whether wall-clock frame costs are plotted.
     timings: bool,
+    /// The recording's `frame` rate [Hz] (the highest of its scenes'); the scene's own by default.
+    frame_rate: Option<f64>,
 }
 
 impl<D> SceneRecorder<D> {
@@ -99,16 +104,24 @@ impl<D> SceneRecorder<D> {
             names: Vec::new(),
             quantities: Vec::new(),
             timings,
+            frame_rate: None,
         }
     }
 
-    fn set_time<S: Scene>(&self, tick: u64, time: f64)
-    where
-        D: Draw<S>,
-    {
+    /// Numbers the `frame` timeline at `hz` frames per second, for a recording of several scenes.
+    pub fn with_frame_rate(mut self, hz: f64) -> Self {
+        self.frame_rate = Some(hz);
+        self
+    }
+
+    /// Sets `sim_time`, and `frame` to the last 3D frame at or before `tick`.
+    fn set_time<S: Scene>(&self, scene: &S, tick: u64, time: f64) {
+        let schedule = scene.schedule();
+        let rate = self.frame_rate.unwrap_or(schedule.fps);
+        let frame_time = schedule.time(schedule.frame_tick(schedule.frame_at(tick)));
         self.rec.set_duration_secs("sim_time", time);
         self.rec
-            .set_time_sequence("frame", self.draw.frame_index(tick));
+            .set_time_sequence("frame", (frame_time * rate).round() as i64);
     }
 }
 
@@ -140,13 +153,10 @@ impl<S: Scene, D: Draw<S>> Observer<S> for SceneRecorder<D> {
         self.draw.series(lane, batch);
         let name = self.names[lane];
         let times = || {
-            [
-                TimeColumn::new_duration_secs("sim_time", batch.times.iter().copied()),
-                TimeColumn::new_sequence(
-                    "frame",
-                    batch.ticks.iter().map(|&t| self.draw.frame_index(t)),
-                ),
-            ]
+            [TimeColumn::new_duration_secs(
+                "sim_time",
+                batch.times.iter().copied(),
+            )]
         };
         for (&quantity, values) in self.quantities[lane].iter().zip(&batch.columns) {
             let entity = format!("{}/plots/{}/{name}", scene.name(), plotted(quantity));
@@ -165,13 +175,10 @@ impl<S: Scene, D: Draw<S>> Observer<S> for SceneRecorder<D> {
             }
             self.rec.send_columns(
                 entity,
-                [
-                    TimeColumn::new_duration_secs("sim_time", kept.iter().map(|&i| batch.times[i])),
-                    TimeColumn::new_sequence(
-                        "frame",
-                        kept.iter().map(|&i| self.draw.frame_index(batch.ticks[i])),
-                    ),
-                ],
+                [TimeColumn::new_duration_secs(
+                    "sim_time",
+                    kept.iter().map(|&i| batch.times[i]),
+                )],
                 rerun::Scalars::new(kept.iter().map(|&i| values[i].abs().log10()))
                     .columns_of_unit_batches()?,
             )?;
@@ -180,7 +187,7 @@ impl<S: Scene, D: Draw<S>> Observer<S> for SceneRecorder<D> {
     }
 
     fn frame(&mut self, scene: &S, frame: &Frame<S::Lane>) -> anyhow::Result<()> {
-        self.set_time::<S>(frame.tick, frame.time);
+        self.set_time(scene, frame.tick, frame.time);
         self.draw.frame(&self.rec, scene, frame)?;
         if self.timings && frame.tick > 0 {
             for (i, lane) in frame.lanes.iter().enumerate() {
@@ -198,7 +205,7 @@ impl<S: Scene, D: Draw<S>> Observer<S> for SceneRecorder<D> {
     }
 
     fn event(&mut self, scene: &S, event: &Event) -> anyhow::Result<()> {
-        self.set_time::<S>(event.tick, event.time);
+        self.set_time(scene, event.tick, event.time);
         self.rec.log(
             format!("{}/events", scene.name()),
             &rerun::TextLog::new(event.message.clone()).with_level(rerun::TextLogLevel::WARN),

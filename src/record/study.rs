@@ -15,6 +15,7 @@ pub fn record_study(
     scene: &str,
     diagrams: &[(String, Vec<u8>)],
     tables: &str,
+    (config, methods): (&str, &[&str]),
 ) -> anyhow::Result<Option<u64>> {
     let mut views: Vec<ContainerLike> = diagrams
         .iter()
@@ -48,8 +49,9 @@ pub fn record_study(
     .with_blueprint_panel(BlueprintPanel::new().with_state(PanelState::Collapsed))
     .with_selection_panel(SelectionPanel::new().with_state(PanelState::Collapsed))
     .with_time_panel(TimePanel::new().with_state(PanelState::Collapsed));
-    let recording = Recording::create(d, &format!("study {scene}"), blueprint)?;
+    let recording = Recording::create(d, "physlab-study", &format!("study {scene}"), blueprint)?;
     let rec = recording.stream();
+    super::send_provenance(rec, &format!("study {scene}"), config, methods)?;
     for (i, (_, png)) in diagrams.iter().enumerate() {
         rec.log_static(
             format!("study/diagrams/{i}"),

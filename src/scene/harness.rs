@@ -16,7 +16,8 @@ pub const MAX_PLOT_POINTS: u64 = 10_000;
 
 /// Sampled values are handed to the observer in batches of about this many rows: every batch
 /// becomes a chunk in a recording, and small chunks cost more than their data.
-const SERIES_BATCH: usize = 2048;
+/// 4096 is the chunk size `rerun rrd optimize` compacts to (`ChunkStoreConfig::DEFAULT`).
+const SERIES_BATCH: usize = 4096;
 
 /// How a tick maps to simulated time.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -41,25 +42,106 @@ impl Clock {
 pub struct Schedule {
     /// Ticks in the run, at least 1.
     pub total: u64,
-    /// Ticks between 3D frames, at least 1.
-    pub frame_stride: u64,
+    /// 3D frames asked for per simulated second. Frame k is handed out at the tick nearest to
+    /// k / fps s (within half a tick), so that frames come at `fps` on average whatever the step;
+    /// when a tick is longer than 1 / fps, every tick is a frame ([`Schedule::frame_rate`]).
+    pub fps: f64,
     /// Ticks between sampled series values (the final tick is always sampled), at least 1.
     pub plot_stride: u64,
     pub clock: Clock,
 }
 
 impl Schedule {
-    /// A fixed-step schedule: round(duration / dt) steps, 3D frames every round(1 / (fps dt))
-    /// steps, series every `plot_every` steps or more, so that no series holds more than
-    /// [`MAX_PLOT_POINTS`] points.
+    /// A fixed-step schedule: round(duration / dt) steps, 3D frames at `fps`, series every
+    /// `plot_every` steps or more, so that no series holds more than [`MAX_PLOT_POINTS`] points.
     pub fn fixed_step(dt: f64, duration: f64, fps: f64, plot_every: u64) -> Self {
         let total = ((duration / dt).round() as u64).max(1);
         Schedule {
             total,
-            frame_stride: ((1.0 / (fps * dt)).round() as u64).max(1),
+            fps,
             plot_stride: total.div_ceil(MAX_PLOT_POINTS).max(plot_every).max(1),
             clock: Clock::Step(dt),
         }
+    }
+
+    /// Simulated seconds per tick.
+    pub fn tick_seconds(&self) -> f64 {
+        match self.clock {
+            Clock::Step(dt) => dt,
+            Clock::Rate(rate) => 1.0 / rate,
+        }
+    }
+
+    /// Ticks per 3D frame on average (at least 1): 1 / (fps · dt), or rate / fps.
+    pub fn ticks_per_frame(&self) -> f64 {
+        match self.clock {
+            Clock::Step(dt) => 1.0 / (self.fps * dt),
+            Clock::Rate(rate) => rate / self.fps,
+        }
+        .max(1.0)
+    }
+
+    /// The 3D frames' actual rate [Hz]: `fps`, or one per tick when ticks are longer than a frame.
+    pub fn frame_rate(&self) -> f64 {
+        1.0 / (self.ticks_per_frame() * self.tick_seconds())
+    }
+
+    /// The tick of 3D frame k: the one nearest to k / fps s.
+    pub fn frame_tick(&self, k: u64) -> u64 {
+        (k as f64 * self.ticks_per_frame()).round() as u64
+    }
+
+    /// The last 3D frame at or before `tick`.
+    pub fn frame_at(&self, tick: u64) -> u64 {
+        let mut k = (tick as f64 / self.ticks_per_frame()) as u64;
+        while k > 0 && self.frame_tick(k) > tick {
+            k -= 1;
+        }
+        while self.frame_tick(k + 1) <= tick {
+            k += 1;
+        }
+        k
+    }
+
+    /// The first 3D frame at or after `tick`.
+    pub fn next_frame(&self, tick: u64) -> u64 {
+        let k = self.frame_at(tick);
+        if self.frame_tick(k) == tick { k } else { k + 1 }
+    }
+
+    /// When the 3D frames come, in words (the recordings' `about` panels).
+    pub fn frames_text(&self) -> String {
+        let (unit, per) = match self.clock {
+            Clock::Step(_) => ("step", "steps"),
+            Clock::Rate(_) => ("simulation frame", "simulation frames"),
+        };
+        let tpf = self.ticks_per_frame();
+        if tpf == 1.0 && self.frame_rate() < self.fps {
+            format!(
+                "every {unit}: {:.6} Hz, below the {} Hz asked for ({} frames)",
+                self.frame_rate(),
+                self.fps,
+                self.frames()
+            )
+        } else if tpf.fract() == 0.0 {
+            format!(
+                "{} Hz, every {tpf} {per} ({} frames)",
+                self.fps,
+                self.frames()
+            )
+        } else {
+            format!(
+                "{} Hz: frame k at the {unit} nearest k/{} s, {tpf:.4} {per} apart on average ({} frames)",
+                self.fps,
+                self.fps,
+                self.frames()
+            )
+        }
+    }
+
+    /// 3D frames in the run, frame 0 (tick 0) included.
+    pub fn frames(&self) -> u64 {
+        self.frame_at(self.total) + 1
     }
 
     /// Whether the series are sampled at `tick`.
@@ -275,9 +357,41 @@ pub struct Run<L> {
     pub frames: u64,
     /// Whether the run stopped early on request (Ctrl-C).
     pub interrupted: bool,
+    /// The last tick the run reached: the schedule's total, or where it was interrupted.
+    pub last_tick: u64,
 }
 
 impl<L> Run<L> {
+    /// Where the run ended, in words: complete, or interrupted at which time and tick; and the
+    /// lanes that diverged, when.
+    pub fn ending(&self, schedule: &Schedule) -> String {
+        let mut text = if self.interrupted {
+            format!(
+                "ended early: interrupted (Ctrl-C) at t = {} s, tick {} of {} ({:.1}% of the run); \
+                 the configuration's duration is what was asked, not what was run",
+                schedule.time(self.last_tick),
+                self.last_tick,
+                schedule.total,
+                100.0 * self.last_tick as f64 / schedule.total as f64
+            )
+        } else {
+            format!(
+                "complete: t = {} s, {} ticks",
+                schedule.end_time(),
+                schedule.total
+            )
+        };
+        for s in &self.stats {
+            if let Some(e) = &s.divergence {
+                text.push_str(&format!(
+                    "; {} stopped at t = {} s (tick {}): diverged",
+                    s.name, e.time, e.tick
+                ));
+            }
+        }
+        text
+    }
+
     /// `scene/lane` for every lane that diverged.
     pub fn diverged(&self, scene: &str) -> Vec<String> {
         self.stats
@@ -371,7 +485,7 @@ pub fn run<S: Scene>(
     let mut interrupted = false;
     while first <= schedule.total {
         // A stop request (Ctrl-C) ends the run at a block boundary; what was done so far stands.
-        if crate::interrupt::requested() {
+        if crate::interrupt::stops_at(first) {
             interrupted = true;
             break;
         }
@@ -379,7 +493,7 @@ pub fn run<S: Scene>(
             .total
             .min(first.saturating_add(scene.max_block() - 1));
         if !scene.traced() {
-            last = last.min(first.next_multiple_of(schedule.frame_stride));
+            last = last.min(schedule.frame_tick(schedule.next_frame(first)));
         }
         let len = (last - first + 1) as usize;
         scene.prepare(first, len);
@@ -456,11 +570,12 @@ pub fn run<S: Scene>(
         }
 
         // 3D frames that fall in this block.
-        let mut tick = first.next_multiple_of(schedule.frame_stride);
+        let mut k = schedule.next_frame(first);
+        let mut tick = schedule.frame_tick(k);
         while tick <= last {
             let offset = (tick - first) as usize;
             let view = Frame {
-                index: frames,
+                index: k,
                 tick,
                 time: schedule.time(tick),
                 lanes: lanes
@@ -473,7 +588,8 @@ pub fn run<S: Scene>(
             observer.frame(scene, &view)?;
             cost.fill(Duration::ZERO);
             frames += 1;
-            tick += schedule.frame_stride;
+            k += 1;
+            tick = schedule.frame_tick(k);
         }
         first = last + 1;
     }
@@ -488,6 +604,7 @@ pub fn run<S: Scene>(
         stats,
         frames,
         interrupted,
+        last_tick: first - 1,
     };
     observer.finish(scene, &run)?;
     Ok(run)
@@ -596,7 +713,7 @@ mod tests {
     fn schedule(total: u64, frame_stride: u64, plot_stride: u64) -> Schedule {
         Schedule {
             total,
-            frame_stride,
+            fps: 1.0 / (0.5 * frame_stride as f64),
             plot_stride,
             clock: Clock::Step(0.5),
         }
@@ -630,5 +747,43 @@ mod tests {
             // Frames after the divergence show the lane as gone.
             assert!(seen.frames.iter().all(|&(t, alive)| alive == (t < 10)));
         }
+    }
+
+    /// `--fps 30` at dt = 0.01 s used to log every round(3.33) = 3 steps, 33.3 Hz. Frames now
+    /// come at the step nearest k/30 s: 30 Hz on average, each within half a step of its time.
+    #[test]
+    fn frames_come_at_the_rate_asked_each_within_half_a_tick_of_its_time() {
+        for (dt, fps) in [
+            (0.01, 30.0),
+            (1e-3, 30.0),
+            (0.01, 7.0),
+            (1.0 / 64.0, 1.0),
+            (0.1, 30.0),
+        ] {
+            let s = Schedule::fixed_step(dt, 20.0, fps, 1);
+            let tpf = (1.0 / (fps * dt)).max(1.0);
+            assert_eq!(s.frame_rate(), 1.0 / (tpf * dt));
+            let mut previous = None;
+            for k in 0..s.frames() {
+                let tick = s.frame_tick(k);
+                assert!(
+                    (tick as f64 - k as f64 * tpf).abs() <= 0.5,
+                    "dt {dt} fps {fps} k {k}"
+                );
+                assert!(previous.is_none_or(|p| tick > p));
+                previous = Some(tick);
+                assert_eq!(s.frame_at(tick), k);
+                assert_eq!(s.next_frame(tick), k);
+                if tick > 0 && s.frame_tick(k - 1) < tick - 1 {
+                    assert_eq!(s.frame_at(tick - 1), k - 1);
+                    assert_eq!(s.next_frame(tick - 1), k);
+                }
+            }
+            assert!(s.frame_tick(s.frames()) > s.total);
+        }
+        // 2000 steps of 0.01 s at 30 Hz: 601 frames (t = 0 to 20 s), not 667.
+        assert_eq!(Schedule::fixed_step(0.01, 20.0, 30.0, 1).frames(), 601);
+        // A step longer than a frame: every step is one, and the rate says so.
+        assert_eq!(Schedule::fixed_step(0.1, 20.0, 30.0, 1).frame_rate(), 10.0);
     }
 }

@@ -104,18 +104,14 @@ impl HairConfig {
     pub fn frames(&self) -> u64 {
         ((self.duration * self.rate).round() as u64).max(1)
     }
-    /// Simulation frames between logged 3D frames.
-    pub fn log_stride(&self) -> u64 {
-        ((self.rate / self.fps).round() as u64).max(1)
-    }
     pub fn step_dt(&self) -> f64 {
         1.0 / (self.rate * self.substeps as f64)
     }
-    /// One tick per simulation frame; series every frame; 3D every `log_stride` frames.
+    /// One tick per simulation frame; series every frame; 3D frames at `fps`.
     pub fn schedule(&self) -> Schedule {
         Schedule {
             total: self.frames(),
-            frame_stride: self.log_stride(),
+            fps: self.fps,
             plot_stride: 1,
             clock: Clock::Rate(self.rate),
         }
