@@ -236,3 +236,41 @@ fn all_fps_and_plot_every_override_every_scene() {
     assert_eq!(text.matches("fps = 5.0").count(), 3, "{text}");
     assert_eq!(text.matches("plot_every = 3").count(), 2, "{text}");
 }
+
+#[test]
+fn all_methods_gives_each_scene_the_listed_methods_it_supports() {
+    let (code, toml, stderr) = physlab(&["all", "--methods", "rk4,ftl,verlet", "--print-config"]);
+    assert_eq!(code, 0, "{stderr}");
+    let file: toml::Table = toml.parse().unwrap();
+    let methods = |scene: &str| -> Vec<String> {
+        file[scene]["methods"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|m| m.as_str().unwrap().to_string())
+            .collect()
+    };
+    assert_eq!(methods("pendulum"), ["rk4", "verlet"]);
+    assert_eq!(methods("rope"), ["rk4", "verlet"]);
+    assert_eq!(methods("hair"), ["ftl", "verlet"]);
+
+    // A name no scene has: the option, the value and both scenes' allowed names.
+    let (code, _, stderr) = physlab(&["all", "--methods", "rk4,ftl,nope", "--print-config"]);
+    assert_eq!(code, 2, "{stderr}");
+    for expected in ["--methods rk4,ftl,nope", "'nope'", "dopri5", "ftl"] {
+        assert!(stderr.contains(expected), "lacks '{expected}':\n{stderr}");
+    }
+    // A list that leaves a scene without a method is refused by the scene's name.
+    let (code, _, stderr) = physlab(&["all", "--methods", "rk4", "--print-config"]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(
+        stderr.contains("--methods rk4") && stderr.contains("hair") && stderr.contains("ftl"),
+        "{stderr}"
+    );
+    let (code, _, stderr) = physlab(&["all", "--methods", "ftl", "--print-config"]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(
+        stderr.contains("the pendulum and the rope") && stderr.contains("rk4"),
+        "{stderr}"
+    );
+}

@@ -22,6 +22,7 @@ pub use reproduce::Differs;
 use crate::cli::{AllArgs, Cli, Command, HairArgs, PendulumArgs, RopeArgs, RunArgs};
 use crate::record::scene::{Draw, SceneRecorder};
 use crate::record::{Destinations, Recording, SceneEnd, send_provenance};
+use crate::scene::hair::HairMethod;
 use crate::scene::hair::run::{HairConfig, HairScene};
 use crate::scene::harness::{self, NoObserver, Observer, Run, Scene};
 use crate::scene::pendulum::run::{PendulumConfig, PendulumScene};
@@ -67,7 +68,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             },
             &Replay::default(),
         ),
-        Command::All(c) => simulate(all_plan(&c), &c.run, &Output::Record, &Replay::default()),
+        Command::All(c) => simulate(all_plan(&c)?, &c.run, &Output::Record, &Replay::default()),
         Command::Reproduce(args) => reproduce::reproduce_command(&args),
         Command::Diff(args) => reproduce::diff_command(&args),
         Command::Study(a) => study::study(&a),
@@ -94,24 +95,82 @@ struct Plan {
     hair: Option<HairArgs>,
 }
 
-/// `physlab all`: the three scenes; its own --fps and --plot-every override every scene's.
-fn all_plan(c: &AllArgs) -> Plan {
-    Plan {
+/// `physlab all`: the three scenes; its own --fps, --plot-every and --methods override every
+/// scene's. Each scene takes the listed methods it supports.
+fn all_plan(c: &AllArgs) -> Result<Plan, UsageError> {
+    let (registry, hair) = match &c.methods {
+        Some(names) => {
+            let (registry, hair) = split_methods(names)?;
+            (Some(registry), Some(hair))
+        }
+        None => (None, None),
+    };
+    Ok(Plan {
         pendulum: Some(PendulumArgs {
             fps: c.fps,
             plot_every: c.plot_every,
+            methods: registry.clone(),
             ..PendulumArgs::default()
         }),
         rope: Some(RopeArgs {
             fps: c.fps,
             plot_every: c.plot_every,
+            methods: registry,
             ..RopeArgs::default()
         }),
         hair: Some(HairArgs {
             fps: c.fps,
+            methods: hair,
             ..HairArgs::default()
         }),
+    })
+}
+
+/// `all --methods`: the names the pendulum and rope take (the registry's) and those hair takes.
+/// A name no scene knows, or a list that leaves a scene with none, is refused.
+fn split_methods(
+    names: &[String],
+) -> Result<(Vec<crate::integrate::Method>, Vec<HairMethod>), UsageError> {
+    use crate::integrate::Method;
+    let list = names.join(",");
+    let mut registry = Vec::new();
+    let mut hair = Vec::new();
+    for name in names {
+        let r = name.parse::<Method>().ok();
+        let h = name.parse::<HairMethod>().ok();
+        if r.is_none() && h.is_none() {
+            return Err(UsageError(format!(
+                "--methods {list}: no scene has a method '{name}' (pendulum and rope: {}; hair: {})",
+                Method::names().collect::<Vec<_>>().join(", "),
+                hair_names()
+            )));
+        }
+        registry.extend(r);
+        hair.extend(h);
     }
+    let none = |scene: &str, allowed: String| {
+        UsageError(format!(
+            "--methods {list}: leaves {scene} no method (it takes: {allowed})"
+        ))
+    };
+    if registry.is_empty() {
+        return Err(none(
+            "the pendulum and the rope",
+            Method::names().collect::<Vec<_>>().join(", "),
+        ));
+    }
+    if hair.is_empty() {
+        return Err(none("hair", hair_names()));
+    }
+    Ok((registry, hair))
+}
+
+fn hair_names() -> String {
+    HairMethod::ALL
+        .iter()
+        .map(|m| m.name())
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// What happens to the run's output besides the summary.

@@ -109,6 +109,11 @@ pub struct AllArgs {
     /// Plot every Nth step of the pendulum and the rope (overrides the scene file)
     #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub plot_every: Option<u64>,
+
+    /// Methods, comma-separated (overrides the scene file); each scene runs those it supports
+    /// (`physlab methods` lists the registry's and hair's), and every scene must be left one
+    #[arg(long, value_delimiter = ',', value_name = "LIST")]
+    pub methods: Option<Vec<String>>,
 }
 
 #[derive(Args, Debug, Clone)]
