@@ -150,7 +150,7 @@ fn split_methods(
     }
     let none = |scene: &str, allowed: String| {
         UsageError(format!(
-            "--methods {list}: leaves {scene} no method (it takes: {allowed})"
+            "--methods {list}: leaves {scene} no method (allowed: {allowed})"
         ))
     };
     if registry.is_empty() {
