@@ -58,7 +58,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             &c.run,
             &Output::Hair {
                 threads: c.threads,
-                no_record: c.no_record,
                 log_strands: c.log_strands,
             },
         ),
@@ -111,10 +110,9 @@ fn all_plan(c: &AllArgs) -> Plan {
 enum Output {
     /// Record as the run options say.
     Record,
-    /// Hair's extras: its worker threads, --no-record and --log-strands.
+    /// Hair's extras: its worker threads and --log-strands.
     Hair {
         threads: Option<usize>,
-        no_record: bool,
         log_strands: Option<usize>,
     },
 }
@@ -243,13 +241,13 @@ pub fn hair_config(args: &HairArgs) -> Result<HairConfig, UsageError> {
 fn simulate(plan: Plan, run: &RunArgs, output: &Output) -> anyhow::Result<()> {
     let resolved = resolve(plan, run)?;
     let text = resolved.file.to_toml()?;
-    let (threads, no_record, log_strands) = match output {
-        Output::Record => (None, false, None),
+    let no_record = run.no_record;
+    let (threads, log_strands) = match output {
+        Output::Record => (None, None),
         Output::Hair {
             threads,
-            no_record,
             log_strands,
-        } => (*threads, *no_record, *log_strands),
+        } => (*threads, *log_strands),
     };
     if threads == Some(0) {
         return Err(UsageError("--threads 0: must be at least 1".into()).into());
@@ -367,12 +365,7 @@ fn simulate(plan: Plan, run: &RunArgs, output: &Output) -> anyhow::Result<()> {
                 &mut progress,
             )
         })?;
-        if no_record {
-            text.push_str(&format!(
-                "\nno recording (--no-record), {:.1} s\n",
-                started.elapsed().as_secs_f64()
-            ));
-        } else {
+        if !no_record {
             text.push_str(&format!(
                 "\n3D: {} of {} strands drawn per head (--log-strands); every strand is simulated and measured above\n",
                 plan.drawn, plan.strands
@@ -484,6 +477,11 @@ fn finish(
     }
     if let Some(bytes) = bytes {
         report_recording(d, bytes, started);
+    } else if run.no_record {
+        println!(
+            "\nno recording (--no-record), {:.1} s",
+            started.elapsed().as_secs_f64()
+        );
     }
     if crate::interrupt::requested() {
         let kept = match &d.file {
