@@ -37,10 +37,17 @@ fn hair_run_writes_one_strip_entity_per_method() {
         }
         // Wall-clock costs are only recorded with --timings.
         assert!(!d.scalars.contains_key(&format!("/hair/plots/frame_ms/{m}")));
-        for q in ["max_stretch", "max_penetration", "kinetic_energy"] {
+        for q in ["max_penetration", "kinetic_energy"] {
             let rows = &d.scalars[&format!("/hair/plots/{q}/{m}")];
             assert_eq!(rows.len(), 60, "{q}/{m}: one value per 60 Hz frame");
         }
+        // The stretch is plotted as log10 (frames with exactly zero stretch left out): every
+        // value below 10⁻¹ (the springs' bound is 10⁻², the constraints' round-off).
+        let rows = &d.scalars[&format!("/hair/plots/log10_max_stretch/{m}")];
+        assert!(
+            (1..=60).contains(&rows.len()) && rows.iter().all(|r| r.1.is_finite() && r.1 < -1.0),
+            "log10_max_stretch/{m}: {rows:?}"
+        );
         // The head never swallows a node: every recorded penetration is below 1e-6 R.
         assert!(
             d.scalars[&format!("/hair/plots/max_penetration/{m}")]

@@ -202,3 +202,12 @@ fn dash_output_streams_the_recording_to_stdout_and_the_summary_to_stderr() {
     assert!(!std::path::Path::new("-").exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn no_record_is_a_run_flag_of_every_scene() {
+    for scene in ["pendulum", "rope"] {
+        let (code, stdout, stderr) = physlab(&[scene, "--duration", "0.5", "-q", "--no-record"]);
+        assert_eq!(code, 0, "{stderr}");
+        assert!(stdout.contains("no recording (--no-record)"), "{stdout}");
+    }
+}

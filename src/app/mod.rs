@@ -63,7 +63,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             &c.run,
             &Output::Hair {
                 threads: c.threads,
-                no_record: c.no_record,
                 log_strands: c.log_strands,
             },
             &Replay::default(),
@@ -177,10 +176,9 @@ fn hair_names() -> String {
 enum Output {
     /// Record as the run options say.
     Record,
-    /// Hair's extras: its worker threads, --no-record and --log-strands.
+    /// Hair's extras: its worker threads and --log-strands.
     Hair {
         threads: Option<usize>,
-        no_record: bool,
         log_strands: Option<usize>,
     },
 }
@@ -329,13 +327,13 @@ pub fn hair_config(args: &HairArgs) -> Result<HairConfig, UsageError> {
 fn simulate(plan: Plan, run: &RunArgs, output: &Output, replay: &Replay) -> anyhow::Result<()> {
     let resolved = resolve(plan, run)?;
     let text = resolved.file.to_toml()?;
-    let (threads, no_record, log_strands) = match output {
-        Output::Record => (None, false, None),
+    let no_record = run.no_record;
+    let (threads, log_strands) = match output {
+        Output::Record => (None, None),
         Output::Hair {
             threads,
-            no_record,
             log_strands,
-        } => (*threads, *no_record, *log_strands),
+        } => (*threads, *log_strands),
     };
     if threads == Some(0) {
         return Err(UsageError("--threads 0: must be at least 1".into()).into());
@@ -478,12 +476,7 @@ fn simulate(plan: Plan, run: &RunArgs, output: &Output, replay: &Replay) -> anyh
                 &mut progress,
             )
         })?;
-        if no_record {
-            ran.summary.push_str(&format!(
-                "\nno recording (--no-record), {:.1} s\n",
-                started.elapsed().as_secs_f64()
-            ));
-        } else {
+        if !no_record {
             ran.summary.push_str(&format!(
                 "\n3D: {} of {} strands drawn per head (--log-strands); every strand is simulated and measured above\n",
                 plan.drawn, plan.strands
@@ -638,6 +631,11 @@ fn finish(
         && !summaries.is_empty()
     {
         report_recording(d, bytes, started);
+    } else if run.no_record {
+        println!(
+            "\nno recording (--no-record), {:.1} s",
+            started.elapsed().as_secs_f64()
+        );
     }
     if crate::interrupt::requested() {
         let kept = match &d.file {

@@ -83,6 +83,10 @@ pub struct RunArgs {
     #[arg(long)]
     pub no_save: bool,
 
+    /// Neither write nor stream a recording: only the summary (throughput runs)
+    #[arg(long)]
+    pub no_record: bool,
+
     /// Also plot wall-clock costs (ms per frame); off by default so that a recording depends only
     /// on its inputs
     #[arg(long)]
@@ -141,9 +145,6 @@ pub struct HairCommand {
     /// Worker threads for the strands [default: all cores]; results do not depend on it
     #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub threads: Option<usize>,
-    /// Neither write nor stream a recording (throughput runs)
-    #[arg(long)]
-    pub no_record: bool,
     /// Strands drawn in 3D, spread evenly over the head; every strand is still simulated and
     /// measured [default: as many as keep the 3D part of the recording under 180 MB]
     #[arg(long, value_name = "N", allow_negative_numbers = true)]

@@ -140,7 +140,8 @@ pub struct RopeArgs {
     #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
     pub end: Option<Vector>,
 
-    /// Gravitational acceleration x,y[,z] [m/s²]
+    /// Gravitational acceleration x,y[,z] [m/s²], y up like every rope vector (GAMES101's 2D
+    /// x,y); the recording draws the rope z-up like the other scenes, (x, y, z) → (x, −z, y)
     #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
     pub gravity: Option<Vector>,
 

@@ -432,6 +432,9 @@ pub fn work_precision(scene: &str, rows: &[Row], floor: f64, note: &str) -> Diag
     }
 }
 
+/// A work-precision panel: title, x axis description, and the cost it plots.
+type Axis = (&'static str, &'static str, fn(&Row) -> f64);
+
 fn work_precision_on<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     scene: &str,
@@ -448,7 +451,7 @@ where
     let errors = || rows.iter().filter_map(|r| r.error);
     let y = decades(errors().chain([floor]));
     let panels = body.split_evenly((1, 2));
-    let axes: [(&str, &str, fn(&Row) -> f64); 2] = [
+    let axes: [Axis; 2] = [
         (
             "error against median wall time",
             "median wall time [s]",
@@ -520,11 +523,11 @@ pub fn convergence(scene: &str, rows: &[Row], floor: f64, velocity_dependent: bo
 
 fn order_of(m: Method, velocity_dependent: bool) -> u32 {
     let info = m.info();
-    (if velocity_dependent {
+    if velocity_dependent {
         info.order_velocity_dependent
     } else {
         info.order
-    }) as u32
+    }
 }
 
 fn convergence_on<DB: DrawingBackend>(

@@ -298,14 +298,14 @@ mod tests {
                 );
             }
         }
-        // The default run (200 strands × 16 nodes, 2 methods, 121 logged frames) draws all of
-        // them: 200 × 16 × 121 × 2 × 13 B = 10.1 MB.
+        // The default run (200 strands × 16 nodes, 2 methods, 241 logged frames) draws all of
+        // them: 200 × 16 × 241 × 2 × 13 B = 20.1 MB.
         let plan = strand_plan(&HairConfig::default(), None);
         assert_eq!(plan.drawn, HairConfig::default().params.strands);
-        // 10 000 strands × 16 nodes at the defaults: 180e6 / (13 × 16 × 121 × 2) = 3575 drawn.
+        // 10 000 strands × 16 nodes at the defaults: 180e6 / (13 × 16 × 241 × 2) = 1795 drawn.
         let mut c = HairConfig::default();
         c.params.strands = 10_000;
-        assert_eq!(strand_plan(&c, None).drawn, 3575);
+        assert_eq!(strand_plan(&c, None).drawn, 1795);
         assert_eq!(strand_plan(&c, Some(50)).drawn, 50);
         assert_eq!(strand_plan(&c, Some(50_000)).drawn, 10_000);
     }

@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 use anyhow::Context as _;
 use rerun::blueprint::components::PanelState;
 use rerun::blueprint::{
-    Blueprint, BlueprintPanel, ContainerLike, Grid, Horizontal, SelectionPanel, Spatial3DView,
+    Blueprint, BlueprintPanel, ContainerLike, Horizontal, SelectionPanel, Spatial3DView,
     TextDocumentView, TextLogView, TimePanel, TimeSeriesView, Vertical,
 };
 
@@ -60,14 +60,29 @@ pub fn scene_blueprint_for(scene: &str, timings: bool) -> Blueprint {
     }
 }
 
+/// The plots `physlab all` shows (fewer and wider than a single scene's, so that each stays
+/// readable beside its legend at 1600×1000); the recording holds every series all the same.
+const ALL_PLOTS: [&str; 7] = [
+    "theta",
+    "log10_theta_error",
+    "log10_energy_error",
+    "log10_energy_change",
+    "max_strain",
+    "log10_max_stretch",
+    "max_penetration",
+];
+
 /// `physlab all`: the three scenes side by side, each 3D view above its plots and its event log.
 pub fn all_blueprint(timings: bool) -> Blueprint {
     let column = |scene: &str, plots: &[(&str, &str)], exclude: &[&str]| -> ContainerLike {
+        let shown: Vec<(&str, &str)> = plots
+            .iter()
+            .copied()
+            .filter(|(name, _)| ALL_PLOTS.contains(name) || *name == scene::FRAME_COST.0)
+            .collect();
         Vertical::new([
             scene_view(scene, scene, exclude).into(),
-            Grid::new(plot_views(scene, plots))
-                .with_grid_columns(2)
-                .into(),
+            Vertical::new(plot_views(scene, &shown)).into(),
             TextLogView::new(format!("{scene} events"))
                 .with_origin(format!("/{scene}/events"))
                 .into(),

@@ -30,7 +30,7 @@ impl Default for HairConfig {
             params: HairParams::default(),
             rate: 60.0,
             substeps: 1,
-            fps: 15.0,
+            fps: 30.0,
             duration: 8.0,
             methods: HairMethod::DEFAULT.to_vec(),
         }
