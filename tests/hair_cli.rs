@@ -103,3 +103,61 @@ fn bad_hair_input_is_refused_with_exit_code_2() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `--dt` is the simulation step, as in every scene: in hair 1/(rate·substeps).
+#[test]
+fn hair_dt_is_the_simulation_step_and_sets_the_substeps() {
+    let substeps = |args: &[&str]| -> (i32, Option<i64>, String) {
+        let mut all = vec!["hair"];
+        all.extend_from_slice(args);
+        all.push("--print-config");
+        let (code, toml, stderr) = physlab(&all);
+        let n = toml
+            .parse::<toml::Table>()
+            .ok()
+            .and_then(|t| t.get("hair")?.get("substeps")?.as_integer());
+        (code, n, stderr)
+    };
+    // 1/(60 · 1/240) = 4 exactly in reals; in f64 within round-off.
+    assert_eq!(substeps(&["--dt", "0.004166666666666667"]).1, Some(4));
+    assert_eq!(substeps(&["--dt", "0.0041666666666667"]).1, Some(4));
+    assert_eq!(substeps(&["--rate", "100", "--dt", "0.002"]).1, Some(5));
+    assert_eq!(
+        substeps(&["--dt", "0.008333333333333333", "--substeps", "2"]).1,
+        Some(2)
+    );
+    assert_eq!(substeps(&[]).1, Some(1));
+
+    // Not a whole number of substeps: refused, naming the nearest allowed steps.
+    let (code, _, stderr) = substeps(&["--dt", "0.01"]);
+    assert_eq!(code, 2, "{stderr}");
+    for expected in [
+        "--dt 0.01:",
+        "1.6666666666666667 substeps",
+        "0.016666666666666666 (1 substep)",
+        "0.008333333333333333 (2 substeps)",
+    ] {
+        assert!(stderr.contains(expected), "lacks '{expected}':\n{stderr}");
+    }
+    // Longer than a frame: the nearest allowed is one substep.
+    let (code, _, stderr) = substeps(&["--dt", "0.05"]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("0.016666666666666666 (1 substep)"), "{stderr}");
+    // --dt and --substeps that disagree.
+    let (code, _, stderr) = substeps(&["--dt", "0.008333333333333333", "--substeps", "3"]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(
+        stderr.contains("--dt 0.008333333333333333 and --substeps 3 disagree")
+            && stderr.contains("(2 substeps)"),
+        "{stderr}"
+    );
+    // A scene file follows the same rule, and its error names the file's key.
+    let dir = scratch_dir("hair-dt");
+    let file = dir.join("h.toml");
+    std::fs::write(&file, "[hair]\ndt = 0.01\n").unwrap();
+    let (code, _, stderr) = substeps(&["--config", file.to_str().unwrap()]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("[hair] dt = 0.01:"), "{stderr}");
+    std::fs::write(&file, "[hair]\ndt = 0.008333333333333333\nsubsteps = 2\n").unwrap();
+    assert_eq!(substeps(&["--config", file.to_str().unwrap()]).1, Some(2));
+}

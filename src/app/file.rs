@@ -76,7 +76,7 @@ fn check_keys(text: &str) -> Result<(), String> {
         ),
         (
             "hair",
-            known(toml::Value::try_from(HairArgs::defaults()), &[]),
+            known(toml::Value::try_from(HairArgs::defaults()), &["dt"]),
         ),
     ];
     for (scene, keys) in &scenes {

@@ -274,8 +274,13 @@ fn resolve(plan: Plan, run: &RunArgs) -> anyhow::Result<Resolved> {
         let from_file = file.hair.clone().unwrap_or_default();
         in_file(run, "hair", hair_config(&from_file))?;
         let args = flags.over(from_file);
-        resolved.hair = Some(hair_config(&args)?);
-        effective.hair = Some(args.over(HairArgs::defaults()));
+        let config = hair_config(&args)?;
+        // The file states the substeps --dt resolved to, so that it says one consistent thing.
+        effective.hair = Some(HairArgs {
+            substeps: Some(config.substeps),
+            ..args.over(HairArgs::defaults())
+        });
+        resolved.hair = Some(config);
     }
     resolved.file = effective;
     Ok(resolved)
@@ -318,7 +323,11 @@ pub fn rope_config(args: &RopeArgs) -> Result<RopeConfig, UsageError> {
 
 /// The hair's parameters (missing ones at their defaults), validated.
 pub fn hair_config(args: &HairArgs) -> Result<HairConfig, UsageError> {
-    let config = args.config();
+    let mut config = args.config();
+    if let Some(dt) = args.dt {
+        config.substeps =
+            crate::scene::hair::run::substeps_for_dt(config.rate, dt, args.substeps)?;
+    }
     config.validate()?;
     Ok(config)
 }

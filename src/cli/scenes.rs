@@ -259,6 +259,11 @@ pub struct HairArgs {
     #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub substeps: Option<u32>,
 
+    /// Time step dt [s] of the simulation, as in every scene: sets --substeps to 1/(rate·dt),
+    /// which must be a whole number [default: 1/(rate·substeps)]
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
+    pub dt: Option<f64>,
+
     /// Simulation frames per simulated second [Hz]
     #[arg(long, value_name = "HZ", allow_negative_numbers = true)]
     pub rate: Option<f64>,
@@ -452,6 +457,7 @@ overlay!(HairArgs {
     stiffness,
     spring_damping,
     substeps,
+    dt,
     rate,
     fps,
     duration,
@@ -479,6 +485,8 @@ impl HairArgs {
             stiffness: Some(p.stiffness),
             spring_damping: Some(p.spring_damping),
             substeps: Some(c.substeps),
+            // Said by --substeps and --rate; a default here would contradict a given --substeps.
+            dt: None,
             rate: Some(c.rate),
             fps: Some(c.fps),
             duration: Some(c.duration),

@@ -118,6 +118,48 @@ impl HairConfig {
     }
 }
 
+/// The substeps a simulation step `--dt` means at `rate` frames per second: 1/(rate·dt), which
+/// must be a whole number (within round-off), and must agree with `substeps` when that is given
+/// too. A refusal names the nearest steps that are allowed.
+pub fn substeps_for_dt(rate: f64, dt: f64, substeps: Option<u32>) -> Result<u32, Invalid> {
+    params::positive("--dt", dt, "s")?;
+    params::positive("--rate", rate, "Hz")?;
+    let n = 1.0 / (rate * dt);
+    let whole = n.round();
+    let step = |k: f64| {
+        let plural = if k == 1.0 { "" } else { "s" };
+        format!("{} ({k} substep{plural})", params::shown(1.0 / (rate * k)))
+    };
+    if !(1.0..=1e6).contains(&whole) || (n - whole).abs() > 1e-9 * n {
+        let below = n.floor().max(1.0);
+        let nearest = if n < 1.0 {
+            step(1.0)
+        } else {
+            format!("{} or {}", step(below), step(below + 1.0))
+        };
+        return Err(Invalid(format!(
+            "--dt {}: a hair step is 1/(rate·substeps), and at --rate {} this is {} substeps per \
+             frame, not a whole number; nearest allowed: --dt {nearest}",
+            params::shown(dt),
+            params::shown(rate),
+            params::shown(n)
+        )));
+    }
+    let whole = whole as u32;
+    match substeps {
+        Some(given) if given != whole => Err(Invalid(format!(
+            "--dt {} and --substeps {given} disagree: at --rate {} --dt {} is {} (--substeps {given} \
+             is --dt {}); give one of them",
+            params::shown(dt),
+            params::shown(rate),
+            params::shown(dt),
+            step(whole.into()),
+            params::shown(1.0 / (rate * f64::from(given)))
+        ))),
+        _ => Ok(whole),
+    }
+}
+
 /// What is measured on one lane after one simulation frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct HairStats {
