@@ -148,7 +148,7 @@ fn hair_dt_is_the_simulation_step_and_sets_the_substeps() {
     assert_eq!(code, 2, "{stderr}");
     assert!(
         stderr.contains("--dt 0.008333333333333333 and --substeps 3 disagree")
-            && stderr.contains("(2 substeps)"),
+            && stderr.contains("2 substeps per frame"),
         "{stderr}"
     );
     // A scene file follows the same rule, and its error names the file's key.

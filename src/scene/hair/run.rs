@@ -148,12 +148,10 @@ pub fn substeps_for_dt(rate: f64, dt: f64, substeps: Option<u32>) -> Result<u32,
     let whole = whole as u32;
     match substeps {
         Some(given) if given != whole => Err(Invalid(format!(
-            "--dt {} and --substeps {given} disagree: at --rate {} --dt {} is {} (--substeps {given} \
-             is --dt {}); give one of them",
+            "--dt {} and --substeps {given} disagree: at --rate {} that step is {whole} substeps \
+             per frame, and --substeps {given} is --dt {}; give one of them",
             params::shown(dt),
             params::shown(rate),
-            params::shown(dt),
-            step(whole.into()),
             params::shown(1.0 / (rate * f64::from(given)))
         ))),
         _ => Ok(whole),
