@@ -25,9 +25,9 @@ impl std::fmt::Display for Differs {
 impl std::error::Error for Differs {}
 
 /// Entities whose values depend on the wall clock, so that no re-run can match them: the
-/// summary (wall time, ns/step) and the --timings plots.
-fn wall_clock(entity: &str) -> bool {
-    entity.ends_with("/summary") || entity.contains("/plots/frame_cost/")
+/// --timings plots, and with --timings the summaries (which then hold wall times, ns/step).
+fn wall_clock(entity: &str, timings: bool) -> bool {
+    entity.contains("/plots/frame_cost/") || (timings && entity.ends_with("/summary"))
 }
 
 fn tolerance(t: Option<f64>) -> Result<f64, UsageError> {
@@ -244,6 +244,7 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
         .into());
     }
     let recorded = read_contents(&args.file)?;
+    let timings = recorded.keys().any(|k| k.0.contains("/plots/frame_cost/"));
 
     println!("reproducing {}", args.file.display());
     let (then, now) = (version_line(&info), this_version());
@@ -301,6 +302,7 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
         config: Some(config.0.clone()),
         output: Some(output.clone()),
         quiet: true,
+        timings,
         ..RunArgs::default()
     };
     let plan = Plan {
@@ -324,7 +326,7 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
     let mut skipped = BTreeSet::new();
     let mut diffs = Vec::new();
     for (key, rows) in &recorded {
-        if wall_clock(&key.0) {
+        if wall_clock(&key.0, timings) {
             skipped.insert(key.0.clone());
             continue;
         }
@@ -339,7 +341,7 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
     }
     let only_recomputed: BTreeSet<&String> = recomputed
         .keys()
-        .filter(|k| !recorded.contains_key(*k) && !wall_clock(&k.0) && !killed)
+        .filter(|k| !recorded.contains_key(*k) && !wall_clock(&k.0, timings) && !killed)
         .map(|k| &k.0)
         .collect();
     let reports = by_entity(diffs);
