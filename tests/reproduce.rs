@@ -368,18 +368,32 @@ fn identical_runs_write_identical_chunks() {
     let dir = scratch_dir("deterministic");
     let config = dir.join("scene.toml");
     std::fs::write(&config, ALL_SCENE).unwrap();
-    let (a, b) = (dir.join("a.rrd"), dir.join("b.rrd"));
-    for out in [&a, &b] {
-        let (code, _, err) = physlab(&["all", "--config", s(&config), "-q", "-o", s(out)]);
+    // Both written to the same path (the command line is part of the provenance), then moved.
+    let (a, b, out) = (dir.join("a.rrd"), dir.join("b.rrd"), dir.join("run.rrd"));
+    for keep in [&a, &b] {
+        let (code, _, err) = physlab(&["all", "--config", s(&config), "-q", "-o", s(&out)]);
         assert_eq!(code, 0, "{err}");
+        std::fs::rename(&out, keep).unwrap();
     }
-    // The same chunks. (Not always in the same order: when one flush holds rows of an entity
-    // with different sets of components, Rerun's batcher emits one chunk per set in an order
-    // that varies between processes; `rerun rrd compare --unordered` accepts that.)
-    let (mut la, mut lb) = (chunk_layout(&a), chunk_layout(&b));
-    la.sort();
-    lb.sort();
-    assert_eq!(la, lb);
+    // The same chunks in the same order.
+    let la = chunk_layout(&a);
+    assert_eq!(la, chunk_layout(&b));
+    // And Rerun's own comparison (ids aside), ordered, where its command line is installed.
+    let installed = Command::new("rerun")
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if installed {
+        let result = Command::new("rerun")
+            .args(["rrd", "compare", s(&a), s(&b)])
+            .output()
+            .unwrap();
+        assert!(
+            result.status.success(),
+            "rerun rrd compare: {}",
+            String::from_utf8_lossy(&result.stderr)
+        );
+    }
     // Cut by size only, not by a clock: an entity's rows over time come in as few chunks as
     // 4096-row chunks allow (one more where a diverged lane is cleared).
     let mut per_entity: std::collections::BTreeMap<&str, (usize, usize)> = Default::default();
