@@ -10,22 +10,10 @@ use std::process::{Command, Stdio};
 use std::sync::Arc;
 use std::time::Duration;
 
-use common::scratch_dir;
+use common::{physlab, scratch_dir};
 use rerun::external::arrow::array::{Array as _, Float64Array, ListArray};
 use rerun::external::re_log_encoding::{DecoderApp, Encoder, EncodingOptions};
 use rerun::log::{Chunk, LogMsg};
-
-fn physlab(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_physlab"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
 
 fn s(p: &Path) -> &str {
     p.to_str().unwrap()
@@ -346,6 +334,11 @@ fn bad_input_is_refused_with_exit_2_naming_the_file() {
     let (code, _, err) = physlab(&["reproduce", s(&good), "--tolerance", "-1"]);
     assert_eq!(code, 2);
     assert!(err.contains("--tolerance -1"), "{err}");
+    // Writing the re-run over the recording it is compared with is refused; the file is kept.
+    let (code, _, err) = physlab(&["reproduce", s(&good), "-o", s(&good)]);
+    assert_eq!(code, 2);
+    assert!(err.contains("is the recording being compared"), "{err}");
+    assert_eq!(std::fs::read(&good).unwrap(), bytes);
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

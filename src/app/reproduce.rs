@@ -95,6 +95,25 @@ fn this_version() -> String {
     )
 }
 
+/// Refuses an output that is one of the inputs: writing it would replace the recording compared.
+fn not_an_input(output: Option<&PathBuf>, inputs: &[&Path]) -> Result<(), UsageError> {
+    let Some(out) = output else {
+        return Ok(());
+    };
+    let same = |p: &Path| match (out.canonicalize(), p.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
+    };
+    if let Some(input) = inputs.iter().find(|p| same(p)) {
+        return Err(UsageError(format!(
+            "-o {}: is the recording being compared ({}); give another path",
+            out.display(),
+            input.display()
+        )));
+    }
+    Ok(())
+}
+
 /// A file in the temporary folder, removed when dropped.
 struct TempFile(PathBuf);
 
@@ -214,6 +233,7 @@ fn by_entity(diffs: Vec<((String, String), SeriesDiff)>) -> Vec<EntityReport> {
 
 pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
     let tol = tolerance(args.tolerance)?;
+    not_an_input(args.output.as_ref(), &[&args.file])?;
     let info = physlab_recording(&args.file)?;
     let scenes_property = info.properties.get("scenes").cloned().unwrap_or_default();
     if scenes_property.starts_with("study") {
@@ -435,6 +455,7 @@ fn single_method(info: &RecordingInfo) -> Option<String> {
 
 pub fn diff_command(args: &DiffArgs) -> anyhow::Result<()> {
     let tol = tolerance(args.tolerance)?;
+    not_an_input(args.output.as_ref(), &[&args.a, &args.b])?;
     let (ia, ib) = (complete_recording(&args.a)?, complete_recording(&args.b)?);
     let (ca, cb) = (read_contents(&args.a)?, read_contents(&args.b)?);
     let mut report = String::new();
