@@ -10,22 +10,10 @@ use std::process::{Command, Stdio};
 use std::sync::Arc;
 use std::time::Duration;
 
-use common::scratch_dir;
+use common::{physlab, scratch_dir};
 use rerun::external::arrow::array::{Array as _, Float64Array, ListArray};
 use rerun::external::re_log_encoding::{DecoderApp, Encoder, EncodingOptions};
 use rerun::log::{Chunk, LogMsg};
-
-fn physlab(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_physlab"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
 
 fn s(p: &Path) -> &str {
     p.to_str().unwrap()
@@ -52,7 +40,8 @@ fn a_run_reproduces_itself_bit_identically() {
         "identical  /rope/plots/max_strain/explicit-euler",
         "identical  /hair/ftl/strands",
         "identical  /pendulum/events",
-        "skipped    /pendulum/summary (wall-clock timings)",
+        "identical  /pendulum/summary",
+        "identical  /rope/summary",
     ] {
         assert!(report.contains(entity), "lacks {entity:?}:\n{report}");
     }
@@ -157,6 +146,8 @@ fn an_altered_value_is_caught_at_its_entity_and_time() {
         "one entity and the verdict:\n{report}"
     );
     assert!(report.contains("verdict: DIFFERS in 1 of"), "{report}");
+    // The summary table is recomputed from the true values: it agrees with the recording.
+    assert!(report.contains("identical  /pendulum/summary"), "{report}");
     assert!(err.contains("does not reproduce"), "{err}");
     // Within a tolerance larger than the change (relative to max |θ| ≈ 1.05 rad), it passes.
     let (code, report, _) = physlab(&["reproduce", s(&bad), "--tolerance", "1e-8"]);
@@ -343,6 +334,11 @@ fn bad_input_is_refused_with_exit_2_naming_the_file() {
     let (code, _, err) = physlab(&["reproduce", s(&good), "--tolerance", "-1"]);
     assert_eq!(code, 2);
     assert!(err.contains("--tolerance -1"), "{err}");
+    // Writing the re-run over the recording it is compared with is refused; the file is kept.
+    let (code, _, err) = physlab(&["reproduce", s(&good), "-o", s(&good)]);
+    assert_eq!(code, 2);
+    assert!(err.contains("is the recording being compared"), "{err}");
+    assert_eq!(std::fs::read(&good).unwrap(), bytes);
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -365,18 +361,32 @@ fn identical_runs_write_identical_chunks() {
     let dir = scratch_dir("deterministic");
     let config = dir.join("scene.toml");
     std::fs::write(&config, ALL_SCENE).unwrap();
-    let (a, b) = (dir.join("a.rrd"), dir.join("b.rrd"));
-    for out in [&a, &b] {
-        let (code, _, err) = physlab(&["all", "--config", s(&config), "-q", "-o", s(out)]);
+    // Both written to the same path (the command line is part of the provenance), then moved.
+    let (a, b, out) = (dir.join("a.rrd"), dir.join("b.rrd"), dir.join("run.rrd"));
+    for keep in [&a, &b] {
+        let (code, _, err) = physlab(&["all", "--config", s(&config), "-q", "-o", s(&out)]);
         assert_eq!(code, 0, "{err}");
+        std::fs::rename(&out, keep).unwrap();
     }
-    // The same chunks. (Not always in the same order: when one flush holds rows of an entity
-    // with different sets of components, Rerun's batcher emits one chunk per set in an order
-    // that varies between processes; `rerun rrd compare --unordered` accepts that.)
-    let (mut la, mut lb) = (chunk_layout(&a), chunk_layout(&b));
-    la.sort();
-    lb.sort();
-    assert_eq!(la, lb);
+    // The same chunks in the same order.
+    let la = chunk_layout(&a);
+    assert_eq!(la, chunk_layout(&b));
+    // And Rerun's own comparison (ids aside), ordered, where its command line is installed.
+    let installed = Command::new("rerun")
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if installed {
+        let result = Command::new("rerun")
+            .args(["rrd", "compare", s(&a), s(&b)])
+            .output()
+            .unwrap();
+        assert!(
+            result.status.success(),
+            "rerun rrd compare: {}",
+            String::from_utf8_lossy(&result.stderr)
+        );
+    }
     // Cut by size only, not by a clock: an entity's rows over time come in as few chunks as
     // 4096-row chunks allow (one more where a diverged lane is cleared).
     let mut per_entity: std::collections::BTreeMap<&str, (usize, usize)> = Default::default();

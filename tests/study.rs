@@ -267,6 +267,28 @@ fn study_writes_csv_and_a_recording() {
     assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
     let size = |at: usize| u32::from_be_bytes(png[at..at + 4].try_into().unwrap());
     assert_eq!((size(16), size(20)), (1600, 820));
+    // A study recording carries its provenance: inspect names the build, --config-out writes
+    // the study's scene, and reproduce refuses it (its numbers hold wall-clock times) by name.
+    let scene = dir.join("scene.toml");
+    let (code, info, err) = physlab(&[
+        "inspect",
+        rrd.to_str().unwrap(),
+        "--config-out",
+        scene.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        info.contains("(commit ") && !info.contains("(not recorded)"),
+        "{info}"
+    );
+    let scene_text = std::fs::read_to_string(&scene).unwrap();
+    assert!(
+        scene_text.contains("[pendulum]") && scene_text.contains("theta0 = 60.0"),
+        "{scene_text}"
+    );
+    let (code, _, err) = physlab(&["reproduce", rrd.to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert!(err.contains("a study recording"), "{err}");
     let (code, _, err) = physlab(&["study", "convergence", "--levels", "1"]);
     assert_eq!(code, 2);
     assert!(

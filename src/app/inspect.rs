@@ -40,7 +40,7 @@ pub fn inspect_command(args: &InspectArgs) -> anyhow::Result<()> {
         }
     );
     let study = p("scenes").starts_with("study");
-    if info.run.is_empty() && !study {
+    if info.run.is_empty() && info.properties.contains_key("config") && !study {
         println!("  ended: (not recorded: killed before the end, or an older physlab)");
     }
     for scene in info.scenes() {

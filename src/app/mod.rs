@@ -425,7 +425,7 @@ fn simulate(plan: Plan, run: &RunArgs, output: &Output, replay: &Replay) -> anyh
     let mut ends: Vec<SceneEnd> = Vec::new();
     let mut collect = |ran: Ran| -> anyhow::Result<()> {
         if let Some(s) = &stream {
-            record::log_summary(s, ran.end.scene, &ran.summary, &ran.end.text)?;
+            record::log_summary(s, ran.end.scene, &ran.summary, &ran.end.text, timings)?;
         }
         summaries.push(ran.summary);
         diverged.extend(ran.diverged);

@@ -25,9 +25,9 @@ impl std::fmt::Display for Differs {
 impl std::error::Error for Differs {}
 
 /// Entities whose values depend on the wall clock, so that no re-run can match them: the
-/// summary (wall time, ns/step) and the --timings plots.
-fn wall_clock(entity: &str) -> bool {
-    entity.ends_with("/summary") || entity.contains("/plots/frame_cost/")
+/// --timings plots, and with --timings the summaries (which then hold wall times, ns/step).
+fn wall_clock(entity: &str, timings: bool) -> bool {
+    entity.contains("/plots/frame_cost/") || (timings && entity.ends_with("/summary"))
 }
 
 fn tolerance(t: Option<f64>) -> Result<f64, UsageError> {
@@ -93,6 +93,25 @@ fn this_version() -> String {
         crate::record::GIT_COMMIT,
         crate::record::RERUN_SDK_VERSION
     )
+}
+
+/// Refuses an output that is one of the inputs: writing it would replace the recording compared.
+fn not_an_input(output: Option<&PathBuf>, inputs: &[&Path]) -> Result<(), UsageError> {
+    let Some(out) = output else {
+        return Ok(());
+    };
+    let same = |p: &Path| match (out.canonicalize(), p.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
+    };
+    if let Some(input) = inputs.iter().find(|p| same(p)) {
+        return Err(UsageError(format!(
+            "-o {}: is the recording being compared ({}); give another path",
+            out.display(),
+            input.display()
+        )));
+    }
+    Ok(())
 }
 
 /// A file in the temporary folder, removed when dropped.
@@ -214,6 +233,7 @@ fn by_entity(diffs: Vec<((String, String), SeriesDiff)>) -> Vec<EntityReport> {
 
 pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
     let tol = tolerance(args.tolerance)?;
+    not_an_input(args.output.as_ref(), &[&args.file])?;
     let info = physlab_recording(&args.file)?;
     let scenes_property = info.properties.get("scenes").cloned().unwrap_or_default();
     if scenes_property.starts_with("study") {
@@ -244,6 +264,7 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
         .into());
     }
     let recorded = read_contents(&args.file)?;
+    let timings = recorded.keys().any(|k| k.0.contains("/plots/frame_cost/"));
 
     println!("reproducing {}", args.file.display());
     let (then, now) = (version_line(&info), this_version());
@@ -301,6 +322,7 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
         config: Some(config.0.clone()),
         output: Some(output.clone()),
         quiet: true,
+        timings,
         ..RunArgs::default()
     };
     let plan = Plan {
@@ -324,7 +346,7 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
     let mut skipped = BTreeSet::new();
     let mut diffs = Vec::new();
     for (key, rows) in &recorded {
-        if wall_clock(&key.0) {
+        if wall_clock(&key.0, timings) {
             skipped.insert(key.0.clone());
             continue;
         }
@@ -339,7 +361,7 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
     }
     let only_recomputed: BTreeSet<&String> = recomputed
         .keys()
-        .filter(|k| !recorded.contains_key(*k) && !wall_clock(&k.0) && !killed)
+        .filter(|k| !recorded.contains_key(*k) && !wall_clock(&k.0, timings) && !killed)
         .map(|k| &k.0)
         .collect();
     let reports = by_entity(diffs);
@@ -433,6 +455,7 @@ fn single_method(info: &RecordingInfo) -> Option<String> {
 
 pub fn diff_command(args: &DiffArgs) -> anyhow::Result<()> {
     let tol = tolerance(args.tolerance)?;
+    not_an_input(args.output.as_ref(), &[&args.a, &args.b])?;
     let (ia, ib) = (complete_recording(&args.a)?, complete_recording(&args.b)?);
     let (ca, cb) = (read_contents(&args.a)?, read_contents(&args.b)?);
     let mut report = String::new();

@@ -247,15 +247,13 @@ pub fn compare(a: &[Row], b: &[Row], tolerance: f64, until: Option<i64>) -> Seri
             continue;
         }
         out.paired += 1;
-        if ra.texts != rb.texts || ra.nums.len() != rb.nums.len() {
-            if out.first_other.is_none() {
-                let what = if ra.texts != rb.texts {
-                    format!("text {:?} vs {:?}", ra.texts.join(" "), rb.texts.join(" "))
-                } else {
-                    format!("{} values vs {}", ra.nums.len(), rb.nums.len())
-                };
-                out.first_other = Some((ra.time, what));
-            }
+        if (ra.texts != rb.texts || ra.nums.len() != rb.nums.len()) && out.first_other.is_none() {
+            let what = if ra.texts != rb.texts {
+                format!("text {:?} vs {:?}", ra.texts.join(" "), rb.texts.join(" "))
+            } else {
+                format!("{} values vs {}", ra.nums.len(), rb.nums.len())
+            };
+            out.first_other = Some((ra.time, what));
         }
         for (&x, &y) in ra.nums.iter().zip(&rb.nums) {
             let d = Difference {
@@ -287,10 +285,20 @@ pub fn compare(a: &[Row], b: &[Row], tolerance: f64, until: Option<i64>) -> Seri
     out
 }
 
-/// A time on `sim_time` in seconds, or "static".
+/// A time on `sim_time` in seconds, exactly as stored (ns), or "static".
 pub fn time_text(t: Option<i64>) -> String {
     match t {
-        Some(ns) => format!("t = {} s", ns as f64 * 1e-9),
+        Some(ns) => {
+            let (sign, ns) = if ns < 0 {
+                ("-", ns.unsigned_abs())
+            } else {
+                ("", ns as u64)
+            };
+            let fraction = format!("{:09}", ns % 1_000_000_000);
+            let fraction = fraction.trim_end_matches('0');
+            let dot = if fraction.is_empty() { "" } else { "." };
+            format!("t = {sign}{}{dot}{fraction} s", ns / 1_000_000_000)
+        }
         None => "static".to_string(),
     }
 }
@@ -326,6 +334,9 @@ mod tests {
         assert!(compare(&a, &b, 0.2, None).same());
         // Left out after `until`, and a missing row is a difference.
         assert!(compare(&a, &b, 0.0, Some(5)).bit_identical());
+        assert_eq!(time_text(Some(1_460_000_000)), "t = 1.46 s");
+        assert_eq!(time_text(Some(3_000_000_000)), "t = 3 s");
+        assert_eq!(time_text(Some(-5)), "t = -0.000000005 s");
         assert_eq!(compare(&a, &b[..3], 0.0, Some(30)).unpaired, 1);
     }
 }

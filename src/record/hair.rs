@@ -229,6 +229,10 @@ impl Draw<HairScene> for HairDraw {
         Ok(())
     }
 
+    fn frame_bytes(&self, scene: &HairScene) -> usize {
+        scene.config.params.strands * self.nodes * 12
+    }
+
     fn diverged(&mut self, rec: &RecordingStream, e: &Event) -> anyhow::Result<()> {
         let name = self.names[e.lane];
         let label = clear_diverged(rec, "hair", name, &["strands", "roots"], e)?;

@@ -16,7 +16,7 @@ use anyhow::Context as _;
 use rerun::blueprint::components::PanelState;
 use rerun::blueprint::{
     Blueprint, BlueprintPanel, ContainerLike, Horizontal, SelectionPanel, Spatial3DView,
-    TextDocumentView, TextLogView, TimePanel, TimeSeriesView, Vertical,
+    Tabs, TextDocumentView, TextLogView, TimePanel, TimeSeriesView, Vertical,
 };
 
 /// One colour per method (the palette is shared with the diagrams: `crate::palette`).
@@ -83,9 +83,13 @@ pub fn all_blueprint(timings: bool) -> Blueprint {
         Vertical::new([
             scene_view(scene, scene, exclude).into(),
             Vertical::new(plot_views(scene, &shown)).into(),
-            TextLogView::new(format!("{scene} events"))
-                .with_origin(format!("/{scene}/events"))
-                .into(),
+            Tabs::new([
+                TextLogView::new(format!("{scene} events"))
+                    .with_origin(format!("/{scene}/events"))
+                    .into(),
+                summary_view(scene).into(),
+            ])
+            .into(),
         ])
         .with_row_shares([3.0, 4.0, 1.0])
         .into()
@@ -109,14 +113,15 @@ pub fn all_blueprint(timings: bool) -> Blueprint {
     .with_selection_panel(SelectionPanel::new().with_state(PanelState::Collapsed))
 }
 
-/// The scene's 3D view: everything under `/<scene>` except its plots, events, about text and
-/// the given subtrees.
+/// The scene's 3D view: everything under `/<scene>` except its plots, events, about text,
+/// summary and the given subtrees.
 pub fn scene_view(scene: &str, title: &str, exclude: &[&str]) -> Spatial3DView {
     let mut contents = vec![
         "+ $origin/**".to_string(),
         "- $origin/plots/**".to_string(),
         "- $origin/events".to_string(),
         "- $origin/about".to_string(),
+        "- $origin/summary".to_string(),
     ];
     contents.extend(exclude.iter().map(|e| format!("- $origin/{e}")));
     Spatial3DView::new(title)
@@ -124,16 +129,26 @@ pub fn scene_view(scene: &str, title: &str, exclude: &[&str]) -> Spatial3DView {
         .with_contents(contents)
 }
 
-/// The run description (`/<scene>/about`) and the event log (`/<scene>/events`).
+/// The run description (`/<scene>/about`) with the summary (`/<scene>/summary`) in a tab beside
+/// it, and the event log (`/<scene>/events`).
 pub fn about_and_events(scene: &str) -> [ContainerLike; 2] {
     [
-        TextDocumentView::new("about this run")
-            .with_origin(format!("/{scene}/about"))
-            .into(),
+        Tabs::new([
+            TextDocumentView::new("about this run")
+                .with_origin(format!("/{scene}/about"))
+                .into(),
+            summary_view(scene).into(),
+        ])
+        .into(),
         TextLogView::new("events")
             .with_origin(format!("/{scene}/events"))
             .into(),
     ]
+}
+
+/// The scene's summary table (`/<scene>/summary`), written when the run ends.
+pub fn summary_view(scene: &str) -> TextDocumentView {
+    TextDocumentView::new(format!("{scene} summary")).with_origin(format!("/{scene}/summary"))
 }
 
 /// A single scene's layout: `left` beside the plots, nothing else shown, `sim_time` selected.
@@ -309,17 +324,25 @@ pub fn find_on_path(name: &str) -> Option<PathBuf> {
         })
 }
 
-/// How rows logged one at a time become chunks: per entity, a chunk every 4096 rows or 384 KiB,
-/// the sizes `rerun rrd optimize` compacts to (Rerun's `ChunkStoreConfig::DEFAULT`), and never
-/// on a clock. The rest is written when the run ends (or at an explicit flush), so the chunks
+/// How rows logged one at a time become chunks: per entity, a chunk every 4096 rows (or
+/// [`CHUNK_BYTES`], see below), the sizes `rerun rrd optimize` compacts to (Rerun's
+/// `ChunkStoreConfig::DEFAULT`), and never on a clock. The rest is written when the run ends (or at an explicit flush), so the chunks
 /// depend only on what was logged. (The default flushes every 200 ms: two identical runs gave 422
 /// and 412 chunks, and a long run 18,927 small ones.)
+///
+/// Rerun's byte count of pending rows varies between identical runs (two `physlab all` runs cut
+/// hair's strands after 11 and after 10 rows), so the batcher counts rows only, and the scene
+/// recorder flushes after every [`CHUNK_BYTES`] of its largest 3D entity (hair strands, rope
+/// nodes), counted by itself.
 pub const BATCHING: rerun::log::ChunkBatcherConfig = rerun::log::ChunkBatcherConfig {
     flush_tick: std::time::Duration::MAX,
-    flush_num_bytes: 12 * 8 * 4096,
+    flush_num_bytes: u64::MAX,
     flush_num_rows: 4096,
     ..rerun::log::ChunkBatcherConfig::DEFAULT
 };
+
+/// The chunk size `rerun rrd optimize` compacts to (`ChunkStoreConfig::DEFAULT`: 384 KiB).
+pub const CHUNK_BYTES: usize = 12 * 8 * 4096;
 
 /// A recording being written. A file goes to a temporary path beside its target;
 /// [`Recording::commit`] finalises it (footer written) and renames it into place, and dropping
@@ -517,31 +540,61 @@ pub fn send_run_status(rec: &rerun::RecordingStream, ends: &[SceneEnd]) -> anyho
     Ok(())
 }
 
+/// The summaries' columns that hold wall-clock measurements.
+const WALL_CLOCK_COLUMNS: [&str; 5] = [
+    "wall [ms]",
+    "ns/step",
+    "ms/frame",
+    "frames/s",
+    "× real time",
+];
+
 /// The scene's summary (the table printed at the end of a run) as a markdown document at
 /// `<scene>/summary`, with where the run ended, so that the recording holds its own results.
+/// Without `timings` its wall-clock columns are left out, as every wall-clock value is: the
+/// recording then depends on its inputs only, and `reproduce` checks the summary too.
 pub fn log_summary(
     rec: &rerun::RecordingStream,
     scene: &str,
     summary: &str,
     ended: &str,
+    timings: bool,
 ) -> anyhow::Result<()> {
     rec.log_static(
         format!("{scene}/summary"),
-        &rerun::TextDocument::from_markdown(summary_markdown(scene, summary, ended)),
+        &rerun::TextDocument::from_markdown(summary_markdown(scene, summary, ended, timings)),
     )?;
     Ok(())
 }
 
 /// A summary as markdown: its header lines as paragraphs (a plain line break would join them),
-/// its tables (already in pipe syntax) as they are.
-pub fn summary_markdown(scene: &str, summary: &str, ended: &str) -> String {
+/// its tables (already in pipe syntax) as they are, less the wall-clock columns unless `timings`.
+pub fn summary_markdown(scene: &str, summary: &str, ended: &str, timings: bool) -> String {
     let mut out = format!("# {scene}: summary\n\n**Run {ended}.**\n\n");
+    let mut dropped: Vec<usize> = Vec::new();
+    let mut in_table = false;
     for line in summary.lines() {
-        out.push_str(line);
-        out.push('\n');
-        if !line.trim_start().starts_with('|') {
-            out.push('\n');
+        let row = line.trim();
+        if !row.starts_with('|') {
+            in_table = false;
+            out.push_str(line);
+            out.push_str("\n\n");
+            continue;
         }
+        let cells: Vec<&str> = row.trim_matches('|').split('|').map(str::trim).collect();
+        if !in_table {
+            in_table = true;
+            dropped = (0..cells.len())
+                .filter(|&i| !timings && WALL_CLOCK_COLUMNS.contains(&cells[i]))
+                .collect();
+        }
+        let kept: Vec<&str> = cells
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| !dropped.contains(i))
+            .map(|(_, c)| *c)
+            .collect();
+        out.push_str(&format!("| {} |\n", kept.join(" | ")));
     }
     out
 }

@@ -194,6 +194,10 @@ impl Draw<RopeScene> for RopeDraw {
         Ok(())
     }
 
+    fn frame_bytes(&self, scene: &RopeScene) -> usize {
+        scene.config.params.nodes * 12
+    }
+
     fn diverged(&mut self, rec: &RecordingStream, e: &Event) -> anyhow::Result<()> {
         let name = self.names[e.lane];
         // The rope disappears from its slot; its pin marker stays, relabelled.

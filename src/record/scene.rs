@@ -50,6 +50,11 @@ pub trait Draw<S: Scene> {
         scene: &S,
         frame: &Frame<S::Lane>,
     ) -> anyhow::Result<()>;
+    /// Bytes of the largest entity one 3D frame logs, when it is large (hair strands, rope
+    /// nodes): the recorder cuts chunks every [`super::CHUNK_BYTES`] of it.
+    fn frame_bytes(&self, _scene: &S) -> usize {
+        0
+    }
     /// A lane diverged at this moment (the time is already set): show it is gone, and why.
     fn diverged(&mut self, rec: &RecordingStream, event: &Event) -> anyhow::Result<()>;
     fn finish(
@@ -94,6 +99,8 @@ pub struct SceneRecorder<D> {
     timings: bool,
     /// The recording's `frame` rate [Hz] (the highest of its scenes'); the scene's own by default.
     frame_rate: Option<f64>,
+    /// Bytes of the largest 3D entity logged since the last flush.
+    unflushed: usize,
 }
 
 impl<D> SceneRecorder<D> {
@@ -105,6 +112,7 @@ impl<D> SceneRecorder<D> {
             quantities: Vec::new(),
             timings,
             frame_rate: None,
+            unflushed: 0,
         }
     }
 
@@ -146,6 +154,8 @@ impl<S: Scene, D: Draw<S>> Observer<S> for SceneRecorder<D> {
                 )?;
             }
         }
+        // The static styles in a flush of their own (see `event`).
+        self.rec.flush_blocking()?;
         Ok(())
     }
 
@@ -189,6 +199,13 @@ impl<S: Scene, D: Draw<S>> Observer<S> for SceneRecorder<D> {
     fn frame(&mut self, scene: &S, frame: &Frame<S::Lane>) -> anyhow::Result<()> {
         self.set_time(scene, frame.tick, frame.time);
         self.draw.frame(&self.rec, scene, frame)?;
+        // Large rows are cut into chunks here, at points that depend only on what was logged
+        // (Rerun's own byte count varies from run to run).
+        self.unflushed += self.draw.frame_bytes(scene);
+        if self.unflushed >= super::CHUNK_BYTES {
+            self.rec.flush_blocking()?;
+            self.unflushed = 0;
+        }
         if self.timings && frame.tick > 0 {
             for (i, lane) in frame.lanes.iter().enumerate() {
                 if let Some((l, _)) = lane
@@ -211,12 +228,20 @@ impl<S: Scene, D: Draw<S>> Observer<S> for SceneRecorder<D> {
             &rerun::TextLog::new(event.message.clone()).with_level(rerun::TextLogLevel::WARN),
         )?;
         if event.kind == EventKind::Divergence {
+            // Its own flush on both sides: rows of one entity with different components (the
+            // positions, then the clear) that meet in one flush become chunks in an order that
+            // varies between processes, which would make identical runs' files differ in order.
+            self.rec.flush_blocking()?;
             self.draw.diverged(&self.rec, event)?;
+            self.rec.flush_blocking()?;
+            self.unflushed = 0;
         }
         Ok(())
     }
 
     fn finish(&mut self, scene: &S, run: &Run<S::Lane>) -> anyhow::Result<()> {
+        // As at a divergence: what the end adds (the phase portrait's path) in a flush of its own.
+        self.rec.flush_blocking()?;
         self.draw.finish(&self.rec, scene, run)
     }
 }
