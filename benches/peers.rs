@@ -213,7 +213,10 @@ fn scipy_peer(results: &[RunResult], exact: &[f64], g_over_l: f64, theta0: f64) 
     );
     let path = std::env::temp_dir().join("physlab_peers_scipy.json");
     if let Err(e) = std::fs::write(&path, json) {
-        println!("\nscipy comparison skipped: cannot write {}: {e}", path.display());
+        println!(
+            "\nscipy comparison skipped: cannot write {}: {e}",
+            path.display()
+        );
         return;
     }
     let script = concat!(env!("CARGO_MANIFEST_DIR"), "/benches/scipy_peer.py");

@@ -251,7 +251,12 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
                         String::new()
                     } else {
                         format!(
-                            "; {unresolved:.0e} left out: below 10× the reference's accuracy {reference_error:.1e}"
+                            "; {} left out: below 10× the reference's accuracy {reference_error:.1e}",
+                            unresolved
+                                .iter()
+                                .map(|t| format!("{t:.0e}"))
+                                .collect::<Vec<_>>()
+                                .join(", ")
                         )
                     }
                 )?;

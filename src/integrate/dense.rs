@@ -186,10 +186,6 @@ impl<P: Pair> DenseRk<P> {
     pub fn rejected(&self) -> u64 {
         self.core.rejected
     }
-    /// Where the method's own grid stands: the end of its last accepted step [s].
-    pub fn internal_time(&self) -> f64 {
-        self.core.t
-    }
 
     /// One attempted step of size h from (t, y): `Some(accepted)`, or `None` when the error
     /// estimate is not finite (the state blew up). Controller as Hairer's codes: 0.9 err^(-α)
@@ -232,7 +228,12 @@ impl<P: Pair> DenseRk<P> {
             // f(y_new): the dense output's last stage and the next step's first.
             if !P::FSAL_IN_TRIAL {
                 let (y_new, k) = (&c.y_old, &mut c.k);
-                eval(sys, w, y_new, &mut k[P::FSAL_ROW * n2..(P::FSAL_ROW + 1) * n2]);
+                eval(
+                    sys,
+                    w,
+                    y_new,
+                    &mut k[P::FSAL_ROW * n2..(P::FSAL_ROW + 1) * n2],
+                );
                 *evals += 1;
             }
             std::mem::swap(&mut c.y, &mut c.y_old);

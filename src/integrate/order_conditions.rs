@@ -143,9 +143,7 @@ pub fn residuals_at(
             .map(|i| t.children.iter().map(|&c| aphi_f[c][i]).product::<f64>())
             .collect();
         let ap: Vec<Dd> = (0..s)
-            .map(|i| {
-                (0..i).fold(Dd::default(), |acc, l| acc.add(Dd::from(a(i, l)).mul(p[l])))
-            })
+            .map(|i| (0..i).fold(Dd::default(), |acc, l| acc.add(Dd::from(a(i, l)).mul(p[l]))))
             .collect();
         let apf: Vec<f64> = (0..s)
             .map(|i| (0..i).map(|l| a(i, l) * pf[l]).sum::<f64>())
@@ -217,15 +215,33 @@ mod tests {
         let main = residuals(STAGES, a, b, 9);
         report("dop853 order-8 weights", &main);
         for (order, r) in main.iter().enumerate().take(8) {
-            assert!(r.exact <= 1e-15, "order {}: residual {:e}", order + 1, r.exact);
+            assert!(
+                r.exact <= 1e-15,
+                "order {}: residual {:e}",
+                order + 1,
+                r.exact
+            );
         }
-        assert!(main[8].exact > 1e-6, "order 9 holds too? {:e}", main[8].exact);
+        assert!(
+            main[8].exact > 1e-6,
+            "order 9 holds too? {:e}",
+            main[8].exact
+        );
         let emb = residuals(STAGES, a, b_embedded, 6);
         report("dop853 embedded weights", &emb);
         for (order, r) in emb.iter().enumerate().take(5) {
-            assert!(r.exact <= 1.5e-15, "embedded order {}: residual {:e}", order + 1, r.exact);
+            assert!(
+                r.exact <= 1.5e-15,
+                "embedded order {}: residual {:e}",
+                order + 1,
+                r.exact
+            );
         }
-        assert!(emb[5].exact > 1e-6, "embedded order 6 holds? {:e}", emb[5].exact);
+        assert!(
+            emb[5].exact > 1e-6,
+            "embedded order 6 holds? {:e}",
+            emb[5].exact
+        );
     }
 
     /// Verner's 9(8): the propagated weights satisfy all 486 conditions of order ≤ 9 to 1e-15
@@ -237,15 +253,33 @@ mod tests {
         let main = residuals(STAGES, a, b, 10);
         report("vern9 order-9 weights", &main);
         for (order, r) in main.iter().enumerate().take(9) {
-            assert!(r.exact <= 1e-15, "order {}: residual {:e}", order + 1, r.exact);
+            assert!(
+                r.exact <= 1e-15,
+                "order {}: residual {:e}",
+                order + 1,
+                r.exact
+            );
         }
-        assert!(main[9].exact > 1e-8, "order 10 holds too? {:e}", main[9].exact);
+        assert!(
+            main[9].exact > 1e-8,
+            "order 10 holds too? {:e}",
+            main[9].exact
+        );
         let emb = residuals(STAGES, a, b_embedded, 9);
         report("vern9 embedded weights", &emb);
         for (order, r) in emb.iter().enumerate().take(8) {
-            assert!(r.exact <= 1e-14, "embedded order {}: residual {:e}", order + 1, r.exact);
+            assert!(
+                r.exact <= 1e-14,
+                "embedded order {}: residual {:e}",
+                order + 1,
+                r.exact
+            );
         }
-        assert!(emb[8].exact > 1e-8, "embedded order 9 holds? {:e}", emb[8].exact);
+        assert!(
+            emb[8].exact > 1e-8,
+            "embedded order 9 holds? {:e}",
+            emb[8].exact
+        );
     }
 
     /// Verner's interpolant: at θ = 0.1, 0.25, …, 1 its weights over the 21 stages (as physlab
@@ -265,7 +299,12 @@ mod tests {
             let r = residuals_at(DENSE_STAGES, a, |j| b_dense(j, th), 9, th);
             report(&format!("vern9 interpolant at {th}"), &r);
             for (order, x) in r.iter().enumerate().take(8) {
-                assert!(x.exact <= 1e-11, "θ {th} order {}: {:e}", order + 1, x.exact);
+                assert!(
+                    x.exact <= 1e-11,
+                    "θ {th} order {}: {:e}",
+                    order + 1,
+                    x.exact
+                );
             }
             if th < 1.0 {
                 assert!(r[8].exact > 1e-9, "θ {th}: order 9 holds? {:e}", r[8].exact);

@@ -20,12 +20,16 @@ use crate::scene::harness::{Event, Frame, Run, Scene as _, SeriesBatch};
 use crate::scene::pendulum::run::{PendulumLane, PendulumScene};
 
 /// The plotted quantities: entity name and plot title (with units).
-pub const PLOTS: [(&str, &str); 5] = [
+pub const PLOTS: [(&str, &str); 6] = [
     ("theta", "θ [rad]"),
     ("omega", "ω [rad/s]"),
     ("energy", "total energy E = ½L²ω² + gL(1 − cos θ) [J/kg]"),
     ("energy_error", "relative energy error (E − E0)/E0"),
     ("theta_error", "|θ − θ_ref| [rad]"),
+    (
+        "step_size",
+        "last accepted step [s] (adaptive methods: their own steps, not ended at the samples)",
+    ),
 ];
 
 /// At most this many points per phase-portrait curve.

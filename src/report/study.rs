@@ -60,8 +60,9 @@ pub fn proportionality_table(rows: &[Row], floor: f64) -> String {
     for p in proportionality(rows, floor) {
         t.row([
             p.method.name().to_string(),
-            p.fitted
-                .map_or("— (fewer than 2 usable rows)".into(), |f| format!("{f:.3}")),
+            p.fitted.map_or("— (fewer than 2 usable rows)".into(), |f| {
+                format!("{f:.3}")
+            }),
             p.range
                 .map_or("—".into(), |(lo, hi)| format!("{lo:.3} – {hi:.3}")),
             p.rtols
