@@ -86,10 +86,10 @@ impl Pair for Dopri5 {
     fn trial<S: SecondOrderSystem, W: Width>(c: &mut Core, sys: &S, w: W, h: f64) -> f64 {
         let n2 = w.get();
         for s in 1..6 {
-            stage(sys, w, &mut c.k, &mut c.yt, &c.y, s, &A[s], h);
+            stage(sys, w, &mut c.k, &mut c.yt, &c.y, &A[s][..s], h);
         }
         // The 5th-order solution, then the 7th stage there.
-        stage(sys, w, &mut c.k, &mut c.y_old, &c.y, 6, &A[6], h);
+        stage(sys, w, &mut c.k, &mut c.y_old, &c.y, &A[6][..6], h);
         let rtol = c.rtol;
         let mut err2 = 0.0;
         let (y, ynew, k) = (&c.y[..n2], &c.y_old[..n2], &c.k[..7 * n2]);

@@ -111,7 +111,8 @@ pub(crate) fn eval<S: SecondOrderSystem, W: Width>(sys: &S, w: W, y: &[f64], k: 
     sys.acceleration(&y[..n], &y[n..], &mut k[n..]);
 }
 
-/// Row `r` of k = f(base + h Σ_{j<r} a[j] k_j), `a` the tableau's row r. (Measured: a version
+/// Row `r` of k = f(base + h Σ_{j<r} a[j] k_j), `a` the first r coefficients of the tableau's
+/// row r (r = a.len()). (Measured: a version
 /// with the row as a const generic, fully unrolled and with the zero coefficients dropped at
 /// compile time, was 25% slower per evaluation on the pendulum than this plain loop.)
 #[inline(always)]
@@ -121,13 +122,13 @@ pub(crate) fn stage<S: SecondOrderSystem, W: Width>(
     k: &mut [f64],
     yt: &mut [f64],
     base: &[f64],
-    r: usize,
     a: &[f64],
     h: f64,
 ) {
     let n2 = w.get();
+    let r = a.len();
     let (done, rest) = k.split_at_mut(r * n2);
-    let (yt, base, a) = (&mut yt[..n2], &base[..n2], &a[..r]);
+    let (yt, base) = (&mut yt[..n2], &base[..n2]);
     for i in 0..n2 {
         let mut acc = 0.0;
         for j in 0..r {

@@ -427,7 +427,7 @@ impl Pair for Dop853 {
     fn trial<S: SecondOrderSystem, W: Width>(c: &mut Core, sys: &S, w: W, h: f64) -> f64 {
         let n2 = w.get();
         for s in 1..12 {
-            stage(sys, w, &mut c.k, &mut c.yt, &c.y, s, &A[s], h);
+            stage(sys, w, &mut c.k, &mut c.yt, &c.y, &A[s][..s], h);
         }
         let rtol = c.rtol;
         let (mut err5, mut err3) = (0.0, 0.0);
@@ -459,7 +459,7 @@ impl Pair for Dop853 {
         let n2 = w.get();
         let h = c.h_last;
         for s in 13..16 {
-            stage(sys, w, &mut c.k, &mut c.yt, &c.y_old, s, &A[s], h);
+            stage(sys, w, &mut c.k, &mut c.yt, &c.y_old, &A[s][..s], h);
         }
         let (k, cont, y, y_old) = (&c.k[..16 * n2], &mut c.cont[..8 * n2], &c.y, &c.y_old);
         for i in 0..n2 {

@@ -691,7 +691,7 @@ impl Pair for Vern9 {
     fn trial<S: SecondOrderSystem, W: Width>(c: &mut Core, sys: &S, w: W, h: f64) -> f64 {
         let n2 = w.get();
         for s in 1..16 {
-            stage(sys, w, &mut c.k, &mut c.yt, &c.y, s, &A[s], h);
+            stage(sys, w, &mut c.k, &mut c.yt, &c.y, &A[s][..s], h);
         }
         let rtol = c.rtol;
         let mut err2 = 0.0;
@@ -719,7 +719,7 @@ impl Pair for Vern9 {
         let n2 = w.get();
         let h = c.h_last;
         for s in 17..21 {
-            stage(sys, w, &mut c.k, &mut c.yt, &c.y_old, s, &A[s], h);
+            stage(sys, w, &mut c.k, &mut c.yt, &c.y_old, &A[s][..s], h);
         }
         let (k, cont) = (&c.k[..21 * n2], &mut c.cont[..8 * n2]);
         for i in 0..n2 {
