@@ -95,9 +95,9 @@ pub const DEFAULT_REPEATS: u32 = 5;
 /// Steps a stability trial must stay bounded for by default.
 pub const DEFAULT_STABILITY_STEPS: u64 = 2000;
 
-/// The adaptive methods' tolerances in a work-precision sweep by default: 1e-3 to 1e-12.
+/// The adaptive methods' tolerances in a work-precision sweep by default: 1e-3 to 1e-13.
 pub fn default_rtols() -> Vec<f64> {
-    (3..=12).map(|k| 10f64.powi(-k)).collect()
+    (3..=13).map(|k| 10f64.powi(-k)).collect()
 }
 
 impl Sweep {
@@ -197,7 +197,7 @@ pub fn reference(
         let r = (1..=samples)
             .map(|k| vec![exact.state(k as f64 * sample_dt).0])
             .collect();
-        return (r, 0.0);
+        return (r, crate::scene::pendulum::reference::EXACT_THETA_ACCURACY);
     }
     let h = finest_dt / 8.0;
     let per = (sample_dt / h).round() as u64;
@@ -264,7 +264,11 @@ pub struct Sweep {
 }
 
 /// Every (method, dt) of the sweep: fixed-step methods over the halved steps, the adaptive
-/// methods (family `Adaptive`: dopri5, dop853) over their tolerances. Returns the rows and the reference's estimated error.
+/// methods (family `Adaptive`: dopri5, dop853, vern9) over their tolerances. Returns the rows and
+/// the reference's accuracy (the exact pendulum's [`EXACT_THETA_ACCURACY`], or the fine run's
+/// Richardson estimate).
+///
+/// [`EXACT_THETA_ACCURACY`]: crate::scene::pendulum::reference::EXACT_THETA_ACCURACY
 pub fn sweep(problem: &Problem, s: &Sweep) -> (Vec<Row>, f64) {
     let sample_dt = SAMPLE_EVERY as f64 * s.dt0;
     let samples = ((s.duration / sample_dt).round() as usize).max(1);
@@ -380,26 +384,7 @@ pub fn orders(rows: &[Row], floor: f64) -> Vec<Order> {
                 .iter()
                 .filter_map(|r| r.error.filter(|e| *e > floor).map(|e| (r.dt.ln(), e.ln())))
                 .collect();
-            let fitted = (pts.len() >= 2).then(|| {
-                let n = pts.len() as f64;
-                let (mx, my) = (
-                    pts.iter().map(|p| p.0).sum::<f64>() / n,
-                    pts.iter().map(|p| p.1).sum::<f64>() / n,
-                );
-                let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
-                let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
-                sxy / sxx
-            });
-            let local: Vec<f64> = pts
-                .windows(2)
-                .map(|w| (w[0].1 - w[1].1) / (w[0].0 - w[1].0))
-                .collect();
-            let range = (!local.is_empty()).then(|| {
-                (
-                    local.iter().copied().fold(f64::INFINITY, f64::min),
-                    local.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-                )
-            });
+            let (fitted, range) = fit(&pts);
             Order {
                 method: m,
                 fitted,
@@ -408,6 +393,79 @@ pub fn orders(rows: &[Row], floor: f64) -> Vec<Order> {
             }
         })
         .collect()
+}
+
+/// Tolerance proportionality of one adaptive method: the least-squares slope of log error
+/// against log rtol over its rows above `floor` (1 when the error follows rtol), with the
+/// smallest and largest slope between neighbours, and the rtols fitted.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Proportionality {
+    pub method: Method,
+    pub fitted: Option<f64>,
+    pub range: Option<(f64, f64)>,
+    pub rtols: Option<(f64, f64)>,
+}
+
+pub fn proportionality(rows: &[Row], floor: f64) -> Vec<Proportionality> {
+    let mut methods: Vec<Method> = Vec::new();
+    for r in rows {
+        if r.rtol.is_some() && !methods.contains(&r.method) {
+            methods.push(r.method);
+        }
+    }
+    methods
+        .into_iter()
+        .map(|m| {
+            let pts: Vec<(f64, f64)> = rows
+                .iter()
+                .filter(|r| r.method == m)
+                .filter_map(|r| {
+                    let rtol = r.rtol?;
+                    r.error.filter(|e| *e > floor).map(|e| (rtol.ln(), e.ln()))
+                })
+                .collect();
+            let (fitted, range) = fit(&pts);
+            let rtols = (!pts.is_empty()).then(|| {
+                let xs = pts.iter().map(|p| p.0.exp());
+                (
+                    xs.clone().fold(f64::INFINITY, f64::min),
+                    xs.fold(0.0, f64::max),
+                )
+            });
+            Proportionality {
+                method: m,
+                fitted,
+                range,
+                rtols,
+            }
+        })
+        .collect()
+}
+
+/// The least-squares slope of y against x (at least two points) and the smallest and largest
+/// slope between neighbours.
+fn fit(pts: &[(f64, f64)]) -> (Option<f64>, Option<(f64, f64)>) {
+    let fitted = (pts.len() >= 2).then(|| {
+        let n = pts.len() as f64;
+        let (mx, my) = (
+            pts.iter().map(|p| p.0).sum::<f64>() / n,
+            pts.iter().map(|p| p.1).sum::<f64>() / n,
+        );
+        let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+        let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
+        sxy / sxx
+    });
+    let local: Vec<f64> = pts
+        .windows(2)
+        .map(|w| (w[0].1 - w[1].1) / (w[0].0 - w[1].0))
+        .collect();
+    let range = (!local.is_empty()).then(|| {
+        (
+            local.iter().copied().fold(f64::INFINITY, f64::min),
+            local.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        )
+    });
+    (fitted, range)
 }
 
 /// The cheapest measured run reaching `target` error: by wall time, and by force evaluations.

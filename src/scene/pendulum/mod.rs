@@ -129,7 +129,8 @@ impl SecondOrderSystem for Pendulum {
     }
 }
 
-/// Takes `theta.len()` steps, storing (θ, ω) and the evaluations spent so far after each;
+/// Takes `theta.len()` steps, storing (θ, ω), the evaluations spent so far and the size of the
+/// method's last accepted step (an adaptive method's own, dt otherwise) after each;
 /// appends the indices of steps whose implicit solve missed its tolerance to `unconverged`.
 ///
 /// This is the loop the lab times and the benchmark measures. It is not generic and never
@@ -142,12 +143,14 @@ pub fn step_block(
     theta: &mut [f64],
     omega: &mut [f64],
     evals: &mut [u64],
+    step_size: &mut [f64],
     unconverged: &mut Vec<usize>,
 ) {
-    for (j, ((th, w), e)) in theta
+    for (j, (((th, w), e), h)) in theta
         .iter_mut()
         .zip(omega.iter_mut())
         .zip(evals.iter_mut())
+        .zip(step_size.iter_mut())
         .enumerate()
     {
         if let Some(solve) = it.step(system)
@@ -158,6 +161,7 @@ pub fn step_block(
         *th = it.position()[0];
         *w = it.velocity()[0];
         *e = it.evals();
+        *h = it.last_step_size();
     }
 }
 

@@ -74,8 +74,17 @@ impl PendulumConfig {
     }
 }
 
-/// The quantities every lane plots, in order; method lanes add `theta_error`.
-pub const QUANTITIES: [&str; 5] = ["theta", "omega", "energy", "energy_error", "theta_error"];
+/// The quantities every lane plots, in order; method lanes add `theta_error` and `step_size`
+/// (the size of the method's last accepted step: an adaptive method's own steps, which do not
+/// end at the sample times, so a user sees the step size the error control chose).
+pub const QUANTITIES: [&str; 6] = [
+    "theta",
+    "omega",
+    "energy",
+    "energy_error",
+    "theta_error",
+    "step_size",
+];
 
 /// One lane: a method, or the reference (`method` is `None`).
 pub struct PendulumLane {
@@ -87,6 +96,8 @@ pub struct PendulumLane {
     /// Evaluations spent after every step of the current block (so that a lane that diverged
     /// inside a block counts only up to its failing step).
     evals: Vec<u64>,
+    /// The method's last accepted step size after every step of the current block.
+    step_size: Vec<f64>,
     /// Offsets in the current block of steps whose implicit solve missed its tolerance.
     unconverged: Vec<usize>,
     pub meter: PeriodMeter,
@@ -162,6 +173,7 @@ impl PendulumScene {
             theta,
             omega,
             evals: vec![0; BLOCK_STEPS],
+            step_size: vec![0.0; BLOCK_STEPS],
             unconverged: Vec::new(),
             meter,
             max_theta_error: 0.0,
@@ -208,7 +220,7 @@ impl Scene for PendulumScene {
         let p = self.config.params;
         let mut values = vec![p.theta0, p.omega0, self.initial_energy, 0.0];
         if lane.method.is_some() {
-            values.push(0.0);
+            values.extend([0.0, 0.0]);
         }
         Some(values)
     }
@@ -240,6 +252,7 @@ impl Scene for PendulumScene {
                 &mut lane.theta[..len],
                 &mut lane.omega[..len],
                 &mut lane.evals[..len],
+                &mut lane.step_size[..len],
                 &mut lane.unconverged,
             ),
             None => {
@@ -291,8 +304,8 @@ impl Scene for PendulumScene {
                 lane.max_theta_error = lane.max_theta_error.max(theta_error);
             }
             if out.wants(step) {
-                let row = [th, w, e, energy_error, theta_error];
-                out.push(step, &row[..if is_method { 5 } else { 4 }]);
+                let row = [th, w, e, energy_error, theta_error, lane.step_size[j]];
+                out.push(step, &row[..if is_method { 6 } else { 4 }]);
             }
         }
         if let Some(&offset) = lane.unconverged.first()
