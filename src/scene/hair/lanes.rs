@@ -9,8 +9,7 @@
 //! drops their results.
 //!
 //! Per lane the arithmetic and its order are the scalar code's (glam's `DVec3` operations:
-//! `length` = sqrt of (x² + y²) + z², `d / ℓ` divides each component, normalisation multiplies
-//! by 1/ℓ); Rust does not contract a·b + c into a fused multiply-add, so the AVX2 build and the
+//! `length` = sqrt of (x² + y²) + z², normalisation multiplies by 1/ℓ); Rust does not contract a·b + c into a fused multiply-add, so the AVX2 build and the
 //! portable fallback give the same bits. The rare branches (a node inside the head, a
 //! zero-length segment) run the scalar code ([`StepContext::collide`], [`StepContext::follow`])
 //! on the lanes that take them.
@@ -546,13 +545,14 @@ pub(super) fn newton_lanes(
     let l0 = F4::splat(l0);
     let zero = F4::ZERO;
     let unit_z = V3::splat(DVec3::Z);
+    let (one, two) = (F4::splat(1.0), F4::splat(2.0));
     for j in 0..m {
         let d = x[j + 1] - x[j];
         let len = d.length();
-        u[j] = V3::select(len.test(zero, |a, b| a > b), d / len, unit_z);
+        // One division per segment (d·(1/ℓ), not glam's d/ℓ per component).
+        u[j] = V3::select(len.test(zero, |a, b| a > b), d * (one / len), unit_z);
         dp[j] = -(len - l0);
     }
-    let (one, two) = (F4::splat(1.0), F4::splat(2.0));
     let (mut o_prev, mut cp_prev, mut dp_prev) = (zero, zero, zero);
     for j in 0..m {
         let diag = if j == 0 { one } else { two };
