@@ -157,6 +157,9 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64), UsageError> {
 }
 
 pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
+    if a.kind == StudyKind::Hair {
+        return hair_study(a);
+    }
     let (problem, sw, steps) = setup(a)?;
     let mut out = String::new();
     let csv;
@@ -248,6 +251,7 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
             out.push_str(&report::stability_table(&limits));
             csv = report::limits_csv(&limits);
         }
+        StudyKind::Hair => unreachable!("hair_study runs it"),
     }
     print!("{out}");
     if let Some(path) = &a.csv {
@@ -261,6 +265,60 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
             ..Default::default()
         };
         let bytes = crate::record::study::record_study(&d, problem.name(), &rows, &limits, &out)?;
+        println!(
+            "\nrecording: {} ({:.2} MB)",
+            path.display(),
+            bytes.unwrap_or(0) as f64 / 1e6
+        );
+    }
+    Ok(())
+}
+
+/// `physlab study hair`: the hair scene's configurations (`study::hair::configurations`) at its
+/// defaults (200 strands, tour), over `--duration` (default 4 s).
+fn hair_study(a: &StudyArgs) -> anyhow::Result<()> {
+    use crate::scene::hair::run::HairConfig;
+    let duration = a.duration.unwrap_or(4.0);
+    let base = HairConfig {
+        duration,
+        ..HairConfig::default()
+    };
+    base.validate()?;
+    let configs = crate::study::hair::configurations(&base);
+    let rows = crate::study::hair::hair_trade(&configs);
+    let mut out = String::new();
+    writeln!(
+        out,
+        "hair trade: {} strands × {} nodes, {} over {duration} s at {} Hz; max stretch = largest |ℓ - ℓ0|/ℓ0 over \
+         every frame; ms/frame = wall time of the step per simulation frame on {} threads (measured, not \
+         deterministic)\n",
+        base.params.strands,
+        base.params.nodes,
+        "tour",
+        base.rate,
+        rayon::current_num_threads()
+    )?;
+    out.push_str(&crate::report::hair::trade_table(&rows));
+    writeln!(
+        out,
+        "\ncheapest configuration within each stretch target:\n"
+    )?;
+    out.push_str(&crate::report::hair::trade_cheapest_table(
+        &rows,
+        &[1e-2, 1e-3, 1e-6],
+    ));
+    print!("{out}");
+    if let Some(path) = &a.csv {
+        std::fs::write(path, crate::report::hair::trade_csv(&rows))
+            .map_err(|e| anyhow::anyhow!("--csv {}: cannot write it: {e}", path.display()))?;
+        eprintln!("wrote {}", path.display());
+    }
+    if let Some(path) = &a.output {
+        let d = crate::record::Destinations {
+            file: Some(path.clone()),
+            ..Default::default()
+        };
+        let bytes = crate::record::study::record_study(&d, "hair", &[], &[], &out)?;
         println!(
             "\nrecording: {} ({:.2} MB)",
             path.display(),
