@@ -289,12 +289,11 @@ fn hair_study(a: &StudyArgs) -> anyhow::Result<()> {
     let mut out = String::new();
     writeln!(
         out,
-        "hair trade: {} strands × {} nodes, {} over {duration} s at {} Hz; max stretch = largest |ℓ - ℓ0|/ℓ0 over \
+        "hair trade: {} strands × {} nodes, tour over {duration} s at {} Hz; max stretch = largest |ℓ - ℓ0|/ℓ0 over \
          every frame; ms/frame = wall time of the step per simulation frame on {} threads (measured, not \
          deterministic)\n",
         base.params.strands,
         base.params.nodes,
-        "tour",
         base.rate,
         rayon::current_num_threads()
     )?;

@@ -19,6 +19,10 @@
 //! `ymm` instruction (`vsqrtpd`, `vdivpd`, `vmulpd`, ... : see `objdump -d` of the binary,
 //! function `kernel_avx2`).
 
+// Lane loops index every array by the lane on purpose: it is the form LLVM turns into one
+// vector instruction.
+#![allow(clippy::needless_range_loop)]
+
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
 use glam::DVec3;
