@@ -169,6 +169,9 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), UsageError> 
 }
 
 pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
+    if a.kind == StudyKind::Hair {
+        return hair_study(a);
+    }
     let (problem, sw, steps, scene_file) = setup(a)?;
     let mut out = String::new();
     let csv;
@@ -314,6 +317,7 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
                 problem.omega(),
             ));
         }
+        StudyKind::Hair => unreachable!("hair_study runs it"),
     }
     // With `-o -` standard output carries the recording: the tables go to stderr.
     let to_stdout = a.output.as_ref().is_some_and(|p| p.as_os_str() == "-");
@@ -365,6 +369,72 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
             eprintln!("\nrecording written to standard output");
             return Ok(());
         }
+        println!(
+            "\nrecording: {} ({:.2} MB)",
+            path.display(),
+            bytes.unwrap_or(0) as f64 / 1e6
+        );
+    }
+    Ok(())
+}
+
+/// `physlab study hair`: the hair scene's configurations (`study::hair::configurations`) at its
+/// defaults (200 strands, tour), over `--duration` (default 4 s).
+fn hair_study(a: &StudyArgs) -> anyhow::Result<()> {
+    use crate::scene::hair::run::HairConfig;
+    let duration = a.duration.unwrap_or(4.0);
+    let base = HairConfig {
+        duration,
+        ..HairConfig::default()
+    };
+    base.validate()?;
+    let configs = crate::study::hair::configurations(&base);
+    let rows = crate::study::hair::hair_trade(&configs);
+    let mut out = String::new();
+    writeln!(
+        out,
+        "hair trade: {} strands × {} nodes, tour over {duration} s at {} Hz; max stretch = largest |ℓ - ℓ0|/ℓ0 over \
+         every frame; ms/frame = wall time of the step per simulation frame on {} threads (measured, not \
+         deterministic)\n",
+        base.params.strands,
+        base.params.nodes,
+        base.rate,
+        rayon::current_num_threads()
+    )?;
+    out.push_str(&crate::report::hair::trade_table(&rows));
+    writeln!(
+        out,
+        "\ncheapest configuration within each stretch target:\n"
+    )?;
+    out.push_str(&crate::report::hair::trade_cheapest_table(
+        &rows,
+        &[1e-2, 1e-3, 1e-6],
+    ));
+    // With `-o -` standard output carries the recording: the tables go to stderr.
+    let to_stdout = a.output.as_ref().is_some_and(|p| p.as_os_str() == "-");
+    if to_stdout {
+        eprint!("{out}");
+    } else {
+        print!("{out}");
+    }
+    if let Some(path) = &a.csv {
+        std::fs::write(path, crate::report::hair::trade_csv(&rows))
+            .map_err(|e| anyhow::anyhow!("--csv {}: cannot write it: {e}", path.display()))?;
+        eprintln!("wrote {}", path.display());
+    }
+    if let Some(path) = &a.output {
+        let d = crate::record::Destinations::output(path);
+        // Provenance: the study's base scene (every configuration varies the solver settings of
+        // this one) and the command line.
+        let config = format!(
+            "# the scene of `{}`\n[hair]\nduration = {duration:?}\n",
+            std::env::args().collect::<Vec<_>>().join(" ")
+        );
+        let methods: Vec<&str> = crate::scene::hair::HairMethod::ALL
+            .iter()
+            .map(|m| m.name())
+            .collect();
+        let bytes = crate::record::study::record_study(&d, "hair", &[], &out, (&config, &methods))?;
         println!(
             "\nrecording: {} ({:.2} MB)",
             path.display(),

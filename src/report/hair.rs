@@ -2,6 +2,7 @@
 
 use crate::report::table::{Table, plural, sig, trim_number};
 use crate::scene::hair::run::{HairLane, HairScene};
+use crate::scene::hair::{HairMethod, Solver};
 use crate::scene::harness::{Run, divergence_cell};
 
 pub fn summary_text(scene: &HairScene, run: &Run<HairLane>) -> String {
@@ -67,4 +68,102 @@ pub fn summary_text(scene: &HairScene, run: &Run<HairLane>) -> String {
     }
     out.push_str(&table.render());
     out
+}
+
+/// The hair trade study's rows: configuration, largest stretch, cost per frame.
+pub fn trade_table(rows: &[crate::study::hair::HairRow]) -> String {
+    let mut t = Table::new([
+        "method",
+        "solver",
+        "iterations",
+        "substeps",
+        "k/m [1/s²]",
+        "max stretch",
+        "ms/frame",
+    ]);
+    for r in rows {
+        t.row([
+            r.method.name().to_string(),
+            r.solver.map_or("—".into(), |s| s.name().to_string()),
+            r.iterations.to_string(),
+            r.substeps.to_string(),
+            r.stiffness.map_or("—".into(), |k| format!("{k:.0e}")),
+            r.stretch.map_or("diverged".into(), |s| format!("{s:.2e}")),
+            trim_number(r.ms_per_frame, 3),
+        ]);
+    }
+    t.render()
+}
+
+/// The cheapest configuration (by wall time per frame) within each stretch target: over all
+/// rows, then for each method (and verlet's solver).
+pub fn trade_cheapest_table(rows: &[crate::study::hair::HairRow], targets: &[f64]) -> String {
+    use crate::study::hair::cheapest_within;
+    let mut kinds: Vec<(HairMethod, Option<Solver>)> = Vec::new();
+    for r in rows {
+        if !kinds.contains(&(r.method, r.solver)) {
+            kinds.push((r.method, r.solver));
+        }
+    }
+    let mut t = Table::new([
+        "max stretch ≤",
+        "among",
+        "cheapest",
+        "max stretch",
+        "ms/frame",
+    ]);
+    for &target in targets {
+        let mut line = |among: String, r: Option<&crate::study::hair::HairRow>| match r {
+            Some(r) => t.row([
+                format!("{target:.0e}"),
+                among,
+                r.flags(),
+                r.stretch.map_or(String::new(), |s| format!("{s:.2e}")),
+                trim_number(r.ms_per_frame, 3),
+            ]),
+            None => t.row([
+                format!("{target:.0e}"),
+                among,
+                "none measured".into(),
+                "—".into(),
+                "—".into(),
+            ]),
+        };
+        line("all".into(), cheapest_within(rows, target));
+        for &(m, s) in &kinds {
+            let among = match s {
+                Some(s) => format!("{} {}", m.name(), s.name()),
+                None => m.name().to_string(),
+            };
+            line(
+                among,
+                cheapest_within(
+                    rows.iter().filter(|r| (r.method, r.solver) == (m, s)),
+                    target,
+                ),
+            );
+        }
+    }
+    t.render()
+}
+
+/// One CSV row per configuration of the hair trade study.
+pub fn trade_csv(rows: &[crate::study::hair::HairRow]) -> String {
+    use std::fmt::Write as _;
+    let mut csv =
+        String::from("method,solver,iterations,substeps,stiffness,max_stretch,ms_per_frame\n");
+    for r in rows {
+        let _ = writeln!(
+            csv,
+            "{},{},{},{},{},{},{:e}",
+            r.method.name(),
+            r.solver.map_or("", |s| s.name()),
+            r.iterations,
+            r.substeps,
+            r.stiffness.map_or(String::new(), |k| format!("{k:e}")),
+            r.stretch.map_or(String::new(), |s| format!("{s:e}")),
+            r.ms_per_frame
+        );
+    }
+    csv
 }

@@ -6,6 +6,8 @@
 //! RK4 at a step 8× finer than the finest tested, whose own error is estimated by Richardson
 //! extrapolation against a run at twice its step.
 
+pub mod hair;
+
 use std::time::Instant;
 
 use crate::integrate::{
