@@ -234,7 +234,16 @@ fn every_phase_refuses_what_cannot_finish_naming_the_option() {
             "reference steps",
         ),
         (
-            &["study", "convergence", "--scene", "rope", "--levels", "16"],
+            &[
+                "study",
+                "convergence",
+                "--scene",
+                "rope",
+                "--levels",
+                "16",
+                "--nodes",
+                "64",
+            ],
             "node-steps",
         ),
         (
@@ -249,6 +258,8 @@ fn every_phase_refuses_what_cannot_finish_naming_the_option() {
                 "rope",
                 "--steps",
                 "10000000",
+                "--nodes",
+                "32",
             ],
             "--steps 10000000",
         ),
@@ -329,7 +340,7 @@ fn hair_reports_divergence_honestly_and_its_energy_per_unit_mass() {
     }
     // Failing the first frame: no figures, not zeros.
     for wind in ["0,0,1e6", "1e6,0,0"] {
-        let s = summary(&["--wind", wind, "--methods", "implicit-euler"]);
+        let s = summary(&["--wind", wind, "--gust", "0", "--methods", "implicit-euler"]);
         let r = row(&s, "implicit-euler");
         assert!(r[11].starts_with("yes"), "{r:?}");
         assert_eq!(&r[7..11], ["—", "—", "—", "—"], "{r:?}");
