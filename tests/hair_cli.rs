@@ -37,7 +37,7 @@ fn hair_run_writes_one_strip_entity_per_method() {
         }
         // Wall-clock costs are only recorded with --timings.
         assert!(!d.scalars.contains_key(&format!("/hair/plots/frame_ms/{m}")));
-        for q in ["max_penetration", "kinetic_energy"] {
+        for q in ["max_penetration", "specific_kinetic_energy"] {
             let rows = &d.scalars[&format!("/hair/plots/{q}/{m}")];
             assert_eq!(rows.len(), 60, "{q}/{m}: one value per 60 Hz frame");
         }

@@ -331,7 +331,7 @@ fn sigint_finalises_a_readable_recording_and_exits_130() {
     );
     let d = decode(&out);
     assert!(d.has_footer, "the interrupted recording has its footer");
-    let ke = &d.scalars["/hair/plots/kinetic_energy/verlet"];
+    let ke = &d.scalars["/hair/plots/specific_kinetic_energy/verlet"];
     let last = ke.last().unwrap().0 as f64 * 1e-9;
     assert!(
         ke.len() > 10 && last < 59.0,

@@ -8,7 +8,12 @@ use super::UsageError;
 use crate::cli::{PendulumArgs, RopeArgs, RopeBody, StudyArgs, StudyKind, StudyScene};
 use crate::integrate::{Method, MethodOptions};
 use crate::report::study as report;
+use crate::scene::params::{MAX_NODE_STEPS, MAX_STEPS, shown};
 use crate::study::{Limit, Problem, Sweep, error_floor, stability, sweep};
+
+/// Steps a whole study may take (every method, level and repeat, and the reference): ten
+/// times what one scene's method may, about as long as a scene running ten methods.
+const STUDY_MAX_STEPS: f64 = 10.0 * MAX_STEPS;
 
 /// The study's problem and sweep from its flags, over the scene file, over the scene defaults
 /// (for the rope's convergence and cost: a softer, undamped rope, so that explicit methods
@@ -132,9 +137,11 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), UsageError> 
     let longest = duration / crate::study::SAMPLE_EVERY as f64;
     if dt0 > longest {
         return Err(UsageError(format!(
-            "--dt {dt0}: must not exceed --duration / {} = {longest} s (errors are sampled every {} \
+            "--dt {}: must not exceed --duration / {} = {} s (errors are sampled every {} \
              coarsest steps)",
+            shown(dt0),
             crate::study::SAMPLE_EVERY,
+            shown(longest),
             crate::study::SAMPLE_EVERY
         )));
     }
@@ -142,12 +149,74 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), UsageError> 
     // fit in time and memory.
     let finest = dt0 / 2f64.powi(levels as i32 - 1);
     let reference_steps = 8.0 * duration / finest;
-    if reference_steps > crate::scene::params::MAX_STEPS {
+    let schedule = format!(
+        "--dt {} with --levels {levels} over --duration {} s",
+        shown(dt0),
+        shown(duration)
+    );
+    if reference_steps > MAX_STEPS {
         return Err(UsageError(format!(
-            "--dt {dt0} with --levels {levels} over --duration {duration} s needs {reference_steps:.2e} \
-             reference steps; at most {:.0e} are allowed (raise --dt or lower --levels)",
-            crate::scene::params::MAX_STEPS
+            "{schedule} needs {reference_steps:.2e} reference steps; at most {MAX_STEPS:.0e} are allowed \
+             (raise --dt or lower --levels)"
         )));
+    }
+    // Work per step (coordinates stepped) and memory, for every phase, up front.
+    let (work_per_step, dim) = match &problem {
+        Problem::Pendulum(_) => (1.0, 1.0),
+        Problem::Rope(p) => (p.nodes as f64, 3.0 * p.nodes as f64),
+    };
+    let nodes = match &problem {
+        Problem::Pendulum(_) => String::new(),
+        Problem::Rope(p) => format!(" × --nodes {}", p.nodes),
+    };
+    let fixed = methods
+        .iter()
+        .filter(|m| m.info().family != crate::integrate::Family::Adaptive)
+        .count() as f64;
+    match a.kind {
+        StudyKind::Convergence | StudyKind::WorkPrecision => {
+            // The reference (fine and coarse runs, for its error estimate), and every fixed-step
+            // method over dt0, dt0/2, ... dt0/2^(levels-1), each `repeats` times (the damped
+            // rope's second sweep doubles it).
+            let sweeps = if a.kind == StudyKind::Convergence && matches!(problem, Problem::Rope(_))
+            {
+                2.0
+            } else {
+                1.0
+            };
+            let steps = sweeps
+                * (1.5 * reference_steps
+                    + fixed * repeats as f64 * (duration / dt0) * (2f64.powi(levels as i32) - 1.0));
+            let work = steps * work_per_step;
+            if steps > STUDY_MAX_STEPS || work > MAX_NODE_STEPS {
+                return Err(UsageError(format!(
+                    "{schedule}, --repeats {repeats}{nodes} and {fixed} fixed-step methods is {steps:.2e} steps \
+                     ({work:.2e} node-steps) in all; at most {STUDY_MAX_STEPS:.0e} steps and {MAX_NODE_STEPS:.0e} \
+                     node-steps are allowed (raise --dt, lower --levels or --repeats, or choose fewer --methods)"
+                )));
+            }
+            // The reference is kept at every sample, twice (fine and coarse).
+            let samples = duration / (crate::study::SAMPLE_EVERY as f64 * dt0);
+            crate::scene::params::memory(
+                &format!("the reference for {schedule}{nodes}"),
+                2.0 * samples * dim * 8.0,
+                "raise --dt or shorten --duration",
+            )?;
+        }
+        StudyKind::Stability => {
+            // Each method: one trial at the bracket's low end and 40 bisections, of up to
+            // --steps steps each.
+            let runs = 41.0 * methods.len() as f64;
+            let work = runs * steps as f64 * work_per_step;
+            if work > MAX_NODE_STEPS {
+                return Err(UsageError(format!(
+                    "--steps {steps}{nodes} over {} methods × 41 bisection trials is {work:.2e} node-steps; at most \
+                     {MAX_NODE_STEPS:.0e} are allowed (lower --steps or choose fewer --methods)",
+                    methods.len()
+                )));
+            }
+        }
+        StudyKind::Hair => unreachable!("the hair study has its own setup (hair_study)"),
     }
     let sweep = Sweep {
         dt0,
@@ -176,9 +245,12 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
     let mut out = String::new();
     let csv;
     let mut diagrams: Vec<crate::diagram::Diagram> = Vec::new();
+    // Runs (or methods' limits) complete: after Ctrl-C or SIGTERM only those are shown.
+    let done;
     match a.kind {
         StudyKind::Convergence | StudyKind::WorkPrecision => {
             let (rows, reference_error) = sweep(&problem, &sw);
+            done = rows.len();
             let exact = matches!(&problem, Problem::Pendulum(p)
                 if crate::scene::pendulum::reference::ExactPendulum::new(p).is_some());
             let reference = if exact {
@@ -218,6 +290,7 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
                 ));
                 out.push('\n');
                 if let Problem::Rope(p) = &problem
+                    && !crate::interrupt::requested()
                     && p.spring_damping == 0.0
                     && p.air_drag == 0.0
                 {
@@ -230,24 +303,27 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
                         ..p.clone()
                     });
                     let (damped_rows, damped_error) = sweep(&damped, &sw);
-                    writeln!(
-                        out,
-                        "the same rope with the scene's spring damping {} N·s/m and air drag {} N·s/m \
+                    // A stop during the damped sweep leaves it out: only complete tables are shown.
+                    if !crate::interrupt::requested() {
+                        writeln!(
+                            out,
+                            "the same rope with the scene's spring damping {} N·s/m and air drag {} N·s/m \
                          (velocity-dependent forces):\n",
-                        scene.spring_damping, scene.air_drag
-                    )?;
-                    out.push_str(&report::orders_table(
-                        &damped_rows,
-                        error_floor(damped_error),
-                        true,
-                    ));
-                    diagrams.push(crate::diagram::convergence(
-                        problem.name(),
-                        &damped_rows,
-                        error_floor(damped_error),
-                        true,
-                    ));
-                    out.push('\n');
+                            scene.spring_damping, scene.air_drag
+                        )?;
+                        out.push_str(&report::orders_table(
+                            &damped_rows,
+                            error_floor(damped_error),
+                            true,
+                        ));
+                        diagrams.push(crate::diagram::convergence(
+                            problem.name(),
+                            &damped_rows,
+                            error_floor(damped_error),
+                            true,
+                        ));
+                        out.push('\n');
+                    }
                 }
             }
             if rows.iter().any(|r| r.rtol.is_some()) {
@@ -297,6 +373,7 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
         }
         StudyKind::Stability => {
             let limits: Vec<Limit> = stability(&problem, &sw.methods, steps);
+            done = limits.len();
             writeln!(
                 out,
                 "{} stability: largest dt whose run stays within 10⁴ of its start for {steps} steps (bisection), on the \
@@ -319,6 +396,14 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
         }
         StudyKind::Hair => unreachable!("hair_study runs it"),
     }
+    // Ctrl-C or SIGTERM: what is complete is shown and written, then the study ends with 130.
+    let interrupted = crate::interrupt::requested();
+    let complete = done > 0;
+    if !complete {
+        // Stopped before a single run was complete: no table to show.
+        out.clear();
+        diagrams.clear();
+    }
     // With `-o -` standard output carries the recording: the tables go to stderr.
     let to_stdout = a.output.as_ref().is_some_and(|p| p.as_os_str() == "-");
     if to_stdout {
@@ -326,8 +411,10 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
     } else {
         print!("{out}");
     }
-    if let Some(path) = &a.csv {
-        std::fs::write(path, &csv)
+    if let Some(path) = &a.csv
+        && complete
+    {
+        write_whole(path, csv.as_bytes())
             .map_err(|e| anyhow::anyhow!("--csv {}: cannot write it: {e}", path.display()))?;
         eprintln!("wrote {}", path.display());
     }
@@ -343,14 +430,16 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
         .or_else(|| a.output.as_deref().filter(|_| !to_stdout).map(beside))
         .or_else(|| a.csv.as_deref().map(beside));
     let mut images: Vec<(String, Vec<u8>)> = Vec::new();
-    if let Some(dir) = &plots_dir {
+    if let Some(dir) = plots_dir.as_ref().filter(|_| complete) {
         for d in &diagrams {
             let w = d.write(dir)?;
             eprintln!("wrote {} and {}", w.svg.display(), w.png.display());
             images.push((d.title.clone(), w.png_bytes));
         }
     }
-    if let Some(path) = &a.output {
+    if let Some(path) = &a.output
+        && complete
+    {
         let d = crate::record::Destinations::output(path);
         let config = format!(
             "# the scene of `{}`\n{}",
@@ -367,13 +456,16 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
         )?;
         if to_stdout {
             eprintln!("\nrecording written to standard output");
-            return Ok(());
+        } else {
+            println!(
+                "\nrecording: {} ({:.2} MB)",
+                path.display(),
+                bytes.unwrap_or(0) as f64 / 1e6
+            );
         }
-        println!(
-            "\nrecording: {} ({:.2} MB)",
-            path.display(),
-            bytes.unwrap_or(0) as f64 / 1e6
-        );
+    }
+    if interrupted {
+        return Err(interrupted_error(a, &sw, done, complete));
     }
     Ok(())
 }
@@ -435,11 +527,68 @@ fn hair_study(a: &StudyArgs) -> anyhow::Result<()> {
             .map(|m| m.name())
             .collect();
         let bytes = crate::record::study::record_study(&d, "hair", &[], &out, (&config, &methods))?;
-        println!(
-            "\nrecording: {} ({:.2} MB)",
-            path.display(),
-            bytes.unwrap_or(0) as f64 / 1e6
-        );
+        if !to_stdout {
+            println!(
+                "\nrecording: {} ({:.2} MB)",
+                path.display(),
+                bytes.unwrap_or(0) as f64 / 1e6
+            );
+        }
     }
     Ok(())
+}
+
+/// What an interrupted study says: how many of its planned runs (or methods' limits) were
+/// complete, and whether anything was written.
+fn interrupted_error(a: &StudyArgs, sw: &Sweep, done: usize, complete: bool) -> anyhow::Error {
+    let planned: usize = match a.kind {
+        StudyKind::Stability => sw.methods.len(),
+        _ => sw
+            .methods
+            .iter()
+            .map(|m| {
+                if m.info().family == crate::integrate::Family::Adaptive {
+                    sw.rtols.len()
+                } else {
+                    sw.levels as usize
+                }
+            })
+            .sum(),
+    };
+    let kept = if complete {
+        "; the tables above (and any --csv and -o files) hold the complete ones"
+    } else {
+        "; nothing was written"
+    };
+    crate::interrupt::Interrupted(format!(
+        "interrupted: {done} of {planned} {} complete{kept}",
+        if a.kind == StudyKind::Stability {
+            "methods' limits"
+        } else {
+            "runs"
+        }
+    ))
+    .into()
+}
+
+/// Writes `bytes` to `path` whole or not at all: to a hidden file beside it, renamed over it
+/// once complete, so that a failure or a second Ctrl-C never leaves a truncated file where a
+/// good one was (the signal handler removes the hidden file).
+fn write_whole(path: &std::path::Path, bytes: &[u8]) -> std::io::Result<()> {
+    let name = path
+        .file_name()
+        .ok_or_else(|| std::io::Error::other("not a file name"))?
+        .to_string_lossy();
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => std::path::Path::new("."),
+    };
+    let tmp = dir.join(format!(".{name}.{}.partial", std::process::id()));
+    crate::interrupt::set_partial_file(Some(&tmp));
+    let written = std::fs::write(&tmp, bytes).and_then(|()| std::fs::rename(&tmp, path));
+    crate::interrupt::set_partial_file(None);
+    if written.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    written
 }

@@ -147,7 +147,7 @@ fn hair_default() -> String {
         "method",
         "max stretch",
         "max penetration [m]",
-        "final KE [J/kg]",
+        "final KE per kg [J/kg]",
         "diverged",
     ]);
     for (lane, s) in r.lanes.iter().zip(&r.stats) {
