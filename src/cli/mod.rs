@@ -107,11 +107,11 @@ pub struct AllArgs {
     pub run: RunArgs,
 
     /// 3D frames logged per simulated second, for every scene (overrides the scene file)
-    #[arg(long, value_name = "HZ", allow_hyphen_values = true)]
+    #[arg(long, value_name = "HZ", allow_negative_numbers = true)]
     pub fps: Option<f64>,
 
     /// Plot every Nth step of the pendulum and the rope (overrides the scene file)
-    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub plot_every: Option<u64>,
 
     /// Methods, comma-separated (overrides the scene file); each scene runs those it supports
@@ -143,7 +143,7 @@ pub struct HairCommand {
     #[command(flatten)]
     pub run: RunArgs,
     /// Worker threads for the strands [default: all cores]; results do not depend on it
-    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub threads: Option<usize>,
     /// Strands drawn in 3D, spread evenly over the head; every strand is still simulated and
     /// measured [default: as many as keep the 3D part of the recording under 180 MB]
@@ -230,15 +230,15 @@ pub struct StudyArgs {
     pub rope: RopeBody,
 
     /// Simulated time [s]
-    #[arg(long, value_name = "S", allow_hyphen_values = true)]
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
     pub duration: Option<f64>,
 
     /// Coarsest step; each level halves it [s]
-    #[arg(long, value_name = "S", allow_hyphen_values = true)]
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
     pub dt: Option<f64>,
 
     /// Number of step sizes
-    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub levels: Option<u32>,
 
     /// Methods, comma-separated (the names are listed from the registry by `command`)
@@ -250,16 +250,16 @@ pub struct StudyArgs {
         long,
         value_delimiter = ',',
         value_name = "LIST",
-        allow_hyphen_values = true
+        allow_negative_numbers = true
     )]
     pub rtol: Option<Vec<f64>>,
 
     /// Timed repeats per run for work-precision (the median is kept)
-    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub repeats: Option<u32>,
 
     /// Steps each stability trial must stay bounded for
-    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub steps: Option<u64>,
 
     /// Also write one row per run as CSV

@@ -35,11 +35,11 @@ pub struct PendulumStart {
     /// Initial angle θ0 from straight down [degrees]. Release from rest with
     /// |θ0| < 180° is compared with the exact elliptic solution; any other start with a converged
     /// fine-step one
-    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
     pub theta0: Option<f64>,
 
     /// Initial angular velocity ω0 [rad/s]
-    #[arg(long, value_name = "RAD/S", allow_hyphen_values = true)]
+    #[arg(long, value_name = "RAD/S", allow_negative_numbers = true)]
     pub omega0: Option<f64>,
 }
 
@@ -47,23 +47,23 @@ pub struct PendulumStart {
 #[derive(Args, Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
 pub struct RopeBody {
     /// Number of point masses, ≥ 2
-    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub nodes: Option<usize>,
 
     /// Mass of each node [kg]
-    #[arg(long, value_name = "KG", allow_hyphen_values = true)]
+    #[arg(long, value_name = "KG", allow_negative_numbers = true)]
     pub mass: Option<f64>,
 
     /// Spring stiffness ks [N/m]
-    #[arg(long, value_name = "N/M", allow_hyphen_values = true)]
+    #[arg(long, value_name = "N/M", allow_negative_numbers = true)]
     pub stiffness: Option<f64>,
 
     /// Spring damping kd on the relative velocity along each spring [N·s/m]
-    #[arg(long, value_name = "N·S/M", allow_hyphen_values = true)]
+    #[arg(long, value_name = "N·S/M", allow_negative_numbers = true)]
     pub spring_damping: Option<f64>,
 
     /// Air drag ka, force -ka·v on every node [N·s/m]
-    #[arg(long, value_name = "N·S/M", allow_hyphen_values = true)]
+    #[arg(long, value_name = "N·S/M", allow_negative_numbers = true)]
     pub air_drag: Option<f64>,
 }
 
@@ -72,11 +72,11 @@ pub struct RopeBody {
 #[derive(Args, Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
 pub struct PendulumArgs {
     /// Gravitational acceleration g [m/s²]
-    #[arg(long, value_name = "M/S²", allow_hyphen_values = true)]
+    #[arg(long, value_name = "M/S²", allow_negative_numbers = true)]
     pub gravity: Option<f64>,
 
     /// Rod length L, pivot to bob [m]
-    #[arg(long, value_name = "M", allow_hyphen_values = true)]
+    #[arg(long, value_name = "M", allow_negative_numbers = true)]
     pub length: Option<f64>,
 
     #[command(flatten)]
@@ -84,19 +84,19 @@ pub struct PendulumArgs {
     pub initial: PendulumStart,
 
     /// Time step dt [s], the same for every method
-    #[arg(long, value_name = "S", allow_hyphen_values = true)]
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
     pub dt: Option<f64>,
 
     /// Simulated time [s]; the run takes round(duration / dt) steps
-    #[arg(long, value_name = "S", allow_hyphen_values = true)]
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
     pub duration: Option<f64>,
 
     /// How often the 3D state is logged [Hz of simulated time]
-    #[arg(long, value_name = "HZ", allow_hyphen_values = true)]
+    #[arg(long, value_name = "HZ", allow_negative_numbers = true)]
     pub fps: Option<f64>,
 
     /// Plot every Nth step (thinned further to at most 10,000 points per series)
-    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub plot_every: Option<u64>,
 
     /// Methods to run, comma-separated (the names are listed from the registry by `cli::command`)
@@ -104,10 +104,10 @@ pub struct PendulumArgs {
     pub methods: Option<Vec<Method>>,
 
     /// Verlet's damping factor d in x1 = x0 + (1-d)(x0 - x_-1) + a dt², 0 ≤ d < 1
-    #[arg(long, value_name = "D", allow_hyphen_values = true)]
+    #[arg(long, value_name = "D", allow_negative_numbers = true)]
     pub verlet_damping: Option<f64>,
     /// dopri5's relative tolerance per substep (the absolute one equals it)
-    #[arg(long, value_name = "TOL", allow_hyphen_values = true)]
+    #[arg(long, value_name = "TOL", allow_negative_numbers = true)]
     pub rtol: Option<f64>,
 }
 
@@ -155,19 +155,19 @@ pub struct RopeArgs {
     pub pinned: Option<Vec<usize>>,
 
     /// Time step [s]
-    #[arg(long, value_name = "S", allow_hyphen_values = true)]
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
     pub dt: Option<f64>,
 
     /// Simulated time [s]
-    #[arg(long, value_name = "S", allow_hyphen_values = true)]
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
     pub duration: Option<f64>,
 
     /// 3D frames per simulated second
-    #[arg(long, value_name = "HZ", allow_hyphen_values = true)]
+    #[arg(long, value_name = "HZ", allow_negative_numbers = true)]
     pub fps: Option<f64>,
 
     /// Plot every Nth step (thinned further to at most 10,000 points per series)
-    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub plot_every: Option<u64>,
 
     /// Methods to run, comma-separated (the names are listed from the registry by `cli::command`)
@@ -175,20 +175,20 @@ pub struct RopeArgs {
     pub methods: Option<Vec<Method>>,
 
     /// Verlet's damping factor d, 0 ≤ d < 1 (0.00005 with --preset games101)
-    #[arg(long, value_name = "D", allow_hyphen_values = true)]
+    #[arg(long, value_name = "D", allow_negative_numbers = true)]
     pub verlet_damping: Option<f64>,
 
     /// Newton iterations per implicit-Euler step: 1 = linearised backward Euler
     /// (Baraff–Witkin), which is not unconditionally stable (it diverges on the default rope at
     /// dt = 0.3 s); more refine towards exact backward Euler, stopping at tolerance
-    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub newton_iterations: Option<u32>,
 
     /// Where each method's rope is drawn: side-by-side or overlay
     #[arg(long, value_name = "LAYOUT")]
     pub layout: Option<Layout>,
     /// dopri5's relative tolerance per substep (the absolute one equals it)
-    #[arg(long, value_name = "TOL", allow_hyphen_values = true)]
+    #[arg(long, value_name = "TOL", allow_negative_numbers = true)]
     pub rtol: Option<f64>,
 }
 
@@ -196,19 +196,19 @@ pub struct RopeArgs {
 #[serde(deny_unknown_fields)]
 pub struct HairArgs {
     /// Number of strands, rooted by a golden-angle spiral over the upper head
-    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub strands: Option<usize>,
 
     /// Nodes per strand, the root included
-    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub nodes: Option<usize>,
 
     /// Rest length of every segment [m]
-    #[arg(long, value_name = "M", allow_hyphen_values = true)]
+    #[arg(long, value_name = "M", allow_negative_numbers = true)]
     pub segment_length: Option<f64>,
 
     /// Head (sphere) radius [m]
-    #[arg(long, value_name = "M", allow_hyphen_values = true)]
+    #[arg(long, value_name = "M", allow_negative_numbers = true)]
     pub head_radius: Option<f64>,
 
     /// Scripted head path: smooth pulses that start and end at rest
@@ -221,7 +221,7 @@ pub struct HairArgs {
 
     /// Gust strength as a fraction of the wind: the wind varies by ±this, smoothly and
     /// deterministically
-    #[arg(long, value_name = "FRACTION", allow_hyphen_values = true)]
+    #[arg(long, value_name = "FRACTION", allow_negative_numbers = true)]
     pub gust: Option<f64>,
 
     /// Gravitational acceleration x,y[,z] [m/s²], z up
@@ -229,7 +229,7 @@ pub struct HairArgs {
     pub gravity: Option<Vector>,
 
     /// Velocity damping rate c [1/s]: velocities decay as exp(-c t)
-    #[arg(long, value_name = "1/S", allow_hyphen_values = true)]
+    #[arg(long, value_name = "1/S", allow_negative_numbers = true)]
     pub damping: Option<f64>,
 
     /// How verlet solves its length constraints: direct (each strand's constraints together,
@@ -242,21 +242,21 @@ pub struct HairArgs {
     /// Newton steps (verlet with --solver direct; implicit-euler) or Gauss–Seidel sweeps (verlet
     /// with --solver gauss-seidel) per step; ftl needs one pass. Default 2: two Newton steps bring
     /// the residual from a 60 Hz prediction to ≤1e-3 ℓ0 before the exact finish
-    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub iterations: Option<u32>,
 
     /// Spring methods (semi-implicit-euler, implicit-euler): segment stiffness per unit node mass
     /// k/m [1/s²]. semi-implicit-euler takes inner steps h with h²·4k/m + 2h·4kd/m < 4
-    #[arg(long, value_name = "1/S²", allow_hyphen_values = true)]
+    #[arg(long, value_name = "1/S²", allow_negative_numbers = true)]
     pub stiffness: Option<f64>,
 
     /// Spring methods: damping per unit node mass kd/m [1/s] on the relative velocity along each
     /// segment (semi-implicit-euler; implicit-euler damps the stiff modes by itself)
-    #[arg(long, value_name = "1/S", allow_hyphen_values = true)]
+    #[arg(long, value_name = "1/S", allow_negative_numbers = true)]
     pub spring_damping: Option<f64>,
 
     /// Steps per simulation frame
-    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub substeps: Option<u32>,
 
     /// Time step dt [s] of the simulation, as in every scene: sets --substeps to 1/(rate·dt),
@@ -265,19 +265,19 @@ pub struct HairArgs {
     pub dt: Option<f64>,
 
     /// Simulation frames per simulated second [Hz]
-    #[arg(long, value_name = "HZ", allow_hyphen_values = true)]
+    #[arg(long, value_name = "HZ", allow_negative_numbers = true)]
     pub rate: Option<f64>,
 
     /// How often the 3D state is logged [Hz of simulated time]; plots get every frame
-    #[arg(long, value_name = "HZ", allow_hyphen_values = true)]
+    #[arg(long, value_name = "HZ", allow_negative_numbers = true)]
     pub fps: Option<f64>,
 
     /// Simulated time [s] (one tour of the head takes 8 s)
-    #[arg(long, value_name = "S", allow_hyphen_values = true)]
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
     pub duration: Option<f64>,
 
     /// Collision margin as a fraction of the head radius
-    #[arg(long, value_name = "FRACTION", allow_hyphen_values = true)]
+    #[arg(long, value_name = "FRACTION", allow_negative_numbers = true)]
     pub margin: Option<f64>,
 
     /// Methods to run, comma-separated: verlet, semi-implicit-euler, implicit-euler, ftl

@@ -186,7 +186,7 @@ pub fn minimising_root(
     for k in [nearest - 1.0, nearest, nearest + 1.0] {
         let centre = TAU * k;
         let offset = b - centre;
-        if !(offset.abs() <= reach) {
+        if offset.is_nan() || offset.abs() > reach {
             continue; // R keeps one sign on I_k: no root there.
         }
         // Solve u - offset + a sin u = 0 on [-α, α], where it increases.
