@@ -211,3 +211,43 @@ fn no_record_is_a_run_flag_of_every_scene() {
         assert!(stdout.contains("no recording (--no-record)"), "{stdout}");
     }
 }
+
+/// An adaptive method's own steps are shown beside the dt grid it is sampled on, and they are
+/// the steps it paid for: Dormand–Prince 5(4) is FSAL, so every step tried (accepted or
+/// rejected) costs 6 evaluations after the first step's extra one, and its dense output none.
+#[test]
+fn adaptive_methods_show_their_own_steps_and_pay_six_evaluations_each() {
+    for rtol in ["1e-4", "1e-8", "1e-11"] {
+        let (code, stdout, stderr) = physlab(&[
+            "pendulum",
+            "--methods",
+            "dopri5",
+            "--rtol",
+            rtol,
+            "--no-record",
+            "-q",
+        ]);
+        assert_eq!(code, 0, "{stderr}");
+        let row = stdout
+            .lines()
+            .find(|l| l.starts_with("| dopri5 "))
+            .unwrap_or_else(|| panic!("no dopri5 row:\n{stdout}"));
+        let cells: Vec<&str> = row.split('|').map(str::trim).collect();
+        // "2000 (own: A + R rejected)"
+        let own = cells[2]
+            .split("own: ")
+            .nth(1)
+            .unwrap_or_else(|| panic!("no own steps in '{}'", cells[2]));
+        let numbers: Vec<u64> = own
+            .split(|c: char| !c.is_ascii_digit())
+            .filter(|s| !s.is_empty())
+            .map(|s| s.parse().unwrap())
+            .collect();
+        let (accepted, rejected) = (numbers[0], numbers[1]);
+        let evals: u64 = cells[3].parse().unwrap();
+        assert!(cells[2].starts_with("2000 "), "{row}");
+        assert!(accepted < 2000, "its steps are not the dt grid: {row}");
+        assert_eq!(evals, 6 * (accepted + rejected) + 1, "rtol {rtol}: {row}");
+        assert!(stdout.contains("ns/step is per own step"), "{stdout}");
+    }
+}

@@ -82,6 +82,9 @@ pub struct Counts {
     pub evals: u64,
     /// Implicit steps whose Newton solve did not meet its tolerance.
     pub failed_solves: u64,
+    /// An adaptive method's own steps (accepted, rejected), which need not match the scene's
+    /// steps of dt: its steps do not end at the samples. `None` for fixed-step methods.
+    pub adaptive_steps: Option<(u64, u64)>,
 }
 
 /// The state a stepper advances: positions, velocities and what it cost.
@@ -218,6 +221,19 @@ impl Integrator {
             Stepper::Dop853(m) => m.accepted(),
             Stepper::Vern9(m) => m.accepted(),
             _ => self.steps,
+        }
+    }
+    /// What the run has spent so far: evaluations, missed solves and an adaptive method's own
+    /// accepted and rejected steps.
+    pub fn counts(&self) -> Counts {
+        let adaptive = matches!(
+            self.stepper,
+            Stepper::Dopri5(_) | Stepper::Dop853(_) | Stepper::Vern9(_)
+        );
+        Counts {
+            evals: self.evals(),
+            failed_solves: self.failed_solves(),
+            adaptive_steps: adaptive.then(|| (self.accepted_steps(), self.rejected_steps())),
         }
     }
     /// Steps the error control rejected so far (0 for fixed-step methods).

@@ -1,6 +1,6 @@
 //! The pendulum run's summary table, as printed on stdout.
 
-use crate::report::table::{Table, sig, trim_number};
+use crate::report::table::{ADAPTIVE_STEPS_NOTE, Table, sig, trim_number};
 use crate::scene::harness::{Run, Scene as _, divergence_cell};
 use crate::scene::pendulum::run::{PendulumLane, PendulumScene};
 
@@ -68,7 +68,7 @@ pub fn summary_text(scene: &PendulumScene, run: &Run<PendulumLane>) -> String {
         };
         table.row([
             s.name.to_string(),
-            s.ticks_taken().to_string(),
+            s.steps_text(),
             if timed {
                 s.counts.evals.to_string()
             } else {
@@ -79,7 +79,7 @@ pub fn summary_text(scene: &PendulumScene, run: &Run<PendulumLane>) -> String {
             } else {
                 dash()
             },
-            s.ns_per_tick().map_or_else(dash, |ns| format!("{ns:.1}")),
+            s.ns_per_step().map_or_else(dash, |ns| format!("{ns:.1}")),
             if timed && !s.failed_at_once() {
                 format!("{:.3e}", lane.max_theta_error)
             } else {
@@ -96,5 +96,8 @@ pub fn summary_text(scene: &PendulumScene, run: &Run<PendulumLane>) -> String {
         ]);
     }
     out.push_str(&table.render());
+    if run.stats.iter().any(|s| s.counts.adaptive_steps.is_some()) {
+        out.push_str(ADAPTIVE_STEPS_NOTE);
+    }
     out
 }

@@ -1,7 +1,7 @@
 //! The rope run's summary table, as printed on stdout.
 
 use crate::integrate::{EvalsPerStep, Method};
-use crate::report::table::{Table, sig, trim_number};
+use crate::report::table::{ADAPTIVE_STEPS_NOTE, Table, sig, trim_number};
 use crate::scene::harness::{Run, Scene as _, divergence_cell};
 use crate::scene::rope::run::{ENERGY_GAIN_BOUND, RopeLane, RopeScene};
 
@@ -106,10 +106,10 @@ pub fn summary_text(scene: &RopeScene, run: &Run<RopeLane>) -> String {
         table.row([
             s.name.to_string(),
             cost_per_step(lane.method, p.newton_iterations),
-            s.ticks_taken().to_string(),
+            s.steps_text(),
             s.counts.evals.to_string(),
             format!("{:.3}", s.wall.as_secs_f64() * 1e3),
-            s.ns_per_tick().map_or("—".into(), |ns| format!("{ns:.0}")),
+            s.ns_per_step().map_or("—".into(), |ns| format!("{ns:.0}")),
             figure(sig(lane.final_energy, 7)),
             figure(format!("{:+.3e}", lane.final_energy - scene.initial_energy)),
             figure(format!("{:.3e}", lane.max_strain)),
@@ -117,5 +117,8 @@ pub fn summary_text(scene: &RopeScene, run: &Run<RopeLane>) -> String {
         ]);
     }
     out.push_str(&table.render());
+    if run.stats.iter().any(|s| s.counts.adaptive_steps.is_some()) {
+        out.push_str(ADAPTIVE_STEPS_NOTE);
+    }
     out
 }

@@ -83,6 +83,10 @@ pub fn sig(x: f64, digits: usize) -> String {
     }
 }
 
+/// Said under a summary table that holds an adaptive method.
+pub const ADAPTIVE_STEPS_NOTE: &str = "adaptive methods: \"steps\" counts the dt grid they are sampled on (by their dense \
+     output); their own accepted and rejected steps are in brackets, and ns/step is per own step\n";
+
 /// A count with its noun: "1 substep", "2 substeps".
 pub fn plural(n: impl Into<u64>, noun: &str) -> String {
     let n = n.into();

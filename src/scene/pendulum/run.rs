@@ -330,6 +330,8 @@ impl Scene for PendulumScene {
                     checked.counts = Some(Counts {
                         evals: lane.evals[j],
                         failed_solves: it.failed_solves() - later_misses as u64,
+                        // The rest of the block's own steps cannot be told apart: not shown.
+                        adaptive_steps: None,
                     });
                 }
                 break;
@@ -366,9 +368,6 @@ impl Scene for PendulumScene {
     fn counts(&self, lane: &PendulumLane) -> Counts {
         lane.integrator
             .as_ref()
-            .map_or(Counts::default(), |it| Counts {
-                evals: it.evals(),
-                failed_solves: it.failed_solves(),
-            })
+            .map_or(Counts::default(), Integrator::counts)
     }
 }

@@ -357,9 +357,6 @@ impl Scene for RopeScene {
     }
 
     fn counts(&self, lane: &RopeLane) -> Counts {
-        Counts {
-            evals: lane.integrator.evals(),
-            failed_solves: lane.integrator.failed_solves(),
-        }
+        lane.integrator.counts()
     }
 }
