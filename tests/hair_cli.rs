@@ -142,7 +142,10 @@ fn hair_dt_is_the_simulation_step_and_sets_the_substeps() {
     // Longer than a frame: the nearest allowed is one substep.
     let (code, _, stderr) = substeps(&["--dt", "0.05"]);
     assert_eq!(code, 2, "{stderr}");
-    assert!(stderr.contains("0.016666666666666666 (1 substep)"), "{stderr}");
+    assert!(
+        stderr.contains("0.016666666666666666 (1 substep)"),
+        "{stderr}"
+    );
     // --dt and --substeps that disagree.
     let (code, _, stderr) = substeps(&["--dt", "0.008333333333333333", "--substeps", "3"]);
     assert_eq!(code, 2, "{stderr}");

@@ -237,7 +237,10 @@ fn pendulum_gravity_takes_a_number_or_the_vector_and_uses_its_length() {
     // Bad forms are refused naming the flag and what it takes.
     let (code, _, stderr) = gravity(&["--gravity", "1,2,3,4"]);
     assert_eq!(code, 2, "{stderr}");
-    assert!(stderr.contains("--gravity") && stderr.contains("x,y,z"), "{stderr}");
+    assert!(
+        stderr.contains("--gravity") && stderr.contains("x,y,z"),
+        "{stderr}"
+    );
     let (code, _, stderr) = gravity(&["--gravity", "0,0,0"]);
     assert_eq!(code, 2, "{stderr}");
     assert!(stderr.contains("--gravity 0"), "{stderr}");

@@ -325,8 +325,7 @@ pub fn rope_config(args: &RopeArgs) -> Result<RopeConfig, UsageError> {
 pub fn hair_config(args: &HairArgs) -> Result<HairConfig, UsageError> {
     let mut config = args.config();
     if let Some(dt) = args.dt {
-        config.substeps =
-            crate::scene::hair::run::substeps_for_dt(config.rate, dt, args.substeps)?;
+        config.substeps = crate::scene::hair::run::substeps_for_dt(config.rate, dt, args.substeps)?;
     }
     config.validate()?;
     Ok(config)

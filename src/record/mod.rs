@@ -15,8 +15,8 @@ use std::path::{Path, PathBuf};
 use anyhow::Context as _;
 use rerun::blueprint::components::PanelState;
 use rerun::blueprint::{
-    Blueprint, BlueprintPanel, ContainerLike, Horizontal, SelectionPanel, Spatial3DView,
-    Tabs, TextDocumentView, TextLogView, TimePanel, TimeSeriesView, Vertical,
+    Blueprint, BlueprintPanel, ContainerLike, Horizontal, SelectionPanel, Spatial3DView, Tabs,
+    TextDocumentView, TextLogView, TimePanel, TimeSeriesView, Vertical,
 };
 
 /// One colour per method (the palette is shared with the diagrams: `crate::palette`).
