@@ -1,21 +1,25 @@
 //! physlab against compiled peers at equal accuracy (issue 13, point 4):
-//! `cargo bench --bench peers`.
+//! `cargo bench --no-default-features --bench peers`.
 //!
 //! The problem: the pendulum θ'' = -(g/L) sin θ, g = 9.81, L = 3.521, released from rest at
 //! θ0 = 60°, over 20 s, sampled every 0.1 s (200 sample times). The error of a run is
 //! max |θ - θ_exact| over the sample times, θ_exact from physlab's closed form (elliptic
 //! functions). Every side runs over a sweep (fixed-step methods: the step halved; adaptive ones:
-//! rtol = atol from 1e-2 to 1e-14) and each run is timed as the minimum of REPEATS runs; the
+//! rtol = atol from 1e-2 to 1e-14 in half decades) and each run is timed as the minimum of REPEATS runs; the
 //! table shows, per target error, each side's cheapest run reaching it and the ratio
 //! peer time / physlab time (> 1: physlab is faster).
 //!
 //! Peers: `ode_solvers` 0.6.2 (Rk4, Dopri5, Dop853; output every 0.1 s through their dense
 //! output, every step for Rk4, of which the samples are taken) and `differential-equations`
-//! 0.6.1 (ExplicitRungeKutta::dop853 and ::rkv988e, Verner's 9(8) "efficient" pair, with
+//! 0.6.1 (ExplicitRungeKutta::dop853 and ::rkv988e, Verner's 9(8) "efficient" pair, the same
+//! tableau as physlab's vern9, with
 //! `.even(0.1)` output). State types: nalgebra Vector2 for ode_solvers, [f64; 2] for
 //! differential-equations, physlab's own flat slices.
 //!
-//! After the table, criterion times RK4 at h = 1e-3 s over the 20 s (20 000 steps) for physlab
+//! Then `benches/scipy_peer.py` times scipy's solve_ivp(method="DOP853") on the same problem at
+//! equal error, in the same session, when python3 and scipy are installed.
+//!
+//! After the tables, criterion times RK4 at h = 1e-3 s over the 20 s (20 000 steps) for physlab
 //! and ode_solvers (point 1: RK4's cost per step).
 
 use std::hint::black_box;
@@ -29,7 +33,7 @@ use physlab::scene::pendulum::{Pendulum, PendulumParams};
 const DURATION: f64 = 20.0;
 const SAMPLE_DT: f64 = 0.1;
 const SAMPLES: usize = 200;
-const REPEATS: usize = 7;
+const REPEATS: usize = 11;
 const TARGETS: [f64; 5] = [1e-3, 1e-6, 1e-8, 1e-10, 1e-12];
 
 fn params() -> PendulumParams {
@@ -180,6 +184,53 @@ mod de {
     }
 }
 
+/// Writes the problem, the exact θ and physlab's cheapest run per target to a JSON file and runs
+/// `benches/scipy_peer.py` on it (same session), which times scipy's solve_ivp(DOP853) at equal
+/// error when python3 and scipy are installed.
+fn scipy_peer(results: &[RunResult], exact: &[f64], g_over_l: f64, theta0: f64) {
+    let mut best = Vec::new();
+    for target in TARGETS {
+        let ours = results
+            .iter()
+            .filter(|r| r.side.starts_with("physlab") && r.error <= target)
+            .min_by(|a, b| a.seconds.total_cmp(&b.seconds));
+        best.push(match ours {
+            Some(r) => format!(
+                "{{\"setting\": \"{} {}\", \"seconds\": {:e}}}",
+                r.side, r.setting, r.seconds
+            ),
+            None => "null".into(),
+        });
+    }
+    let list = |v: &mut dyn Iterator<Item = String>| v.collect::<Vec<_>>().join(", ");
+    let json = format!(
+        "{{\"g_over_l\": {g_over_l:e}, \"theta0\": {theta0:e}, \"duration\": {DURATION:e}, \
+         \"times\": [{}], \"exact\": [{}], \"targets\": [{}], \"physlab_best\": [{}]}}",
+        list(&mut (1..=SAMPLES).map(|i| format!("{:e}", i as f64 * SAMPLE_DT))),
+        list(&mut exact.iter().map(|x| format!("{x:e}"))),
+        list(&mut TARGETS.iter().map(|t| format!("{t:e}"))),
+        best.join(", ")
+    );
+    let path = std::env::temp_dir().join("physlab_peers_scipy.json");
+    if let Err(e) = std::fs::write(&path, json) {
+        println!(
+            "\nscipy comparison skipped: cannot write {}: {e}",
+            path.display()
+        );
+        return;
+    }
+    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/benches/scipy_peer.py");
+    match std::process::Command::new("python3")
+        .arg(script)
+        .arg(&path)
+        .status()
+    {
+        Ok(s) if s.success() => {}
+        Ok(s) => println!("\nscipy comparison failed ({s})"),
+        Err(e) => println!("\nscipy comparison skipped: python3 not found ({e})"),
+    }
+}
+
 fn table(results: &[RunResult]) {
     let best = |pred: &dyn Fn(&RunResult) -> bool, target: f64| {
         results
@@ -241,7 +292,8 @@ fn main() {
         .map(|i| exact_pendulum.state(i as f64 * SAMPLE_DT).0)
         .collect();
     let mut results = Vec::new();
-    let tols: Vec<f64> = (2..=14).map(|e| 10f64.powi(-e)).collect();
+    // Half-decade tolerances (1e-2, 3.2e-3, 1e-3, ..., 1e-14), the same grid for every side.
+    let tols: Vec<f64> = (4..=28).map(|e| 10f64.powf(-f64::from(e) / 2.0)).collect();
 
     // Fixed-step: h = 0.1 / 2^j.
     for j in 0..=9 {
@@ -263,45 +315,46 @@ fn main() {
         ));
     }
     for &tol in &tols {
-        for m in [Method::Dopri5, Method::Dop853] {
+        for m in [Method::Dopri5, Method::Dop853, Method::Vern9] {
             let options = MethodOptions {
                 rtol: tol,
                 ..MethodOptions::default()
             };
             results.push(measure(
                 "physlab-".to_string().leak_name(m),
-                format!("rtol {tol:.0e}"),
+                format!("rtol {tol:.1e}"),
                 &exact,
                 || physlab_run(m, SAMPLE_DT, 1, options),
             ));
         }
         results.push(measure(
             "ode_solvers-dopri5",
-            format!("tol {tol:.0e}"),
+            format!("tol {tol:.1e}"),
             &exact,
             || os::dopri5(k, p.theta0, tol),
         ));
         results.push(measure(
             "ode_solvers-dop853",
-            format!("tol {tol:.0e}"),
+            format!("tol {tol:.1e}"),
             &exact,
             || os::dop853(k, p.theta0, tol),
         ));
         results.push(measure(
             "diffeq-dop853",
-            format!("tol {tol:.0e}"),
+            format!("tol {tol:.1e}"),
             &exact,
             || de::run(k, p.theta0, tol, false),
         ));
         results.push(measure(
             "diffeq-rkv988e",
-            format!("tol {tol:.0e}"),
+            format!("tol {tol:.1e}"),
             &exact,
             || de::run(k, p.theta0, tol, true),
         ));
     }
     results.sort_by_key(|r| r.side);
     table(&results);
+    scipy_peer(&results, &exact, k, p.theta0);
 
     // RK4 per step, criterion.
     let mut c = Criterion::default().configure_from_args();

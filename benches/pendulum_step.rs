@@ -17,6 +17,7 @@ fn pendulum_step(c: &mut Criterion) {
     group.throughput(Throughput::Elements(STEPS as u64));
     let (mut theta, mut omega) = (vec![0.0; STEPS], vec![0.0; STEPS]);
     let mut evals = vec![0u64; STEPS];
+    let mut step_size = vec![0.0f64; STEPS];
     let mut unconverged: Vec<usize> = Vec::new();
     for m in Method::ALL {
         // Every sample starts afresh from the default start (θ0 = 60°, dt = 0.01 s), so each
@@ -42,6 +43,7 @@ fn pendulum_step(c: &mut Criterion) {
                         &mut theta,
                         &mut omega,
                         &mut evals,
+                        &mut step_size,
                         &mut unconverged,
                     );
                     black_box(theta[STEPS - 1])

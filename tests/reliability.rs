@@ -183,12 +183,12 @@ const BAD_INPUTS: &[(&[&str], i32, &str)] = &[
     (
         &["hair", "--segment-length", "0"],
         2,
-        "--segment-length 0: must be a finite number > 0",
+        "--segment-length 0: must be between 1e-6 and 1e6",
     ),
     (
         &["hair", "--head-radius", "-1"],
         2,
-        "--head-radius -1: must be a finite number > 0",
+        "--head-radius -1: must be between 1e-6 and 1e6",
     ),
     (
         &["hair", "--iterations", "0"],
@@ -331,7 +331,7 @@ fn sigint_finalises_a_readable_recording_and_exits_130() {
     );
     let d = decode(&out);
     assert!(d.has_footer, "the interrupted recording has its footer");
-    let ke = &d.scalars["/hair/plots/kinetic_energy/verlet"];
+    let ke = &d.scalars["/hair/plots/specific_kinetic_energy/verlet"];
     let last = ke.last().unwrap().0 as f64 * 1e-9;
     assert!(
         ke.len() > 10 && last < 59.0,

@@ -122,6 +122,11 @@ fn motion_holds_to_1e_12_up_to_the_separatrix() {
         );
     }
     println!("worst |Δθ| {worst_theta:.2e} rad, worst |Δω|/(2ωn) {worst_omega:.2e}");
+    // The accuracy the studies state for the exact solution.
+    assert!(
+        worst_theta <= physlab::scene::pendulum::reference::EXACT_THETA_ACCURACY,
+        "{worst_theta:e}"
+    );
 }
 
 /// Beyond the table: every double below π is finite, the period grows monotonically, θ(0) = θ0.

@@ -434,6 +434,14 @@ fn simulate(plan: Plan, run: &RunArgs, output: &Output, replay: &Replay) -> anyh
     if let Some(config) = resolved.pendulum
         && replay.runs("pendulum")
     {
+        let reference_steps = config.reference_steps();
+        if reference_steps > 3e7 && !run.quiet {
+            // Allowed, but not instant: say what the time goes to (~0.1 µs per RK4 step).
+            eprintln!(
+                "pendulum: the fine-step reference takes {reference_steps:.1e} RK4 steps (about {:.0} s); Ctrl-C stops it",
+                reference_steps * 1e-7
+            );
+        }
         let recorder = stream
             .clone()
             .map(|s| record::pendulum::recorder(s, timings).with_frame_rate(frame_rate));

@@ -8,7 +8,12 @@ use super::UsageError;
 use crate::cli::{PendulumArgs, RopeArgs, RopeBody, StudyArgs, StudyKind, StudyScene};
 use crate::integrate::{Method, MethodOptions};
 use crate::report::study as report;
+use crate::scene::params::{MAX_NODE_STEPS, MAX_STEPS, shown};
 use crate::study::{Limit, Problem, Sweep, error_floor, stability, sweep};
+
+/// Steps a whole study may take (every method, level and repeat, and the reference): ten
+/// times what one scene's method may, about as long as a scene running ten methods.
+const STUDY_MAX_STEPS: f64 = 10.0 * MAX_STEPS;
 
 /// The study's problem and sweep from its flags, over the scene file, over the scene defaults
 /// (for the rope's convergence and cost: a softer, undamped rope, so that explicit methods
@@ -132,9 +137,11 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), UsageError> 
     let longest = duration / crate::study::SAMPLE_EVERY as f64;
     if dt0 > longest {
         return Err(UsageError(format!(
-            "--dt {dt0}: must not exceed --duration / {} = {longest} s (errors are sampled every {} \
+            "--dt {}: must not exceed --duration / {} = {} s (errors are sampled every {} \
              coarsest steps)",
+            shown(dt0),
             crate::study::SAMPLE_EVERY,
+            shown(longest),
             crate::study::SAMPLE_EVERY
         )));
     }
@@ -142,12 +149,74 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), UsageError> 
     // fit in time and memory.
     let finest = dt0 / 2f64.powi(levels as i32 - 1);
     let reference_steps = 8.0 * duration / finest;
-    if reference_steps > crate::scene::params::MAX_STEPS {
+    let schedule = format!(
+        "--dt {} with --levels {levels} over --duration {} s",
+        shown(dt0),
+        shown(duration)
+    );
+    if reference_steps > MAX_STEPS {
         return Err(UsageError(format!(
-            "--dt {dt0} with --levels {levels} over --duration {duration} s needs {reference_steps:.2e} \
-             reference steps; at most {:.0e} are allowed (raise --dt or lower --levels)",
-            crate::scene::params::MAX_STEPS
+            "{schedule} needs {reference_steps:.2e} reference steps; at most {MAX_STEPS:.0e} are allowed \
+             (raise --dt or lower --levels)"
         )));
+    }
+    // Work per step (coordinates stepped) and memory, for every phase, up front.
+    let (work_per_step, dim) = match &problem {
+        Problem::Pendulum(_) => (1.0, 1.0),
+        Problem::Rope(p) => (p.nodes as f64, 3.0 * p.nodes as f64),
+    };
+    let nodes = match &problem {
+        Problem::Pendulum(_) => String::new(),
+        Problem::Rope(p) => format!(" × --nodes {}", p.nodes),
+    };
+    let fixed = methods
+        .iter()
+        .filter(|m| m.info().family != crate::integrate::Family::Adaptive)
+        .count() as f64;
+    match a.kind {
+        StudyKind::Convergence | StudyKind::WorkPrecision => {
+            // The reference (fine and coarse runs, for its error estimate), and every fixed-step
+            // method over dt0, dt0/2, ... dt0/2^(levels-1), each `repeats` times (the damped
+            // rope's second sweep doubles it).
+            let sweeps = if a.kind == StudyKind::Convergence && matches!(problem, Problem::Rope(_))
+            {
+                2.0
+            } else {
+                1.0
+            };
+            let steps = sweeps
+                * (1.5 * reference_steps
+                    + fixed * repeats as f64 * (duration / dt0) * (2f64.powi(levels as i32) - 1.0));
+            let work = steps * work_per_step;
+            if steps > STUDY_MAX_STEPS || work > MAX_NODE_STEPS {
+                return Err(UsageError(format!(
+                    "{schedule}, --repeats {repeats}{nodes} and {fixed} fixed-step methods is {steps:.2e} steps \
+                     ({work:.2e} node-steps) in all; at most {STUDY_MAX_STEPS:.0e} steps and {MAX_NODE_STEPS:.0e} \
+                     node-steps are allowed (raise --dt, lower --levels or --repeats, or choose fewer --methods)"
+                )));
+            }
+            // The reference is kept at every sample, twice (fine and coarse).
+            let samples = duration / (crate::study::SAMPLE_EVERY as f64 * dt0);
+            crate::scene::params::memory(
+                &format!("the reference for {schedule}{nodes}"),
+                2.0 * samples * dim * 8.0,
+                "raise --dt or shorten --duration",
+            )?;
+        }
+        StudyKind::Stability => {
+            // Each method: one trial at the bracket's low end and 40 bisections, of up to
+            // --steps steps each.
+            let runs = 41.0 * methods.len() as f64;
+            let work = runs * steps as f64 * work_per_step;
+            if work > MAX_NODE_STEPS {
+                return Err(UsageError(format!(
+                    "--steps {steps}{nodes} over {} methods × 41 bisection trials is {work:.2e} node-steps; at most \
+                     {MAX_NODE_STEPS:.0e} are allowed (lower --steps or choose fewer --methods)",
+                    methods.len()
+                )));
+            }
+        }
+        StudyKind::Hair => unreachable!("the hair study has its own setup (hair_study)"),
     }
     let sweep = Sweep {
         dt0,
@@ -169,15 +238,25 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), UsageError> 
 }
 
 pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
+    if a.kind == StudyKind::Hair {
+        return hair_study(a);
+    }
     let (problem, sw, steps, scene_file) = setup(a)?;
     let mut out = String::new();
     let csv;
     let mut diagrams: Vec<crate::diagram::Diagram> = Vec::new();
+    // Runs (or methods' limits) complete: after Ctrl-C or SIGTERM only those are shown.
+    let done;
     match a.kind {
         StudyKind::Convergence | StudyKind::WorkPrecision => {
             let (rows, reference_error) = sweep(&problem, &sw);
-            let reference = if reference_error == 0.0 {
-                "the exact elliptic solution".to_string()
+            done = rows.len();
+            let exact = matches!(&problem, Problem::Pendulum(p)
+                if crate::scene::pendulum::reference::ExactPendulum::new(p).is_some());
+            let reference = if exact {
+                format!(
+                    "the exact elliptic solution (θ to {reference_error:.0e} rad: measured against 100-digit mpmath)"
+                )
             } else {
                 format!(
                     "RK4 at dt/8 of the finest step, its own error estimated at {reference_error:.1e} (Richardson)"
@@ -211,6 +290,7 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
                 ));
                 out.push('\n');
                 if let Problem::Rope(p) = &problem
+                    && !crate::interrupt::requested()
                     && p.spring_damping == 0.0
                     && p.air_drag == 0.0
                 {
@@ -223,33 +303,65 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
                         ..p.clone()
                     });
                     let (damped_rows, damped_error) = sweep(&damped, &sw);
-                    writeln!(
-                        out,
-                        "the same rope with the scene's spring damping {} N·s/m and air drag {} N·s/m \
+                    // A stop during the damped sweep leaves it out: only complete tables are shown.
+                    if !crate::interrupt::requested() {
+                        writeln!(
+                            out,
+                            "the same rope with the scene's spring damping {} N·s/m and air drag {} N·s/m \
                          (velocity-dependent forces):\n",
-                        scene.spring_damping, scene.air_drag
-                    )?;
-                    out.push_str(&report::orders_table(
-                        &damped_rows,
-                        error_floor(damped_error),
-                        true,
-                    ));
-                    diagrams.push(crate::diagram::convergence(
-                        problem.name(),
-                        &damped_rows,
-                        error_floor(damped_error),
-                        true,
-                    ));
-                    out.push('\n');
+                            scene.spring_damping, scene.air_drag
+                        )?;
+                        out.push_str(&report::orders_table(
+                            &damped_rows,
+                            error_floor(damped_error),
+                            true,
+                        ));
+                        diagrams.push(crate::diagram::convergence(
+                            problem.name(),
+                            &damped_rows,
+                            error_floor(damped_error),
+                            true,
+                        ));
+                        out.push('\n');
+                    }
                 }
+            }
+            if rows.iter().any(|r| r.rtol.is_some()) {
+                writeln!(
+                    out,
+                    "tolerance proportionality of the adaptive methods (slope 1: the error follows rtol; \
+                     errors below {:.0e} left out):\n",
+                    error_floor(reference_error)
+                )?;
+                out.push_str(&report::proportionality_table(
+                    &rows,
+                    error_floor(reference_error),
+                ));
+                out.push('\n');
             }
             out.push_str(&report::rows_table(&rows));
             if a.kind == StudyKind::WorkPrecision {
+                // A target is only claimed where the reference resolves it: 10× its accuracy.
+                let (targets, unresolved): (Vec<f64>, Vec<f64>) = [1e-3, 1e-6, 1e-9, 1e-12]
+                    .into_iter()
+                    .partition(|&t| t >= 10.0 * reference_error);
                 writeln!(
                     out,
-                    "\ncheapest run reaching each error (from the rows above):\n"
+                    "\ncheapest run reaching each error (from the rows above){}:\n",
+                    if unresolved.is_empty() {
+                        String::new()
+                    } else {
+                        format!(
+                            "; {} left out: below 10× the reference's accuracy {reference_error:.1e}",
+                            unresolved
+                                .iter()
+                                .map(|t| format!("{t:.0e}"))
+                                .collect::<Vec<_>>()
+                                .join(", ")
+                        )
+                    }
                 )?;
-                out.push_str(&report::cheapest_table(&rows, &[1e-3, 1e-6, 1e-9]));
+                out.push_str(&report::cheapest_table(&rows, &targets));
                 diagrams.push(crate::diagram::work_precision(
                     problem.name(),
                     &rows,
@@ -261,6 +373,7 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
         }
         StudyKind::Stability => {
             let limits: Vec<Limit> = stability(&problem, &sw.methods, steps);
+            done = limits.len();
             writeln!(
                 out,
                 "{} stability: largest dt whose run stays within 10⁴ of its start for {steps} steps (bisection), on the \
@@ -281,6 +394,15 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
                 problem.omega(),
             ));
         }
+        StudyKind::Hair => unreachable!("hair_study runs it"),
+    }
+    // Ctrl-C or SIGTERM: what is complete is shown and written, then the study ends with 130.
+    let interrupted = crate::interrupt::requested();
+    let complete = done > 0;
+    if !complete {
+        // Stopped before a single run was complete: no table to show.
+        out.clear();
+        diagrams.clear();
     }
     // With `-o -` standard output carries the recording: the tables go to stderr.
     let to_stdout = a.output.as_ref().is_some_and(|p| p.as_os_str() == "-");
@@ -289,8 +411,10 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
     } else {
         print!("{out}");
     }
-    if let Some(path) = &a.csv {
-        std::fs::write(path, &csv)
+    if let Some(path) = &a.csv
+        && complete
+    {
+        write_whole(path, csv.as_bytes())
             .map_err(|e| anyhow::anyhow!("--csv {}: cannot write it: {e}", path.display()))?;
         eprintln!("wrote {}", path.display());
     }
@@ -306,14 +430,16 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
         .or_else(|| a.output.as_deref().filter(|_| !to_stdout).map(beside))
         .or_else(|| a.csv.as_deref().map(beside));
     let mut images: Vec<(String, Vec<u8>)> = Vec::new();
-    if let Some(dir) = &plots_dir {
+    if let Some(dir) = plots_dir.as_ref().filter(|_| complete) {
         for d in &diagrams {
             let w = d.write(dir)?;
             eprintln!("wrote {} and {}", w.svg.display(), w.png.display());
             images.push((d.title.clone(), w.png_bytes));
         }
     }
-    if let Some(path) = &a.output {
+    if let Some(path) = &a.output
+        && complete
+    {
         let d = crate::record::Destinations::output(path);
         let config = format!(
             "# the scene of `{}`\n{}",
@@ -330,13 +456,139 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
         )?;
         if to_stdout {
             eprintln!("\nrecording written to standard output");
-            return Ok(());
+        } else {
+            println!(
+                "\nrecording: {} ({:.2} MB)",
+                path.display(),
+                bytes.unwrap_or(0) as f64 / 1e6
+            );
         }
-        println!(
-            "\nrecording: {} ({:.2} MB)",
-            path.display(),
-            bytes.unwrap_or(0) as f64 / 1e6
-        );
+    }
+    if interrupted {
+        return Err(interrupted_error(a, &sw, done, complete));
     }
     Ok(())
+}
+
+/// `physlab study hair`: the hair scene's configurations (`study::hair::configurations`) at its
+/// defaults (200 strands, tour), over `--duration` (default 4 s).
+fn hair_study(a: &StudyArgs) -> anyhow::Result<()> {
+    use crate::scene::hair::run::HairConfig;
+    let duration = a.duration.unwrap_or(4.0);
+    let base = HairConfig {
+        duration,
+        ..HairConfig::default()
+    };
+    base.validate()?;
+    let configs = crate::study::hair::configurations(&base);
+    let rows = crate::study::hair::hair_trade(&configs);
+    let mut out = String::new();
+    writeln!(
+        out,
+        "hair trade: {} strands × {} nodes, tour over {duration} s at {} Hz; max stretch = largest |ℓ - ℓ0|/ℓ0 over \
+         every frame; ms/frame = wall time of the step per simulation frame on {} threads (measured, not \
+         deterministic)\n",
+        base.params.strands,
+        base.params.nodes,
+        base.rate,
+        rayon::current_num_threads()
+    )?;
+    out.push_str(&crate::report::hair::trade_table(&rows));
+    writeln!(
+        out,
+        "\ncheapest configuration within each stretch target:\n"
+    )?;
+    out.push_str(&crate::report::hair::trade_cheapest_table(
+        &rows,
+        &[1e-2, 1e-3, 1e-6],
+    ));
+    // With `-o -` standard output carries the recording: the tables go to stderr.
+    let to_stdout = a.output.as_ref().is_some_and(|p| p.as_os_str() == "-");
+    if to_stdout {
+        eprint!("{out}");
+    } else {
+        print!("{out}");
+    }
+    if let Some(path) = &a.csv {
+        std::fs::write(path, crate::report::hair::trade_csv(&rows))
+            .map_err(|e| anyhow::anyhow!("--csv {}: cannot write it: {e}", path.display()))?;
+        eprintln!("wrote {}", path.display());
+    }
+    if let Some(path) = &a.output {
+        let d = crate::record::Destinations::output(path);
+        // Provenance: the study's base scene (every configuration varies the solver settings of
+        // this one) and the command line.
+        let config = format!(
+            "# the scene of `{}`\n[hair]\nduration = {duration:?}\n",
+            std::env::args().collect::<Vec<_>>().join(" ")
+        );
+        let methods: Vec<&str> = crate::scene::hair::HairMethod::ALL
+            .iter()
+            .map(|m| m.name())
+            .collect();
+        let bytes = crate::record::study::record_study(&d, "hair", &[], &out, (&config, &methods))?;
+        if !to_stdout {
+            println!(
+                "\nrecording: {} ({:.2} MB)",
+                path.display(),
+                bytes.unwrap_or(0) as f64 / 1e6
+            );
+        }
+    }
+    Ok(())
+}
+
+/// What an interrupted study says: how many of its planned runs (or methods' limits) were
+/// complete, and whether anything was written.
+fn interrupted_error(a: &StudyArgs, sw: &Sweep, done: usize, complete: bool) -> anyhow::Error {
+    let planned: usize = match a.kind {
+        StudyKind::Stability => sw.methods.len(),
+        _ => sw
+            .methods
+            .iter()
+            .map(|m| {
+                if m.info().family == crate::integrate::Family::Adaptive {
+                    sw.rtols.len()
+                } else {
+                    sw.levels as usize
+                }
+            })
+            .sum(),
+    };
+    let kept = if complete {
+        "; the tables above (and any --csv and -o files) hold the complete ones"
+    } else {
+        "; nothing was written"
+    };
+    crate::interrupt::Interrupted(format!(
+        "interrupted: {done} of {planned} {} complete{kept}",
+        if a.kind == StudyKind::Stability {
+            "methods' limits"
+        } else {
+            "runs"
+        }
+    ))
+    .into()
+}
+
+/// Writes `bytes` to `path` whole or not at all: to a hidden file beside it, renamed over it
+/// once complete, so that a failure or a second Ctrl-C never leaves a truncated file where a
+/// good one was (the signal handler removes the hidden file).
+fn write_whole(path: &std::path::Path, bytes: &[u8]) -> std::io::Result<()> {
+    let name = path
+        .file_name()
+        .ok_or_else(|| std::io::Error::other("not a file name"))?
+        .to_string_lossy();
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => std::path::Path::new("."),
+    };
+    let tmp = dir.join(format!(".{name}.{}.partial", std::process::id()));
+    crate::interrupt::set_partial_file(Some(&tmp));
+    let written = std::fs::write(&tmp, bytes).and_then(|()| std::fs::rename(&tmp, path));
+    crate::interrupt::set_partial_file(None);
+    if written.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    written
 }

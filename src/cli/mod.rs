@@ -196,6 +196,9 @@ pub enum StudyKind {
     WorkPrecision,
     /// Largest stable dt per method by bisection, against theory
     Stability,
+    /// Hair: largest stretch against wall time per frame over solvers, Newton steps, sweeps,
+    /// substeps and spring stiffness (200 strands; --duration, default 4 s); cheapest per target
+    Hair,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]

@@ -1,6 +1,7 @@
-//! Adaptive embedded Runge–Kutta: Dormand–Prince 5(4) with error control.
+//! Adaptive embedded Runge–Kutta: Dormand–Prince 5(4) with error control and dense output.
 
-use super::{SecondOrderSystem, State};
+use super::SecondOrderSystem;
+use super::dense::{Core, Pair, Width, stage};
 
 /// Butcher tableau (Dormand & Prince 1980). The system is autonomous, so the stage times
 /// (c = 0, 1/5, 3/10, 4/5, 8/9, 1, 1) are not needed.
@@ -46,129 +47,91 @@ const E: [f64; 7] = [
     -1.0 / 40.0,
 ];
 
-/// Advances by dt with as many Dormand–Prince 5(4) substeps as error control needs: a
-/// substep is accepted when its embedded error estimate, scaled by rtol (|y| + 1) per
-/// component, has an RMS norm ≤ 1; the next substep size follows the usual 0.9 (1/err)^(1/5)
-/// rule, clamped to [0.2, 5] times the last. The last substep lands exactly on dt.
-#[derive(Clone, Debug)]
-pub struct Dopri5 {
-    rtol: f64,
-    /// Stages: k[2s] = x' (= v) of stage s, k[2s+1] = v' (= a); k[14], k[15] = trial x, v.
-    k: Vec<Vec<f64>>,
-    /// The controller's current substep.
-    h: f64,
-    /// Whether k[0..2] holds the derivative at the current state (first same as last).
-    fsal: bool,
-    /// Substeps accepted and rejected so far, and the last accepted one's size.
-    pub(crate) accepted: u64,
-    pub(crate) rejected: u64,
-    h_last: f64,
-}
+/// Dense output (Hairer's `dopri5.f`, `CONTD5`): with rcont1..5 = y_old, y - y_old,
+/// h k1 - (y - y_old), (y - y_old) - h k7 - rcont3, h Σ D_j k_j,
+/// y(t_old + θ h) = r1 + θ (r2 + (1-θ) (r3 + θ (r4 + (1-θ) r5))); fourth order, no extra stage.
+const D: [f64; 7] = [
+    -12715105075.0 / 11282082432.0,
+    0.0,
+    87487479700.0 / 32700410799.0,
+    -10690763975.0 / 1880347072.0,
+    701980252875.0 / 199316789632.0,
+    -1453857185.0 / 822651844.0,
+    69997945.0 / 29380423.0,
+];
 
-impl Dopri5 {
-    pub fn new(n: usize, dt: f64, rtol: f64) -> Self {
-        Dopri5 {
-            rtol,
-            k: vec![vec![0.0; n]; 16],
-            h: dt,
-            fsal: false,
-            accepted: 0,
-            rejected: 0,
-            h_last: 0.0,
+/// Dormand–Prince 5(4) as a [`Pair`] of the shared dense-output driver: steps of its own size,
+/// error per step ≤ 1 when scaled by rtol (max(|y|, |y_new|) + 1) per component (RMS), the
+/// state at each sample time from its dense output; a sample time never ends a step. The
+/// seventh stage, at the new solution, is part of the error estimate, so it is evaluated in
+/// every trial (6 evaluations per step tried, accepted or not; the first step 7). Controller as
+/// `dopri5.f`'s defaults: 0.9 err^(-0.17) err_old^0.04 (Lund's stabilisation, β = 0.04),
+/// clamped to [0.2, 10] times the step.
+#[derive(Clone, Copy, Debug)]
+pub struct Dopri5;
+
+impl Pair for Dopri5 {
+    const K_ROWS: usize = 7;
+    const FSAL_ROW: usize = 6;
+    const FSAL_IN_TRIAL: bool = true;
+    const CONT_ROWS: usize = 5;
+    const EXPONENT: f64 = 0.2 - 0.75 * 0.04;
+    const BETA: f64 = 0.04;
+    const FAC_MIN: f64 = 0.2;
+    const FAC_MAX: f64 = 10.0;
+    const TRIAL_EVALS: u64 = 6;
+    const DENSE_EVALS: u64 = 0;
+
+    #[inline(always)]
+    fn trial<S: SecondOrderSystem, W: Width>(c: &mut Core, sys: &S, w: W, h: f64) -> f64 {
+        let n2 = w.get();
+        for s in 1..6 {
+            stage(sys, w, &mut c.k, &mut c.yt, &c.y, &A[s][..s], h);
+        }
+        // The 5th-order solution, then the 7th stage there.
+        stage(sys, w, &mut c.k, &mut c.y_old, &c.y, &A[6][..6], h);
+        let rtol = c.rtol;
+        let mut err2 = 0.0;
+        let (y, ynew, k) = (&c.y[..n2], &c.y_old[..n2], &c.k[..7 * n2]);
+        for i in 0..n2 {
+            let mut e = 0.0;
+            for (j, ej) in E.iter().enumerate() {
+                e += ej * k[j * n2 + i];
+            }
+            let sk = rtol * (y[i].abs().max(ynew[i].abs()) + 1.0);
+            err2 += (h * e / sk) * (h * e / sk);
+        }
+        (err2 / n2 as f64).sqrt()
+    }
+
+    #[inline(always)]
+    fn build_dense<S: SecondOrderSystem, W: Width>(c: &mut Core, _sys: &S, w: W) {
+        let n2 = w.get();
+        let h = c.h_last;
+        let (k, cont, y, y_old) = (&c.k[..7 * n2], &mut c.cont[..5 * n2], &c.y, &c.y_old);
+        for i in 0..n2 {
+            let ydiff = y[i] - y_old[i];
+            let bspl = h * k[i] - ydiff;
+            cont[i] = y_old[i];
+            cont[n2 + i] = ydiff;
+            cont[2 * n2 + i] = bspl;
+            cont[3 * n2 + i] = ydiff - h * k[6 * n2 + i] - bspl;
+            let mut acc = 0.0;
+            for (j, dj) in D.iter().enumerate() {
+                acc += dj * k[j * n2 + i];
+            }
+            cont[4 * n2 + i] = h * acc;
         }
     }
 
-    /// Size of the last accepted substep [s] (0 before the first).
-    pub fn last_step(&self) -> f64 {
-        self.h_last
-    }
-
-    pub fn step<S: SecondOrderSystem>(&mut self, sys: &S, s: State, dt: f64) {
-        let (x, v) = (s.x, s.v);
-        let n = x.len();
-        let rtol = self.rtol;
-        let mut remaining = dt;
-        while remaining > 0.0 {
-            let mut h = self.h.min(remaining);
-            let last = h >= remaining * (1.0 - 1e-12);
-            if last {
-                h = remaining;
-            }
-            // Stage 0 at the current state: the previous substep's last stage (FSAL), except the
-            // first time.
-            if !self.fsal {
-                self.k[0].copy_from_slice(v);
-                sys.acceleration(x, v, &mut self.k[1]);
-                s.counts.evals += 1;
-                self.fsal = true;
-            }
-            for st in 1..7 {
-                let (done, rest) = self.k.split_at_mut(14);
-                let (tx, tv) = rest.split_at_mut(1);
-                for i in 0..n {
-                    let mut dx = 0.0;
-                    let mut dv = 0.0;
-                    for (j, a) in A[st].iter().enumerate().take(st) {
-                        dx += a * done[2 * j][i];
-                        dv += a * done[2 * j + 1][i];
-                    }
-                    tx[0][i] = x[i] + h * dx;
-                    tv[0][i] = v[i] + h * dv;
-                }
-                let (stage, _) = done.split_at_mut(2 * st + 2);
-                stage[2 * st].copy_from_slice(&tv[0]);
-                sys.acceleration(&tx[0], &tv[0], &mut stage[2 * st + 1]);
-                s.counts.evals += 1;
-            }
-            // The 7th stage was evaluated at the 5th-order solution, now in k[14], k[15].
-            let mut err2 = 0.0;
-            for i in 0..n {
-                let (mut ex, mut ev) = (0.0, 0.0);
-                for (st, e) in E.iter().enumerate() {
-                    ex += e * self.k[2 * st][i];
-                    ev += e * self.k[2 * st + 1][i];
-                }
-                let sx = rtol * (x[i].abs().max(self.k[14][i].abs()) + 1.0);
-                let sv = rtol * (v[i].abs().max(self.k[15][i].abs()) + 1.0);
-                err2 += (h * ex / sx).powi(2) + (h * ev / sv).powi(2);
-            }
-            let err = (err2 / (2 * n) as f64).sqrt();
-            if !err.is_finite() {
-                // Leave a non-finite state so the run reports the divergence.
-                x.fill(f64::NAN);
-                v.fill(f64::NAN);
-                return;
-            }
-            let factor = if err == 0.0 {
-                5.0
-            } else {
-                (0.9 * err.powf(-0.2)).clamp(0.2, 5.0)
-            };
-            if err <= 1.0 {
-                self.accepted += 1;
-                self.h_last = h;
-                x.copy_from_slice(&self.k[14]);
-                v.copy_from_slice(&self.k[15]);
-                let (first, later) = self.k.split_at_mut(12);
-                first[0].copy_from_slice(&later[0]);
-                first[1].copy_from_slice(&later[1]);
-                remaining -= h;
-                if last {
-                    remaining = 0.0;
-                }
-                // Keep the controller's step even when the last substep was cut short to land on dt.
-                if !last || factor < 1.0 {
-                    self.h = h * factor;
-                }
-            } else {
-                self.rejected += 1;
-                self.h = h * factor;
-            }
-            if self.h < 1e-14 * dt {
-                x.fill(f64::NAN);
-                v.fill(f64::NAN);
-                return;
-            }
+    #[inline(always)]
+    fn interpolate<W: Width>(c: &Core, w: W, th: f64, out: &mut [f64]) {
+        let n2 = w.get();
+        let th1 = 1.0 - th;
+        let cont = &c.cont[..5 * n2];
+        for i in 0..n2 {
+            let r = |q: usize| cont[q * n2 + i];
+            out[i] = r(0) + th * (r(1) + th1 * (r(2) + th * (r(3) + th1 * r(4))));
         }
     }
 }

@@ -11,6 +11,7 @@
 
 mod adaptive;
 mod composition;
+mod dense;
 mod dop853;
 mod explicit;
 mod implicit;
@@ -20,6 +21,7 @@ mod registry;
 mod runge_kutta;
 mod semi_implicit;
 mod verlet;
+mod verner;
 
 pub use composition::{YOSHIDA4_STABILITY_LIMIT, yoshida_weights};
 pub use implicit::scalar_backward_euler;
@@ -58,7 +60,7 @@ pub struct MethodOptions {
     /// The adaptive methods' relative tolerance per step (the absolute one is the same, in the
     /// state's units).
     pub rtol: f64,
-    /// dop853's largest step [s] (default ∞). With a huge rtol and `max_step` = dt it steps at
+    /// The adaptive methods' largest step [s] (default ∞). With a huge rtol and `max_step` = dt it steps at
     /// exactly dt, which is how its fixed-step order is measured.
     pub max_step: f64,
 }
@@ -100,8 +102,9 @@ enum Stepper {
     Rk4(runge_kutta::Rk4),
     Verlet(verlet::Verlet),
     Yoshida4(composition::Yoshida4),
-    Dopri5(adaptive::Dopri5),
-    Dop853(dop853::Dop853),
+    Dopri5(dense::DenseRk<adaptive::Dopri5>),
+    Dop853(dense::DenseRk<dop853::Dop853>),
+    Vern9(dense::DenseRk<verner::Vern9>),
 }
 
 /// Advances one [`SecondOrderSystem`] with one [`Method`]. All scratch space is allocated
@@ -151,8 +154,21 @@ impl Integrator {
                 &mut counts,
             )),
             Method::Yoshida4 => Stepper::Yoshida4(composition::Yoshida4::new(n)),
-            Method::Dopri5 => Stepper::Dopri5(adaptive::Dopri5::new(n, dt, options.rtol)),
-            Method::Dop853 => Stepper::Dop853(dop853::Dop853::new(
+            Method::Dopri5 => Stepper::Dopri5(dense::DenseRk::new(
+                x0,
+                v0,
+                dt,
+                options.rtol,
+                options.max_step,
+            )),
+            Method::Dop853 => Stepper::Dop853(dense::DenseRk::new(
+                x0,
+                v0,
+                dt,
+                options.rtol,
+                options.max_step,
+            )),
+            Method::Vern9 => Stepper::Vern9(dense::DenseRk::new(
                 x0,
                 v0,
                 dt,
@@ -198,16 +214,18 @@ impl Integrator {
     /// may be more or fewer than the calls of [`Integrator::step`]), the calls otherwise.
     pub fn accepted_steps(&self) -> u64 {
         match &self.stepper {
-            Stepper::Dopri5(m) => m.accepted,
-            Stepper::Dop853(m) => m.accepted,
+            Stepper::Dopri5(m) => m.accepted(),
+            Stepper::Dop853(m) => m.accepted(),
+            Stepper::Vern9(m) => m.accepted(),
             _ => self.steps,
         }
     }
     /// Steps the error control rejected so far (0 for fixed-step methods).
     pub fn rejected_steps(&self) -> u64 {
         match &self.stepper {
-            Stepper::Dopri5(m) => m.rejected,
-            Stepper::Dop853(m) => m.rejected,
+            Stepper::Dopri5(m) => m.rejected(),
+            Stepper::Dop853(m) => m.rejected(),
+            Stepper::Vern9(m) => m.rejected(),
             _ => 0,
         }
     }
@@ -217,6 +235,7 @@ impl Integrator {
         match &self.stepper {
             Stepper::Dopri5(m) => m.last_step(),
             Stepper::Dop853(m) => m.last_step(),
+            Stepper::Vern9(m) => m.last_step(),
             _ => self.dt,
         }
     }
@@ -250,6 +269,7 @@ impl Integrator {
             Stepper::Yoshida4(m) => m.step(sys, s, h),
             Stepper::Dopri5(m) => m.step(sys, s, h),
             Stepper::Dop853(m) => m.step(sys, s, h),
+            Stepper::Vern9(m) => m.step(sys, s, h),
         }
         None
     }
@@ -386,7 +406,7 @@ pub(crate) mod tests {
                 // (tests/dopri5.rs checks those constants to 1%).
                 Method::Dopri5 => (h.cos(), -h.sin(), 1.01 * h.powi(6) / 3600.0),
                 // Error-controlled at rtol 1e-6, sampled by its dense output.
-                Method::Dop853 => (h.cos(), -h.sin(), 1e-6),
+                Method::Dop853 | Method::Vern9 => (h.cos(), -h.sin(), 1e-6),
             }
         };
         for m in Method::ALL {

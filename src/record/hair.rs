@@ -26,8 +26,8 @@ pub const PLOTS: [(&str, &str); 3] = [
         "maximum penetration of non-root nodes into R(1 + margin) [m]",
     ),
     (
-        "kinetic_energy",
-        "kinetic energy per unit node mass ½Σ|v|² [J/kg]",
+        "specific_kinetic_energy",
+        "kinetic energy per unit mass of hair, ½|v|² averaged over the nodes [J/kg]",
     ),
 ];
 

@@ -22,7 +22,7 @@ use crate::scene::harness::{Event, Frame, Run, Scene as _, SeriesBatch};
 use crate::scene::pendulum::run::{PendulumLane, PendulumScene};
 
 /// The plotted quantities: entity name and plot title (with units).
-pub const PLOTS: [(&str, &str); 5] = [
+pub const PLOTS: [(&str, &str); 6] = [
     ("theta", "θ [rad]"),
     ("omega", "ω [rad/s]"),
     ("energy", "total energy E = ½L²ω² + gL(1 − cos θ) [J/kg]"),
@@ -33,6 +33,10 @@ pub const PLOTS: [(&str, &str); 5] = [
     (
         "log10_theta_error",
         "log10 |θ − θref| [θ in rad]: error against the reference",
+    ),
+    (
+        "step_size",
+        "last accepted step [s] (adaptive methods: their own steps, not ended at the samples)",
     ),
 ];
 

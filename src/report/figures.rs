@@ -147,7 +147,7 @@ fn hair_default() -> String {
         "method",
         "max stretch",
         "max penetration [m]",
-        "final KE [J/kg]",
+        "final KE per kg [J/kg]",
         "diverged",
     ]);
     for (lane, s) in r.lanes.iter().zip(&r.stats) {
@@ -183,15 +183,21 @@ fn stability(problem: &Problem) -> String {
     study_tables::stability_table(&limits)
 }
 
-/// `physlab study work-precision --duration 20`: the cheapest run per target error.
+/// `physlab study work-precision --duration 20`: the adaptive methods' tolerance
+/// proportionality and the cheapest run per target error (1e-12 included: the exact solution is
+/// good to 1e-14).
 fn work_precision_pendulum() -> String {
     let problem = Problem::Pendulum(Default::default());
     let sweep = Sweep {
         duration: 20.0,
         ..Sweep::defaults(&problem)
     };
-    let (rows, _) = study::sweep(&problem, &sweep);
-    study_tables::cheapest_table(&rows, &[1e-3, 1e-6, 1e-9])
+    let (rows, reference_error) = study::sweep(&problem, &sweep);
+    format!(
+        "{}\n{}",
+        study_tables::proportionality_table(&rows, error_floor(reference_error)),
+        study_tables::cheapest_table(&rows, &[1e-3, 1e-6, 1e-9, 1e-12])
+    )
 }
 
 /// The block of figure `name` in `document`: the text between its markers.

@@ -2,6 +2,7 @@
 
 use crate::report::table::{Table, plural, sig, trim_number};
 use crate::scene::hair::run::{HairLane, HairScene};
+use crate::scene::hair::{HairMethod, Solver};
 use crate::scene::harness::{Run, divergence_cell};
 
 pub fn summary_text(scene: &HairScene, run: &Run<HairLane>) -> String {
@@ -12,7 +13,8 @@ pub fn summary_text(scene: &HairScene, run: &Run<HairLane>) -> String {
          verlet solver {}, {} iterations; springs k/m = {:.3e} 1/s², kd/m = {} 1/s (semi-implicit-euler: {} inner steps per substep); \
          {} per frame at {} Hz (dt = {:.3e} s), {} frames to t = {} s, {} threads\n\
          collision pushes nodes to R(1 + {}); invariants: penetration of non-root nodes into R(1 + margin), \
-         root distance from its anchor, |ℓ - ℓ0|/ℓ0\n\n",
+         root distance from its anchor, |ℓ - ℓ0|/ℓ0; KE = kinetic energy per unit mass of hair, ½|Δx/dt|² \
+         averaged over the nodes; divergence = a non-finite position or a stretch |ℓ - ℓ0|/ℓ0 > {}\n\n",
         p.strands,
         p.nodes,
         p.segment_length,
@@ -33,6 +35,7 @@ pub fn summary_text(scene: &HairScene, run: &Run<HairLane>) -> String {
         trim_number(c.frames() as f64 / c.rate, 6),
         scene.threads,
         p.margin,
+        crate::scene::hair::run::STRETCH_BOUND,
     );
     let mut table = Table::new([
         "method",
@@ -44,13 +47,21 @@ pub fn summary_text(scene: &HairScene, run: &Run<HairLane>) -> String {
         "max stretch",
         "max penetration [m]",
         "max root error [m]",
-        "final KE [J/kg]",
+        "final KE per kg [J/kg]",
         "diverged",
     ]);
     for (lane, s) in run.lanes.iter().zip(&run.stats) {
         let wall = s.wall.as_secs_f64();
         let fps = s.timed_ticks as f64 / wall.max(1e-12);
         let w = &lane.worst;
+        // A lane that failed its first frame has no figures (not the zeros it started from).
+        let shown = |v: String| {
+            if s.failed_at_once() {
+                "—".to_string()
+            } else {
+                v
+            }
+        };
         table.row([
             s.name.to_string(),
             s.ticks.to_string(),
@@ -58,13 +69,111 @@ pub fn summary_text(scene: &HairScene, run: &Run<HairLane>) -> String {
             format!("{:.3}", wall * 1e3 / s.timed_ticks.max(1) as f64),
             format!("{fps:.0}"),
             sig(fps / c.rate, 3),
-            format!("{:.2e}", w.max_stretch),
-            format!("{:.1e}", w.max_penetration),
-            format!("{:.1e}", w.max_root_error),
-            format!("{:.4e}", w.kinetic_energy),
+            shown(format!("{:.2e}", w.max_stretch)),
+            shown(format!("{:.1e}", w.max_penetration)),
+            shown(format!("{:.1e}", w.max_root_error)),
+            shown(format!("{:.4e}", w.kinetic_energy)),
             divergence_cell(s),
         ]);
     }
     out.push_str(&table.render());
     out
+}
+
+/// The hair trade study's rows: configuration, largest stretch, cost per frame.
+pub fn trade_table(rows: &[crate::study::hair::HairRow]) -> String {
+    let mut t = Table::new([
+        "method",
+        "solver",
+        "iterations",
+        "substeps",
+        "k/m [1/s²]",
+        "max stretch",
+        "ms/frame",
+    ]);
+    for r in rows {
+        t.row([
+            r.method.name().to_string(),
+            r.solver.map_or("—".into(), |s| s.name().to_string()),
+            r.iterations.to_string(),
+            r.substeps.to_string(),
+            r.stiffness.map_or("—".into(), |k| format!("{k:.0e}")),
+            r.stretch.map_or("diverged".into(), |s| format!("{s:.2e}")),
+            trim_number(r.ms_per_frame, 3),
+        ]);
+    }
+    t.render()
+}
+
+/// The cheapest configuration (by wall time per frame) within each stretch target: over all
+/// rows, then for each method (and verlet's solver).
+pub fn trade_cheapest_table(rows: &[crate::study::hair::HairRow], targets: &[f64]) -> String {
+    use crate::study::hair::cheapest_within;
+    let mut kinds: Vec<(HairMethod, Option<Solver>)> = Vec::new();
+    for r in rows {
+        if !kinds.contains(&(r.method, r.solver)) {
+            kinds.push((r.method, r.solver));
+        }
+    }
+    let mut t = Table::new([
+        "max stretch ≤",
+        "among",
+        "cheapest",
+        "max stretch",
+        "ms/frame",
+    ]);
+    for &target in targets {
+        let mut line = |among: String, r: Option<&crate::study::hair::HairRow>| match r {
+            Some(r) => t.row([
+                format!("{target:.0e}"),
+                among,
+                r.flags(),
+                r.stretch.map_or(String::new(), |s| format!("{s:.2e}")),
+                trim_number(r.ms_per_frame, 3),
+            ]),
+            None => t.row([
+                format!("{target:.0e}"),
+                among,
+                "none measured".into(),
+                "—".into(),
+                "—".into(),
+            ]),
+        };
+        line("all".into(), cheapest_within(rows, target));
+        for &(m, s) in &kinds {
+            let among = match s {
+                Some(s) => format!("{} {}", m.name(), s.name()),
+                None => m.name().to_string(),
+            };
+            line(
+                among,
+                cheapest_within(
+                    rows.iter().filter(|r| (r.method, r.solver) == (m, s)),
+                    target,
+                ),
+            );
+        }
+    }
+    t.render()
+}
+
+/// One CSV row per configuration of the hair trade study.
+pub fn trade_csv(rows: &[crate::study::hair::HairRow]) -> String {
+    use std::fmt::Write as _;
+    let mut csv =
+        String::from("method,solver,iterations,substeps,stiffness,max_stretch,ms_per_frame\n");
+    for r in rows {
+        let _ = writeln!(
+            csv,
+            "{},{},{},{},{},{},{:e}",
+            r.method.name(),
+            r.solver.map_or("", |s| s.name()),
+            r.iterations,
+            r.substeps,
+            r.stiffness.map_or(String::new(), |k| format!("{k:e}")),
+            r.stretch.map_or(String::new(), |s| format!("{s:e}")),
+            r.ms_per_frame
+        );
+    }
+    csv
 }

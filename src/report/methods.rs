@@ -37,6 +37,9 @@ pub fn methods_table() -> String {
                     Method::Dop853 => {
                         "12 per step, 11 per rejected one, +3 for dense output (FSAL)".into()
                     }
+                    Method::Vern9 => {
+                        "16 per step, 15 per rejected one, +4 for the interpolant (FSAL)".into()
+                    }
                     _ => "6 per substep tried (FSAL; the run's first: 7)".into(),
                 },
             },

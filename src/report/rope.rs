@@ -14,7 +14,11 @@ pub fn cost_per_step(method: Method, newton_iterations: u32) -> String {
         }
         EvalsPerStep::Adaptive => format!(
             "adaptive: {} force evals O(N) per substep tried",
-            if method == Method::Dop853 { 12 } else { 6 }
+            match method {
+                Method::Dop853 => 12,
+                Method::Vern9 => 16,
+                _ => 6,
+            }
         ),
     }
 }

@@ -4,7 +4,7 @@
 use std::fmt::Write as _;
 
 use crate::report::table::Table;
-use crate::study::{Limit, Row, cheapest, orders};
+use crate::study::{Limit, Row, cheapest, orders, proportionality};
 
 fn sci(x: f64) -> String {
     format!("{x:.3e}")
@@ -43,6 +43,30 @@ pub fn orders_table(rows: &[Row], floor: f64, velocity_dependent: bool) -> Strin
                     .collect::<Vec<_>>()
                     .join(", ")
             },
+        ]);
+    }
+    t.render()
+}
+
+/// Tolerance proportionality per adaptive method: the slope of log error against log rtol
+/// (1: the error follows the tolerance), leaving out errors below `floor`.
+pub fn proportionality_table(rows: &[Row], floor: f64) -> String {
+    let mut t = Table::new([
+        "method",
+        "error ∝ rtol^slope, fitted",
+        "slope range",
+        "rtols fitted",
+    ]);
+    for p in proportionality(rows, floor) {
+        t.row([
+            p.method.name().to_string(),
+            p.fitted.map_or("— (fewer than 2 usable rows)".into(), |f| {
+                format!("{f:.3}")
+            }),
+            p.range
+                .map_or("—".into(), |(lo, hi)| format!("{lo:.3} – {hi:.3}")),
+            p.rtols
+                .map_or("—".into(), |(lo, hi)| format!("{lo:.0e} – {hi:.0e}")),
         ]);
     }
     t.render()

@@ -184,8 +184,8 @@ pub struct Checked {
     pub accepted: usize,
     /// Why the tick after the accepted ones failed its check.
     pub divergence: Option<String>,
-    /// The first tick (offset in the block, among the accepted) whose implicit solve missed its
-    /// tolerance, and what the solver was asked for.
+    /// The first tick (offset in the block, among the accepted or the failing one) whose
+    /// implicit solve missed its tolerance, and what the solver was asked for.
     pub solver_miss: Option<(usize, String)>,
     /// What the lane had spent when it failed, for scenes that step past the failing tick
     /// within a block (otherwise [`Scene::counts`] after the block is used).
@@ -229,7 +229,8 @@ pub trait Scene {
     fn traced(&self) -> bool {
         false
     }
-    /// Work shared by every lane over ticks first..first+len (the pendulum's reference).
+    /// Work shared by every lane over ticks first..first+len (the pendulum's reference). It may
+    /// return early when [`crate::interrupt::requested`]; the block is then not stepped.
     fn prepare(&mut self, _first: u64, _len: usize) {}
     /// Steps the lane over ticks first..first+len. This is what is timed.
     fn advance(&self, lane: &mut Self::Lane, first: u64, len: usize);
@@ -453,7 +454,8 @@ pub fn run<S: Scene>(
     let mut alive = vec![true; lanes.len()];
     let mut accepted = vec![0usize; lanes.len()];
     let mut cost = vec![Duration::ZERO; lanes.len()];
-    let mut missed = vec![false; lanes.len()];
+    // The time of each lane's first missed implicit solve, once there was one.
+    let mut missed: Vec<Option<f64>> = vec![None; lanes.len()];
     {
         let named: Vec<(&'static str, &S::Lane)> = names.iter().copied().zip(&lanes).collect();
         observer.start(scene, &named)?;
@@ -497,6 +499,12 @@ pub fn run<S: Scene>(
         }
         let len = (last - first + 1) as usize;
         scene.prepare(first, len);
+        // Shared work can be long (the pendulum's fine-step reference): a stop asked for
+        // during it leaves this block unstepped, and what came before stands.
+        if crate::interrupt::requested() {
+            interrupted = true;
+            break;
+        }
 
         for (i, lane) in lanes.iter_mut().enumerate() {
             accepted[i] = 0;
@@ -524,12 +532,13 @@ pub fn run<S: Scene>(
             s.ticks += checked.accepted as u64;
             s.counts = checked.counts.unwrap_or_else(|| scene.counts(lane));
             if let Some((offset, what)) = checked.solver_miss
-                && !missed[i]
+                && missed[i].is_none()
             {
-                // Reported once per lane (the summary has the count), so the log stays readable.
-                missed[i] = true;
+                // Reported once per lane, and the total at the end (as the summary counts it),
+                // so the log stays readable.
                 let tick = first + offset as u64;
                 let time = schedule.time(tick);
+                missed[i] = Some(time);
                 observer.event(
                     scene,
                     &Event {
@@ -597,6 +606,30 @@ pub fn run<S: Scene>(
         if !batch.is_empty() {
             observer.series(scene, i, batch)?;
             batch.clear();
+        }
+    }
+    // The log's last word on missed solves is the summary's count.
+    for (i, s) in stats.iter().enumerate() {
+        let failed = s.counts.failed_solves;
+        if let Some(first_time) = missed[i]
+            && failed > 1
+        {
+            let tick = s.ticks_taken();
+            let time = schedule.time(tick);
+            observer.event(
+                scene,
+                &Event {
+                    lane: i,
+                    time,
+                    tick,
+                    kind: EventKind::SolverNotConverged,
+                    message: format!(
+                        "{}: {failed} implicit steps in all missed their Newton tolerance, the first at \
+                         t = {first_time:.6} s",
+                        s.name
+                    ),
+                },
+            )?;
         }
     }
     let run = Run {

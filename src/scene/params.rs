@@ -120,8 +120,10 @@ pub fn time(dt: f64, duration: f64, fps: f64, work_per_step: usize) -> Result<()
     let steps = duration / dt;
     if steps > MAX_STEPS {
         return Err(Invalid(format!(
-            "--dt {dt} with --duration {duration} is {steps:.2e} steps per method; at most {MAX_STEPS:.0e} \
-             are allowed (raise --dt or shorten --duration)"
+            "--dt {} with --duration {} is {steps:.2e} steps per method; at most {MAX_STEPS:.0e} \
+             are allowed (raise --dt or shorten --duration)",
+            shown(dt),
+            shown(duration)
         )));
     }
     let work = steps * work_per_step as f64;

@@ -5,6 +5,13 @@
 //! with a reference: the exact elliptic solution for a pendulum released from rest, otherwise
 //! RK4 at a step 8× finer than the finest tested, whose own error is estimated by Richardson
 //! extrapolation against a run at twice its step.
+//!
+//! A stop request ([`crate::interrupt::requested`], Ctrl-C or SIGTERM) is looked at every
+//! [`STOP_CHECK_STEPS`] steps of every run, the reference's included: [`sweep`] and
+//! [`stability`] then return the rows and limits complete so far (a run cut short is dropped,
+//! never shown), and the caller says the study was interrupted.
+
+pub mod hair;
 
 use std::time::Instant;
 
@@ -95,9 +102,9 @@ pub const DEFAULT_REPEATS: u32 = 5;
 /// Steps a stability trial must stay bounded for by default.
 pub const DEFAULT_STABILITY_STEPS: u64 = 2000;
 
-/// The adaptive methods' tolerances in a work-precision sweep by default: 1e-3 to 1e-12.
+/// The adaptive methods' tolerances in a work-precision sweep by default: 1e-3 to 1e-13.
 pub fn default_rtols() -> Vec<f64> {
-    (3..=12).map(|k| 10f64.powi(-k)).collect()
+    (3..=13).map(|k| 10f64.powi(-k)).collect()
 }
 
 impl Sweep {
@@ -146,7 +153,32 @@ struct Measured {
     wall: f64,
 }
 
-/// Steps `method` over the reference's sample times and measures it.
+/// Steps between looks at the stop flag: an atomic load, free at this stride, and well under a
+/// millisecond of stepping on every scene the studies run.
+pub const STOP_CHECK_STEPS: u64 = 4096;
+
+/// Whether a stop was asked for.
+fn stop() -> bool {
+    crate::interrupt::requested()
+}
+
+/// Takes `n` steps, looking at the stop flag every [`STOP_CHECK_STEPS`]; false when stopped.
+fn steps<S: SecondOrderSystem>(it: &mut Integrator, sys: &S, n: u64) -> bool {
+    let mut left = n;
+    while left > 0 {
+        let chunk = left.min(STOP_CHECK_STEPS);
+        for _ in 0..chunk {
+            it.step(sys);
+        }
+        left -= chunk;
+        if stop() {
+            return false;
+        }
+    }
+    true
+}
+
+/// Steps `method` over the reference's sample times and measures it (`None` when stopped).
 fn measure<S: SecondOrderSystem>(
     sys: &S,
     start: &(Vec<f64>, Vec<f64>),
@@ -155,13 +187,13 @@ fn measure<S: SecondOrderSystem>(
     options: MethodOptions,
     per_sample: u64,
     reference: &[Vec<f64>],
-) -> Measured {
+) -> Option<Measured> {
     let began = Instant::now();
     let mut it = Integrator::new(method, sys, &start.0, &start.1, dt, options);
     let mut worst: f64 = 0.0;
     for r in reference {
-        for _ in 0..per_sample {
-            it.step(sys);
+        if !steps(&mut it, sys, per_sample) {
+            return None;
         }
         let x = it.position();
         let err = x
@@ -175,47 +207,48 @@ fn measure<S: SecondOrderSystem>(
         worst = worst.max(err);
     }
     let wall = began.elapsed().as_secs_f64();
-    Measured {
+    Some(Measured {
         error: worst.is_finite().then_some(worst),
         evals: it.evals(),
         accepted: it.accepted_steps(),
         rejected: it.rejected_steps(),
         wall,
-    }
+    })
 }
 
-/// The reference positions at t = k·sample_dt, k = 1..=samples, and an estimate of its own error.
+/// The reference positions at t = k·sample_dt, k = 1..=samples, and an estimate of its own
+/// error; `None` when stopped.
 pub fn reference(
     problem: &Problem,
     sample_dt: f64,
     samples: usize,
     finest_dt: f64,
-) -> (Vec<Vec<f64>>, f64) {
+) -> Option<(Vec<Vec<f64>>, f64)> {
     if let Problem::Pendulum(p) = problem
         && let Some(exact) = ExactPendulum::new(p)
     {
         let r = (1..=samples)
             .map(|k| vec![exact.state(k as f64 * sample_dt).0])
             .collect();
-        return (r, 0.0);
+        return Some((r, crate::scene::pendulum::reference::EXACT_THETA_ACCURACY));
     }
     let h = finest_dt / 8.0;
     let per = (sample_dt / h).round() as u64;
     let start = problem.start();
-    let run = |h: f64, per: u64| -> Vec<Vec<f64>> {
+    let run = |h: f64, per: u64| -> Option<Vec<Vec<f64>>> {
         match problem {
             Problem::Pendulum(p) => fine_run(&Pendulum::new(p), &start, h, per, samples),
             Problem::Rope(p) => fine_run(&Rope::new(p.clone()), &start, h, per, samples),
         }
     };
-    let fine = run(h, per);
-    let coarse = run(2.0 * h, per / 2);
+    let fine = run(h, per)?;
+    let coarse = run(2.0 * h, per / 2)?;
     let diff = fine
         .iter()
         .zip(&coarse)
         .flat_map(|(a, b)| a.iter().zip(b).map(|(x, y)| (x - y).abs()))
         .fold(0.0, f64::max);
-    (fine, diff / 15.0)
+    Some((fine, diff / 15.0))
 }
 
 fn fine_run<S: SecondOrderSystem>(
@@ -224,7 +257,7 @@ fn fine_run<S: SecondOrderSystem>(
     h: f64,
     per: u64,
     samples: usize,
-) -> Vec<Vec<f64>> {
+) -> Option<Vec<Vec<f64>>> {
     let mut it = Integrator::new(
         Method::Rk4,
         sys,
@@ -234,12 +267,7 @@ fn fine_run<S: SecondOrderSystem>(
         MethodOptions::default(),
     );
     (0..samples)
-        .map(|_| {
-            for _ in 0..per {
-                it.step(sys);
-            }
-            it.position().to_vec()
-        })
+        .map(|_| steps(&mut it, sys, per).then(|| it.position().to_vec()))
         .collect()
 }
 
@@ -264,19 +292,26 @@ pub struct Sweep {
 }
 
 /// Every (method, dt) of the sweep: fixed-step methods over the halved steps, the adaptive
-/// methods (family `Adaptive`: dopri5, dop853) over their tolerances. Returns the rows and the reference's estimated error.
+/// methods (family `Adaptive`: dopri5, dop853, vern9) over their tolerances. Returns the rows and
+/// the reference's accuracy (the exact pendulum's [`EXACT_THETA_ACCURACY`], or the fine run's
+/// Richardson estimate); after a stop request, the rows complete so far (none if the reference
+/// was not).
+///
+/// [`EXACT_THETA_ACCURACY`]: crate::scene::pendulum::reference::EXACT_THETA_ACCURACY
 pub fn sweep(problem: &Problem, s: &Sweep) -> (Vec<Row>, f64) {
     let sample_dt = SAMPLE_EVERY as f64 * s.dt0;
     let samples = ((s.duration / sample_dt).round() as usize).max(1);
     let finest = s.dt0 / 2f64.powi(s.levels as i32 - 1);
-    let (reference, reference_error) = reference(problem, sample_dt, samples, finest);
+    let Some((reference, reference_error)) = reference(problem, sample_dt, samples, finest) else {
+        return (Vec::new(), 0.0);
+    };
     let start = problem.start();
     let mut rows = Vec::new();
     let mut one = |method: Method, dt: f64, per: u64, options: MethodOptions, rtol: Option<f64>| {
         let mut walls = Vec::new();
         let mut result = None;
         for _ in 0..s.repeats.max(1) {
-            let m = match problem {
+            let Some(m) = (match problem {
                 Problem::Pendulum(p) => measure(
                     &Pendulum::new(p),
                     &start,
@@ -295,6 +330,8 @@ pub fn sweep(problem: &Problem, s: &Sweep) -> (Vec<Row>, f64) {
                     per,
                     &reference,
                 ),
+            }) else {
+                return;
             };
             walls.push(m.wall);
             result = Some(m);
@@ -317,6 +354,9 @@ pub fn sweep(problem: &Problem, s: &Sweep) -> (Vec<Row>, f64) {
         if m.info().family == Family::Adaptive {
             // Adaptive: it is asked for the sample times only and chooses its steps itself.
             for &rtol in &s.rtols {
+                if stop() {
+                    break;
+                }
                 one(
                     m,
                     sample_dt,
@@ -327,6 +367,9 @@ pub fn sweep(problem: &Problem, s: &Sweep) -> (Vec<Row>, f64) {
             }
         } else {
             for k in 0..s.levels {
+                if stop() {
+                    break;
+                }
                 one(
                     m,
                     s.dt0 / 2f64.powi(k as i32),
@@ -380,26 +423,7 @@ pub fn orders(rows: &[Row], floor: f64) -> Vec<Order> {
                 .iter()
                 .filter_map(|r| r.error.filter(|e| *e > floor).map(|e| (r.dt.ln(), e.ln())))
                 .collect();
-            let fitted = (pts.len() >= 2).then(|| {
-                let n = pts.len() as f64;
-                let (mx, my) = (
-                    pts.iter().map(|p| p.0).sum::<f64>() / n,
-                    pts.iter().map(|p| p.1).sum::<f64>() / n,
-                );
-                let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
-                let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
-                sxy / sxx
-            });
-            let local: Vec<f64> = pts
-                .windows(2)
-                .map(|w| (w[0].1 - w[1].1) / (w[0].0 - w[1].0))
-                .collect();
-            let range = (!local.is_empty()).then(|| {
-                (
-                    local.iter().copied().fold(f64::INFINITY, f64::min),
-                    local.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-                )
-            });
+            let (fitted, range) = fit(&pts);
             Order {
                 method: m,
                 fitted,
@@ -408,6 +432,79 @@ pub fn orders(rows: &[Row], floor: f64) -> Vec<Order> {
             }
         })
         .collect()
+}
+
+/// Tolerance proportionality of one adaptive method: the least-squares slope of log error
+/// against log rtol over its rows above `floor` (1 when the error follows rtol), with the
+/// smallest and largest slope between neighbours, and the rtols fitted.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Proportionality {
+    pub method: Method,
+    pub fitted: Option<f64>,
+    pub range: Option<(f64, f64)>,
+    pub rtols: Option<(f64, f64)>,
+}
+
+pub fn proportionality(rows: &[Row], floor: f64) -> Vec<Proportionality> {
+    let mut methods: Vec<Method> = Vec::new();
+    for r in rows {
+        if r.rtol.is_some() && !methods.contains(&r.method) {
+            methods.push(r.method);
+        }
+    }
+    methods
+        .into_iter()
+        .map(|m| {
+            let pts: Vec<(f64, f64)> = rows
+                .iter()
+                .filter(|r| r.method == m)
+                .filter_map(|r| {
+                    let rtol = r.rtol?;
+                    r.error.filter(|e| *e > floor).map(|e| (rtol.ln(), e.ln()))
+                })
+                .collect();
+            let (fitted, range) = fit(&pts);
+            let rtols = (!pts.is_empty()).then(|| {
+                let xs = pts.iter().map(|p| p.0.exp());
+                (
+                    xs.clone().fold(f64::INFINITY, f64::min),
+                    xs.fold(0.0, f64::max),
+                )
+            });
+            Proportionality {
+                method: m,
+                fitted,
+                range,
+                rtols,
+            }
+        })
+        .collect()
+}
+
+/// The least-squares slope of y against x (at least two points) and the smallest and largest
+/// slope between neighbours.
+fn fit(pts: &[(f64, f64)]) -> (Option<f64>, Option<(f64, f64)>) {
+    let fitted = (pts.len() >= 2).then(|| {
+        let n = pts.len() as f64;
+        let (mx, my) = (
+            pts.iter().map(|p| p.0).sum::<f64>() / n,
+            pts.iter().map(|p| p.1).sum::<f64>() / n,
+        );
+        let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+        let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
+        sxy / sxx
+    });
+    let local: Vec<f64> = pts
+        .windows(2)
+        .map(|w| (w[0].1 - w[1].1) / (w[0].0 - w[1].0))
+        .collect();
+    let range = (!local.is_empty()).then(|| {
+        (
+            local.iter().copied().fold(f64::INFINITY, f64::min),
+            local.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        )
+    });
+    (fitted, range)
 }
 
 /// The cheapest measured run reaching `target` error: by wall time, and by force evaluations.
@@ -503,11 +600,15 @@ fn bounded(
             dt,
             MethodOptions::default(),
         );
-        for _ in 0..steps {
+        for k in 0..steps {
             it.step(sys);
             let s = size(it.position());
             // NaN compares false: a non-finite state counts as unbounded.
             if s.is_nan() || s > 1e4 * initial {
+                return false;
+            }
+            // Stopped: the answer is dropped by `stability`, so any will do.
+            if k % STOP_CHECK_STEPS == STOP_CHECK_STEPS - 1 && stop() {
                 return false;
             }
         }
@@ -528,12 +629,16 @@ fn bounded(
 
 /// Largest stable dt by bisection (geometric, 40 halvings of the bracket), for every method.
 /// A run is stable when its displacement stays within 10⁴ of the start over `steps` steps.
+/// After a stop request, the limits of the methods complete so far.
 pub fn stability(problem: &Problem, methods: &[Method], steps: u64) -> Vec<Limit> {
     let (lin, start) = linearised(problem);
     let w = lin.omega();
-    methods
-        .iter()
-        .map(|&m| {
+    let mut limits = Vec::new();
+    for &m in methods {
+        if stop() {
+            break;
+        }
+        let limit = {
             let theory = match m.info().stability {
                 Stability::Below(h) => Some(h / w),
                 Stability::Always => Some(f64::INFINITY),
@@ -578,9 +683,20 @@ pub fn stability(problem: &Problem, methods: &[Method], steps: u64) -> Vec<Limit
                     }
                 }
             };
-            Limit { scene: problem.name(), method: m, measured_dt: measured, theory_dt: theory, note }
-        })
-        .collect()
+            Limit {
+                scene: problem.name(),
+                method: m,
+                measured_dt: measured,
+                theory_dt: theory,
+                note,
+            }
+        };
+        // A bisection cut short by a stop has no limit to show.
+        if !stop() {
+            limits.push(limit);
+        }
+    }
+    limits
 }
 
 /// Yoshida's stability limit on the oscillator from theory: the h at which the trace of the

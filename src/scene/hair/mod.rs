@@ -13,13 +13,17 @@
 //!
 //! Layout is structure-of-arrays: positions, previous positions and velocities are separate
 //! arrays, strand-major (node k of strand s at s·nodes + k), so each strand is a contiguous slice
-//! of every array and strands are stepped in parallel without sharing anything. The hot loop
-//! allocates nothing (per-thread scratch is made once). f64 throughout: segment lengths (~1 cm)
+//! of every array and strands are stepped in parallel without sharing anything; a method keeps
+//! only the arrays it needs (verlet: positions and previous positions; ftl: positions and
+//! velocities). `verlet` with the direct solver and `ftl` step four strands at once in the lanes
+//! of an AVX2 register ([`lanes`]). The hot loop allocates nothing (per-thread scratch is made
+//! once). f64 throughout: segment lengths (~1 cm)
 //! must hold to 1e-6 relative at positions ~1 m away from the origin, which f32 (7 digits)
 //! cannot.
 
 pub mod direct;
 pub mod head;
+pub mod lanes;
 pub mod run;
 pub mod spring;
 
@@ -52,7 +56,7 @@ impl HairMethod {
     ];
 
     /// The methods a run takes by default. The spring methods are chosen by --methods:
-    /// semi-implicit-euler takes ~200 inner steps a frame at the default stiffness (a default run
+    /// semi-implicit-euler takes ~410 inner steps a frame at the default stiffness (a default run
     /// would take seconds more per 200 strands), and implicit-euler does not yet meet the spring
     /// stretch bound (stable, but its linearised step stretches segments by O(1) at 60 Hz).
     pub const DEFAULT: [HairMethod; 2] = [HairMethod::Verlet, HairMethod::Ftl];
@@ -215,7 +219,11 @@ impl Default for HairParams {
             damping: 1.0,
             solver: Solver::Direct,
             iterations: 2,
-            stiffness: 1e8,
+            // Chosen by measurement (tests/hair_length.rs, 40 strands, symplectic Euler, largest
+            // stretch over default / 64 nodes / wind 0,30,0 gust 1 / shake): 1e8 reaches
+            // 2.8e-2 (64 nodes), 2e8 9.3e-3 (64 nodes, too near the 1e-2 bound), 4e8 7.1e-3
+            // (shake) at 410 inner steps per 60 Hz frame.
+            stiffness: 4e8,
             spring_damping: 2e3,
             margin: 1e-3,
             cap_angle: 0.6 * std::f64::consts::PI,
@@ -291,6 +299,7 @@ pub struct Hair {
     /// Root directions in the head frame (unit).
     roots: Vec<DVec3>,
     pub pos: Vec<DVec3>,
+    /// Positions at the start of the last step (empty for ftl).
     pub prev: Vec<DVec3>,
     /// Velocities (semi-implicit-euler, implicit-euler, ftl; verlet keeps them implicit in
     /// pos - prev and leaves this empty).
@@ -322,7 +331,13 @@ impl Hair {
         let groups = roots.len().div_ceil(GROUP);
         Hair {
             roots,
-            prev: pos.clone(),
+            // ftl needs no previous positions (its step keeps them in scratch): a third less
+            // memory traffic per frame.
+            prev: if method == HairMethod::Ftl {
+                Vec::new()
+            } else {
+                pos.clone()
+            },
             vel: if method == HairMethod::Verlet {
                 Vec::new()
             } else {
@@ -403,6 +418,13 @@ impl Hair {
                     .for_each(|(((x, prev), roots), st)| {
                         *st = ctx.step_group(x, prev, &mut [], roots)
                     });
+            } else if self.method == HairMethod::Ftl {
+                self.pos
+                    .par_chunks_mut(g)
+                    .zip(self.vel.par_chunks_mut(g))
+                    .zip(self.roots.par_chunks(GROUP))
+                    .zip(self.group_stats.par_iter_mut())
+                    .for_each(|(((x, v), roots), st)| *st = ctx.step_group(x, &mut [], v, roots));
             } else {
                 self.pos
                     .par_chunks_mut(g)
@@ -480,29 +502,17 @@ impl Hair {
 
     /// Kinetic energy per unit node mass, ½ Σ |Δx/dt|² [J/kg], from how far each node actually
     /// moved in the last step (the same for every method: DFTL's stored velocity carries its
-    /// damping correction and is not the nodes' motion). As [`Hair::stats`] sums it.
+    /// damping correction and is not the nodes' motion), as the step measured it
+    /// ([`Hair::stats`]).
     pub fn kinetic_energy(&self) -> f64 {
-        if self.last_dt == 0.0 {
-            return 0.0;
-        }
-        let inv = 1.0 / self.last_dt;
-        self.pos
-            .chunks(GROUP * self.params.nodes)
-            .zip(self.prev.chunks(GROUP * self.params.nodes))
-            .map(|(x, p)| {
-                x.iter()
-                    .zip(p)
-                    .map(|(x, p)| 0.5 * ((*x - *p) * inv).length_squared())
-                    .sum::<f64>()
-            })
-            .sum()
+        self.stats().kinetic
     }
 }
 
 /// Per-thread scratch of the solvers, made once per thread and grown when needed.
 #[derive(Default)]
 struct Scratch {
-    direct: direct::DirectScratch,
+    lanes: lanes::LaneScratch,
     spring: spring::SpringScratch,
 }
 
@@ -541,52 +551,20 @@ impl StepContext<'_> {
         v: &mut [DVec3],
         roots: &[DVec3],
     ) -> GroupStats {
+        if self.has_lanes() {
+            return SCRATCH
+                .with_borrow_mut(|scratch| self.step_lanes(x, prev, v, roots, &mut scratch.lanes));
+        }
         let n = self.params.nodes;
-        let dt = self.dt;
         match self.method {
             HairMethod::Verlet => {
                 for (j, root_dir) in roots.iter().enumerate() {
                     let s = j * n..(j + 1) * n;
                     self.predict_verlet(&mut x[s.clone()], &mut prev[s], *root_dir);
                 }
-                match self.params.solver {
-                    Solver::GaussSeidel => self.project(x, roots.len()),
-                    Solver::Direct => SCRATCH.with_borrow_mut(|scratch| {
-                        for strand in x.chunks_exact_mut(n) {
-                            self.solve_direct(strand, &mut scratch.direct);
-                        }
-                    }),
-                }
+                self.project(x, roots.len());
             }
-            HairMethod::Ftl => {
-                for (j, root_dir) in roots.iter().enumerate() {
-                    let s = j * n..(j + 1) * n;
-                    self.predict_velocity(
-                        &mut x[s.clone()],
-                        &mut prev[s.clone()],
-                        &mut v[s],
-                        *root_dir,
-                    );
-                }
-                self.follow_the_leader(x, v, roots.len());
-                // Velocities from positions, with the DFTL correction -s d_{k+1}/dt (v holds d).
-                for j in 0..roots.len() {
-                    let (x, p, v) = (
-                        &x[j * n..(j + 1) * n],
-                        &prev[j * n..(j + 1) * n],
-                        &mut v[j * n..(j + 1) * n],
-                    );
-                    let last = n - 1;
-                    for k in 0..=last {
-                        let correction = if k < last && k > 0 {
-                            v[k + 1]
-                        } else {
-                            DVec3::ZERO
-                        };
-                        v[k] = (x[k] - p[k]) / dt - FTL_CORRECTION * correction / dt;
-                    }
-                }
-            }
+            HairMethod::Ftl => unreachable!("ftl is stepped in lanes"),
             HairMethod::SemiImplicitEuler => {
                 for (j, root_dir) in roots.iter().enumerate() {
                     let s = j * n..(j + 1) * n;
@@ -667,43 +645,6 @@ impl StepContext<'_> {
         }
         prev[0] = x[0];
         x[0] = self.anchor(root_dir);
-    }
-
-    /// DFTL's velocity update and prediction; then places the root on its anchor. `prev` ends
-    /// holding the start-of-step positions.
-    fn predict_velocity(
-        &self,
-        x: &mut [DVec3],
-        prev: &mut [DVec3],
-        v: &mut [DVec3],
-        root_dir: DVec3,
-    ) {
-        let dt = self.dt;
-        let a = self.params.gravity + self.params.wind_at(self.time, x[0]);
-        for k in 1..x.len() {
-            v[k] = (v[k] + a * dt) * self.keep;
-            prev[k] = x[k];
-            x[k] += v[k] * dt;
-        }
-        prev[0] = x[0];
-        x[0] = self.anchor(root_dir);
-    }
-
-    /// DFTL's single pass over `count` strands, segment by segment: each node moves onto the
-    /// sphere of rest length around its (already final) parent, and out of the head along that
-    /// sphere. `v` receives each node's length correction d_k (without the collision's share,
-    /// which the velocity correction must not feed back into the parent).
-    fn follow_the_leader(&self, x: &mut [DVec3], v: &mut [DVec3], count: usize) {
-        let n = self.params.nodes;
-        for k in 1..n {
-            for j in 0..count {
-                let i = j * n + k;
-                let predicted = x[i];
-                let (placed, followed) = self.follow(x[i - 1], predicted);
-                x[i] = placed;
-                v[i] = followed - predicted;
-            }
-        }
     }
 
     /// `iterations` rounds of Gauss-Seidel length projection from root to tip on `count` strands

@@ -170,10 +170,10 @@ impl StepContext<'_> {
         let strand = Strand {
             nodes: n,
             stiffness: p.stiffness,
-            // Measured: with the spring damping's Jacobian (kd/ℓ cross terms, h kd ≫ 1 at 60 Hz)
-            // the linearised step diverges within 0.3 s on every test scene; backward Euler
-            // damps the stiff modes by itself, so the implicit springs go without it.
-            spring_damping: 0.0,
+            // With the spring damping's full x-Jacobian (non-symmetric, kd/ℓ cross terms, h kd ≫ 1
+            // at 60 Hz) the step diverged within 0.3 s on every test scene; the strand asks
+            // for the definite Jacobian, which leaves that term out ([`Chain::definite_jacobian`]).
+            spring_damping: p.spring_damping,
             rest: p.segment_length,
             drag: p.damping,
             accel: p.gravity + p.wind_at(self.time, x[0]),

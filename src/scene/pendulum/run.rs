@@ -2,7 +2,7 @@
 //! grid, checked every step, with the period measured from each lane's motion.
 
 use super::period::PeriodMeter;
-use super::reference::{Reference, exact_period};
+use super::reference::{ExactPendulum, FineStepReference, Reference, exact_period};
 use super::{Pendulum, PendulumParams, step_block};
 use crate::integrate::{Counts, Integrator, Method, MethodOptions};
 use crate::scene::harness::{Checked, Sampler, Scene, Schedule};
@@ -60,6 +60,7 @@ impl PendulumConfig {
         params::finite("--theta0", p.theta0.to_degrees(), "degrees")?;
         params::within("--omega0", p.omega0, -max, max, "rad/s")?;
         params::time(self.dt, self.duration, self.fps, 1)?;
+        self.reference_guard()?;
         params::verlet_damping(self.options.verlet_damping)?;
         if self.plot_every == 0 {
             return Err(Invalid(
@@ -72,10 +73,53 @@ impl PendulumConfig {
     pub fn schedule(&self) -> Schedule {
         Schedule::fixed_step(self.dt, self.duration, self.fps, self.plot_every)
     }
+
+    /// RK4 steps the fine-step reference takes over the run (0 when the closed form applies).
+    pub fn reference_steps(&self) -> f64 {
+        if ExactPendulum::new(&self.params).is_some() {
+            return 0.0;
+        }
+        let steps = self.schedule().total as f64;
+        3.0 * steps * FineStepReference::substeps(&self.params, self.dt)
+    }
+
+    /// The fine-step reference (ω0 ≠ 0 or |θ0| ≥ 180°) counts against the same step limit as
+    /// a method: its substeps follow the fastest rate, which ω0 sets, so a large ω0 is refused
+    /// up front rather than left to run for hours.
+    fn reference_guard(&self) -> Result<(), Invalid> {
+        let steps = self.reference_steps();
+        if steps > params::MAX_STEPS {
+            let degrees = format!("{:.6}", self.params.theta0.to_degrees());
+            return Err(Invalid(format!(
+                "--omega0 {} (θ0 {}°, --length {} m, --gravity {} m/s²) over --duration {} s: the fine-step \
+                 reference needs {steps:.2e} RK4 steps (its step follows the fastest rate, here {:.3e} rad/s); \
+                 at most {:.0e} are allowed (lower --omega0 or shorten --duration)",
+                params::shown(self.params.omega0),
+                degrees.trim_end_matches('0').trim_end_matches('.'),
+                params::shown(self.params.length),
+                params::shown(self.params.gravity),
+                params::shown(self.duration),
+                self.params
+                    .omega_n()
+                    .max((2.0 * self.params.initial_energy()).sqrt() / self.params.length),
+                params::MAX_STEPS
+            )));
+        }
+        Ok(())
+    }
 }
 
-/// The quantities every lane plots, in order; method lanes add `theta_error`.
-pub const QUANTITIES: [&str; 5] = ["theta", "omega", "energy", "energy_error", "theta_error"];
+/// The quantities every lane plots, in order; method lanes add `theta_error` and `step_size`
+/// (the size of the method's last accepted step: an adaptive method's own steps, which do not
+/// end at the sample times, so a user sees the step size the error control chose).
+pub const QUANTITIES: [&str; 6] = [
+    "theta",
+    "omega",
+    "energy",
+    "energy_error",
+    "theta_error",
+    "step_size",
+];
 
 /// One lane: a method, or the reference (`method` is `None`).
 pub struct PendulumLane {
@@ -87,6 +131,8 @@ pub struct PendulumLane {
     /// Evaluations spent after every step of the current block (so that a lane that diverged
     /// inside a block counts only up to its failing step).
     evals: Vec<u64>,
+    /// The method's last accepted step size after every step of the current block.
+    step_size: Vec<f64>,
     /// Offsets in the current block of steps whose implicit solve missed its tolerance.
     unconverged: Vec<usize>,
     pub meter: PeriodMeter,
@@ -162,6 +208,7 @@ impl PendulumScene {
             theta,
             omega,
             evals: vec![0; BLOCK_STEPS],
+            step_size: vec![0.0; BLOCK_STEPS],
             unconverged: Vec::new(),
             meter,
             max_theta_error: 0.0,
@@ -208,7 +255,7 @@ impl Scene for PendulumScene {
         let p = self.config.params;
         let mut values = vec![p.theta0, p.omega0, self.initial_energy, 0.0];
         if lane.method.is_some() {
-            values.push(0.0);
+            values.extend([0.0, 0.0]);
         }
         Some(values)
     }
@@ -225,6 +272,9 @@ impl Scene for PendulumScene {
     fn prepare(&mut self, first: u64, len: usize) {
         let dt = self.config.dt;
         for j in 0..len {
+            if crate::interrupt::requested() {
+                return;
+            }
             (self.ref_theta[j], self.ref_omega[j]) =
                 self.reference.state_at_step(first + j as u64, dt);
         }
@@ -240,6 +290,7 @@ impl Scene for PendulumScene {
                 &mut lane.theta[..len],
                 &mut lane.omega[..len],
                 &mut lane.evals[..len],
+                &mut lane.step_size[..len],
                 &mut lane.unconverged,
             ),
             None => {
@@ -291,12 +342,14 @@ impl Scene for PendulumScene {
                 lane.max_theta_error = lane.max_theta_error.max(theta_error);
             }
             if out.wants(step) {
-                let row = [th, w, e, energy_error, theta_error];
-                out.push(step, &row[..if is_method { 5 } else { 4 }]);
+                let row = [th, w, e, energy_error, theta_error, lane.step_size[j]];
+                out.push(step, &row[..if is_method { 6 } else { 4 }]);
             }
         }
+        // Misses are counted up to and including the failing step; so is the event.
         if let Some(&offset) = lane.unconverged.first()
-            && offset < checked.accepted
+            && offset <= checked.accepted
+            && offset < len
         {
             checked.solver_miss = Some((
                 offset,

@@ -42,8 +42,9 @@ pub trait Chain {
     /// Total force on every node (flat, 3 per node), before pinning.
     fn forces(&self, x: &[f64], v: &[f64], f: &mut [f64]);
     /// Whether the spring Jacobian drops its transverse term under compression (ℓ < ℓ0), where
-    /// it is negative and makes the system indefinite (Choi & Ko 2002). The rope keeps the exact
-    /// Jacobian (false); stiff hair springs at large steps need the definite one.
+    /// it is negative and makes the system indefinite (Choi & Ko 2002), and the x-derivative of
+    /// the spring damping (non-symmetric). The rope keeps the exact Jacobian (false); stiff,
+    /// damped hair springs at large steps need the definite one.
     fn definite_jacobian(&self) -> bool {
         false
     }
@@ -155,7 +156,14 @@ fn spring_jacobians<C: Chain>(rope: &C, x: &[f64], v: &[f64], i: usize) -> (DMat
     let hooke = rope.stiffness() * (uu + transverse_scale * transverse);
     // Damping kd (Δv·u) u varies with x through u: kd/ℓ [(Δv·u)(I - u uᵀ) + u ((I - u uᵀ)Δv)ᵀ].
     let kd = rope.spring_damping();
-    let damping_x = kd / len * (dv.dot(u) * transverse + outer(u, transverse * dv));
+    // With the definite Jacobian the damping's x-derivative (non-symmetric, and indefinite
+    // when the spring shortens) is left out, as cloth solvers do: the system stays symmetric
+    // positive definite, and only the Newton direction changes, not the equation solved.
+    let damping_x = if rope.definite_jacobian() {
+        DMat3::ZERO
+    } else {
+        kd / len * (dv.dot(u) * transverse + outer(u, transverse * dv))
+    };
     (hooke + damping_x, kd * uu)
 }
 

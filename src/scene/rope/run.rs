@@ -315,12 +315,14 @@ impl Scene for RopeScene {
             lane.integrator.step(&self.rope);
             let (x, v) = (lane.integrator.position(), lane.integrator.velocity());
             let (energy, strain) = self.rope.energy_and_strain(x, v);
+            // A miss on the failing step is counted too, so the event log and the summary's
+            // count agree.
+            if lane.first_miss.is_none() && lane.integrator.failed_solves() > failed_before {
+                lane.first_miss = Some(k);
+            }
             if let Some(why) = self.verdict(x, v, energy, strain) {
                 lane.failed = Some((k, why));
                 return;
-            }
-            if lane.first_miss.is_none() && lane.integrator.failed_solves() > failed_before {
-                lane.first_miss = Some(k);
             }
             lane.max_strain = lane.max_strain.max(strain);
             lane.final_energy = energy;

@@ -1,0 +1,582 @@
+//! Four strands at once: `verlet` with the direct solver and `ftl`, vectorised across strands.
+//!
+//! A strand is a chain of dependent square roots and divisions, so one strand at a time is
+//! latency-bound; four strands in the four f64 lanes of an AVX2 register make every operation
+//! one vector instruction. The state stays strand-major `DVec3` (what the recorder and the tests
+//! read); each chunk of four strands is transposed into lane form ([`V3`]: x, y, z each an
+//! [`F4`] of four strands) in per-thread scratch, stepped there while it is in L1, and written
+//! back. A chunk with fewer than four strands repeats its first strand in the spare lanes and
+//! drops their results.
+//!
+//! Per lane the arithmetic and its order are the scalar code's (glam's `DVec3` operations:
+//! `length` = sqrt of (x² + y²) + z², normalisation multiplies by 1/ℓ); Rust does not contract a·b + c into a fused multiply-add, so the AVX2 build and the
+//! portable fallback give the same bits. The rare branches (a node inside the head, a
+//! zero-length segment) run the scalar code ([`StepContext::collide`], [`StepContext::follow`])
+//! on the lanes that take them.
+//!
+//! `F4` is a plain `[f64; 4]` whose operations are per-lane loops marked `#[inline(always)]`;
+//! inlined into a function compiled with `avx2` (chosen at run time) LLVM turns each into one
+//! `ymm` instruction (`vsqrtpd`, `vdivpd`, `vmulpd`, ... : see `objdump -d` of the binary,
+//! function `kernel_avx2`).
+
+// Lane loops index every array by the lane on purpose: it is the form LLVM turns into one
+// vector instruction.
+#![allow(clippy::needless_range_loop)]
+
+use std::ops::{Add, Div, Mul, Neg, Sub};
+
+use glam::DVec3;
+
+use super::{FTL_CORRECTION, GroupStats, HairMethod, StepContext};
+
+pub const LANES: usize = 4;
+
+/// Four f64 lanes, one strand each.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C, align(32))]
+pub struct F4(pub [f64; LANES]);
+
+/// A per-lane condition.
+type M4 = [bool; LANES];
+
+macro_rules! lanewise {
+    ($trait:ident, $f:ident, $op:tt) => {
+        impl $trait for F4 {
+            type Output = F4;
+            #[inline(always)]
+            fn $f(self, o: F4) -> F4 {
+                let mut r = [0.0; LANES];
+                for i in 0..LANES {
+                    r[i] = self.0[i] $op o.0[i];
+                }
+                F4(r)
+            }
+        }
+    };
+}
+lanewise!(Add, add, +);
+lanewise!(Sub, sub, -);
+lanewise!(Mul, mul, *);
+lanewise!(Div, div, /);
+
+impl Neg for F4 {
+    type Output = F4;
+    #[inline(always)]
+    fn neg(self) -> F4 {
+        self.map(|a| -a)
+    }
+}
+
+impl F4 {
+    pub const ZERO: F4 = F4([0.0; LANES]);
+
+    #[inline(always)]
+    pub fn splat(v: f64) -> F4 {
+        F4([v; LANES])
+    }
+    #[inline(always)]
+    fn map(self, f: impl Fn(f64) -> f64) -> F4 {
+        let mut r = [0.0; LANES];
+        for i in 0..LANES {
+            r[i] = f(self.0[i]);
+        }
+        F4(r)
+    }
+    #[inline(always)]
+    fn zip(self, o: F4, f: impl Fn(f64, f64) -> f64) -> F4 {
+        let mut r = [0.0; LANES];
+        for i in 0..LANES {
+            r[i] = f(self.0[i], o.0[i]);
+        }
+        F4(r)
+    }
+    #[inline(always)]
+    fn test(self, o: F4, f: impl Fn(f64, f64) -> bool) -> M4 {
+        let mut r = [false; LANES];
+        for i in 0..LANES {
+            r[i] = f(self.0[i], o.0[i]);
+        }
+        r
+    }
+    #[inline(always)]
+    pub fn sqrt(self) -> F4 {
+        self.map(f64::sqrt)
+    }
+    #[inline(always)]
+    pub fn max(self, o: F4) -> F4 {
+        self.zip(o, f64::max)
+    }
+    #[inline(always)]
+    pub fn min(self, o: F4) -> F4 {
+        self.zip(o, f64::min)
+    }
+    #[inline(always)]
+    pub fn abs(self) -> F4 {
+        self.map(f64::abs)
+    }
+}
+
+/// Whether any lane holds.
+#[inline(always)]
+fn any(m: M4) -> bool {
+    m[0] | m[1] | m[2] | m[3]
+}
+
+/// Four 3-vectors, one per lane.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct V3 {
+    pub x: F4,
+    pub y: F4,
+    pub z: F4,
+}
+
+impl Add for V3 {
+    type Output = V3;
+    #[inline(always)]
+    fn add(self, o: V3) -> V3 {
+        V3 {
+            x: self.x + o.x,
+            y: self.y + o.y,
+            z: self.z + o.z,
+        }
+    }
+}
+
+impl Sub for V3 {
+    type Output = V3;
+    #[inline(always)]
+    fn sub(self, o: V3) -> V3 {
+        V3 {
+            x: self.x - o.x,
+            y: self.y - o.y,
+            z: self.z - o.z,
+        }
+    }
+}
+
+/// Every component times the lane's scalar.
+impl Mul<F4> for V3 {
+    type Output = V3;
+    #[inline(always)]
+    fn mul(self, s: F4) -> V3 {
+        V3 {
+            x: self.x * s,
+            y: self.y * s,
+            z: self.z * s,
+        }
+    }
+}
+
+/// Every component divided by the lane's scalar (as glam's `DVec3 / f64`).
+impl Div<F4> for V3 {
+    type Output = V3;
+    #[inline(always)]
+    fn div(self, s: F4) -> V3 {
+        V3 {
+            x: self.x / s,
+            y: self.y / s,
+            z: self.z / s,
+        }
+    }
+}
+
+impl V3 {
+    #[inline(always)]
+    pub fn splat(v: DVec3) -> V3 {
+        V3 {
+            x: F4::splat(v.x),
+            y: F4::splat(v.y),
+            z: F4::splat(v.z),
+        }
+    }
+    #[inline(always)]
+    pub fn from_lanes(v: [DVec3; LANES]) -> V3 {
+        V3 {
+            x: F4(v.map(|v| v.x)),
+            y: F4(v.map(|v| v.y)),
+            z: F4(v.map(|v| v.z)),
+        }
+    }
+    #[inline(always)]
+    pub fn lane(&self, i: usize) -> DVec3 {
+        DVec3::new(self.x.0[i], self.y.0[i], self.z.0[i])
+    }
+    #[inline(always)]
+    pub fn set_lane(&mut self, i: usize, v: DVec3) {
+        self.x.0[i] = v.x;
+        self.y.0[i] = v.y;
+        self.z.0[i] = v.z;
+    }
+    /// (x·x + y·y) + z·z, as glam.
+    #[inline(always)]
+    pub fn dot(self, o: V3) -> F4 {
+        self.x * o.x + self.y * o.y + self.z * o.z
+    }
+    #[inline(always)]
+    pub fn length_squared(self) -> F4 {
+        self.dot(self)
+    }
+    #[inline(always)]
+    pub fn length(self) -> F4 {
+        self.dot(self).sqrt()
+    }
+    /// Per lane: `a` where the condition holds, else `b`.
+    #[inline(always)]
+    fn select(m: M4, a: V3, b: V3) -> V3 {
+        let pick = |a: F4, b: F4| {
+            let mut r = [0.0; LANES];
+            for i in 0..LANES {
+                r[i] = if m[i] { a.0[i] } else { b.0[i] };
+            }
+            F4(r)
+        };
+        V3 {
+            x: pick(a.x, b.x),
+            y: pick(a.y, b.y),
+            z: pick(a.z, b.z),
+        }
+    }
+}
+
+/// Per-thread storage of a chunk in lane form, grown to the strand's size once.
+#[derive(Default)]
+pub struct LaneScratch {
+    x: Vec<V3>,
+    p: Vec<V3>,
+    v: Vec<V3>,
+    u: Vec<V3>,
+    cp: Vec<F4>,
+    dp: Vec<F4>,
+}
+
+impl LaneScratch {
+    fn fit(&mut self, n: usize) {
+        if self.x.len() < n {
+            for a in [&mut self.x, &mut self.p, &mut self.v, &mut self.u] {
+                a.resize(n, V3::default());
+            }
+            self.cp.resize(n, F4::ZERO);
+            self.dp.resize(n, F4::ZERO);
+        }
+    }
+}
+
+/// What a chunk measured, per lane.
+struct LaneStats {
+    stretch: F4,
+    depth2: F4,
+    kinetic: F4,
+}
+
+/// Per-lane inputs computed outside the kernel: the roots' anchors at the end of the step and
+/// the acceleration (gravity and the wind at the root).
+struct LaneInputs {
+    anchor: V3,
+    accel: [DVec3; LANES],
+}
+
+impl StepContext<'_> {
+    /// Whether [`StepContext::step_lanes`] steps this method (verlet with the direct solver, ftl).
+    pub(super) fn has_lanes(&self) -> bool {
+        match self.method {
+            HairMethod::Verlet => self.params.solver == super::Solver::Direct,
+            HairMethod::Ftl => true,
+            _ => false,
+        }
+    }
+
+    /// Steps a group of strands four at a time and measures the result (on the last inner step).
+    pub(super) fn step_lanes(
+        &self,
+        x: &mut [DVec3],
+        prev: &mut [DVec3],
+        v: &mut [DVec3],
+        roots: &[DVec3],
+        s: &mut LaneScratch,
+    ) -> GroupStats {
+        let n = self.params.nodes;
+        let ftl = self.method == HairMethod::Ftl;
+        s.fit(n);
+        let mut out = GroupStats {
+            finite: true,
+            ..GroupStats::default()
+        };
+        let (mut stretch, mut depth2, mut kinetic) = (0.0f64, f64::INFINITY, 0.0f64);
+        for c0 in (0..roots.len()).step_by(LANES) {
+            let live = (roots.len() - c0).min(LANES);
+            // Strand of each lane (spare lanes repeat the chunk's first strand).
+            let strand = |l: usize| c0 + if l < live { l } else { 0 };
+            for l in 0..LANES {
+                let at = strand(l) * n..strand(l) * n + n;
+                for (k, p) in x[at.clone()].iter().enumerate() {
+                    s.x[k].set_lane(l, *p);
+                }
+                // ftl keeps no previous positions between steps (its predict sets them).
+                if ftl {
+                    for (k, p) in v[at].iter().enumerate() {
+                        s.v[k].set_lane(l, *p);
+                    }
+                } else {
+                    for (k, p) in prev[at].iter().enumerate() {
+                        s.p[k].set_lane(l, *p);
+                    }
+                }
+            }
+            let inputs = LaneInputs {
+                anchor: V3::from_lanes(std::array::from_fn(|l| self.anchor(roots[strand(l)]))),
+                accel: std::array::from_fn(|l| {
+                    let root = x[strand(l) * n];
+                    self.params.gravity + self.params.wind_at(self.time, root)
+                }),
+            };
+            let st = self.kernel_dispatch(s, &inputs, n, ftl);
+            for l in 0..live {
+                let at = (c0 + l) * n..(c0 + l) * n + n;
+                for (k, p) in x[at.clone()].iter_mut().enumerate() {
+                    *p = s.x[k].lane(l);
+                }
+                if ftl {
+                    for (k, p) in v[at].iter_mut().enumerate() {
+                        *p = s.v[k].lane(l);
+                    }
+                } else {
+                    for (k, p) in prev[at].iter_mut().enumerate() {
+                        *p = s.p[k].lane(l);
+                    }
+                }
+            }
+            if let Some(st) = st {
+                for l in 0..live {
+                    stretch = stretch.max(st.stretch.0[l]);
+                    depth2 = depth2.min(st.depth2.0[l]);
+                    kinetic += st.kinetic.0[l];
+                }
+            }
+        }
+        if !self.last {
+            return GroupStats::default();
+        }
+        let rc = self.collide_radius;
+        out.finite = kinetic.is_finite() && stretch.is_finite();
+        out.stretch = stretch;
+        out.kinetic = kinetic;
+        out.penetration = if depth2 < rc * rc {
+            rc - depth2.sqrt()
+        } else {
+            0.0
+        };
+        out
+    }
+
+    /// The kernel with AVX2 where the processor has it (same bits either way: module docs).
+    fn kernel_dispatch(
+        &self,
+        s: &mut LaneScratch,
+        inputs: &LaneInputs,
+        n: usize,
+        ftl: bool,
+    ) -> Option<LaneStats> {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx2") {
+                // SAFETY: the processor has AVX2 (checked just above).
+                return unsafe { self.kernel_avx2(s, inputs, n, ftl) };
+            }
+        }
+        self.kernel(s, inputs, n, ftl)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn kernel_avx2(
+        &self,
+        s: &mut LaneScratch,
+        inputs: &LaneInputs,
+        n: usize,
+        ftl: bool,
+    ) -> Option<LaneStats> {
+        self.kernel(s, inputs, n, ftl)
+    }
+
+    /// One step of four strands in lane form; their measurements on the last inner step.
+    #[inline(always)]
+    fn kernel(
+        &self,
+        s: &mut LaneScratch,
+        inputs: &LaneInputs,
+        n: usize,
+        ftl: bool,
+    ) -> Option<LaneStats> {
+        let (x, p) = (&mut s.x[..n], &mut s.p[..n]);
+        let dt = F4::splat(self.dt);
+        let keep = F4::splat(self.keep);
+        if ftl {
+            let v = &mut s.v[..n];
+            let adt = V3::from_lanes(inputs.accel.map(|a| a * self.dt));
+            for k in 1..n {
+                v[k] = (v[k] + adt) * keep;
+                p[k] = x[k];
+                x[k] = x[k] + v[k] * dt;
+            }
+            p[0] = x[0];
+            x[0] = inputs.anchor;
+            // The single pass; v receives each node's length correction d_k.
+            for k in 1..n {
+                let predicted = x[k];
+                let (placed, followed) = self.follow_lanes(x[k - 1], predicted);
+                x[k] = placed;
+                v[k] = followed - predicted;
+            }
+            // Velocities from positions, with the DFTL correction -s d_{k+1}/dt.
+            let s_corr = F4::splat(FTL_CORRECTION);
+            let last = n - 1;
+            for k in 0..=last {
+                let correction = if k < last && k > 0 {
+                    v[k + 1]
+                } else {
+                    V3::default()
+                };
+                v[k] = (x[k] - p[k]) / dt - (correction * s_corr) / dt;
+            }
+        } else {
+            let adt2 = V3::from_lanes(inputs.accel.map(|a| a * self.dt * self.dt));
+            for k in 1..n {
+                let next = x[k] + (x[k] - p[k]) * keep + adt2;
+                p[k] = x[k];
+                x[k] = next;
+            }
+            p[0] = x[0];
+            x[0] = inputs.anchor;
+            let l0 = self.params.segment_length;
+            for _ in 0..self.params.iterations {
+                newton_lanes(
+                    x,
+                    &mut s.u[..n],
+                    &mut s.cp[..n],
+                    &mut s.dp[..n],
+                    l0,
+                    Some(self),
+                );
+            }
+            for k in 1..n {
+                x[k] = self.follow_lanes(x[k - 1], x[k]).0;
+            }
+        }
+        if !self.last {
+            return None;
+        }
+        // The measurements (as `StepContext::measure`, per lane).
+        let l0 = F4::splat(self.params.segment_length);
+        let inv_l0 = F4::splat(1.0 / self.params.segment_length);
+        let inv_dt = F4::splat(1.0 / self.frame_dt);
+        let half = F4::splat(0.5);
+        let center = V3::splat(self.center);
+        let mut kinetic = half * ((x[0] - p[0]) * inv_dt).length_squared();
+        let mut stretch = F4::ZERO;
+        let mut depth2 = F4::splat(f64::INFINITY);
+        for k in 1..n {
+            let len = (x[k] - x[k - 1]).length();
+            stretch = stretch.max((len - l0).abs() * inv_l0);
+            depth2 = depth2.min((x[k] - center).length_squared());
+            kinetic = kinetic + half * ((x[k] - p[k]) * inv_dt).length_squared();
+        }
+        Some(LaneStats {
+            stretch,
+            depth2,
+            kinetic,
+        })
+    }
+
+    /// [`StepContext::collide`] on four nodes: the test in lanes, the push on the lanes inside.
+    #[inline(always)]
+    pub(super) fn collide_lanes(&self, xk: &mut V3) {
+        let d2 = (*xk - V3::splat(self.center)).length_squared();
+        let rc = self.collide_radius;
+        let inside = d2.test(F4::splat(rc * rc), |a, b| a < b);
+        if any(inside) {
+            for l in 0..LANES {
+                if inside[l] {
+                    let mut p = xk.lane(l);
+                    self.collide(&mut p);
+                    xk.set_lane(l, p);
+                }
+            }
+        }
+    }
+
+    /// [`StepContext::follow`] on four nodes: the common case (a segment of non-zero length
+    /// whose rest-length point is outside the head) in lanes, the others by the scalar code.
+    #[inline(always)]
+    fn follow_lanes(&self, parent: V3, predicted: V3) -> (V3, V3) {
+        let d = predicted - parent;
+        let rcp = F4::splat(1.0) / d.length();
+        let dir = d * rcp;
+        let candidate = parent + dir * F4::splat(self.params.segment_length);
+        let dist = (candidate - V3::splat(self.center)).length();
+        let rc = self.collide_radius;
+        let mut slow = [false; LANES];
+        for l in 0..LANES {
+            let r = rcp.0[l];
+            slow[l] = !(r.is_finite() && r > 0.0 && dist.0[l] >= rc);
+        }
+        if !any(slow) {
+            return (candidate, candidate);
+        }
+        let (mut placed, mut followed) = (candidate, candidate);
+        for l in 0..LANES {
+            if slow[l] {
+                let (a, b) = self.follow(parent.lane(l), predicted.lane(l));
+                placed.set_lane(l, a);
+                followed.set_lane(l, b);
+            }
+        }
+        (placed, followed)
+    }
+}
+
+/// One Newton step of the chain's length constraints on four strands (as
+/// [`super::direct`] describes it), each lane one strand; with `collide`, every moved node is pushed out of the head.
+#[inline(always)]
+pub(super) fn newton_lanes(
+    x: &mut [V3],
+    u: &mut [V3],
+    cp: &mut [F4],
+    dp: &mut [F4],
+    l0: f64,
+    collide: Option<&StepContext>,
+) {
+    let m = x.len() - 1;
+    let l0 = F4::splat(l0);
+    let zero = F4::ZERO;
+    let unit_z = V3::splat(DVec3::Z);
+    let (one, two) = (F4::splat(1.0), F4::splat(2.0));
+    for j in 0..m {
+        let d = x[j + 1] - x[j];
+        let len = d.length();
+        // One division per segment (d·(1/ℓ), not glam's d/ℓ per component).
+        u[j] = V3::select(len.test(zero, |a, b| a > b), d * (one / len), unit_z);
+        dp[j] = -(len - l0);
+    }
+    let (mut o_prev, mut cp_prev, mut dp_prev) = (zero, zero, zero);
+    for j in 0..m {
+        let diag = if j == 0 { one } else { two };
+        let inv = one / (diag - o_prev * cp_prev);
+        let o = if j + 1 < m { -u[j].dot(u[j + 1]) } else { zero };
+        let d = (dp[j] - o_prev * dp_prev) * inv;
+        let c = o * inv;
+        cp[j] = c;
+        dp[j] = d;
+        (o_prev, cp_prev, dp_prev) = (o, c, d);
+    }
+    let mut lambda_next = zero;
+    let mut u_next = V3::default();
+    for j in (0..m).rev() {
+        let lambda = dp[j] - cp[j] * lambda_next;
+        x[j + 1] = x[j + 1] + (u[j] * lambda - u_next * lambda_next);
+        if let Some(ctx) = collide {
+            ctx.collide_lanes(&mut x[j + 1]);
+        }
+        lambda_next = lambda;
+        u_next = u[j];
+    }
+}
