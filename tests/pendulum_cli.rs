@@ -251,3 +251,36 @@ fn adaptive_methods_show_their_own_steps_and_pay_six_evaluations_each() {
         assert!(stdout.contains("ns/step is per own step"), "{stdout}");
     }
 }
+/// `--gravity` takes the rope's and hair's vector form too; the pendulum uses its length.
+#[test]
+fn pendulum_gravity_takes_a_number_or_the_vector_and_uses_its_length() {
+    let gravity = |args: &[&str]| -> (i32, Option<f64>, String) {
+        let mut all = vec!["pendulum"];
+        all.extend_from_slice(args);
+        all.push("--print-config");
+        let (code, toml, stderr) = physlab(&all);
+        let g = toml
+            .parse::<toml::Table>()
+            .ok()
+            .and_then(|t| t.get("pendulum")?.get("gravity")?.as_float());
+        (code, g, stderr)
+    };
+    assert_eq!(gravity(&[]).1, Some(9.81));
+    assert_eq!(gravity(&["--gravity", "1.62"]).1, Some(1.62));
+    assert_eq!(gravity(&["--gravity", "0,0,-9.81"]).1, Some(9.81));
+    assert_eq!(gravity(&["--gravity", "3,-4"]).1, Some(5.0));
+    let dir = scratch_dir("pendulum-gravity");
+    let file = dir.join("p.toml");
+    std::fs::write(&file, "[pendulum]\ngravity = [0.0, -3.0, -4.0]\n").unwrap();
+    assert_eq!(gravity(&["--config", file.to_str().unwrap()]).1, Some(5.0));
+    // Bad forms are refused naming the flag and what it takes.
+    let (code, _, stderr) = gravity(&["--gravity", "1,2,3,4"]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(
+        stderr.contains("--gravity") && stderr.contains("x,y,z"),
+        "{stderr}"
+    );
+    let (code, _, stderr) = gravity(&["--gravity", "0,0,0"]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("--gravity 0"), "{stderr}");
+}

@@ -13,7 +13,7 @@ use serde::Serialize;
 pub use scenes::{
     HairArgs, PendulumArgs, PendulumStart, RopeArgs, RopeBody, RopePreset, games101_preset,
 };
-pub use vector::Vector;
+pub use vector::{Magnitude, Vector};
 
 use crate::integrate::Method;
 

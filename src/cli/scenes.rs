@@ -6,7 +6,7 @@
 use clap::Args;
 use serde::{Deserialize, Serialize};
 
-use super::Vector;
+use super::{Magnitude, Vector};
 use crate::integrate::{Method, MethodOptions};
 use crate::scene::hair::run::HairConfig;
 use crate::scene::hair::{HairMethod, HeadMotion, Solver};
@@ -71,9 +71,11 @@ pub struct RopeBody {
 // `flatten`): scene files are checked for unknown keys in `app::file` instead.
 #[derive(Args, Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
 pub struct PendulumArgs {
-    /// Gravitational acceleration g [m/s²]
-    #[arg(long, value_name = "M/S²", allow_negative_numbers = true)]
-    pub gravity: Option<f64>,
+    /// Gravitational acceleration g [m/s²], or the vector x,y[,z] the rope and hair take, of which
+    /// the pendulum uses the length |g| (it swings in the plane of gravity; θ is measured from
+    /// the direction gravity points)
+    #[arg(long, value_name = "G|X,Y,Z", allow_hyphen_values = true)]
+    pub gravity: Option<Magnitude>,
 
     /// Rod length L, pivot to bob [m]
     #[arg(long, value_name = "M", allow_negative_numbers = true)]
@@ -296,7 +298,7 @@ impl PendulumArgs {
     pub fn defaults() -> Self {
         let c = PendulumConfig::default();
         PendulumArgs {
-            gravity: Some(c.params.gravity),
+            gravity: Some(Magnitude(c.params.gravity)),
             length: Some(c.params.length),
             initial: PendulumStart {
                 theta0: Some(DEFAULT_THETA0_DEGREES),
@@ -316,7 +318,7 @@ impl PendulumArgs {
     pub fn config(&self) -> PendulumConfig {
         let mut c = PendulumConfig::default();
         let p = &mut c.params;
-        set(&mut p.gravity, self.gravity);
+        set(&mut p.gravity, self.gravity.map(|g| g.0));
         set(&mut p.length, self.length);
         set(
             &mut p.theta0,

@@ -58,3 +58,45 @@ impl<'de> Deserialize<'de> for Vector {
         })
     }
 }
+
+/// The pendulum's gravity: the magnitude g, given as a number (9.81) or as the vector the rope
+/// and hair take (0,0,-9.81 or [0, 0, -9.81] in a scene file), whose length is used. A plane
+/// pendulum swings about its pivot in the plane of gravity, so only |g| changes its motion; its
+/// angle θ is measured from the direction gravity points.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Magnitude(pub f64);
+
+impl FromStr for Magnitude {
+    type Err = String;
+    fn from_str(text: &str) -> Result<Self, String> {
+        if !text.contains(',') {
+            return text.trim().parse::<f64>().map(Magnitude).map_err(|_| {
+                format!("expected g or x,y[,z] with finite numbers, e.g. 9.81 or 0,0,-9.81 (got '{text}')")
+            });
+        }
+        Ok(Magnitude(text.parse::<Vector>()?.0.length()))
+    }
+}
+
+impl Serialize for Magnitude {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        self.0.serialize(s)
+    }
+}
+
+impl<'de> Deserialize<'de> for Magnitude {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        #[derive(Deserialize)]
+        #[serde(untagged)]
+        enum Given {
+            Scalar(f64),
+            Vector(Vector),
+        }
+        match Given::deserialize(d).map_err(|_| {
+            serde::de::Error::custom("expected g or [x, y] or [x, y, z] with finite numbers")
+        })? {
+            Given::Scalar(g) => Ok(Magnitude(g)),
+            Given::Vector(v) => Ok(Magnitude(v.0.length())),
+        }
+    }
+}

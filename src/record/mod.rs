@@ -203,7 +203,9 @@ pub fn log_stage(
 /// most four in reading order from the top left. A compact block rather than one long row, so
 /// the viewer's default camera frames every lane.
 pub fn slot_cells(n: usize) -> Vec<(usize, usize)> {
-    let columns = n.clamp(1, 4);
+    // Near-square (8 lanes: 3 × 3 less one), so that the labels of neighbouring slots do not
+    // overlap in `all`'s narrow views.
+    let columns = (1..=4).find(|c| c * c >= n).unwrap_or(4);
     let rows = n.div_ceil(columns);
     (0..n)
         .map(|i| (i % columns, rows - 1 - i / columns))

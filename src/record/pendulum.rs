@@ -1,7 +1,8 @@
 //! Recording a pendulum run: entity paths, styles and the blueprint.
 //!
 //! Layout (`<lane>` is `exact`/`reference` or a method name):
-//! - `pendulum/<lane>/{pivot,rod,bob}`: the lanes side by side along x, one slot each;
+//! - `pendulum/<lane>/{pivot,rod,bob}`: the lanes side by side along x, one slot each, labelled
+//!   on the (static) pivot, which a divergence relabels;
 //!   `pendulum/<method>/<reference lane>_ghost` (`exact_ghost`, or `reference_ghost` when the
 //!   reference is a fine-step RK4 run): the reference bob as a translucent ghost in each slot.
 //! - `pendulum/plots/<quantity>/<lane>`: one plot per quantity with every lane's series.
@@ -140,43 +141,42 @@ impl Draw<PendulumScene> for PendulumDraw {
 
         rec.log_static("pendulum", &rerun::ViewCoordinates::RIGHT_HAND_Z_UP())?;
         let l = c.params.length as f32;
-        let (x_max, z_max) = self
-            .pivots
-            .iter()
-            .fold((0.0f32, 0.0f32), |(x, z), p| (x.max(p[0]), z.max(p[2])));
-        let half_depth = 0.5 * z_max;
+        let x_max = self.pivots.iter().fold(0.0f32, |x, p| x.max(p[0]));
+        // A floor just past the outer swings and barely deeper than a bob: the default camera
+        // frames the bounding box, so anything wider than the slots only shrinks them.
+        let half_depth = 0.3 * l;
         log_stage(
             rec,
             "pendulum/stage",
             [
-                [-2.0 * l, -half_depth, 0.0],
-                [x_max + 2.0 * l, -half_depth, 0.0],
-                [x_max + 2.0 * l, half_depth, 0.0],
-                [-2.0 * l, half_depth, 0.0],
+                [-1.15 * l, -half_depth, 0.0],
+                [x_max + 1.15 * l, -half_depth, 0.0],
+                [x_max + 1.15 * l, half_depth, 0.0],
+                [-1.15 * l, half_depth, 0.0],
             ],
         )?;
-        let bob_radius = 0.06 * c.params.length as f32;
+        let bob_radius = 0.1 * c.params.length as f32;
         for (i, name) in self.lanes.iter().enumerate() {
             let color = method_color(name);
             rec.log_static(
                 format!("pendulum/{name}/pivot"),
                 &rerun::Points3D::new([self.pivot(i)])
                     .with_radii([0.3 * bob_radius])
-                    .with_colors([[128, 128, 128]]),
+                    .with_colors([[128, 128, 128]])
+                    .with_labels([*name])
+                    .with_show_labels(true),
             )?;
             // Styles that never change are logged once, static; per frame only positions move.
             rec.log_static(
                 format!("pendulum/{name}/bob"),
                 &rerun::Points3D::update_fields()
                     .with_radii([bob_radius])
-                    .with_colors([color])
-                    .with_labels([*name])
-                    .with_show_labels(true),
+                    .with_colors([color]),
             )?;
             rec.log_static(
                 format!("pendulum/{name}/rod"),
                 &rerun::LineStrips3D::update_fields()
-                    .with_radii([0.15 * bob_radius])
+                    .with_radii([0.2 * bob_radius])
                     .with_colors([color]),
             )?;
             if i > 0 {
@@ -274,11 +274,14 @@ impl Draw<PendulumScene> for PendulumDraw {
             format!("pendulum/phase/{name}/state"),
             &rerun::Clear::flat(),
         )?;
+        // The bob rests on the pivot, whose label now says why.
         rec.log(
             format!("pendulum/{name}/bob"),
-            &rerun::Points3D::new([self.pivot(event.lane)])
-                .with_labels([label])
-                .with_colors([method_color(name)]),
+            &rerun::Points3D::new([self.pivot(event.lane)]).with_colors([method_color(name)]),
+        )?;
+        rec.log(
+            format!("pendulum/{name}/pivot"),
+            &rerun::Points3D::update_fields().with_labels([label]),
         )?;
         Ok(())
     }

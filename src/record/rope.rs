@@ -99,18 +99,18 @@ impl Draw<RopeScene> for RopeDraw {
         };
         rec.log_static("rope", &rerun::ViewCoordinates::RIGHT_HAND_Z_UP())?;
         // Floor below the lowest hanging rope, reaching past the outer slots on every side.
-        let (x_max, y_max) = self
-            .offsets
-            .iter()
-            .fold((0.0f64, 0.0f64), |(x, y), o| (x.max(o[0]), y.max(o[1])));
-        let floor = (p.start.y.min(p.end.y) - 1.3 * span) as f32;
-        // The rope swings about its first pinned node, within one span of it.
+        let x_max = self.offsets.iter().fold(0.0f64, |x, o| x.max(o[0]));
+        let floor = (p.start.y.min(p.end.y) - 1.05 * span) as f32;
+        // The rope swings about its first pinned node, within one span of it. The floor reaches
+        // half a span past that on each side (less lets perspective cut the nearest slot off at
+        // 1600×1000) and is shallower than the slots are wide: the default camera frames the
+        // bounding box, so any more only shrinks the ropes.
         let pin_x = p.start.x;
         let (x0, x1) = (
             (pin_x - 1.5 * span) as f32,
             (pin_x + x_max + 1.5 * span) as f32,
         );
-        let half_depth = 0.5 * (y_max + 2.0 * span);
+        let half_depth = 0.75 * span;
         let (x0, x1, floor) = (f64::from(x0), f64::from(x1), f64::from(floor));
         log_stage(
             rec,
@@ -122,7 +122,7 @@ impl Draw<RopeScene> for RopeDraw {
                 z_up([x0, floor, half_depth]),
             ],
         )?;
-        let node_radius = (0.012 * span) as f32;
+        let node_radius = (0.02 * span) as f32;
         for (i, name) in self.names.iter().enumerate() {
             let color = method_color(name);
             rec.log_static(
@@ -134,7 +134,7 @@ impl Draw<RopeScene> for RopeDraw {
             rec.log_static(
                 format!("rope/{name}/strip"),
                 &rerun::LineStrips3D::update_fields()
-                    .with_radii([0.4 * node_radius])
+                    .with_radii([0.5 * node_radius])
                     .with_colors([color]),
             )?;
             let pinned: Vec<[f32; 3]> = p
