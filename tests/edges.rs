@@ -383,3 +383,28 @@ fn implicit_euler_warns_when_its_step_equation_has_several_roots() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A negative value written after its flag with a space is that flag's value, in every form a
+/// number takes (exponent, sign, lists), for every scene; a real flag after an option that
+/// lacks its value is still a flag.
+#[test]
+fn negative_values_in_any_number_form_are_values() {
+    for (args, expect) in [
+        (&["pendulum", "--theta0", "-1e-3"][..], "θ0 = -0.001°"),
+        (&["pendulum", "--omega0", "-2.5E-1"], "ω0 = -0.25 rad/s"),
+        (&["pendulum", "--theta0", "-.5"], "θ0 = -0.5°"),
+        (&["hair", "--wind", "-1e1,0,-2"], "wind [-10.0, 0.0, -2.0]"),
+    ] {
+        let mut all = args.to_vec();
+        all.extend(["--duration", "0.1", "--no-record", "-q"]);
+        let (code, stdout, stderr) = physlab(&all);
+        assert_eq!(code, 0, "{args:?}: {stderr}");
+        assert!(
+            stdout.contains(expect),
+            "{args:?}: lacks '{expect}':\n{stdout}"
+        );
+    }
+    let (code, _, stderr) = physlab(&["pendulum", "--dt", "-o", "x.rrd"]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("a value is required for '--dt"), "{stderr}");
+}
