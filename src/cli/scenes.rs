@@ -241,8 +241,8 @@ pub struct HairArgs {
     #[arg(long, value_name = "SOLVER")]
     pub solver: Option<Solver>,
 
-    /// Newton steps (verlet with --solver direct; implicit-euler) or Gauss–Seidel sweeps (verlet
-    /// with --solver gauss-seidel) per step; ftl needs one pass. Default 2: two Newton steps bring
+    /// Newton steps (verlet with --solver direct) or Gauss–Seidel sweeps (verlet with --solver
+    /// gauss-seidel) per step; ftl needs one pass, implicit-euler iterates to tolerance (≤ 40). Default 2: two Newton steps bring
     /// the residual from a 60 Hz prediction to ≤1e-3 ℓ0 before the exact finish
     #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub iterations: Option<u32>,

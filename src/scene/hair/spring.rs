@@ -8,9 +8,16 @@
 //!   highest mode (ω² = 4k/m, damping rate 4kd/m): h²ω² + 2hγ < 4
 //!   ([`super::HairParams::spring_step_limit`]);
 //! - backward Euler: the rope's block-tridiagonal Newton solve, shared through
-//!   [`crate::scene::rope::implicit::Chain`], one strand at a time.
+//!   [`crate::scene::rope::implicit::Chain`], one strand at a time. Three things make it hold
+//!   length (measured before: stretch 1.4–7.3): Newton to tolerance rather than the linearised
+//!   step (a segment turns by O(1) rad in a 60 Hz frame, far outside the linearisation); a
+//!   backtracking line search on the incremental potential ([`Chain::merit`]), without which
+//!   Newton from the start of the step overshoots (stretch 2–4 even at 50 steps); and the head
+//!   contact as a penalty inside the solve ([`Chain::node_stiffness`]): pushed out only after
+//!   the solve, a node the solve had left deep inside moved alone and crushed its segment to
+//!   3% of its length.
 
-use glam::DVec3;
+use glam::{DMat3, DVec3};
 
 use super::StepContext;
 use crate::scene::rope::implicit::{Chain, Workspace, backward_euler_step};
@@ -33,6 +40,25 @@ struct Strand {
     /// Gravity plus wind [m/s²].
     accel: DVec3,
     iterations: u32,
+    /// The head's centre and the collision radius R(1 + margin): a node inside feels the
+    /// contact force k (rc - |x - c|) n inside the solve (a penalty at the springs' stiffness),
+    /// so the solve and the collision no longer fight; the push-out after the solve then moves
+    /// nodes by the penalty's small depth only.
+    center: DVec3,
+    collide_radius: f64,
+}
+
+impl Strand {
+    /// Depth and outward normal of non-root node i inside the collision sphere.
+    #[inline]
+    fn contact(&self, x: &[f64], i: usize) -> Option<(f64, DVec3)> {
+        if i == 0 {
+            return None;
+        }
+        let r = DVec3::new(x[3 * i], x[3 * i + 1], x[3 * i + 2]) - self.center;
+        let d = r.length();
+        (d < self.collide_radius && d > 0.0).then(|| (self.collide_radius - d, r / d))
+    }
 }
 
 impl Chain for Strand {
@@ -71,6 +97,34 @@ impl Chain for Strand {
     fn definite_jacobian(&self) -> bool {
         true
     }
+    fn merit(&self, x: &[f64], v: &[f64], v0: &[f64], h: f64) -> Option<f64> {
+        let node = |a: &[f64], i: usize| DVec3::new(a[3 * i], a[3 * i + 1], a[3 * i + 2]);
+        let mut e = 0.0;
+        for i in 1..self.nodes {
+            let (xi, vi) = (node(x, i), node(v, i));
+            e += 0.5 * (vi - node(v0, i)).length_squared() - self.accel.dot(xi)
+                + h * 0.5 * self.drag * vi.length_squared();
+            if let Some((depth, _)) = self.contact(x, i) {
+                e += 0.5 * self.stiffness * depth * depth;
+            }
+        }
+        for i in 0..self.nodes - 1 {
+            let d = node(x, i + 1) - node(x, i);
+            let len = d.length();
+            e += 0.5 * self.stiffness * (len - self.rest) * (len - self.rest);
+            if len > 0.0 {
+                let dv = (node(v, i + 1) - node(v, i)).dot(d / len);
+                e += h * 0.5 * self.spring_damping * dv * dv;
+            }
+        }
+        Some(e)
+    }
+    fn node_stiffness(&self, x: &[f64], i: usize) -> Option<DMat3> {
+        self.contact(x, i).map(|(_, n)| {
+            let c = |a: f64| n * (self.stiffness * a);
+            DMat3::from_cols(c(n.x), c(n.y), c(n.z))
+        })
+    }
     fn forces(&self, x: &[f64], v: &[f64], f: &mut [f64]) {
         let node = |a: &[f64], i: usize| DVec3::new(a[3 * i], a[3 * i + 1], a[3 * i + 2]);
         let mut carried = DVec3::ZERO;
@@ -88,6 +142,9 @@ impl Chain for Strand {
                 );
                 fi += fs;
                 carried = fs;
+            }
+            if let Some((depth, normal)) = self.contact(x, i) {
+                fi += self.stiffness * depth * normal;
             }
             f[3 * i] = fi.x;
             f[3 * i + 1] = fi.y;
@@ -177,7 +234,9 @@ impl StepContext<'_> {
             rest: p.segment_length,
             drag: p.damping,
             accel: p.gravity + p.wind_at(self.time, x[0]),
-            iterations: p.iterations,
+            iterations: super::IMPLICIT_NEWTON_CAP,
+            center: self.center,
+            collide_radius: self.collide_radius,
         };
         let anchor = self.anchor(root_dir);
         // The root is held (δv = 0) at the velocity that takes it to its anchor.

@@ -48,6 +48,19 @@ pub trait Chain {
     fn definite_jacobian(&self) -> bool {
         false
     }
+    /// The incremental potential E(v) of the step at the consistent state (x = x0 + h v, v):
+    /// ½ Σ m|v - v0|² + Φ(x) + h D(v), whose v-gradient is the backward-Euler residual
+    /// M(v - v0) - h f (with the springs' directions frozen in the damping's D). When a chain
+    /// gives it, every Newton step backtracks (halving) until E does not increase; the rope
+    /// gives none and takes full steps.
+    fn merit(&self, _x: &[f64], _v: &[f64], _v0: &[f64], _h: f64) -> Option<f64> {
+        None
+    }
+    /// Stiffness block -∂f_i/∂x_i of a force acting on node i alone (a contact), beyond the
+    /// springs'; None (the rope) adds nothing.
+    fn node_stiffness(&self, _x: &[f64], _i: usize) -> Option<DMat3> {
+        None
+    }
 }
 
 impl Chain for Rope {
@@ -207,6 +220,20 @@ pub fn backward_euler_step<C: Chain>(
             ws.off[s] = -coupling;
         }
 
+        for i in 0..n {
+            if let Some(stiff) = rope.node_stiffness(x, i) {
+                ws.diag[i] += h * h * stiff;
+                if k == 0 {
+                    // Its part of the first iteration's h K h v0 (K = -stiff), after the rhs.
+                    ws.c[i] = stiff;
+                } else {
+                    ws.c[i] = DMat3::ZERO;
+                }
+            } else {
+                ws.c[i] = DMat3::ZERO;
+            }
+        }
+
         // r = h f + h K (x0 + h v - x) - M (v - v0); the K term is h K v0 on the first iteration
         // (Baraff–Witkin) and vanishes afterwards, when x = x0 + h v holds.
         for i in 0..n {
@@ -219,6 +246,13 @@ pub fn backward_euler_step<C: Chain>(
                 let ky = ws.jac_x[s] * y;
                 ws.rhs[s] += h * ky;
                 ws.rhs[s + 1] -= h * ky;
+            }
+        }
+        if k == 0 {
+            for i in 0..n {
+                if rope.node_stiffness(x, i).is_some() {
+                    ws.rhs[i] -= h * h * (ws.c[i] * node(&ws.v0, i));
+                }
             }
         }
 
@@ -248,10 +282,39 @@ pub fn backward_euler_step<C: Chain>(
             };
         }
 
+        // Backtracking on the incremental potential, for chains that give one: from the
+        // consistent state of the current iterate, halve the step until E does not increase.
+        let mut alpha = 1.0;
+        if rope.merit(x, v, &ws.v0, h).is_some() {
+            for c in 0..3 * n {
+                x[c] = ws.x0[c] + h * v[c];
+            }
+            let e0 = rope.merit(x, v, &ws.v0, h).unwrap_or(f64::INFINITY);
+            ws.f.copy_from_slice(v);
+            for _ in 0..30 {
+                for i in 0..n {
+                    for c in 0..3 {
+                        let j = 3 * i + c;
+                        v[j] = ws.f[j] + alpha * ws.sol[i][c];
+                        x[j] = ws.x0[j] + h * v[j];
+                    }
+                }
+                let e = rope.merit(x, v, &ws.v0, h).unwrap_or(f64::INFINITY);
+                if e <= e0 {
+                    break;
+                }
+                alpha *= 0.5;
+            }
+            v.copy_from_slice(&ws.f);
+        }
+
         let mut max_delta: f64 = 0.0;
         let mut max_v: f64 = 0.0;
         for i in 0..n {
-            let delta = ws.sol[i];
+            let delta = ws.sol[i] * alpha;
+            // Convergence is judged on the full Newton step (a short line-search step is not
+            // convergence).
+            max_delta = max_delta.max(ws.sol[i].abs().max_element());
             for c in 0..3 {
                 v[3 * i + c] += delta[c];
                 x[3 * i + c] = ws.x0[3 * i + c] + h * v[3 * i + c];
