@@ -235,7 +235,8 @@ pub struct HairArgs {
     pub damping: Option<f64>,
 
     /// How verlet solves its length constraints: direct (each strand's constraints together,
-    /// Newton on the multipliers, tridiagonal, O(nodes), then an exact root-to-tip finish; holds
+    /// Newton on the multipliers, tridiagonal, O(nodes), the tensions applied along the end-of-step
+    /// segments, then an exact root-to-tip finish; holds
     /// length to round-off) or gauss-seidel (relaxation sweeps from root to tip, today's PBD, kept
     /// to measure the trade: 4 sweeps leave stretches of ~1.7 at 60 Hz)
     #[arg(long, value_name = "SOLVER")]

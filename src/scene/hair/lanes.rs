@@ -247,16 +247,27 @@ pub struct LaneScratch {
     u: Vec<V3>,
     cp: Vec<F4>,
     dp: Vec<F4>,
+    /// Predicted positions (verlet), the right-hand side of the tension solve.
+    q: Vec<V3>,
+    /// Accumulated multipliers (segment tensions) of the Newton steps (verlet).
+    mu: Vec<F4>,
 }
 
 impl LaneScratch {
     fn fit(&mut self, n: usize) {
         if self.x.len() < n {
-            for a in [&mut self.x, &mut self.p, &mut self.v, &mut self.u] {
+            for a in [
+                &mut self.x,
+                &mut self.p,
+                &mut self.v,
+                &mut self.u,
+                &mut self.q,
+            ] {
                 a.resize(n, V3::default());
             }
-            self.cp.resize(n, F4::ZERO);
-            self.dp.resize(n, F4::ZERO);
+            for a in [&mut self.cp, &mut self.dp, &mut self.mu] {
+                a.resize(n, F4::ZERO);
+            }
         }
     }
 }
@@ -448,15 +459,22 @@ impl StepContext<'_> {
             p[0] = x[0];
             x[0] = inputs.anchor;
             let l0 = self.params.segment_length;
+            let (q, mu) = (&mut s.q[..n], &mut s.mu[..n]);
+            q.copy_from_slice(x);
+            mu.fill(F4::ZERO);
             for _ in 0..self.params.iterations {
                 newton_lanes(
                     x,
                     &mut s.u[..n],
                     &mut s.cp[..n],
                     &mut s.dp[..n],
+                    mu,
                     l0,
                     Some(self),
                 );
+            }
+            if self.params.iterations > 0 {
+                tension_solve_lanes(x, q, mu, &mut s.cp[..n], l0);
             }
             for k in 1..n {
                 x[k] = self.follow_lanes(x[k - 1], x[k]).0;
@@ -542,6 +560,7 @@ pub(super) fn newton_lanes(
     u: &mut [V3],
     cp: &mut [F4],
     dp: &mut [F4],
+    mu: &mut [F4],
     l0: f64,
     collide: Option<&StepContext>,
 ) {
@@ -572,11 +591,60 @@ pub(super) fn newton_lanes(
     let mut u_next = V3::default();
     for j in (0..m).rev() {
         let lambda = dp[j] - cp[j] * lambda_next;
+        mu[j] = mu[j] - lambda;
         x[j + 1] = x[j + 1] + (u[j] * lambda - u_next * lambda_next);
         if let Some(ctx) = collide {
             ctx.collide_lanes(&mut x[j + 1]);
         }
         lambda_next = lambda;
         u_next = u[j];
+    }
+}
+
+/// The positions that the segment tensions `mu` (accumulated by [`newton_lanes`]) give when
+/// they act along the segments at the *end* of the step: the stationarity condition of the
+/// closest-point projection of the prediction `q` onto the constraints,
+///
+/// x_k - q_k = -(μ_{k-1}/ℓ0)(x_k - x_{k-1}) + (μ_k/ℓ0)(x_{k+1} - x_k),   x_0 held,
+///
+/// a symmetric tridiagonal system in the nodes (the same for x, y and z), solved by the Thomas
+/// algorithm. Why: the Newton steps correct along the segment directions of the prediction,
+/// which treats the tension's transverse stiffness explicitly (stable only for ω dt < 2 with ω
+/// ≈ 2 √(T/(m ℓ0)), the root segment's T carrying the whole strand: ω dt ≈ 3.3 at 16 nodes and
+/// 60 Hz, so strands hanging still zig-zag for ever). Here it is implicit (backward Euler in the
+/// transverse direction: every mode is damped, none grows). Tensions are clamped at zero (a
+/// compressed segment adds no coupling; the root-to-tip finish restores its length), so the
+/// matrix is diagonally dominant and the elimination cannot break down. `c` is scratch.
+#[inline(always)]
+pub(super) fn tension_solve_lanes(x: &mut [V3], q: &[V3], mu: &[F4], c: &mut [F4], l0: f64) {
+    let m = x.len() - 1;
+    let zero = F4::ZERO;
+    let one = F4::splat(1.0);
+    let inv_l0 = F4::splat(1.0 / l0);
+    // Coupling w_j = max(μ_j, 0)/ℓ0 of segment j (nodes j, j+1); node k has b_k = 1 + w_{k-1} +
+    // w_k (w_m = 0), off-diagonals -w.
+    let w = |j: usize| {
+        if j < m {
+            mu[j].max(zero) * inv_l0
+        } else {
+            zero
+        }
+    };
+    // Forward elimination: c[k] = c'_k, x[k] = d'_k.
+    let mut w_prev = w(0);
+    let mut c_prev = zero;
+    let mut d_prev = x[0];
+    for k in 1..=m {
+        let w_k = w(k);
+        let inv = one / (one + w_prev + w_k - w_prev * c_prev);
+        let d = (q[k] + d_prev * w_prev) * inv;
+        let ck = w_k * inv;
+        c[k] = ck;
+        x[k] = d;
+        (w_prev, c_prev, d_prev) = (w_k, ck, d);
+    }
+    // Back substitution: x_k = d'_k + c'_k x_{k+1} (the off-diagonal is -w).
+    for k in (1..m).rev() {
+        x[k] = x[k] + x[k + 1] * c[k];
     }
 }

@@ -83,7 +83,8 @@ impl HairMethod {
         match self {
             HairMethod::Verlet => {
                 "x' = x + e^(-c dt)(x - x_prev) + a dt², then the length constraints by --solver (direct: \
-                 `iterations` Newton steps on the multipliers, tridiagonal per strand, then an exact \
+                 `iterations` Newton steps on the multipliers, tridiagonal per strand, their tensions \
+                 applied along the end-of-step segments (one more tridiagonal solve), then an exact \
                  root-to-tip finish; gauss-seidel: `iterations` sweeps), collision fused"
             }
             HairMethod::SemiImplicitEuler => {
@@ -134,7 +135,8 @@ impl std::str::FromStr for HairMethod {
 #[serde(rename_all = "kebab-case")]
 pub enum Solver {
     /// All of a strand's constraints together: Newton steps on the multipliers (tridiagonal,
-    /// Thomas algorithm), then an exact root-to-tip finish.
+    /// Thomas algorithm), the tension solve ([`lanes::tension_solve_lanes`]), then an exact
+    /// root-to-tip finish.
     Direct,
     /// Gauss–Seidel relaxation sweeps from root to tip (position-based dynamics).
     GaussSeidel,
