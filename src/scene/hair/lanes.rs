@@ -530,12 +530,16 @@ impl StepContext<'_> {
         let rcp = F4::splat(1.0) / d.length();
         let dir = d * rcp;
         let candidate = parent + dir * F4::splat(self.params.segment_length);
-        let dist = (candidate - V3::splat(self.center)).length();
-        let rc = self.collide_radius;
+        // Squared distances, and `&` rather than `&&`: the test stays one vector compare per
+        // condition (a short-circuit made LLVM take each lane's square root one by one: 6% of
+        // verlet's CPU time). The contact case stays scalar: done in lanes (every lane computes
+        // the circle point when one touches) it measured 5-10% slower.
+        let dist2 = (candidate - V3::splat(self.center)).length_squared();
+        let rc2 = self.collide_radius * self.collide_radius;
         let mut slow = [false; LANES];
         for l in 0..LANES {
             let r = rcp.0[l];
-            slow[l] = !(r.is_finite() && r > 0.0 && dist.0[l] >= rc);
+            slow[l] = !(r.is_finite() & (r > 0.0) & (dist2.0[l] >= rc2));
         }
         if !any(slow) {
             return (candidate, candidate);
