@@ -60,11 +60,9 @@ pub fn recorder(rec: RecordingStream, timings: bool) -> SceneRecorder<RopeDraw> 
     )
 }
 
-/// The rope's physics is y-up (its parameters keep the GAMES101 convention, where a 2D vector
-/// is x,y); every scene is drawn z-up, so the recording shows the rope turned by a quarter turn
-/// about x: (x, y, z) → (x, −z, y).
-fn z_up(p: [f64; 3]) -> [f32; 3] {
-    [p[0] as f32, -p[2] as f32, p[1] as f32]
+/// A point as the viewer takes it (the rope is z up like every scene: drawn as simulated).
+fn f32_point(p: [f64; 3]) -> [f32; 3] {
+    p.map(|c| c as f32)
 }
 
 impl RopeDraw {
@@ -73,7 +71,7 @@ impl RopeDraw {
         self.points.clear();
         self.points.extend(
             (0..x.len() / 3)
-                .map(|i| z_up([x[3 * i] + o[0], x[3 * i + 1] + o[1], x[3 * i + 2] + o[2]])),
+                .map(|i| f32_point([x[3 * i] + o[0], x[3 * i + 1] + o[1], x[3 * i + 2] + o[2]])),
         );
     }
 }
@@ -94,13 +92,13 @@ impl Draw<RopeScene> for RopeDraw {
             Layout::Overlay => vec![[0.0; 3]; self.names.len()],
             Layout::SideBySide => slot_cells(self.names.len())
                 .into_iter()
-                .map(|(col, row)| [2.3 * span * col as f64, 1.6 * span * row as f64, 0.0])
+                .map(|(col, row)| [2.3 * span * col as f64, 0.0, 1.6 * span * row as f64])
                 .collect(),
         };
         rec.log_static("rope", &rerun::ViewCoordinates::RIGHT_HAND_Z_UP())?;
         // Floor below the lowest hanging rope, reaching past the outer slots on every side.
         let x_max = self.offsets.iter().fold(0.0f64, |x, o| x.max(o[0]));
-        let floor = (p.start.y.min(p.end.y) - 1.05 * span) as f32;
+        let floor = (p.start.z.min(p.end.z) - 1.05 * span) as f32;
         // The rope swings about its first pinned node, within one span of it. The floor reaches
         // half a span past that on each side (less lets perspective cut the nearest slot off at
         // 1600×1000) and is shallower than the slots are wide: the default camera frames the
@@ -116,10 +114,10 @@ impl Draw<RopeScene> for RopeDraw {
             rec,
             "rope/stage",
             [
-                z_up([x0, floor, -half_depth]),
-                z_up([x1, floor, -half_depth]),
-                z_up([x1, floor, half_depth]),
-                z_up([x0, floor, half_depth]),
+                f32_point([x0, half_depth, floor]),
+                f32_point([x1, half_depth, floor]),
+                f32_point([x1, -half_depth, floor]),
+                f32_point([x0, -half_depth, floor]),
             ],
         )?;
         let node_radius = (0.02 * span) as f32;
@@ -143,7 +141,7 @@ impl Draw<RopeScene> for RopeDraw {
                 .map(|&k| {
                     let q = node(&scene.initial_positions, k);
                     let o = self.offsets[i];
-                    z_up([q.x + o[0], q.y + o[1], q.z + o[2]])
+                    f32_point([q.x + o[0], q.y + o[1], q.z + o[2]])
                 })
                 .collect();
             // One label per rope (on its first pinned node), not one per pin.
