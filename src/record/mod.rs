@@ -89,7 +89,7 @@ pub fn scene_layout(scene: &str, timings: bool, framing: Framing) -> Layout {
 }
 
 /// The plots `physlab all` shows (fewer and wider than a single scene's, so that each stays
-/// readable beside its legend at 1600×1000); the recording holds every series all the same.
+/// readable at 1600×1000); the recording holds every series all the same.
 const ALL_PLOTS: [&str; 7] = [
     "theta",
     "log10_theta_error",
