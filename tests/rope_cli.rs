@@ -212,5 +212,13 @@ fn rope_hangs_towards_minus_z() {
         &["--gravity", "0,-9.81"],
         "expected x,y,z",
     );
+    let file = dir.join("y-up.toml");
+    std::fs::write(&file, "[rope]\ngravity = [0.0, -9.81]\n").unwrap();
+    assert_refused(
+        "rope",
+        &dir.join("refused.rrd"),
+        &["--config", file.to_str().unwrap()],
+        "expected [x, y, z] with finite numbers, z up",
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }

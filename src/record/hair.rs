@@ -63,7 +63,7 @@ pub fn framing(c: &HairConfig) -> Framing {
     let top = 1.3 * c.params.head_radius;
     let f = |v: f64| v as f32;
     Framing {
-        min: [f(-0.8 * reach), f(-0.5 * reach), f(-1.0 * reach)],
+        min: [f(-0.8 * reach), f(-0.5 * reach), f(-reach)],
         max: [f(x_max + 0.8 * reach), f(0.5 * reach), f(top)],
         toward_eye: [0.1, -1.0, 0.35],
     }
