@@ -52,7 +52,7 @@ fn legend_corner(scene: &str, plot: &str, in_all: bool) -> Option<Corner2D> {
         ("rope", "energy" | "max_strain", false) => Some(Corner2D::RightTop),
         // After the first second every curve sits above 10⁰ J.
         ("rope", "log10_energy_change", false) => Some(Corner2D::RightBottom),
-        // Two lanes: penetration only ever reaches one level above the bottom band.
+        // Two lanes; after the first frames no curve comes down to the bottom right.
         ("hair", "max_penetration", _) => Some(Corner2D::RightBottom),
         // Kinetic energy decays towards 0 after the head stops.
         ("hair", "specific_kinetic_energy", false) => Some(Corner2D::RightTop),
