@@ -7,7 +7,7 @@ mod common;
 
 use std::collections::BTreeMap;
 
-use common::{physlab, scratch_dir};
+use common::{drawn_rows, physlab, scratch_dir};
 use rerun::external::re_log_encoding::DecoderApp;
 use rerun::external::re_sdk_types::blueprint::archetypes::{
     EyeControls3D, PlotLegend, ViewBlueprint,
@@ -64,32 +64,6 @@ fn vec3(chunk: &Chunk, descriptor: rerun::ComponentDescriptor) -> glam::Vec3 {
     glam::Vec3::from_array(v[0])
 }
 
-/// Every position of `entity`'s `Points3D` or `LineStrips3D` in the recording.
-fn drawn(path: &std::path::Path, prefix: &str) -> Vec<glam::Vec3> {
-    let file = std::io::BufReader::new(std::fs::File::open(path).unwrap());
-    let positions = rerun::Points3D::descriptor_positions().component;
-    let strips = rerun::LineStrips3D::descriptor_strips().component;
-    let mut out = Vec::new();
-    for msg in DecoderApp::decode_lazy(file) {
-        let LogMsg::ArrowMsg(store_id, arrow_msg) = msg.unwrap() else {
-            continue;
-        };
-        let chunk = Chunk::from_arrow_msg(&arrow_msg).unwrap();
-        if !store_id.is_recording() || !chunk.entity_path().to_string().starts_with(prefix) {
-            continue;
-        }
-        for s in chunk.iter_slices::<[f32; 3]>(positions) {
-            out.extend(s.iter().map(|p| glam::Vec3::from_array(*p)));
-        }
-        for s in chunk.iter_slices::<&[[f32; 3]]>(strips) {
-            for strip in s {
-                out.extend(strip.iter().map(|p| glam::Vec3::from_array(*p)));
-            }
-        }
-    }
-    out
-}
-
 /// Rerun's default vertical field of view for a 3D eye.
 const FOV_Y_DEGREES: f32 = 55.0;
 /// Width / height of the rope's 3D view at 1600×1000 (700 × 590 px in a viewer screenshot).
@@ -144,7 +118,10 @@ fn rope_recording_opens_with_its_legends_placed_and_its_ropes_framed() {
     let target = vec3(eye, EyeControls3D::descriptor_look_target());
     let up = vec3(eye, EyeControls3D::descriptor_eye_up());
     assert_eq!(up, glam::Vec3::Z);
-    let points = drawn(&out, "/rope/");
+    let points: Vec<glam::Vec3> = drawn_rows(&out, "/rope/")
+        .iter()
+        .flat_map(|(_, row)| row.iter().map(|p| glam::Vec3::from_array(*p)))
+        .collect();
     assert!(points.len() > 10_000, "{} points drawn", points.len());
     let (mut lo, mut hi) = (glam::Vec2::splat(f32::MAX), glam::Vec2::splat(f32::MIN));
     for p in points {

@@ -5,7 +5,7 @@
 mod common;
 
 use clap::Parser as _;
-use common::{assert_refused, decode, physlab, scratch_dir};
+use common::{assert_refused, decode, drawn_rows, physlab, scratch_dir};
 use physlab::app::rope_config;
 use physlab::cli::{Cli, Command as Sub};
 
@@ -137,31 +137,6 @@ fn bad_rope_input_is_refused_with_exit_code_2() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// Every position of `entity`'s `Points3D` in a recording, frame by frame, as drawn.
-fn drawn_points(path: &std::path::Path, entity: &str) -> Vec<Vec<[f32; 3]>> {
-    use rerun::external::re_log_encoding::DecoderApp;
-    use rerun::log::{Chunk, LogMsg};
-    let positions = rerun::Points3D::descriptor_positions().component;
-    let file = std::io::BufReader::new(std::fs::File::open(path).unwrap());
-    let mut frames = Vec::new();
-    for msg in DecoderApp::decode_lazy(file) {
-        let LogMsg::ArrowMsg(store_id, arrow_msg) = msg.unwrap() else {
-            continue;
-        };
-        let chunk = Chunk::from_arrow_msg(&arrow_msg).unwrap();
-        if !store_id.is_recording() || chunk.entity_path().to_string() != entity {
-            continue;
-        }
-        frames.extend(
-            chunk
-                .iter_slices::<[f32; 3]>(positions)
-                .map(|s| s.to_vec())
-                .filter(|s| !s.is_empty()),
-        );
-    }
-    frames
-}
-
 /// z is up for the rope as for every scene: with gravity 0,0,-9.81 a rope laid out along x,
 /// pinned at node 0, swings down into −z (its tip passes below the pin by most of its length)
 /// and stays in the x–z plane. The recording draws it as simulated, no axes turned. The rope's
@@ -184,7 +159,10 @@ fn rope_hangs_towards_minus_z() {
         out.to_str().unwrap(),
     ]);
     assert_eq!(code, 0, "{stdout}\n{stderr}");
-    let frames = drawn_points(&out, "/rope/implicit-euler/nodes");
+    let frames: Vec<Vec<[f32; 3]>> = drawn_rows(&out, "/rope/implicit-euler/nodes")
+        .into_iter()
+        .map(|(_, points)| points)
+        .collect();
     assert!(frames.len() >= 80, "{} frames", frames.len());
     let span = 4.0f32; // the default rope, from (0,0,0) to (4,0,0)
     let lowest_tip = frames
