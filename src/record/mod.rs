@@ -44,8 +44,9 @@ fn plot_views(
 
 /// Where a plot's legend goes: a corner its curves leave empty in the default run (read from
 /// viewer screenshots at 1600×1000), or `None` (hidden) where every corner holds data or the
-/// legend (about 20 px per method) is taller than the free space, as in every plot of `all` and
-/// the pendulum's nine-lane plots. The 3D views label every method in the same colour.
+/// legend (about 20 px per method) is taller than the free space, as in `all`'s short plots of
+/// seven or more lanes and the pendulum's nine-lane plots. The 3D views label every method in
+/// the same colour.
 fn legend_corner(scene: &str, plot: &str, in_all: bool) -> Option<Corner2D> {
     match (scene, plot, in_all) {
         // Energy and strain rise where midpoint and trapezoid diverge (≈ 7.5 s) and stop there.
