@@ -91,7 +91,7 @@ fn bad_hair_input_is_refused_with_exit_code_2() {
             "--segment-length 0: must be between 1e-6 and 1e6",
         ),
         (&["--iterations", "0"], "--iterations 0: must be at least 1"),
-        (&["--wind", "a,b"], "expected x,y or x,y,z"),
+        (&["--wind", "a,b"], "expected x,y,z"),
         (&["--methods", "rk4"], "unknown hair method 'rk4'"),
         (
             &["--strands", "1000000", "--nodes", "1000"],

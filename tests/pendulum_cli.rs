@@ -268,7 +268,12 @@ fn pendulum_gravity_takes_a_number_or_the_vector_and_uses_its_length() {
     assert_eq!(gravity(&[]).1, Some(9.81));
     assert_eq!(gravity(&["--gravity", "1.62"]).1, Some(1.62));
     assert_eq!(gravity(&["--gravity", "0,0,-9.81"]).1, Some(9.81));
-    assert_eq!(gravity(&["--gravity", "3,-4"]).1, Some(5.0));
+    assert_eq!(gravity(&["--gravity", "3,0,-4"]).1, Some(5.0));
+    let (code, _, stderr) = gravity(&["--gravity", "3,-4"]);
+    assert!(
+        code == 2 && stderr.contains("expected g or x,y,z"),
+        "{stderr}"
+    );
     let dir = scratch_dir("pendulum-gravity");
     let file = dir.join("p.toml");
     std::fs::write(&file, "[pendulum]\ngravity = [0.0, -3.0, -4.0]\n").unwrap();

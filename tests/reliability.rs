@@ -52,7 +52,7 @@ const BAD_INPUTS: &[(&[&str], i32, &str)] = &[
         2,
         "invalid value 'games202' for '--preset",
     ),
-    (&["rope", "--start", "1,2,3,4"], 2, "expected x,y or x,y,z"),
+    (&["rope", "--start", "1,2,3,4"], 2, "expected x,y,z"),
     (
         &["hair", "--head-motion", "spin"],
         2,
@@ -63,7 +63,7 @@ const BAD_INPUTS: &[(&[&str], i32, &str)] = &[
         2,
         "unknown hair method 'rk4'",
     ),
-    (&["hair", "--wind", "1,nan,0"], 2, "expected x,y or x,y,z"),
+    (&["hair", "--wind", "1,nan,0"], 2, "expected x,y,z"),
     // pendulum ranges
     (
         &["pendulum", "--dt", "0"],
@@ -137,7 +137,7 @@ const BAD_INPUTS: &[(&[&str], i32, &str)] = &[
         2,
         "--pinned 16: node index out of range",
     ),
-    (&["rope", "--end", "0,0"], 2, "must differ from --start"),
+    (&["rope", "--end", "0,0,0"], 2, "must differ from --start"),
     (
         &["rope", "--mass", "0"],
         2,

@@ -49,7 +49,7 @@ fn implicit_step_equals_dense_solve_of_the_same_system() {
         stiffness: 300.0,
         spring_damping: 0.7,
         air_drag: 0.3,
-        gravity: DVec3::new(0.0, -9.81, 0.0),
+        gravity: DVec3::new(0.0, 0.0, -9.81),
         pinned: vec![0],
         newton_iterations: 1,
     };
@@ -156,12 +156,12 @@ fn implicit_step_equals_dense_solve_of_the_same_system() {
 /// alone: every link carries the same horizontal tension H; the vertical tension grows by one
 /// node weight per link (so link slopes are in arithmetic progression); each link's length is
 /// Hooke's ℓ0 + |T|/ks. H and the first link's vertical tension V0 are found by Newton so that
-/// the links reach the far pin. Returns node positions (x, y).
+/// the links reach the far pin. Returns node positions (x, z), z up.
 fn discrete_catenary(p: &RopeParams) -> Vec<(f64, f64)> {
     let links = p.nodes - 1;
     let l0 = p.rest_length();
     let w = p.mass * p.gravity.length();
-    let (span_x, span_y) = (p.end.x - p.start.x, p.end.y - p.start.y);
+    let (span_x, span_y) = (p.end.x - p.start.x, p.end.z - p.start.z);
     let reach = |h: f64, v0: f64| {
         let (mut x, mut y) = (0.0, 0.0);
         for j in 0..links {
@@ -191,8 +191,8 @@ fn discrete_catenary(p: &RopeParams) -> Vec<(f64, f64)> {
         h -= (d * rx - b * ry) / det;
         v0 -= (-c * rx + a * ry) / det;
     }
-    let mut pts = vec![(p.start.x, p.start.y)];
-    let (mut x, mut y) = (p.start.x, p.start.y);
+    let mut pts = vec![(p.start.x, p.start.z)];
+    let (mut x, mut y) = (p.start.x, p.start.z);
     for j in 0..links {
         let (tx, ty) = (h, v0 + j as f64 * w);
         let t = tx.hypot(ty);
@@ -216,7 +216,7 @@ fn rope_pinned_at_both_ends_rests_on_the_discrete_catenary() {
         stiffness: 200.0,
         spring_damping: 2.0,
         air_drag: 0.5,
-        gravity: DVec3::new(0.0, -9.81, 0.0),
+        gravity: DVec3::new(0.0, 0.0, -9.81),
         pinned: vec![0, 15],
         newton_iterations: 1,
     };
@@ -241,14 +241,14 @@ fn rope_pinned_at_both_ends_rests_on_the_discrete_catenary() {
     );
     for (i, &(ex, ey)) in expected.iter().enumerate() {
         let q = node(it.position(), i);
-        let err = (q.x - ex).hypot(q.y - ey);
+        let err = (q.x - ex).hypot(q.z - ey);
         assert!(
             err <= 1e-6 * span,
-            "node {i}: ({}, {}) vs equilibrium ({ex}, {ey}), off by {err:e} m",
+            "node {i}: (x, z) = ({}, {}) vs equilibrium ({ex}, {ey}), off by {err:e} m",
             q.x,
-            q.y
+            q.z
         );
-        assert_eq!(q.z, 0.0);
+        assert_eq!(q.y, 0.0);
     }
 }
 

@@ -386,10 +386,15 @@ fn simulate(plan: Plan, run: &RunArgs, output: &Output, replay: &Replay) -> anyh
     let recording = if no_record {
         None
     } else {
-        let blueprint = if scenes.len() == 1 {
-            crate::record::scene_blueprint_for(name, run.timings)
-        } else {
-            crate::record::all_blueprint(run.timings)
+        let framings = record::Framings {
+            pendulum: resolved.pendulum.as_ref().map(record::pendulum::framing),
+            rope: resolved.rope.as_ref().map(record::rope::framing),
+            hair: resolved.hair.as_ref().map(record::hair::framing),
+        };
+        let one = (framings.pendulum.or(framings.rope)).or(framings.hair);
+        let layout = match one {
+            Some(framing) if scenes.len() == 1 => record::scene_layout(name, run.timings, framing),
+            _ => record::all_layout(run.timings, &framings),
         };
         let application_id = match name {
             "pendulum" => "physlab-pendulum",
@@ -397,7 +402,7 @@ fn simulate(plan: Plan, run: &RunArgs, output: &Output, replay: &Replay) -> anyh
             "hair" => "physlab-hair",
             _ => "physlab-all",
         };
-        let recording = Recording::create(&d, application_id, name, blueprint)?;
+        let recording = Recording::create(&d, application_id, name, layout)?;
         send_provenance(
             recording.stream(),
             &scenes.join(","),

@@ -71,9 +71,9 @@ pub struct RopeBody {
 // `flatten`): scene files are checked for unknown keys in `app::file` instead.
 #[derive(Args, Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
 pub struct PendulumArgs {
-    /// Gravitational acceleration g [m/s²], or the vector x,y[,z] the rope and hair take, of which
-    /// the pendulum uses the length |g| (it swings in the plane of gravity; θ is measured from
-    /// the direction gravity points)
+    /// Gravitational acceleration g [m/s²], or the z-up vector x,y,z the rope and hair take
+    /// (e.g. 0,0,-9.81), of which the pendulum uses the length |g| (it swings in the plane of
+    /// gravity; θ is measured from the direction gravity points)
     #[arg(long, value_name = "G|X,Y,Z", allow_hyphen_values = true)]
     pub gravity: Option<Magnitude>,
 
@@ -117,9 +117,9 @@ pub struct PendulumArgs {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum RopePreset {
-    /// GAMES101 assignment 8 (seed 003): 16 nodes from (0,200) to (-400,200), mass 1, ks 100,
-    /// no spring damping or drag, gravity (0,-1), dt = 1/64 with 64 steps per frame, node 0
-    /// pinned, Verlet damping 0.00005, 20 time units
+    /// GAMES101 assignment 8 (seed 003): 16 nodes from (0,0,200) to (-400,0,200), mass 1, ks
+    /// 100, no spring damping or drag, gravity (0,0,-1) (the assignment's 2D x,y is x,z here),
+    /// dt = 1/64 with 64 steps per frame, node 0 pinned, Verlet damping 0.00005, 20 time units
     Games101,
 }
 
@@ -133,17 +133,16 @@ pub struct RopeArgs {
     #[serde(flatten)]
     pub body: RopeBody,
 
-    /// First node's position x,y[,z] [m]
+    /// First node's position x,y,z [m], z up
     #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
     pub start: Option<Vector>,
 
-    /// Last node's position x,y[,z] [m]; nodes are spaced evenly, and that spacing is every
+    /// Last node's position x,y,z [m], z up; nodes are spaced evenly, and that spacing is every
     /// spring's rest length
     #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
     pub end: Option<Vector>,
 
-    /// Gravitational acceleration x,y[,z] [m/s²], y up like every rope vector (GAMES101's 2D
-    /// x,y); the recording draws the rope z-up like the other scenes, (x, y, z) → (x, −z, y)
+    /// Gravitational acceleration x,y,z [m/s²], z up like every scene
     #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
     pub gravity: Option<Vector>,
 
@@ -217,7 +216,7 @@ pub struct HairArgs {
     #[arg(long, value_name = "MOTION")]
     pub head_motion: Option<HeadMotion>,
 
-    /// Wind as an acceleration x,y[,z] on every node [m/s²], z up
+    /// Wind as an acceleration x,y,z on every node [m/s²], z up
     #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
     pub wind: Option<Vector>,
 
@@ -226,7 +225,7 @@ pub struct HairArgs {
     #[arg(long, value_name = "FRACTION", allow_negative_numbers = true)]
     pub gust: Option<f64>,
 
-    /// Gravitational acceleration x,y[,z] [m/s²], z up
+    /// Gravitational acceleration x,y,z [m/s²], z up
     #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
     pub gravity: Option<Vector>,
 
@@ -434,9 +433,9 @@ pub fn games101_preset() -> RopeArgs {
             spring_damping: Some(0.0),
             air_drag: Some(0.0),
         },
-        start: Some(Vector(glam::DVec3::new(0.0, 200.0, 0.0))),
-        end: Some(Vector(glam::DVec3::new(-400.0, 200.0, 0.0))),
-        gravity: Some(Vector(glam::DVec3::new(0.0, -1.0, 0.0))),
+        start: Some(Vector(glam::DVec3::new(0.0, 0.0, 200.0))),
+        end: Some(Vector(glam::DVec3::new(-400.0, 0.0, 200.0))),
+        gravity: Some(Vector(glam::DVec3::new(0.0, 0.0, -1.0))),
         pinned: Some(vec![0]),
         dt: Some(1.0 / 64.0),
         fps: Some(1.0), // one frame per time unit = 64 steps per frame

@@ -6,16 +6,19 @@ use std::str::FromStr;
 use glam::DVec3;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
-/// A 3-vector given as "x,y" or "x,y,z" on the command line (z = 0 when omitted) and as
-/// [x, y, z] in a scene file.
+/// A 3-vector given as "x,y,z" on the command line and as [x, y, z] in a scene file, z up in
+/// every scene. All three components are required: a two-component "x,y" was the rope's y-up
+/// spelling (gravity 0,-9.81), which read as z-up would silently turn gravity sideways.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Vector(pub DVec3);
+
+/// What a vector must look like, for every error that refuses one.
+const VECTOR_FORM: &str = "x,y,z with finite numbers, z up, e.g. 0,0,-9.81";
 
 impl FromStr for Vector {
     type Err = String;
     fn from_str(text: &str) -> Result<Self, String> {
-        let bad =
-            || format!("expected x,y or x,y,z with finite numbers, e.g. 0,-9.81,0 (got '{text}')");
+        let bad = || format!("expected {VECTOR_FORM} (got '{text}')");
         let parts: Vec<f64> = text
             .split(',')
             .map(|p| p.trim().parse::<f64>())
@@ -31,7 +34,6 @@ impl Vector {
             return None;
         }
         match *c {
-            [x, y] => Some(Vector(DVec3::new(x, y, 0.0))),
             [x, y, z] => Some(Vector(DVec3::new(x, y, z))),
             _ => None,
         }
@@ -53,9 +55,8 @@ impl Serialize for Vector {
 impl<'de> Deserialize<'de> for Vector {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         let c = Vec::<f64>::deserialize(d)?;
-        Vector::from_components(&c).ok_or_else(|| {
-            serde::de::Error::custom("expected [x, y] or [x, y, z] with finite numbers")
-        })
+        Vector::from_components(&c)
+            .ok_or_else(|| serde::de::Error::custom("expected [x, y, z] with finite numbers, z up"))
     }
 }
 
@@ -69,12 +70,16 @@ pub struct Magnitude(pub f64);
 impl FromStr for Magnitude {
     type Err = String;
     fn from_str(text: &str) -> Result<Self, String> {
+        let bad = || {
+            format!(
+                "expected g or x,y,z with finite numbers, z up, e.g. 9.81 or 0,0,-9.81 (got '{text}')"
+            )
+        };
         if !text.contains(',') {
-            return text.trim().parse::<f64>().map(Magnitude).map_err(|_| {
-                format!("expected g or x,y[,z] with finite numbers, e.g. 9.81 or 0,0,-9.81 (got '{text}')")
-            });
+            return text.trim().parse::<f64>().map(Magnitude).map_err(|_| bad());
         }
-        Ok(Magnitude(text.parse::<Vector>()?.0.length()))
+        let v = text.parse::<Vector>().map_err(|_| bad())?;
+        Ok(Magnitude(v.0.length()))
     }
 }
 
@@ -92,9 +97,9 @@ impl<'de> Deserialize<'de> for Magnitude {
             Scalar(f64),
             Vector(Vector),
         }
-        match Given::deserialize(d).map_err(|_| {
-            serde::de::Error::custom("expected g or [x, y] or [x, y, z] with finite numbers")
-        })? {
+        match Given::deserialize(d)
+            .map_err(|_| serde::de::Error::custom("expected g or [x, y, z] with finite numbers"))?
+        {
             Given::Scalar(g) => Ok(Magnitude(g)),
             Given::Vector(v) => Ok(Magnitude(v.0.length())),
         }

@@ -9,8 +9,8 @@ use rerun::blueprint::{Blueprint, Horizontal, Vertical};
 
 use super::scene::{Draw, SceneRecorder, clear_diverged};
 use super::{
-    about_and_events, log_stage, method_color, plot_column, plots_shown, scene_blueprint,
-    scene_view,
+    Framing, ViewProperties, about_and_events, log_stage, method_color, plot_column, plots_shown,
+    scene_blueprint, scene_view,
 };
 use crate::scene::hair::Hair;
 use crate::scene::hair::run::{HairConfig, HairLane, HairScene};
@@ -31,13 +31,42 @@ pub const PLOTS: [(&str, &str); 3] = [
     ),
 ];
 
-pub fn blueprint(timings: bool) -> Blueprint {
+/// Width / height of the single-scene 3D view at 1600×1000 (left half, 3/4 of the height, above the text panels), measured on a
+/// screenshot.
+const VIEW_ASPECT: f32 = 1.19;
+
+pub fn blueprint(timings: bool, framing: Framing, props: &mut ViewProperties) -> Blueprint {
+    let view = scene_view("hair", "hair: methods side by side", &[]);
     let left = Vertical::new([
-        scene_view("hair", "hair: methods side by side", &[]).into(),
+        props.eye(view, framing, VIEW_ASPECT),
         Horizontal::new(about_and_events("hair")).into(),
     ])
     .with_row_shares([3.0, 1.0]);
-    scene_blueprint(left, plot_column("hair", &plots_shown(&PLOTS, timings)))
+    scene_blueprint(
+        left,
+        plot_column("hair", &plots_shown(&PLOTS, timings), props),
+    )
+}
+
+/// The strands' reach from the head's centre [m], and the spacing of the slots along x.
+fn reach_and_spacing(c: &HairConfig) -> (f64, f64) {
+    let p = &c.params;
+    let reach = p.head_radius + p.segment_length * (p.nodes - 1) as f64;
+    (reach, 2.6 * reach + 2.0 * 2.0 * p.head_radius) // room for the sway
+}
+
+/// What the 3D view frames: every head with its strands hanging down, from the front, a little
+/// to the side and above, so the heads' depth shows.
+pub fn framing(c: &HairConfig) -> Framing {
+    let (reach, spacing) = reach_and_spacing(c);
+    let x_max = spacing * (c.methods.len().max(1) - 1) as f64;
+    let top = 1.3 * c.params.head_radius;
+    let f = |v: f64| v as f32;
+    Framing {
+        min: [f(-0.8 * reach), f(-0.5 * reach), f(-reach)],
+        max: [f(x_max + 0.8 * reach), f(0.5 * reach), f(top)],
+        toward_eye: [0.1, -1.0, 0.35],
+    }
 }
 
 /// Recorded bytes per strand node per logged 3D frame per method, LZ4 included: 12.5–12.9
@@ -159,14 +188,13 @@ impl Draw<HairScene> for HairDraw {
         self.nodes = p.nodes;
         let plan = strand_plan(config, self.requested);
         self.shown = spread(plan.drawn, plan.strands);
-        let reach = p.head_radius + p.segment_length * (p.nodes - 1) as f64;
-        let spacing = 2.6 * reach + 2.0 * 2.0 * p.head_radius; // room for the sway
+        let (reach, spacing) = reach_and_spacing(config);
         self.offsets = (0..self.names.len())
             .map(|i| glam::DVec3::new(spacing * i as f64, 0.0, 0.0))
             .collect();
         rec.log_static("hair", &rerun::ViewCoordinates::RIGHT_HAND_Z_UP())?;
         let x_max = spacing * (self.names.len().max(1) - 1) as f64;
-        // A stage just past the strands' reach, so the default camera frames the heads closely.
+        // A stage just past the strands' reach (the view's eye frames [`framing`]).
         let (a, b, floor) = (
             (-1.1 * reach) as f32,
             (x_max + 1.1 * reach) as f32,

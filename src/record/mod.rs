@@ -13,25 +13,52 @@ pub mod study;
 use std::path::{Path, PathBuf};
 
 use anyhow::Context as _;
-use rerun::blueprint::components::PanelState;
+use rerun::blueprint::components::{Corner2D, PanelState};
 use rerun::blueprint::{
     Blueprint, BlueprintPanel, ContainerLike, Horizontal, SelectionPanel, Spatial3DView, Tabs,
     TextDocumentView, TextLogView, TimePanel, TimeSeriesView, Vertical,
 };
 
+pub mod layout;
+pub use layout::{Framing, Framings, Layout, ViewProperties};
+
 /// One colour per method (the palette is shared with the diagrams: `crate::palette`).
 pub use crate::palette::method_color;
 
-/// One plot per quantity, `/<scene>/plots/<name>/*`, every method in each.
-fn plot_views(scene: &str, plots: &[(&str, &str)]) -> Vec<ContainerLike> {
+/// One plot per quantity, `/<scene>/plots/<name>/*`, every method in each, its legend placed by
+/// [`legend_corner`].
+fn plot_views(
+    scene: &str,
+    plots: &[(&str, &str)],
+    in_all: bool,
+    props: &mut ViewProperties,
+) -> Vec<ContainerLike> {
     plots
         .iter()
         .map(|(name, title)| {
-            TimeSeriesView::new(*title)
-                .with_origin(format!("/{scene}/plots/{name}"))
-                .into()
+            let view = TimeSeriesView::new(*title).with_origin(format!("/{scene}/plots/{name}"));
+            props.legend(view, legend_corner(scene, name, in_all))
         })
         .collect()
+}
+
+/// Where a plot's legend goes: a corner its curves leave empty in the default run (read from
+/// viewer screenshots at 1600×1000), or `None` (hidden) where every corner holds data or the
+/// legend (about 20 px per method) is taller than the free space, as in `all`'s short plots of
+/// seven or more lanes and the pendulum's nine-lane plots. The 3D views label every method in
+/// the same colour.
+fn legend_corner(scene: &str, plot: &str, in_all: bool) -> Option<Corner2D> {
+    match (scene, plot, in_all) {
+        // Energy and strain rise where midpoint and trapezoid diverge (≈ 7.5 s) and stop there.
+        ("rope", "energy" | "max_strain", false) => Some(Corner2D::RightTop),
+        // After the first second every curve sits above 10⁰ J.
+        ("rope", "log10_energy_change", false) => Some(Corner2D::RightBottom),
+        // Two lanes; after the first frames no curve comes down to the bottom right.
+        ("hair", "max_penetration", _) => Some(Corner2D::RightBottom),
+        // Kinetic energy decays towards 0 after the head stops.
+        ("hair", "specific_kinetic_energy", false) => Some(Corner2D::RightTop),
+        _ => None,
+    }
 }
 
 /// A scene's plots, and the wall-clock cost plot when timings are recorded.
@@ -47,21 +74,23 @@ pub fn plots_shown(
 }
 
 /// The scene's plots stacked.
-pub fn plot_column(scene: &str, plots: &[(&str, &str)]) -> Vertical {
-    Vertical::new(plot_views(scene, plots))
+pub fn plot_column(scene: &str, plots: &[(&str, &str)], props: &mut ViewProperties) -> Vertical {
+    Vertical::new(plot_views(scene, plots, false, props))
 }
 
-/// A single scene's layout, by scene name.
-pub fn scene_blueprint_for(scene: &str, timings: bool) -> Blueprint {
-    match scene {
-        "pendulum" => pendulum::blueprint(timings),
-        "rope" => rope::blueprint(timings),
-        _ => hair::blueprint(timings),
-    }
+/// A single scene's layout, by scene name, its 3D view framed on `framing`.
+pub fn scene_layout(scene: &str, timings: bool, framing: Framing) -> Layout {
+    let mut props = ViewProperties::default();
+    let blueprint = match scene {
+        "pendulum" => pendulum::blueprint(timings, framing, &mut props),
+        "rope" => rope::blueprint(timings, framing, &mut props),
+        _ => hair::blueprint(timings, framing, &mut props),
+    };
+    props.layout(blueprint)
 }
 
 /// The plots `physlab all` shows (fewer and wider than a single scene's, so that each stays
-/// readable beside its legend at 1600×1000); the recording holds every series all the same.
+/// readable at 1600×1000); the recording holds every series all the same.
 const ALL_PLOTS: [&str; 7] = [
     "theta",
     "log10_theta_error",
@@ -72,17 +101,28 @@ const ALL_PLOTS: [&str; 7] = [
     "max_penetration",
 ];
 
-/// `physlab all`: the three scenes side by side, each 3D view above its plots and its event log.
-pub fn all_blueprint(timings: bool) -> Blueprint {
-    let column = |scene: &str, plots: &[(&str, &str)], exclude: &[&str]| -> ContainerLike {
+/// `physlab all`: the three scenes side by side, each 3D view above its plots and its event log,
+/// each 3D view framed on its scene's `framings`.
+pub fn all_layout(timings: bool, framings: &Framings) -> Layout {
+    let mut props = ViewProperties::default();
+    let mut column = |scene: &str,
+                      plots: &[(&str, &str)],
+                      exclude: &[&str],
+                      framing: Option<Framing>|
+     -> ContainerLike {
         let shown: Vec<(&str, &str)> = plots
             .iter()
             .copied()
             .filter(|(name, _)| ALL_PLOTS.contains(name) || *name == scene::FRAME_COST.0)
             .collect();
+        let view = scene_view(scene, scene, exclude);
+        let view = match framing {
+            Some(f) => props.eye(view, f, layout::ALL_VIEW_ASPECT),
+            None => view.into(),
+        };
         Vertical::new([
-            scene_view(scene, scene, exclude).into(),
-            Vertical::new(plot_views(scene, &shown)).into(),
+            view,
+            Vertical::new(plot_views(scene, &shown, true, &mut props)).into(),
             Tabs::new([
                 TextLogView::new(format!("{scene} events"))
                     .with_origin(format!("/{scene}/events"))
@@ -94,14 +134,25 @@ pub fn all_blueprint(timings: bool) -> Blueprint {
         .with_row_shares([3.0, 4.0, 1.0])
         .into()
     };
-    Blueprint::new(Horizontal::new([
+    let blueprint = Blueprint::new(Horizontal::new([
         column(
             "pendulum",
             &plots_shown(&pendulum::PLOTS, timings),
             &["phase/**"],
+            framings.pendulum,
         ),
-        column("rope", &plots_shown(&rope::PLOTS, timings), &[]),
-        column("hair", &plots_shown(&hair::PLOTS, timings), &[]),
+        column(
+            "rope",
+            &plots_shown(&rope::PLOTS, timings),
+            &[],
+            framings.rope,
+        ),
+        column(
+            "hair",
+            &plots_shown(&hair::PLOTS, timings),
+            &[],
+            framings.hair,
+        ),
     ]))
     .with_auto_views(false)
     .with_time_panel(
@@ -110,7 +161,8 @@ pub fn all_blueprint(timings: bool) -> Blueprint {
             .with_state(PanelState::Collapsed),
     )
     .with_blueprint_panel(BlueprintPanel::new().with_state(PanelState::Collapsed))
-    .with_selection_panel(SelectionPanel::new().with_state(PanelState::Collapsed))
+    .with_selection_panel(SelectionPanel::new().with_state(PanelState::Collapsed));
+    props.layout(blueprint)
 }
 
 /// The scene's 3D view: everything under `/<scene>` except its plots, events, about text,
@@ -180,9 +232,7 @@ pub fn log_series_style(
     Ok(())
 }
 
-/// A faint floor outline through four corners (static). Besides showing the ground, it widens
-/// the bounding box the viewer's default camera frames, so the nearest slots are not cut off by
-/// perspective (the camera cannot be set from the Rust SDK).
+/// A faint floor outline through four corners (static): the ground the slots stand on.
 pub fn log_stage(
     rec: &rerun::RecordingStream,
     entity: &str,
@@ -201,7 +251,7 @@ pub fn log_stage(
 
 /// Grid cells (column, row counted from the bottom) for `n` side-by-side lanes, in rows of at
 /// most four in reading order from the top left. A compact block rather than one long row, so
-/// the viewer's default camera frames every lane.
+/// a 3D view frames every lane large.
 pub fn slot_cells(n: usize) -> Vec<(usize, usize)> {
     // Near-square (8 lanes: 3 × 3 less one), so that the labels of neighbouring slots do not
     // overlap in `all`'s narrow views.
@@ -369,8 +419,9 @@ impl Recording {
         d: &Destinations,
         application_id: &'static str,
         recording_name: &str,
-        blueprint: rerun::blueprint::Blueprint,
+        layout: impl Into<Layout>,
     ) -> anyhow::Result<Self> {
+        let layout = layout.into();
         check_destinations(d)?;
         let mut sinks: Vec<Box<dyn rerun::sink::LogSink>> = Vec::new();
         let mut file = None;
@@ -427,9 +478,9 @@ impl Recording {
             builder = builder.batcher_config(BATCHING);
         } // A live viewer needs data as it comes: Rerun's clock-driven default then.
         let rec = builder
-            .with_blueprint(blueprint)
             .set_sinks(sinks)
             .context("cannot start the recording")?;
+        layout.send(&rec, application_id)?;
         rec.set_log_time_enabled(false);
         rec.send_recording_name(recording_name)?;
         Ok(Recording {

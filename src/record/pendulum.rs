@@ -15,11 +15,11 @@ use rerun::blueprint::{Blueprint, Horizontal, Spatial2DView, Vertical};
 
 use super::scene::{Draw, SceneRecorder, clear_diverged};
 use super::{
-    about_and_events, log_stage, method_color, plot_column, plots_shown, scene_blueprint,
-    scene_view, slot_cells,
+    Framing, ViewProperties, about_and_events, log_stage, method_color, plot_column, plots_shown,
+    scene_blueprint, scene_view, slot_cells,
 };
 use crate::scene::harness::{Event, Frame, Run, Scene as _, SeriesBatch};
-use crate::scene::pendulum::run::{PendulumLane, PendulumScene};
+use crate::scene::pendulum::run::{PendulumConfig, PendulumLane, PendulumScene};
 
 /// The plotted quantities: entity name and plot title (with units).
 pub const PLOTS: [(&str, &str); 6] = [
@@ -43,16 +43,20 @@ pub const PLOTS: [(&str, &str); 6] = [
 /// At most this many points per phase-portrait curve.
 const MAX_PHASE_POINTS: usize = 5_000;
 
+/// Width / height of the single-scene 3D view at 1600×1000 (left half, 3/5 of the height, above the phase portrait), measured on a
+/// screenshot.
+const VIEW_ASPECT: f32 = 1.49;
+
 /// The pendulum's layout: the 3D slots, phase portrait and events on the left, the plots on
 /// the right, every plot holding all lanes.
-pub fn blueprint(timings: bool) -> Blueprint {
+pub fn blueprint(timings: bool, framing: Framing, props: &mut ViewProperties) -> Blueprint {
+    let view = scene_view(
+        "pendulum",
+        "pendulum: methods side by side (grey ghost = reference)",
+        &["phase/**"],
+    );
     let left = Vertical::new([
-        scene_view(
-            "pendulum",
-            "pendulum: methods side by side (grey ghost = reference)",
-            &["phase/**"],
-        )
-        .into(),
+        props.eye(view, framing, VIEW_ASPECT),
         Horizontal::new([
             Spatial2DView::new("phase portrait: x = θ [rad], y = ω [rad/s] (y axis points down)")
                 .with_origin("/pendulum/phase")
@@ -63,7 +67,24 @@ pub fn blueprint(timings: bool) -> Blueprint {
         .into(),
     ])
     .with_row_shares([3.0, 2.0]);
-    scene_blueprint(left, plot_column("pendulum", &plots_shown(&PLOTS, timings)))
+    scene_blueprint(
+        left,
+        plot_column("pendulum", &plots_shown(&PLOTS, timings), props),
+    )
+}
+
+/// What the 3D view frames: every slot's swing below its pivot, the pivot labels and the stage,
+/// seen from the front and a little above (the slots are a wall in the x–z plane).
+pub fn framing(c: &PendulumConfig) -> Framing {
+    let l = c.params.length as f32;
+    let pivots = slot_pivots(c.methods.len() + 1, l); // the reference lane and every method
+    let x_max = pivots.iter().fold(0.0f32, |x, p| x.max(p[0]));
+    let z_max = pivots.iter().fold(0.0f32, |z, p| z.max(p[2]));
+    Framing {
+        min: [-1.1 * l, -0.2 * l, 0.0],
+        max: [x_max + 1.1 * l, 0.2 * l, z_max + 0.4 * l],
+        toward_eye: [0.0, -1.0, 0.25],
+    }
 }
 
 /// Pivots for `n` lanes: slots 2.2 L apart (a full swing spans 2 L) in rows 2.6 L apart (room
@@ -142,8 +163,7 @@ impl Draw<PendulumScene> for PendulumDraw {
         rec.log_static("pendulum", &rerun::ViewCoordinates::RIGHT_HAND_Z_UP())?;
         let l = c.params.length as f32;
         let x_max = self.pivots.iter().fold(0.0f32, |x, p| x.max(p[0]));
-        // A floor just past the outer swings and barely deeper than a bob: the default camera
-        // frames the bounding box, so anything wider than the slots only shrinks them.
+        // A floor just past the outer swings and barely deeper than a bob, within [`framing`].
         let half_depth = 0.3 * l;
         log_stage(
             rec,

@@ -11,14 +11,14 @@ use rerun::blueprint::{Blueprint, Horizontal, Vertical};
 
 use super::scene::{Draw, SceneRecorder, clear_diverged};
 use super::{
-    about_and_events, log_stage, method_color, plot_column, plots_shown, scene_blueprint,
-    scene_view, slot_cells,
+    Framing, ViewProperties, about_and_events, log_stage, method_color, plot_column, plots_shown,
+    scene_blueprint, scene_view, slot_cells,
 };
 use crate::report::rope::cost_per_step;
 use crate::report::table::trim_number;
 use crate::scene::harness::{Event, Frame};
 use crate::scene::rope::node;
-use crate::scene::rope::run::{ENERGY_GAIN_BOUND, Layout, RopeLane, RopeScene};
+use crate::scene::rope::run::{ENERGY_GAIN_BOUND, Layout, RopeConfig, RopeLane, RopeScene};
 
 /// The plotted quantities: entity name and plot title (with units).
 pub const PLOTS: [(&str, &str); 3] = [
@@ -30,13 +30,65 @@ pub const PLOTS: [(&str, &str); 3] = [
     ("max_strain", "maximum strain max |ℓ − ℓ0| / ℓ0"),
 ];
 
-pub fn blueprint(timings: bool) -> Blueprint {
+/// Width / height of the single-scene 3D view at 1600×1000 (left half, 3/4 of the height, above the text panels), measured on a
+/// screenshot.
+const VIEW_ASPECT: f32 = 1.19;
+
+pub fn blueprint(timings: bool, framing: Framing, props: &mut ViewProperties) -> Blueprint {
+    let view = scene_view("rope", "rope: methods side by side", &[]);
     let left = Vertical::new([
-        scene_view("rope", "rope: methods side by side", &[]).into(),
+        props.eye(view, framing, VIEW_ASPECT),
         Horizontal::new(about_and_events("rope")).into(),
     ])
     .with_row_shares([3.0, 1.0]);
-    scene_blueprint(left, plot_column("rope", &plots_shown(&PLOTS, timings)))
+    scene_blueprint(
+        left,
+        plot_column("rope", &plots_shown(&PLOTS, timings), props),
+    )
+}
+
+/// Each lane's slot offset [m]: rows of four stacked upwards (see `slot_cells`), or all at one
+/// place with `--layout overlay`.
+fn slot_offsets(c: &RopeConfig) -> Vec<[f64; 3]> {
+    let span = rope_span(c);
+    match c.layout {
+        Layout::Overlay => vec![[0.0; 3]; c.methods.len()],
+        Layout::SideBySide => slot_cells(c.methods.len())
+            .into_iter()
+            .map(|(col, row)| [2.3 * span * col as f64, 0.0, 1.6 * span * row as f64])
+            .collect(),
+    }
+}
+
+/// The rope's length at rest [m] (never 0, so slots stay apart).
+fn rope_span(c: &RopeConfig) -> f64 {
+    (c.params.end - c.params.start).length().max(1e-9)
+}
+
+/// What the 3D view frames: every slot's rope swinging within one span of its first node, from
+/// the floor up to the highest node, seen from the front and a little above.
+pub fn framing(c: &RopeConfig) -> Framing {
+    let p = &c.params;
+    let span = rope_span(c);
+    let offsets = slot_offsets(c);
+    let x_max = offsets.iter().fold(0.0f64, |x, o| x.max(o[0]));
+    let z_max = offsets.iter().fold(0.0f64, |z, o| z.max(o[2]));
+    let top = p.start.z.max(p.end.z) + z_max + 0.1 * span;
+    let floor = p.start.z.min(p.end.z) - 1.05 * span;
+    let f = |v: f64| v as f32;
+    Framing {
+        min: [
+            f(p.start.x - 1.1 * span),
+            f(p.start.y - 0.3 * span),
+            f(floor),
+        ],
+        max: [
+            f(p.start.x + x_max + 1.1 * span),
+            f(p.start.y + 0.3 * span),
+            f(top),
+        ],
+        toward_eye: [0.0, -1.0, 0.3],
+    }
 }
 
 /// Each method's rope in its slot (or overlaid), pins marked and labelled.
@@ -60,11 +112,9 @@ pub fn recorder(rec: RecordingStream, timings: bool) -> SceneRecorder<RopeDraw> 
     )
 }
 
-/// The rope's physics is y-up (its parameters keep the GAMES101 convention, where a 2D vector
-/// is x,y); every scene is drawn z-up, so the recording shows the rope turned by a quarter turn
-/// about x: (x, y, z) → (x, −z, y).
-fn z_up(p: [f64; 3]) -> [f32; 3] {
-    [p[0] as f32, -p[2] as f32, p[1] as f32]
+/// A point as the viewer takes it (the rope is z up like every scene: drawn as simulated).
+fn f32_point(p: [f64; 3]) -> [f32; 3] {
+    p.map(|c| c as f32)
 }
 
 impl RopeDraw {
@@ -73,7 +123,7 @@ impl RopeDraw {
         self.points.clear();
         self.points.extend(
             (0..x.len() / 3)
-                .map(|i| z_up([x[3 * i] + o[0], x[3 * i + 1] + o[1], x[3 * i + 2] + o[2]])),
+                .map(|i| f32_point([x[3 * i] + o[0], x[3 * i + 1] + o[1], x[3 * i + 2] + o[2]])),
         );
     }
 }
@@ -89,22 +139,15 @@ impl Draw<RopeScene> for RopeDraw {
         let p = &c.params;
         self.names = lanes.iter().map(|l| l.0).collect();
         // Slots sized to the rope: hanging from a pin it sweeps a circle of its own length.
-        let span = (p.end - p.start).length().max(1e-9);
-        self.offsets = match c.layout {
-            Layout::Overlay => vec![[0.0; 3]; self.names.len()],
-            Layout::SideBySide => slot_cells(self.names.len())
-                .into_iter()
-                .map(|(col, row)| [2.3 * span * col as f64, 1.6 * span * row as f64, 0.0])
-                .collect(),
-        };
+        let span = rope_span(c);
+        self.offsets = slot_offsets(c);
         rec.log_static("rope", &rerun::ViewCoordinates::RIGHT_HAND_Z_UP())?;
         // Floor below the lowest hanging rope, reaching past the outer slots on every side.
         let x_max = self.offsets.iter().fold(0.0f64, |x, o| x.max(o[0]));
-        let floor = (p.start.y.min(p.end.y) - 1.05 * span) as f32;
+        let floor = (p.start.z.min(p.end.z) - 1.05 * span) as f32;
         // The rope swings about its first pinned node, within one span of it. The floor reaches
-        // half a span past that on each side (less lets perspective cut the nearest slot off at
-        // 1600×1000) and is shallower than the slots are wide: the default camera frames the
-        // bounding box, so any more only shrinks the ropes.
+        // half a span past that on each side and is shallower than the slots are wide; the view's
+        // eye frames [`framing`], and `tests/layout.rs` checks the floor stays in view.
         let pin_x = p.start.x;
         let (x0, x1) = (
             (pin_x - 1.5 * span) as f32,
@@ -116,10 +159,10 @@ impl Draw<RopeScene> for RopeDraw {
             rec,
             "rope/stage",
             [
-                z_up([x0, floor, -half_depth]),
-                z_up([x1, floor, -half_depth]),
-                z_up([x1, floor, half_depth]),
-                z_up([x0, floor, half_depth]),
+                f32_point([x0, half_depth, floor]),
+                f32_point([x1, half_depth, floor]),
+                f32_point([x1, -half_depth, floor]),
+                f32_point([x0, -half_depth, floor]),
             ],
         )?;
         let node_radius = (0.02 * span) as f32;
@@ -143,7 +186,7 @@ impl Draw<RopeScene> for RopeDraw {
                 .map(|&k| {
                     let q = node(&scene.initial_positions, k);
                     let o = self.offsets[i];
-                    z_up([q.x + o[0], q.y + o[1], q.z + o[2]])
+                    f32_point([q.x + o[0], q.y + o[1], q.z + o[2]])
                 })
                 .collect();
             // One label per rope (on its first pinned node), not one per pin.

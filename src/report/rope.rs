@@ -52,13 +52,23 @@ pub fn rates_text(scene: &RopeScene) -> String {
     )
 }
 
+/// A nonzero gravity with no z component is horizontal (z is up in every scene): said, so that a
+/// y-up vector such as 0,-9.81,0 is not taken silently.
+fn sideways_note(g: glam::DVec3) -> &'static str {
+    if g.z == 0.0 && g != glam::DVec3::ZERO {
+        " (horizontal: z is up)"
+    } else {
+        ""
+    }
+}
+
 pub fn summary_text(scene: &RopeScene, run: &Run<RopeLane>) -> String {
     let c = &scene.config;
     let p = &c.params;
     let schedule = scene.schedule();
     let mut out = format!(
         "rope: {} nodes from {} to {} m, rest length {} m, mass {} kg/node, ks = {} N/m, kd = {} N·s/m, \
-         ka = {} N·s/m, g = {} m/s², pinned {:?}\n\
+         ka = {} N·s/m, g = {} m/s²{}, pinned {:?}\n\
          dt = {} s, {} steps to t = {} s; {}\n\
          E0 = {} J, energy scale {} J; divergence = non-finite state, strain > {:.3}, \
          or an energy gain > {ENERGY_GAIN_BOUND} × the scale, checked after every step\n\
@@ -73,6 +83,7 @@ pub fn summary_text(scene: &RopeScene, run: &Run<RopeLane>) -> String {
         p.spring_damping,
         p.air_drag,
         vector_text(p.gravity),
+        sideways_note(p.gravity),
         p.pinned,
         c.dt,
         schedule.total,

@@ -148,3 +148,30 @@ pub fn physlab(args: &[&str]) -> (i32, String, String) {
     );
     (out.status.code().unwrap_or(-1), stdout, stderr)
 }
+
+/// Every drawn 3D point of the entities under `prefix`, one row per logged row: the entity path
+/// and its `Points3D` positions or its `LineStrips3D` points, as the viewer draws them.
+pub fn drawn_rows(path: &Path, prefix: &str) -> Vec<(String, Vec<[f32; 3]>)> {
+    let positions = rerun::Points3D::descriptor_positions().component;
+    let strips = rerun::LineStrips3D::descriptor_strips().component;
+    let file = std::io::BufReader::new(std::fs::File::open(path).unwrap());
+    let mut rows = Vec::new();
+    for msg in DecoderApp::decode_lazy(file) {
+        let LogMsg::ArrowMsg(store_id, arrow_msg) = msg.unwrap() else {
+            continue;
+        };
+        let chunk = Chunk::from_arrow_msg(&arrow_msg).unwrap();
+        let entity = chunk.entity_path().to_string();
+        if !store_id.is_recording() || !entity.starts_with(prefix) {
+            continue;
+        }
+        for s in chunk.iter_slices::<[f32; 3]>(positions) {
+            rows.push((entity.clone(), s.to_vec()));
+        }
+        for s in chunk.iter_slices::<&[[f32; 3]]>(strips) {
+            rows.push((entity.clone(), s.concat()));
+        }
+    }
+    rows.retain(|r| !r.1.is_empty());
+    rows
+}

@@ -1,8 +1,9 @@
 //! The mass-spring rope: N point masses on a line, Hooke springs between neighbours (rest length =
 //! initial spacing), spring damping along each spring, air drag, gravity, pinned nodes. f64.
 //!
-//! Coordinates are flat: node i occupies `x[3i..3i+3]`. Pinned nodes have zero acceleration and
-//! start at rest, so every method keeps them exactly where they were placed.
+//! Coordinates are flat: node i occupies `x[3i..3i+3]`, z up like every scene (gravity
+//! defaults to (0, 0, −9.81)). Pinned nodes have zero acceleration and start at rest, so every
+//! method keeps them exactly where they were placed.
 
 pub mod implicit;
 pub mod run;
@@ -31,7 +32,7 @@ pub struct RopeParams {
     pub spring_damping: f64,
     /// Air drag ka: force -ka v on every node [N·s/m].
     pub air_drag: f64,
-    /// Gravitational acceleration [m/s²].
+    /// Gravitational acceleration [m/s²], z up.
     pub gravity: DVec3,
     /// Indices of nodes held fixed.
     pub pinned: Vec<usize>,
@@ -50,7 +51,7 @@ impl Default for RopeParams {
             stiffness: 5000.0,
             spring_damping: 0.05,
             air_drag: 0.01,
-            gravity: DVec3::new(0.0, -9.81, 0.0),
+            gravity: DVec3::new(0.0, 0.0, -9.81),
             pinned: vec![0],
             newton_iterations: 1,
         }

@@ -1,0 +1,200 @@
+//! The viewer layout a recording opens with, and the view properties the Rust SDK's view builders
+//! do not take in Rerun 0.36.3: a time series' legend (`PlotLegend`) and a 3D view's eye
+//! (`EyeControls3D`).
+//!
+//! Both are plain blueprint archetypes, stored in the blueprint store at
+//! `view/<view id>/<archetype>` (where `View::log_to_stream` puts the properties it does take,
+//! and where the Python SDK puts these). The SDK gives no handle to add them (`View::add_property`
+//! and `Blueprint::to_log_msgs` are `pub(crate)`), but a view's path is public
+//! (`ContainerLike::View(v).blueprint_path()`), and so is everything needed to write into the
+//! same store: [`Layout::send`] lets the SDK write the blueprint into a memory sink, appends the
+//! properties to that blueprint store (a stream built with the same store id), and sends the
+//! whole batch, activation last, through `RecordingStream::send_blueprint`. Verified by viewer
+//! screenshots (legends moved or hidden, 3D views opened on the eye) and by
+//! `tests/layout.rs`, which reads the properties back from a written recording.
+
+use rerun::blueprint::components::Corner2D;
+use rerun::blueprint::{Blueprint, BlueprintActivation, ContainerLike};
+use rerun::log::LogMsg;
+use rerun::{AsComponents, SerializedComponentBatch};
+
+/// The box a 3D view frames [m, z up]: where a scene draws its subject (slots, swings, labels).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Framing {
+    pub min: [f32; 3],
+    pub max: [f32; 3],
+    /// The direction from the box's centre towards the eye (any length).
+    pub toward_eye: [f32; 3],
+}
+
+/// Each scene's framing in a run, `None` for a scene not run.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Framings {
+    pub pendulum: Option<Framing>,
+    pub rope: Option<Framing>,
+    pub hair: Option<Framing>,
+}
+
+/// Width / height of a 3D view in `all` at 1600×1000 (a third of the width, 3/8 of the height),
+/// measured on a screenshot.
+pub const ALL_VIEW_ASPECT: f32 = 1.62;
+
+/// The viewer's vertical field of view for a 3D eye (Rerun's default, 55°).
+const FOV_Y_DEGREES: f32 = 55.0;
+/// The share of the view's half-width or half-height the framed box fills.
+const FILL: f32 = 0.95;
+
+impl Framing {
+    /// An orbit eye looking at the box's centre from `toward_eye`, z up, as close as it can be
+    /// with every corner of the box inside [`FILL`] of a view of width/height `aspect`.
+    pub fn eye(&self, aspect: f32) -> ([f32; 3], [f32; 3]) {
+        let v = |a: [f32; 3]| glam::Vec3::from_array(a);
+        let (lo, hi) = (v(self.min), v(self.max));
+        let center = 0.5 * (lo + hi);
+        let back = v(self.toward_eye).normalize();
+        let right = glam::Vec3::Z.cross(back).normalize();
+        let up = back.cross(right);
+        let tan_y = (0.5 * FOV_Y_DEGREES.to_radians()).tan() * FILL;
+        let tan_x = tan_y * aspect;
+        let mut distance = 0.0f32;
+        for i in 0..8 {
+            let corner = glam::Vec3::new(
+                if i & 1 == 0 { lo.x } else { hi.x },
+                if i & 2 == 0 { lo.y } else { hi.y },
+                if i & 4 == 0 { lo.z } else { hi.z },
+            ) - center;
+            // The corner is in view when its sideways offset over its depth in front of the eye
+            // is within the half-angle's tangent.
+            let toward = corner.dot(back);
+            distance = distance
+                .max(toward + corner.dot(right).abs() / tan_x)
+                .max(toward + corner.dot(up).abs() / tan_y);
+        }
+        ((center + distance * back).to_array(), center.to_array())
+    }
+}
+
+/// A recording's layout: the SDK's blueprint and the view properties gathered while building it.
+pub struct Layout {
+    blueprint: Blueprint,
+    properties: Vec<(String, Vec<SerializedComponentBatch>)>,
+}
+
+impl From<Blueprint> for Layout {
+    fn from(blueprint: Blueprint) -> Self {
+        Layout {
+            blueprint,
+            properties: Vec::new(),
+        }
+    }
+}
+
+/// View properties gathered while a layout is built: (entity path in the blueprint store, the
+/// archetype's components).
+#[derive(Default)]
+pub struct ViewProperties(Vec<(String, Vec<SerializedComponentBatch>)>);
+
+impl ViewProperties {
+    /// `view` as a container entry, with `property` (an archetype called `name`) set on it.
+    fn add(
+        &mut self,
+        view: impl Into<ContainerLike>,
+        name: &str,
+        property: &dyn AsComponents,
+    ) -> ContainerLike {
+        let view = view.into();
+        if let ContainerLike::View(v) = &view {
+            self.0.push((
+                format!("{}/{name}", v.blueprint_path()),
+                property.as_serialized_batches(),
+            ));
+        }
+        view
+    }
+
+    /// A time series with its legend in `corner`, or hidden (`None`).
+    pub fn legend(
+        &mut self,
+        view: impl Into<ContainerLike>,
+        corner: Option<Corner2D>,
+    ) -> ContainerLike {
+        let legend = match corner {
+            Some(c) => rerun::external::re_sdk_types::blueprint::archetypes::PlotLegend::new()
+                .with_corner(c)
+                .with_visible(true),
+            None => rerun::external::re_sdk_types::blueprint::archetypes::PlotLegend::new()
+                .with_visible(false),
+        };
+        self.add(view, "PlotLegend", &legend)
+    }
+
+    /// A 3D view opening on the eye that frames `framing` in a view of width/height `aspect`.
+    pub fn eye(
+        &mut self,
+        view: impl Into<ContainerLike>,
+        framing: Framing,
+        aspect: f32,
+    ) -> ContainerLike {
+        let (position, target) = framing.eye(aspect);
+        let eye = rerun::external::re_sdk_types::blueprint::archetypes::EyeControls3D::new()
+            .with_kind(rerun::blueprint::components::Eye3DKind::Orbital)
+            .with_position(position)
+            .with_look_target(target)
+            .with_eye_up([0.0, 0.0, 1.0]);
+        self.add(view, "EyeControls3D", &eye)
+    }
+
+    pub fn layout(self, blueprint: Blueprint) -> Layout {
+        Layout {
+            blueprint,
+            properties: self.0,
+        }
+    }
+}
+
+impl Layout {
+    /// Sends the layout to `rec` as its active and default blueprint (what
+    /// `RecordingStreamBuilder::with_blueprint` does), with the view properties in the same
+    /// blueprint store, before the activation.
+    pub fn send(self, rec: &rerun::RecordingStream, application_id: &str) -> anyhow::Result<()> {
+        let app = rerun::ApplicationId::try_new(application_id)?;
+        let (scratch, storage) = rerun::RecordingStreamBuilder::new(app.clone())
+            .send_properties(false)
+            .memory()?;
+        self.blueprint.send(
+            &scratch,
+            BlueprintActivation {
+                make_active: true,
+                make_default: true,
+            },
+        )?;
+        let mut messages: Vec<LogMsg> = storage
+            .take()
+            .into_iter()
+            .filter(|m| m.store_id().is_blueprint())
+            .collect();
+        let Some(LogMsg::BlueprintActivationCommand(activation)) = messages.pop() else {
+            anyhow::bail!("the Rerun SDK wrote no blueprint activation");
+        };
+        if !self.properties.is_empty() {
+            let (props, storage) = rerun::RecordingStreamBuilder::new(app)
+                .recording_id(activation.blueprint_id.recording_id().clone())
+                .blueprint()
+                .send_properties(false)
+                .memory()?;
+            props.set_log_time_enabled(false); // no wall clock in a recording
+            props.set_time_sequence("blueprint", 0); // as the SDK logs blueprints
+            for (path, batches) in self.properties {
+                props.log_serialized_batches(path, false, batches)?;
+            }
+            messages.extend(
+                storage
+                    .take()
+                    .into_iter()
+                    .filter(|m| matches!(m, LogMsg::ArrowMsg(..))),
+            );
+        }
+        rec.send_blueprint(messages, activation);
+        Ok(())
+    }
+}
