@@ -238,12 +238,11 @@ impl V3 {
     }
 }
 
-/// Per-thread storage of a chunk in lane form, grown to the strand's size once.
+/// Per-thread storage the kernel needs beside a chunk's state, grown to the strand's size once.
 #[derive(Default)]
 pub struct LaneScratch {
-    x: Vec<V3>,
+    /// ftl's start-of-step positions (verlet keeps its own in the state).
     p: Vec<V3>,
-    v: Vec<V3>,
     u: Vec<V3>,
     cp: Vec<F4>,
     dp: Vec<F4>,
@@ -251,8 +250,8 @@ pub struct LaneScratch {
 
 impl LaneScratch {
     fn fit(&mut self, n: usize) {
-        if self.x.len() < n {
-            for a in [&mut self.x, &mut self.p, &mut self.v, &mut self.u] {
+        if self.p.len() < n {
+            for a in [&mut self.p, &mut self.u] {
                 a.resize(n, V3::default());
             }
             self.cp.resize(n, F4::ZERO);
@@ -275,22 +274,26 @@ struct LaneInputs {
     accel: [DVec3; LANES],
 }
 
-impl StepContext<'_> {
-    /// Whether [`StepContext::step_lanes`] steps this method (verlet with the direct solver, ftl).
-    pub(super) fn has_lanes(&self) -> bool {
-        match self.method {
-            HairMethod::Verlet => self.params.solver == super::Solver::Direct,
-            HairMethod::Ftl => true,
-            _ => false,
-        }
+/// Whether a method keeps its state in lane form and is stepped by
+/// [`StepContext::step_lanes`] (verlet with the direct solver, ftl).
+pub(super) fn in_lanes(params: &super::HairParams, method: HairMethod) -> bool {
+    match method {
+        HairMethod::Verlet => params.solver == super::Solver::Direct,
+        HairMethod::Ftl => true,
+        _ => false,
     }
+}
 
-    /// Steps a group of strands four at a time and measures the result (on the last inner step).
+impl StepContext<'_> {
+    /// Steps a group of strands in place, four at a time, and measures the result (on the last
+    /// inner step). `x` holds the group's chunks in lane form (`nodes` lane vectors per chunk of
+    /// four strands, see `State::Lanes`), `prev` verlet's previous positions, `v` ftl's
+    /// velocities (the other one empty).
     pub(super) fn step_lanes(
         &self,
-        x: &mut [DVec3],
-        prev: &mut [DVec3],
-        v: &mut [DVec3],
+        x: &mut [V3],
+        prev: &mut [V3],
+        v: &mut [V3],
         roots: &[DVec3],
         s: &mut LaneScratch,
     ) -> GroupStats {
@@ -302,49 +305,28 @@ impl StepContext<'_> {
             ..GroupStats::default()
         };
         let (mut stretch, mut depth2, mut kinetic) = (0.0f64, f64::INFINITY, 0.0f64);
-        for c0 in (0..roots.len()).step_by(LANES) {
+        for (c, x) in x.chunks_exact_mut(n).enumerate() {
+            let c0 = c * LANES;
             let live = (roots.len() - c0).min(LANES);
-            // Strand of each lane (spare lanes repeat the chunk's first strand).
-            let strand = |l: usize| c0 + if l < live { l } else { 0 };
-            for l in 0..LANES {
-                let at = strand(l) * n..strand(l) * n + n;
-                for (k, p) in x[at.clone()].iter().enumerate() {
-                    s.x[k].set_lane(l, *p);
-                }
-                // ftl keeps no previous positions between steps (its predict sets them).
-                if ftl {
-                    for (k, p) in v[at].iter().enumerate() {
-                        s.v[k].set_lane(l, *p);
-                    }
-                } else {
-                    for (k, p) in prev[at].iter().enumerate() {
-                        s.p[k].set_lane(l, *p);
-                    }
-                }
-            }
+            // The strand of each lane within the chunk (spare lanes repeat the first strand).
+            let lane = |l: usize| if l < live { l } else { 0 };
             let inputs = LaneInputs {
-                anchor: V3::from_lanes(std::array::from_fn(|l| self.anchor(roots[strand(l)]))),
+                anchor: V3::from_lanes(std::array::from_fn(|l| self.anchor(roots[c0 + lane(l)]))),
                 accel: std::array::from_fn(|l| {
-                    let root = x[strand(l) * n];
+                    let root = x[0].lane(lane(l));
                     self.params.gravity + self.params.wind_at(self.time, root)
                 }),
             };
-            let st = self.kernel_dispatch(s, &inputs, n, ftl);
-            for l in 0..live {
-                let at = (c0 + l) * n..(c0 + l) * n + n;
-                for (k, p) in x[at.clone()].iter_mut().enumerate() {
-                    *p = s.x[k].lane(l);
-                }
-                if ftl {
-                    for (k, p) in v[at].iter_mut().enumerate() {
-                        *p = s.v[k].lane(l);
-                    }
-                } else {
-                    for (k, p) in prev[at].iter_mut().enumerate() {
-                        *p = s.p[k].lane(l);
-                    }
-                }
-            }
+            let at = c * n..(c + 1) * n;
+            let st = if ftl {
+                // ftl keeps no previous positions between steps (its predict sets them).
+                let mut p = std::mem::take(&mut s.p);
+                let st = self.kernel_dispatch(x, &mut p[..n], &mut v[at], s, &inputs, ftl);
+                s.p = p;
+                st
+            } else {
+                self.kernel_dispatch(x, &mut prev[at], &mut [], s, &inputs, ftl)
+            };
             if let Some(st) = st {
                 for l in 0..live {
                     stretch = stretch.max(st.stretch.0[l]);
@@ -368,50 +350,57 @@ impl StepContext<'_> {
         out
     }
 
-    /// The kernel with AVX2 where the processor has it (same bits either way: module docs).
+/// The kernel with AVX2 where the processor has it (same bits either way: module docs).
     fn kernel_dispatch(
         &self,
+        x: &mut [V3],
+        p: &mut [V3],
+        v: &mut [V3],
         s: &mut LaneScratch,
         inputs: &LaneInputs,
-        n: usize,
         ftl: bool,
     ) -> Option<LaneStats> {
         #[cfg(target_arch = "x86_64")]
         {
             if std::arch::is_x86_feature_detected!("avx2") {
                 // SAFETY: the processor has AVX2 (checked just above).
-                return unsafe { self.kernel_avx2(s, inputs, n, ftl) };
+                return unsafe { self.kernel_avx2(x, p, v, s, inputs, ftl) };
             }
         }
-        self.kernel(s, inputs, n, ftl)
+        self.kernel(x, p, v, s, inputs, ftl)
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     unsafe fn kernel_avx2(
         &self,
+        x: &mut [V3],
+        p: &mut [V3],
+        v: &mut [V3],
         s: &mut LaneScratch,
         inputs: &LaneInputs,
-        n: usize,
         ftl: bool,
     ) -> Option<LaneStats> {
-        self.kernel(s, inputs, n, ftl)
+        self.kernel(x, p, v, s, inputs, ftl)
     }
 
-    /// One step of four strands in lane form; their measurements on the last inner step.
+    /// One step of a chunk of four strands in place: `x` its positions, `p` the start-of-step
+    /// positions (verlet's state, ftl's scratch), `v` ftl's velocities (empty for verlet), one
+    /// lane vector per node; their measurements on the last inner step.
     #[inline(always)]
     fn kernel(
         &self,
+        x: &mut [V3],
+        p: &mut [V3],
+        v: &mut [V3],
         s: &mut LaneScratch,
         inputs: &LaneInputs,
-        n: usize,
         ftl: bool,
     ) -> Option<LaneStats> {
-        let (x, p) = (&mut s.x[..n], &mut s.p[..n]);
+        let n = x.len();
         let dt = F4::splat(self.dt);
         let keep = F4::splat(self.keep);
         if ftl {
-            let v = &mut s.v[..n];
             let adt = V3::from_lanes(inputs.accel.map(|a| a * self.dt));
             for k in 1..n {
                 v[k] = (v[k] + adt) * keep;
