@@ -122,6 +122,12 @@ fn any(m: M4) -> bool {
     m[0] | m[1] | m[2] | m[3]
 }
 
+/// Whether every lane holds.
+#[inline(always)]
+fn all(m: M4) -> bool {
+    m[0] & m[1] & m[2] & m[3]
+}
+
 /// Four 3-vectors, one per lane.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct V3 {
@@ -476,44 +482,88 @@ impl StepContext<'_> {
         })
     }
 
-    /// [`StepContext::collide`] on four nodes: the test in lanes, the push on the lanes inside.
+    /// [`StepContext::collide`] on four nodes, in lanes: the lanes inside take the push, the
+    /// others keep their node.
     #[inline(always)]
     pub(super) fn collide_lanes(&self, xk: &mut V3) {
-        let d2 = (*xk - V3::splat(self.center)).length_squared();
+        let center = V3::splat(self.center);
+        let r = *xk - center;
+        let d2 = r.length_squared();
         let rc = self.collide_radius;
-        let inside = d2.test(F4::splat(rc * rc), |a, b| a < b);
+        let rc2 = rc * rc;
+        let mut inside = [false; LANES];
+        for l in 0..LANES {
+            inside[l] = (d2.0[l] < rc2) & (d2.0[l] > 0.0);
+        }
         if any(inside) {
-            for l in 0..LANES {
-                if inside[l] {
-                    let mut p = xk.lane(l);
-                    self.collide(&mut p);
-                    xk.set_lane(l, p);
-                }
-            }
+            let pushed = center + r * (F4::splat(rc) / d2.sqrt());
+            *xk = V3::select(inside, pushed, *xk);
         }
     }
 
-    /// [`StepContext::follow`] on four nodes: the common case (a segment of non-zero length
-    /// whose rest-length point is outside the head) in lanes, the others by the scalar code.
+    /// [`StepContext::follow`] on four nodes, in lanes: the free case (a segment of non-zero
+    /// length whose rest-length point is outside the head) and the contact case (the point on
+    /// the circle where the rest-length sphere meets the collision sphere, or straight out when
+    /// they do not meet); the degenerate cases (a zero-length segment, a parent at the centre, a
+    /// prediction along the axis, non-finite values) by the scalar code on the lanes that take
+    /// them. Per lane the operations and their order are the scalar code's.
     #[inline(always)]
     fn follow_lanes(&self, parent: V3, predicted: V3) -> (V3, V3) {
+        let l0 = self.params.segment_length;
         let d = predicted - parent;
         let rcp = F4::splat(1.0) / d.length();
         let dir = d * rcp;
-        let candidate = parent + dir * F4::splat(self.params.segment_length);
-        let dist = (candidate - V3::splat(self.center)).length();
-        let rc = self.collide_radius;
-        let mut slow = [false; LANES];
+        let candidate = parent + dir * F4::splat(l0);
+        let center = V3::splat(self.center);
+        // |candidate - centre| >= rc without the square root (`sqrt_threshold`).
+        let d2 = (candidate - center).length_squared();
+        let outside2 = self.outside2;
+        let finite_max = self.finite_max;
+        let (mut normal, mut contact) = ([false; LANES], [false; LANES]);
         for l in 0..LANES {
             let r = rcp.0[l];
-            slow[l] = !(r.is_finite() && r > 0.0 && dist.0[l] >= rc);
+            // glam's try_normalize: 1/ℓ finite and positive.
+            normal[l] = (r > 0.0) & (r <= finite_max);
+            contact[l] = normal[l] & !(d2.0[l] >= outside2);
         }
-        if !any(slow) {
+        if all(normal) && !any(contact) {
             return (candidate, candidate);
         }
-        let (mut placed, mut followed) = (candidate, candidate);
+        let mut placed = candidate;
+        let mut scalar = normal.map(|n| !n);
+        if any(contact) {
+            let rc = self.collide_radius;
+            let axis = center - parent;
+            let dist = axis.length();
+            let e = axis / dist;
+            // Circle of {|y - parent| = l0} ∩ {|y - center| = rc}: centre parent + h e, radius ρ.
+            let h = (F4::splat(l0 * l0 - rc * rc) + dist * dist) / (F4::splat(2.0) * dist);
+            let rho2 = F4::splat(l0 * l0) - h * h;
+            let w = d - e * d.dot(e);
+            let w_rcp = F4::splat(1.0) / w.length();
+            let on_circle = parent + e * h + (w * w_rcp) * rho2.sqrt();
+            let straight_out = parent - e * F4::splat(l0);
+            let (mut circle, mut out) = ([false; LANES], [false; LANES]);
+            for l in 0..LANES {
+                if contact[l] {
+                    let wr = w_rcp.0[l];
+                    if dist.0[l] == 0.0 {
+                        scalar[l] = true;
+                    } else if rho2.0[l] < 0.0 {
+                        out[l] = true;
+                    } else if wr > 0.0 && wr < f64::INFINITY {
+                        circle[l] = true;
+                    } else {
+                        scalar[l] = true;
+                    }
+                }
+            }
+            placed = V3::select(circle, on_circle, placed);
+            placed = V3::select(out, straight_out, placed);
+        }
+        let mut followed = candidate;
         for l in 0..LANES {
-            if slow[l] {
+            if scalar[l] {
                 let (a, b) = self.follow(parent.lane(l), predicted.lane(l));
                 placed.set_lane(l, a);
                 followed.set_lane(l, b);
@@ -521,6 +571,19 @@ impl StepContext<'_> {
         }
         (placed, followed)
     }
+}
+
+/// The smallest a with fl(√a) ≥ r (r > 0): since the square root is correctly rounded and
+/// monotone, `a >= sqrt_threshold(r)` decides `a.sqrt() >= r` exactly, without the root.
+pub(super) fn sqrt_threshold(r: f64) -> f64 {
+    let mut a = r * r;
+    while a > 0.0 && a.next_down().sqrt() >= r {
+        a = a.next_down();
+    }
+    while a.sqrt() < r {
+        a = a.next_up();
+    }
+    a
 }
 
 /// One Newton step of the chain's length constraints on four strands (as
@@ -540,6 +603,9 @@ pub(super) fn newton_lanes(
     let unit_z = V3::splat(DVec3::Z);
     let (one, two) = (F4::splat(1.0), F4::splat(2.0));
     for j in 0..m {
+        // Keeps LLVM's loop vectoriser from vectorising across segments (it would gather
+        // lanes of four segments, 3× the instructions); the lane operations are vectors already.
+        let j = std::hint::black_box(j);
         let d = x[j + 1] - x[j];
         let len = d.length();
         // One division per segment (d·(1/ℓ), not glam's d/ℓ per component).

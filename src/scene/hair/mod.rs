@@ -480,6 +480,8 @@ impl Hair {
                 rotation,
                 keep: (-p.damping * h).exp(),
                 collide_radius,
+                outside2: lanes::sqrt_threshold(collide_radius),
+                finite_max: std::hint::black_box(f64::MAX),
                 first: j == 0,
                 last: j + 1 == inner,
             };
@@ -629,6 +631,12 @@ struct StepContext<'a> {
     /// Velocity kept per step, exp(-c dt).
     keep: f64,
     collide_radius: f64,
+    /// The smallest squared distance from the centre whose square root is ≥ `collide_radius`
+    /// ([`lanes::sqrt_threshold`]).
+    outside2: f64,
+    /// f64::MAX, opaque to the optimiser: `r <= finite_max` tests "finite" as one vector
+    /// comparison (LLVM rewrites a comparison with the constant into integer bit tests per lane).
+    finite_max: f64,
     /// Whether this is the first / last inner step of the step.
     first: bool,
     last: bool,
