@@ -320,7 +320,7 @@ impl StepContext<'_> {
                 anchor: V3::from_lanes(std::array::from_fn(|l| self.anchor(roots[c0 + lane(l)]))),
                 accel: std::array::from_fn(|l| {
                     let root = x[0].lane(lane(l));
-                    self.params.gravity + self.params.wind_at(self.time, root)
+                    self.params.gravity + self.wind.at(root)
                 }),
             };
             let at = c * n..(c + 1) * n;

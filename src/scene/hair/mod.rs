@@ -262,13 +262,18 @@ impl HairParams {
     /// is a smooth deterministic gust signal in [-1, 1] that travels downwind. Evaluated once per
     /// strand per step (at the root): gusts vary over metres, strands are centimetres long.
     pub fn wind_at(&self, t: f64, x: DVec3) -> DVec3 {
-        if self.gust == 0.0 {
-            return self.wind;
+        self.wind_field(t).at(x)
+    }
+
+    /// The wind at time t, with what does not depend on the position evaluated once.
+    pub fn wind_field(&self, t: f64) -> WindField {
+        WindField {
+            base: self.wind,
+            gust: self.gust,
+            along: self.wind.normalize_or_zero(),
+            t,
+            slow: (2.0 * std::f64::consts::PI * 0.23 * t).sin(),
         }
-        let along = x.dot(self.wind.normalize_or_zero());
-        let s = (2.0 * std::f64::consts::PI * (0.7 * t - 2.0 * along)).sin()
-            * (2.0 * std::f64::consts::PI * 0.23 * t).sin();
-        self.wind * (1.0 + self.gust * s)
     }
 
     /// Highest angular frequency of a strand's springs (pinned root, free tip, unit masses):
@@ -285,6 +290,31 @@ impl HairParams {
         // Positive root of w2 h² + 2 g h - 4 = 0.
         let h = (-g + (g * g + 4.0 * w2).sqrt()) / w2;
         0.9 * h
+    }
+}
+
+/// The wind at one time ([`HairParams::wind_at`]).
+#[derive(Clone, Copy, Debug)]
+pub struct WindField {
+    base: DVec3,
+    gust: f64,
+    /// The unit downwind direction.
+    along: DVec3,
+    t: f64,
+    /// The gust signal's slow factor, sin(2π·0.23·t).
+    slow: f64,
+}
+
+impl WindField {
+    /// The wind acceleration at x [m/s²].
+    #[inline]
+    pub fn at(&self, x: DVec3) -> DVec3 {
+        if self.gust == 0.0 {
+            return self.base;
+        }
+        let along = x.dot(self.along);
+        let s = (2.0 * std::f64::consts::PI * (0.7 * self.t - 2.0 * along)).sin() * self.slow;
+        self.base * (1.0 + self.gust * s)
     }
 }
 
@@ -350,8 +380,9 @@ impl Hair {
         let roots = params.root_directions();
         let (center, rotation) = head_pose(params.motion, 0.0, params.head_radius);
         let n = params.nodes;
+        let normals: Vec<DVec3> = roots.iter().map(|dir| rotation * *dir).collect();
         let start = |s: usize, k: usize| {
-            center + rotation * roots[s] * (params.head_radius + k as f64 * params.segment_length)
+            center + normals[s] * (params.head_radius + k as f64 * params.segment_length)
         };
         let groups = roots.len().div_ceil(GROUP);
         let state = if lanes::in_lanes(&params, method) {
@@ -482,6 +513,7 @@ impl Hair {
                 collide_radius,
                 outside2: lanes::sqrt_threshold(collide_radius),
                 finite_max: std::hint::black_box(f64::MAX),
+                wind: p.wind_field(t0),
                 first: j == 0,
                 last: j + 1 == inner,
             };
@@ -591,8 +623,10 @@ impl Hair {
     /// Largest distance of a root node from its attachment point [m].
     pub fn max_root_error(&self) -> f64 {
         (0..self.strands())
+            .into_par_iter()
+            .with_min_len(1024)
             .map(|s| (self.node(s, 0) - self.root_anchor(s)).length())
-            .fold(0.0, f64::max)
+            .reduce(|| 0.0, f64::max)
     }
 
     /// Kinetic energy per unit node mass, ½ Σ |Δx/dt|² [J/kg], from how far each node actually
@@ -637,6 +671,8 @@ struct StepContext<'a> {
     /// f64::MAX, opaque to the optimiser: `r <= finite_max` tests "finite" as one vector
     /// comparison (LLVM rewrites a comparison with the constant into integer bit tests per lane).
     finite_max: f64,
+    /// The wind at `time`.
+    wind: WindField,
     /// Whether this is the first / last inner step of the step.
     first: bool,
     last: bool,
