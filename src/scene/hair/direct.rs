@@ -24,7 +24,7 @@
 
 use glam::DVec3;
 
-use super::lanes::{F4, V3, newton_lanes};
+use super::lanes::{F8, V3, newton_lanes};
 
 /// One Newton step of the chain's length constraints on one strand `x` (root x[0] held, no
 /// collision): the strand in every lane of [`newton_lanes`], the kernel the run steps four
@@ -33,7 +33,7 @@ pub fn newton_step(x: &mut [DVec3], l0: f64) -> f64 {
     let before = residual(x, l0);
     let mut lanes: Vec<V3> = x.iter().map(|p| V3::splat(*p)).collect();
     let n = x.len();
-    let (mut u, mut cp, mut dp) = (vec![V3::default(); n], vec![F4::ZERO; n], vec![F4::ZERO; n]);
+    let (mut u, mut cp, mut dp) = (vec![V3::default(); n], vec![F8::ZERO; n], vec![F8::ZERO; n]);
     newton_lanes(&mut lanes, &mut u, &mut cp, &mut dp, l0, None);
     for (p, l) in x.iter_mut().zip(&lanes) {
         *p = l.lane(0);
