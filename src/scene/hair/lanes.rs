@@ -119,13 +119,23 @@ impl F8 {
 /// Whether any lane holds.
 #[inline(always)]
 fn any(m: M8) -> bool {
-    m.iter().any(|&b| b)
+    bits(m) != 0
+}
+
+/// The lanes' conditions as the bits of an integer (LLVM makes one mask move of it).
+#[inline(always)]
+fn bits(m: M8) -> u32 {
+    let mut b = 0;
+    for l in 0..LANES {
+        b |= (m[l] as u32) << l;
+    }
+    b
 }
 
 /// Whether every lane holds.
 #[inline(always)]
 fn all(m: M8) -> bool {
-    m.iter().all(|&b| b)
+    bits(m) == (1 << LANES) - 1
 }
 
 /// Eight 3-vectors, one per lane.
