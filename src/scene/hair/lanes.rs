@@ -418,7 +418,7 @@ impl StepContext<'_> {
         out
     }
 
-/// The kernel compiled for the widest vector instructions the processor has (same bits on
+    /// The kernel compiled for the widest vector instructions the processor has (same bits on
     /// every path: module docs).
     fn kernel_dispatch(
         &self,
@@ -764,7 +764,12 @@ mod tests {
                 })
                 .collect();
             for (isa, r) in paths.iter().zip(&results) {
-                assert!(r == &results[0], "{}: {isa:?} differs from {:?}", method.name(), paths[0]);
+                assert!(
+                    r == &results[0],
+                    "{}: {isa:?} differs from {:?}",
+                    method.name(),
+                    paths[0]
+                );
             }
         }
     }
