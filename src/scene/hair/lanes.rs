@@ -1,23 +1,36 @@
-//! Four strands at once: `verlet` with the direct solver and `ftl`, vectorised across strands.
+//! Eight strands at once: `verlet` with the direct solver and `ftl`, vectorised across strands.
 //!
 //! A strand is a chain of dependent square roots and divisions, so one strand at a time is
-//! latency-bound; four strands in the four f64 lanes of an AVX2 register make every operation
-//! one vector instruction. The state stays strand-major `DVec3` (what the recorder and the tests
-//! read); each chunk of four strands is transposed into lane form ([`V3`]: x, y, z each an
-//! [`F8`] of four strands) in per-thread scratch, stepped there while it is in L1, and written
-//! back. A chunk with fewer than four strands repeats its first strand in the spare lanes and
-//! drops their results.
+//! latency-bound; eight strands in the eight f64 lanes of an AVX-512 register (two AVX2 ones)
+//! make every operation one vector instruction (two), and the chains of different strands
+//! overlap. These methods keep their state in lane form for good (`State::Lanes` in the parent
+//! module): chunks of [`LANES`] strands, node-major within a chunk, one [`V3`] (x, y, z each an
+//! [`F8`] of eight strands) per node, so [`StepContext::step_lanes`] steps each chunk in place,
+//! with nothing copied in or out. Readers go through `Hair::node`, `Hair::strand` and
+//! `Hair::positions`, which transpose one node at a time. A chunk with fewer than eight strands
+//! holds copies of its first strand in the spare lanes; they are stepped with it (the same
+//! inputs, so the same bits) and never measured or read.
+//!
+//! The kernel takes the chunk's state slices (`x`, the start-of-step positions `p`, ftl's
+//! velocities `v`) and the per-thread [`LaneScratch`] for the solver's buffers.
 //!
 //! Per lane the arithmetic and its order are the scalar code's (glam's `DVec3` operations:
-//! `length` = sqrt of (x² + y²) + z², normalisation multiplies by 1/ℓ); Rust does not contract a·b + c into a fused multiply-add, so the AVX2 build and the
-//! portable fallback give the same bits. The rare branches (a node inside the head, a
-//! zero-length segment) run the scalar code ([`StepContext::collide`], [`StepContext::follow`])
-//! on the lanes that take them.
+//! `length` = sqrt of (x² + y²) + z², normalisation multiplies by 1/ℓ); Rust does not contract
+//! a·b + c into a fused multiply-add, so the AVX-512 and AVX2 builds and the portable fallback
+//! give the same bits (tested). The collision push and the follow pass's contact case (the point
+//! on the circle where the rest-length sphere meets the collision sphere) run in lanes, with
+//! the scalar code's branches as per-lane selections; only degenerate lanes (a zero-length
+//! segment, a parent at the centre, a prediction along the axis, non-finite values) run the
+//! scalar code ([`StepContext::follow`]). "Outside the head" is decided on squared distances
+//! against an exact threshold ([`sqrt_threshold`]), with no square root.
 //!
-//! `F8` is a plain `[f64; 4]` whose operations are per-lane loops marked `#[inline(always)]`;
-//! inlined into a function compiled with `avx2` (chosen at run time) LLVM turns each into one
-//! `ymm` instruction (`vsqrtpd`, `vdivpd`, `vmulpd`, ... : see `objdump -d` of the binary,
-//! function `kernel_avx2`).
+//! `F8` is a plain `[f64; 8]` whose operations are per-lane loops marked `#[inline(always)]`;
+//! inlined into a function compiled with `avx512f` or `avx2` (chosen at run time) LLVM turns
+//! each into one `zmm` instruction or two `ymm` ones (`vsqrtpd`, `vdivpd`, `vmulpd`, ... : see
+//! `objdump -d` of the binary, functions `kernel_avx512` and `kernel_avx2`). Two things keep
+//! LLVM from undoing that: the Newton step's first loop hides its index from the loop vectoriser
+//! (which would otherwise gather lanes of four segments), and the finite test compares with an
+//! opaque `f64::MAX` (a comparison with the constant becomes integer bit tests per lane).
 
 // Lane loops index every array by the lane on purpose: it is the form LLVM turns into one
 // vector instruction.
@@ -353,10 +366,10 @@ pub(super) fn in_lanes(params: &super::HairParams, method: HairMethod) -> bool {
 }
 
 impl StepContext<'_> {
-    /// Steps a group of strands in place, four at a time, and measures the result (on the last
-    /// inner step). `x` holds the group's chunks in lane form (`nodes` lane vectors per chunk of
-    /// four strands, see `State::Lanes`), `prev` verlet's previous positions, `v` ftl's
-    /// velocities (the other one empty).
+    /// Steps a group of strands in place, [`LANES`] at a time, and measures the result (on the
+    /// last inner step). `x` holds the group's chunks in lane form (`nodes` lane vectors per
+    /// chunk, see `State::Lanes`), `prev` verlet's previous positions, `v` ftl's velocities (the
+    /// other one empty).
     pub(super) fn step_lanes(
         &self,
         x: &mut [V3],
@@ -560,7 +573,7 @@ impl StepContext<'_> {
         })
     }
 
-    /// [`StepContext::collide`] on four nodes, in lanes: the lanes inside take the push, the
+    /// [`StepContext::collide`] on eight nodes, in lanes: the lanes inside take the push, the
     /// others keep their node.
     #[inline(always)]
     pub(super) fn collide_lanes(&self, xk: &mut V3) {
@@ -579,7 +592,7 @@ impl StepContext<'_> {
         }
     }
 
-    /// [`StepContext::follow`] on four nodes, in lanes: the free case (a segment of non-zero
+    /// [`StepContext::follow`] on eight nodes, in lanes: the free case (a segment of non-zero
     /// length whose rest-length point is outside the head) and the contact case (the point on
     /// the circle where the rest-length sphere meets the collision sphere, or straight out when
     /// they do not meet); the degenerate cases (a zero-length segment, a parent at the centre, a
@@ -602,7 +615,10 @@ impl StepContext<'_> {
             let r = rcp.0[l];
             // glam's try_normalize: 1/ℓ finite and positive.
             normal[l] = (r > 0.0) & (r <= finite_max);
-            contact[l] = normal[l] & !(d2.0[l] >= outside2);
+            // Negated on purpose: NaN takes the contact branch, as in the scalar code.
+            #[allow(clippy::neg_cmp_op_on_partial_ord)]
+            let inside = !(d2.0[l] >= outside2);
+            contact[l] = normal[l] & inside;
         }
         if all(normal) && !any(contact) {
             return (candidate, candidate);
@@ -664,7 +680,7 @@ pub(super) fn sqrt_threshold(r: f64) -> f64 {
     a
 }
 
-/// One Newton step of the chain's length constraints on four strands (as
+/// One Newton step of the chain's length constraints on eight strands (as
 /// [`super::direct`] describes it), each lane one strand; with `collide`, every moved node is pushed out of the head.
 #[inline(always)]
 pub(super) fn newton_lanes(

@@ -12,12 +12,19 @@
 //! - `ftl`: dynamic follow-the-leader (Müller, Kim & Chentanez 2012), inextensible in one pass.
 //!
 //! Layout is structure-of-arrays: positions, previous positions and velocities are separate
-//! arrays, strand-major (node k of strand s at s·nodes + k), so each strand is a contiguous slice
-//! of every array and strands are stepped in parallel without sharing anything; a method keeps
-//! only the arrays it needs (verlet: positions and previous positions; ftl: positions and
-//! velocities). `verlet` with the direct solver and `ftl` step four strands at once in the lanes
-//! of an AVX2 register ([`lanes`]). The hot loop allocates nothing (per-thread scratch is made
-//! once). f64 throughout: segment lengths (~1 cm)
+//! arrays, and a method keeps only the arrays it needs (verlet: positions and previous
+//! positions; ftl: positions and velocities; the springs all three). Two layouts (`State`):
+//! - lane form, for `verlet` with the direct solver and `ftl`, which step eight strands at once
+//!   in the lanes of a vector register ([`lanes`]): chunks of eight strands, node-major within a
+//!   chunk (node k of strand s in lane s % 8 of element (s / 8)·nodes + k), stepped in place;
+//! - strand-major `DVec3` (node k of strand s at s·nodes + k) for gauss-seidel verlet and the
+//!   spring methods, which step one strand at a time.
+//!
+//! Either way the strands of a group are contiguous, so groups are stepped in parallel without
+//! sharing anything. Nothing outside this module depends on the layout: positions are read
+//! through [`Hair::node`], [`Hair::strand`] and [`Hair::positions`] (the recorder, the tests, the
+//! invariants), so the transposition happens only where something is read. The hot loop
+//! allocates nothing (per-thread scratch is made once). f64 throughout: segment lengths (~1 cm)
 //! must hold to 1e-6 relative at positions ~1 m away from the origin, which f32 (7 digits)
 //! cannot.
 
