@@ -50,10 +50,10 @@ fn tour_root(r: f64, dir: DVec3, t: f64, inverse: bool) -> DVec3 {
 
 /// The largest distance of a root node from where `tour_root` puts it at time t.
 fn root_error(hair: &Hair, dirs: &[DVec3], t: f64) -> f64 {
-    let (n, r) = (hair.params.nodes, hair.params.head_radius);
+    let r = hair.params.head_radius;
     dirs.iter()
         .enumerate()
-        .map(|(s, d)| (hair.pos[s * n] - tour_root(r, *d, t, false)).length())
+        .map(|(s, d)| (hair.node(s, 0) - tour_root(r, *d, t, false)).length())
         .fold(0.0, f64::max)
 }
 
@@ -108,7 +108,7 @@ fn tour(method: HairMethod, p: HairParams, substeps: u32, seconds: f64) -> f64 {
                 "ftl step {step}: a segment is off rest length by {stretch:e} (relative)"
             );
         }
-        assert!(hair.pos.iter().all(|x| x.is_finite()));
+        assert!(hair.positions().iter().all(|x| x.is_finite()));
         worst = worst.max(stretch);
     }
     // The check can fail: over a tour through the turn and the nod, the two likely mistakes move
@@ -211,7 +211,7 @@ fn still_head_without_wind_settles_with_strands_hanging() {
             m.name(),
             solver.name()
         );
-        for (s, strand) in hair.pos.chunks(n).enumerate() {
+        for (s, strand) in hair.positions().chunks(n).enumerate() {
             assert!(
                 strand[n - 1].z < strand[0].z,
                 "{} strand {s}: tip not below its root",
@@ -288,7 +288,8 @@ fn what_damping_each_method_adds() {
         let g = -p.gravity.z;
         let released = g * p.segment_length * (0..p.nodes).sum::<usize>() as f64;
         let mut h = Hair::new(p, m);
-        let energy = |h: &Hair| h.pos.iter().map(|x| g * x.z).sum::<f64>() + h.kinetic_energy();
+        let energy =
+            |h: &Hair| h.positions().iter().map(|x| g * x.z).sum::<f64>() + h.kinetic_energy();
         let e0 = energy(&h);
         for _ in 0..30 * steps_per_frame {
             h.step(1.0 / 60.0 / steps_per_frame as f64);
@@ -336,7 +337,7 @@ fn results_do_not_depend_on_the_thread_count() {
                     for _ in 0..60 {
                         h.step(1.0 / 60.0);
                     }
-                    h.pos
+                    h.positions()
                         .iter()
                         .map(|p| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()])
                         .collect()

@@ -149,17 +149,16 @@ impl HairDraw {
             let q = p + o;
             [q.x as f32, q.y as f32, q.z as f32]
         };
-        let strand = |k: usize| &hair.pos[k * self.nodes..(k + 1) * self.nodes];
         let strips: Vec<Vec<[f32; 3]>> = self
             .shown
             .iter()
-            .map(|&k| strand(k).iter().map(|&p| f(p)).collect())
+            .map(|&k| hair.strand(k).map(f).collect())
             .collect();
         rec.log(
             format!("hair/{name}/strands"),
             &rerun::LineStrips3D::update_fields().with_strips(strips),
         )?;
-        let roots: Vec<[f32; 3]> = self.shown.iter().map(|&k| f(strand(k)[0])).collect();
+        let roots: Vec<[f32; 3]> = self.shown.iter().map(|&k| f(hair.node(k, 0))).collect();
         rec.log(
             format!("hair/{name}/roots"),
             &rerun::Points3D::update_fields().with_positions(roots),

@@ -11,7 +11,7 @@
 //! where J W Jᵀ is tridiagonal: diagonal 1 for the root's segment and 2 elsewhere, off-diagonal
 //! -u_j·u_{j+1}. Every pivot of the Thomas elimination is ≥ 1 (|u_j·u_{j+1}| ≤ 1), so the solve
 //! needs no pivoting and cannot break down. O(nodes) per step; the back substitution applies the
-//! position update and pushes each node out of the head as it goes. The run solves four strands
+//! position update and pushes each node out of the head as it goes. The run solves eight strands
 //! at once in the lanes of a vector register ([`super::lanes`]).
 //!
 //! The tension solve ([`super::lanes::tension_solve_lanes`]): Newton's corrections point along
@@ -36,17 +36,17 @@
 
 use glam::DVec3;
 
-use super::lanes::{F4, V3, newton_lanes};
+use super::lanes::{F8, V3, newton_lanes};
 
 /// One Newton step of the chain's length constraints on one strand `x` (root x[0] held, no
-/// collision): the strand in every lane of [`newton_lanes`], the kernel the run steps four
+/// collision): the strand in every lane of [`newton_lanes`], the kernel the run steps eight
 /// strands with. Returns the largest |C_j|/ℓ0 before the step.
 pub fn newton_step(x: &mut [DVec3], l0: f64) -> f64 {
     let before = residual(x, l0);
     let mut lanes: Vec<V3> = x.iter().map(|p| V3::splat(*p)).collect();
     let n = x.len();
-    let (mut u, mut cp, mut dp) = (vec![V3::default(); n], vec![F4::ZERO; n], vec![F4::ZERO; n]);
-    let mut mu = vec![F4::ZERO; n];
+    let (mut u, mut cp, mut dp) = (vec![V3::default(); n], vec![F8::ZERO; n], vec![F8::ZERO; n]);
+    let mut mu = vec![F8::ZERO; n];
     newton_lanes(&mut lanes, &mut u, &mut cp, &mut dp, &mut mu, l0, None);
     for (p, l) in x.iter_mut().zip(&lanes) {
         *p = l.lane(0);

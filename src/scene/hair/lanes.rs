@@ -1,23 +1,36 @@
-//! Four strands at once: `verlet` with the direct solver and `ftl`, vectorised across strands.
+//! Eight strands at once: `verlet` with the direct solver and `ftl`, vectorised across strands.
 //!
 //! A strand is a chain of dependent square roots and divisions, so one strand at a time is
-//! latency-bound; four strands in the four f64 lanes of an AVX2 register make every operation
-//! one vector instruction. The state stays strand-major `DVec3` (what the recorder and the tests
-//! read); each chunk of four strands is transposed into lane form ([`V3`]: x, y, z each an
-//! [`F4`] of four strands) in per-thread scratch, stepped there while it is in L1, and written
-//! back. A chunk with fewer than four strands repeats its first strand in the spare lanes and
-//! drops their results.
+//! latency-bound; eight strands in the eight f64 lanes of an AVX-512 register (two AVX2 ones)
+//! make every operation one vector instruction (two), and the chains of different strands
+//! overlap. These methods keep their state in lane form for good (`State::Lanes` in the parent
+//! module): chunks of [`LANES`] strands, node-major within a chunk, one [`V3`] (x, y, z each an
+//! [`F8`] of eight strands) per node, so [`StepContext::step_lanes`] steps each chunk in place,
+//! with nothing copied in or out. Readers go through `Hair::node`, `Hair::strand` and
+//! `Hair::positions`, which transpose one node at a time. A chunk with fewer than eight strands
+//! holds copies of its first strand in the spare lanes; they are stepped with it (the same
+//! inputs, so the same bits) and never measured or read.
+//!
+//! The kernel takes the chunk's state slices (`x`, the start-of-step positions `p`, ftl's
+//! velocities `v`) and the per-thread [`LaneScratch`] for the solver's buffers.
 //!
 //! Per lane the arithmetic and its order are the scalar code's (glam's `DVec3` operations:
-//! `length` = sqrt of (x² + y²) + z², normalisation multiplies by 1/ℓ); Rust does not contract a·b + c into a fused multiply-add, so the AVX2 build and the
-//! portable fallback give the same bits. The rare branches (a node inside the head, a
-//! zero-length segment) run the scalar code ([`StepContext::collide`], [`StepContext::follow`])
-//! on the lanes that take them.
+//! `length` = sqrt of (x² + y²) + z², normalisation multiplies by 1/ℓ); Rust does not contract
+//! a·b + c into a fused multiply-add, so the AVX-512 and AVX2 builds and the portable fallback
+//! give the same bits (tested). The collision push and the follow pass's contact case (the point
+//! on the circle where the rest-length sphere meets the collision sphere) run in lanes, with
+//! the scalar code's branches as per-lane selections; only degenerate lanes (a zero-length
+//! segment, a parent at the centre, a prediction along the axis, non-finite values) run the
+//! scalar code ([`StepContext::follow`]). "Outside the head" is decided on squared distances
+//! against an exact threshold ([`sqrt_threshold`]), with no square root.
 //!
-//! `F4` is a plain `[f64; 4]` whose operations are per-lane loops marked `#[inline(always)]`;
-//! inlined into a function compiled with `avx2` (chosen at run time) LLVM turns each into one
-//! `ymm` instruction (`vsqrtpd`, `vdivpd`, `vmulpd`, ... : see `objdump -d` of the binary,
-//! function `kernel_avx2`).
+//! `F8` is a plain `[f64; 8]` whose operations are per-lane loops marked `#[inline(always)]`;
+//! inlined into a function compiled with `avx512f` or `avx2` (chosen at run time) LLVM turns
+//! each into one `zmm` instruction or two `ymm` ones (`vsqrtpd`, `vdivpd`, `vmulpd`, ... : see
+//! `objdump -d` of the binary, functions `kernel_avx512` and `kernel_avx2`). Two things keep
+//! LLVM from undoing that: the Newton step's first loop hides its index from the loop vectoriser
+//! (which would otherwise gather lanes of four segments), and the finite test compares with an
+//! opaque `f64::MAX` (a comparison with the constant becomes integer bit tests per lane).
 
 // Lane loops index every array by the lane on purpose: it is the form LLVM turns into one
 // vector instruction.
@@ -29,27 +42,27 @@ use glam::DVec3;
 
 use super::{FTL_CORRECTION, GroupStats, HairMethod, StepContext};
 
-pub const LANES: usize = 4;
+pub const LANES: usize = 8;
 
-/// Four f64 lanes, one strand each.
+/// Eight f64 lanes, one strand each.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-#[repr(C, align(32))]
-pub struct F4(pub [f64; LANES]);
+#[repr(C, align(64))]
+pub struct F8(pub [f64; LANES]);
 
 /// A per-lane condition.
-type M4 = [bool; LANES];
+type M8 = [bool; LANES];
 
 macro_rules! lanewise {
     ($trait:ident, $f:ident, $op:tt) => {
-        impl $trait for F4 {
-            type Output = F4;
+        impl $trait for F8 {
+            type Output = F8;
             #[inline(always)]
-            fn $f(self, o: F4) -> F4 {
+            fn $f(self, o: F8) -> F8 {
                 let mut r = [0.0; LANES];
                 for i in 0..LANES {
                     r[i] = self.0[i] $op o.0[i];
                 }
-                F4(r)
+                F8(r)
             }
         }
     };
@@ -59,39 +72,39 @@ lanewise!(Sub, sub, -);
 lanewise!(Mul, mul, *);
 lanewise!(Div, div, /);
 
-impl Neg for F4 {
-    type Output = F4;
+impl Neg for F8 {
+    type Output = F8;
     #[inline(always)]
-    fn neg(self) -> F4 {
+    fn neg(self) -> F8 {
         self.map(|a| -a)
     }
 }
 
-impl F4 {
-    pub const ZERO: F4 = F4([0.0; LANES]);
+impl F8 {
+    pub const ZERO: F8 = F8([0.0; LANES]);
 
     #[inline(always)]
-    pub fn splat(v: f64) -> F4 {
-        F4([v; LANES])
+    pub fn splat(v: f64) -> F8 {
+        F8([v; LANES])
     }
     #[inline(always)]
-    fn map(self, f: impl Fn(f64) -> f64) -> F4 {
+    fn map(self, f: impl Fn(f64) -> f64) -> F8 {
         let mut r = [0.0; LANES];
         for i in 0..LANES {
             r[i] = f(self.0[i]);
         }
-        F4(r)
+        F8(r)
     }
     #[inline(always)]
-    fn zip(self, o: F4, f: impl Fn(f64, f64) -> f64) -> F4 {
+    fn zip(self, o: F8, f: impl Fn(f64, f64) -> f64) -> F8 {
         let mut r = [0.0; LANES];
         for i in 0..LANES {
             r[i] = f(self.0[i], o.0[i]);
         }
-        F4(r)
+        F8(r)
     }
     #[inline(always)]
-    fn test(self, o: F4, f: impl Fn(f64, f64) -> bool) -> M4 {
+    fn test(self, o: F8, f: impl Fn(f64, f64) -> bool) -> M8 {
         let mut r = [false; LANES];
         for i in 0..LANES {
             r[i] = f(self.0[i], o.0[i]);
@@ -99,35 +112,51 @@ impl F4 {
         r
     }
     #[inline(always)]
-    pub fn sqrt(self) -> F4 {
+    pub fn sqrt(self) -> F8 {
         self.map(f64::sqrt)
     }
     #[inline(always)]
-    pub fn max(self, o: F4) -> F4 {
+    pub fn max(self, o: F8) -> F8 {
         self.zip(o, f64::max)
     }
     #[inline(always)]
-    pub fn min(self, o: F4) -> F4 {
+    pub fn min(self, o: F8) -> F8 {
         self.zip(o, f64::min)
     }
     #[inline(always)]
-    pub fn abs(self) -> F4 {
+    pub fn abs(self) -> F8 {
         self.map(f64::abs)
     }
 }
 
 /// Whether any lane holds.
 #[inline(always)]
-fn any(m: M4) -> bool {
-    m[0] | m[1] | m[2] | m[3]
+fn any(m: M8) -> bool {
+    bits(m) != 0
 }
 
-/// Four 3-vectors, one per lane.
+/// The lanes' conditions as the bits of an integer (LLVM makes one mask move of it).
+#[inline(always)]
+fn bits(m: M8) -> u32 {
+    let mut b = 0;
+    for l in 0..LANES {
+        b |= (m[l] as u32) << l;
+    }
+    b
+}
+
+/// Whether every lane holds.
+#[inline(always)]
+fn all(m: M8) -> bool {
+    bits(m) == (1 << LANES) - 1
+}
+
+/// Eight 3-vectors, one per lane.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct V3 {
-    pub x: F4,
-    pub y: F4,
-    pub z: F4,
+    pub x: F8,
+    pub y: F8,
+    pub z: F8,
 }
 
 impl Add for V3 {
@@ -155,10 +184,10 @@ impl Sub for V3 {
 }
 
 /// Every component times the lane's scalar.
-impl Mul<F4> for V3 {
+impl Mul<F8> for V3 {
     type Output = V3;
     #[inline(always)]
-    fn mul(self, s: F4) -> V3 {
+    fn mul(self, s: F8) -> V3 {
         V3 {
             x: self.x * s,
             y: self.y * s,
@@ -168,10 +197,10 @@ impl Mul<F4> for V3 {
 }
 
 /// Every component divided by the lane's scalar (as glam's `DVec3 / f64`).
-impl Div<F4> for V3 {
+impl Div<F8> for V3 {
     type Output = V3;
     #[inline(always)]
-    fn div(self, s: F4) -> V3 {
+    fn div(self, s: F8) -> V3 {
         V3 {
             x: self.x / s,
             y: self.y / s,
@@ -184,17 +213,17 @@ impl V3 {
     #[inline(always)]
     pub fn splat(v: DVec3) -> V3 {
         V3 {
-            x: F4::splat(v.x),
-            y: F4::splat(v.y),
-            z: F4::splat(v.z),
+            x: F8::splat(v.x),
+            y: F8::splat(v.y),
+            z: F8::splat(v.z),
         }
     }
     #[inline(always)]
     pub fn from_lanes(v: [DVec3; LANES]) -> V3 {
         V3 {
-            x: F4(v.map(|v| v.x)),
-            y: F4(v.map(|v| v.y)),
-            z: F4(v.map(|v| v.z)),
+            x: F8(v.map(|v| v.x)),
+            y: F8(v.map(|v| v.y)),
+            z: F8(v.map(|v| v.z)),
         }
     }
     #[inline(always)]
@@ -209,26 +238,26 @@ impl V3 {
     }
     /// (x·x + y·y) + z·z, as glam.
     #[inline(always)]
-    pub fn dot(self, o: V3) -> F4 {
+    pub fn dot(self, o: V3) -> F8 {
         self.x * o.x + self.y * o.y + self.z * o.z
     }
     #[inline(always)]
-    pub fn length_squared(self) -> F4 {
+    pub fn length_squared(self) -> F8 {
         self.dot(self)
     }
     #[inline(always)]
-    pub fn length(self) -> F4 {
+    pub fn length(self) -> F8 {
         self.dot(self).sqrt()
     }
     /// Per lane: `a` where the condition holds, else `b`.
     #[inline(always)]
-    fn select(m: M4, a: V3, b: V3) -> V3 {
-        let pick = |a: F4, b: F4| {
+    fn select(m: M8, a: V3, b: V3) -> V3 {
+        let pick = |a: F8, b: F8| {
             let mut r = [0.0; LANES];
             for i in 0..LANES {
                 r[i] = if m[i] { a.0[i] } else { b.0[i] };
             }
-            F4(r)
+            F8(r)
         };
         V3 {
             x: pick(a.x, b.x),
@@ -238,35 +267,80 @@ impl V3 {
     }
 }
 
-/// Per-thread storage of a chunk in lane form, grown to the strand's size once.
+/// Which compilation of the kernel runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Isa {
+    /// 512-bit registers: one instruction per lane operation.
+    #[cfg(target_arch = "x86_64")]
+    Avx512,
+    /// 256-bit registers: two instructions per lane operation.
+    #[cfg(target_arch = "x86_64")]
+    Avx2,
+    /// Whatever the target's baseline gives.
+    Portable,
+}
+
+/// 0: detect; otherwise 1 + the index of the forced [`Isa`] (tests compare the paths).
+static FORCED_ISA: std::sync::atomic::AtomicU8 = std::sync::atomic::AtomicU8::new(0);
+
+/// The widest kernel the processor runs (or the one a test forced).
+#[inline]
+fn isa() -> Isa {
+    #[cfg(target_arch = "x86_64")]
+    {
+        match FORCED_ISA.load(std::sync::atomic::Ordering::Relaxed) {
+            1 => return Isa::Avx512,
+            2 => return Isa::Avx2,
+            3 => return Isa::Portable,
+            _ => {}
+        }
+        if std::arch::is_x86_feature_detected!("avx512f") {
+            return Isa::Avx512;
+        }
+        if std::arch::is_x86_feature_detected!("avx2") {
+            return Isa::Avx2;
+        }
+    }
+    Isa::Portable
+}
+
+/// Forces the kernel's compilation for the whole process (None: the widest the processor
+/// has); the caller makes sure the processor has it.
+#[cfg(test)]
+pub(super) fn force_isa(isa: Option<Isa>) {
+    let code = match isa {
+        None => 0,
+        #[cfg(target_arch = "x86_64")]
+        Some(Isa::Avx512) => 1,
+        #[cfg(target_arch = "x86_64")]
+        Some(Isa::Avx2) => 2,
+        Some(Isa::Portable) => 3,
+    };
+    FORCED_ISA.store(code, std::sync::atomic::Ordering::Relaxed);
+}
+
+/// Per-thread storage the kernel needs beside a chunk's state, grown to the strand's size once.
 #[derive(Default)]
 pub struct LaneScratch {
-    x: Vec<V3>,
+    /// ftl's start-of-step positions (verlet keeps its own in the state).
     p: Vec<V3>,
-    v: Vec<V3>,
     u: Vec<V3>,
-    cp: Vec<F4>,
-    dp: Vec<F4>,
+    cp: Vec<F8>,
+    dp: Vec<F8>,
     /// Predicted positions (verlet), the right-hand side of the tension solve.
     q: Vec<V3>,
     /// Accumulated multipliers (segment tensions) of the Newton steps (verlet).
-    mu: Vec<F4>,
+    mu: Vec<F8>,
 }
 
 impl LaneScratch {
     fn fit(&mut self, n: usize) {
-        if self.x.len() < n {
-            for a in [
-                &mut self.x,
-                &mut self.p,
-                &mut self.v,
-                &mut self.u,
-                &mut self.q,
-            ] {
+        if self.p.len() < n {
+            for a in [&mut self.p, &mut self.u, &mut self.q] {
                 a.resize(n, V3::default());
             }
             for a in [&mut self.cp, &mut self.dp, &mut self.mu] {
-                a.resize(n, F4::ZERO);
+                a.resize(n, F8::ZERO);
             }
         }
     }
@@ -274,9 +348,9 @@ impl LaneScratch {
 
 /// What a chunk measured, per lane.
 struct LaneStats {
-    stretch: F4,
-    depth2: F4,
-    kinetic: F4,
+    stretch: F8,
+    depth2: F8,
+    kinetic: F8,
 }
 
 /// Per-lane inputs computed outside the kernel: the roots' anchors at the end of the step and
@@ -286,22 +360,26 @@ struct LaneInputs {
     accel: [DVec3; LANES],
 }
 
-impl StepContext<'_> {
-    /// Whether [`StepContext::step_lanes`] steps this method (verlet with the direct solver, ftl).
-    pub(super) fn has_lanes(&self) -> bool {
-        match self.method {
-            HairMethod::Verlet => self.params.solver == super::Solver::Direct,
-            HairMethod::Ftl => true,
-            _ => false,
-        }
+/// Whether a method keeps its state in lane form and is stepped by
+/// [`StepContext::step_lanes`] (verlet with the direct solver, ftl).
+pub(super) fn in_lanes(params: &super::HairParams, method: HairMethod) -> bool {
+    match method {
+        HairMethod::Verlet => params.solver == super::Solver::Direct,
+        HairMethod::Ftl => true,
+        _ => false,
     }
+}
 
-    /// Steps a group of strands four at a time and measures the result (on the last inner step).
+impl StepContext<'_> {
+    /// Steps a group of strands in place, [`LANES`] at a time, and measures the result (on the
+    /// last inner step). `x` holds the group's chunks in lane form (`nodes` lane vectors per
+    /// chunk, see `State::Lanes`), `prev` verlet's previous positions, `v` ftl's velocities (the
+    /// other one empty).
     pub(super) fn step_lanes(
         &self,
-        x: &mut [DVec3],
-        prev: &mut [DVec3],
-        v: &mut [DVec3],
+        x: &mut [V3],
+        prev: &mut [V3],
+        v: &mut [V3],
         roots: &[DVec3],
         s: &mut LaneScratch,
     ) -> GroupStats {
@@ -313,49 +391,28 @@ impl StepContext<'_> {
             ..GroupStats::default()
         };
         let (mut stretch, mut depth2, mut kinetic) = (0.0f64, f64::INFINITY, 0.0f64);
-        for c0 in (0..roots.len()).step_by(LANES) {
+        for (c, x) in x.chunks_exact_mut(n).enumerate() {
+            let c0 = c * LANES;
             let live = (roots.len() - c0).min(LANES);
-            // Strand of each lane (spare lanes repeat the chunk's first strand).
-            let strand = |l: usize| c0 + if l < live { l } else { 0 };
-            for l in 0..LANES {
-                let at = strand(l) * n..strand(l) * n + n;
-                for (k, p) in x[at.clone()].iter().enumerate() {
-                    s.x[k].set_lane(l, *p);
-                }
-                // ftl keeps no previous positions between steps (its predict sets them).
-                if ftl {
-                    for (k, p) in v[at].iter().enumerate() {
-                        s.v[k].set_lane(l, *p);
-                    }
-                } else {
-                    for (k, p) in prev[at].iter().enumerate() {
-                        s.p[k].set_lane(l, *p);
-                    }
-                }
-            }
+            // The strand of each lane within the chunk (spare lanes repeat the first strand).
+            let lane = |l: usize| if l < live { l } else { 0 };
             let inputs = LaneInputs {
-                anchor: V3::from_lanes(std::array::from_fn(|l| self.anchor(roots[strand(l)]))),
+                anchor: V3::from_lanes(std::array::from_fn(|l| self.anchor(roots[c0 + lane(l)]))),
                 accel: std::array::from_fn(|l| {
-                    let root = x[strand(l) * n];
-                    self.params.gravity + self.params.wind_at(self.time, root)
+                    let root = x[0].lane(lane(l));
+                    self.params.gravity + self.wind.at(root)
                 }),
             };
-            let st = self.kernel_dispatch(s, &inputs, n, ftl);
-            for l in 0..live {
-                let at = (c0 + l) * n..(c0 + l) * n + n;
-                for (k, p) in x[at.clone()].iter_mut().enumerate() {
-                    *p = s.x[k].lane(l);
-                }
-                if ftl {
-                    for (k, p) in v[at].iter_mut().enumerate() {
-                        *p = s.v[k].lane(l);
-                    }
-                } else {
-                    for (k, p) in prev[at].iter_mut().enumerate() {
-                        *p = s.p[k].lane(l);
-                    }
-                }
-            }
+            let at = c * n..(c + 1) * n;
+            let st = if ftl {
+                // ftl keeps no previous positions between steps (its predict sets them).
+                let mut p = std::mem::take(&mut s.p);
+                let st = self.kernel_dispatch(x, &mut p[..n], &mut v[at], s, &inputs, ftl);
+                s.p = p;
+                st
+            } else {
+                self.kernel_dispatch(x, &mut prev[at], &mut [], s, &inputs, ftl)
+            };
             if let Some(st) = st {
                 for l in 0..live {
                     stretch = stretch.max(st.stretch.0[l]);
@@ -379,50 +436,73 @@ impl StepContext<'_> {
         out
     }
 
-    /// The kernel with AVX2 where the processor has it (same bits either way: module docs).
+    /// The kernel compiled for the widest vector instructions the processor has (same bits on
+    /// every path: module docs).
     fn kernel_dispatch(
         &self,
+        x: &mut [V3],
+        p: &mut [V3],
+        v: &mut [V3],
         s: &mut LaneScratch,
         inputs: &LaneInputs,
-        n: usize,
         ftl: bool,
     ) -> Option<LaneStats> {
-        #[cfg(target_arch = "x86_64")]
-        {
-            if std::arch::is_x86_feature_detected!("avx2") {
-                // SAFETY: the processor has AVX2 (checked just above).
-                return unsafe { self.kernel_avx2(s, inputs, n, ftl) };
-            }
+        match isa() {
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: the processor has AVX-512F (`isa` checked it).
+            Isa::Avx512 => unsafe { self.kernel_avx512(x, p, v, s, inputs, ftl) },
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: the processor has AVX2 (`isa` checked it).
+            Isa::Avx2 => unsafe { self.kernel_avx2(x, p, v, s, inputs, ftl) },
+            Isa::Portable => self.kernel(x, p, v, s, inputs, ftl),
         }
-        self.kernel(s, inputs, n, ftl)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f")]
+    unsafe fn kernel_avx512(
+        &self,
+        x: &mut [V3],
+        p: &mut [V3],
+        v: &mut [V3],
+        s: &mut LaneScratch,
+        inputs: &LaneInputs,
+        ftl: bool,
+    ) -> Option<LaneStats> {
+        self.kernel(x, p, v, s, inputs, ftl)
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     unsafe fn kernel_avx2(
         &self,
+        x: &mut [V3],
+        p: &mut [V3],
+        v: &mut [V3],
         s: &mut LaneScratch,
         inputs: &LaneInputs,
-        n: usize,
         ftl: bool,
     ) -> Option<LaneStats> {
-        self.kernel(s, inputs, n, ftl)
+        self.kernel(x, p, v, s, inputs, ftl)
     }
 
-    /// One step of four strands in lane form; their measurements on the last inner step.
+    /// One step of a chunk of eight strands in place: `x` its positions, `p` the start-of-step
+    /// positions (verlet's state, ftl's scratch), `v` ftl's velocities (empty for verlet), one
+    /// lane vector per node; their measurements on the last inner step.
     #[inline(always)]
     fn kernel(
         &self,
+        x: &mut [V3],
+        p: &mut [V3],
+        v: &mut [V3],
         s: &mut LaneScratch,
         inputs: &LaneInputs,
-        n: usize,
         ftl: bool,
     ) -> Option<LaneStats> {
-        let (x, p) = (&mut s.x[..n], &mut s.p[..n]);
-        let dt = F4::splat(self.dt);
-        let keep = F4::splat(self.keep);
+        let n = x.len();
+        let dt = F8::splat(self.dt);
+        let keep = F8::splat(self.keep);
         if ftl {
-            let v = &mut s.v[..n];
             let adt = V3::from_lanes(inputs.accel.map(|a| a * self.dt));
             for k in 1..n {
                 v[k] = (v[k] + adt) * keep;
@@ -439,7 +519,7 @@ impl StepContext<'_> {
                 v[k] = followed - predicted;
             }
             // Velocities from positions, with the DFTL correction -s d_{k+1}/dt.
-            let s_corr = F4::splat(FTL_CORRECTION);
+            let s_corr = F8::splat(FTL_CORRECTION);
             let last = n - 1;
             for k in 0..=last {
                 let correction = if k < last && k > 0 {
@@ -461,7 +541,7 @@ impl StepContext<'_> {
             let l0 = self.params.segment_length;
             let (q, mu) = (&mut s.q[..n], &mut s.mu[..n]);
             q.copy_from_slice(x);
-            mu.fill(F4::ZERO);
+            mu.fill(F8::ZERO);
             for _ in 0..self.params.iterations {
                 newton_lanes(
                     x,
@@ -484,14 +564,14 @@ impl StepContext<'_> {
             return None;
         }
         // The measurements (as `StepContext::measure`, per lane).
-        let l0 = F4::splat(self.params.segment_length);
-        let inv_l0 = F4::splat(1.0 / self.params.segment_length);
-        let inv_dt = F4::splat(1.0 / self.frame_dt);
-        let half = F4::splat(0.5);
+        let l0 = F8::splat(self.params.segment_length);
+        let inv_l0 = F8::splat(1.0 / self.params.segment_length);
+        let inv_dt = F8::splat(1.0 / self.frame_dt);
+        let half = F8::splat(0.5);
         let center = V3::splat(self.center);
         let mut kinetic = half * ((x[0] - p[0]) * inv_dt).length_squared();
-        let mut stretch = F4::ZERO;
-        let mut depth2 = F4::splat(f64::INFINITY);
+        let mut stretch = F8::ZERO;
+        let mut depth2 = F8::splat(f64::INFINITY);
         for k in 1..n {
             let len = (x[k] - x[k - 1]).length();
             stretch = stretch.max((len - l0).abs() * inv_l0);
@@ -505,48 +585,91 @@ impl StepContext<'_> {
         })
     }
 
-    /// [`StepContext::collide`] on four nodes: the test in lanes, the push on the lanes inside.
+    /// [`StepContext::collide`] on eight nodes, in lanes: the lanes inside take the push, the
+    /// others keep their node.
     #[inline(always)]
     pub(super) fn collide_lanes(&self, xk: &mut V3) {
-        let d2 = (*xk - V3::splat(self.center)).length_squared();
+        let center = V3::splat(self.center);
+        let r = *xk - center;
+        let d2 = r.length_squared();
         let rc = self.collide_radius;
-        let inside = d2.test(F4::splat(rc * rc), |a, b| a < b);
+        let rc2 = rc * rc;
+        let mut inside = [false; LANES];
+        for l in 0..LANES {
+            inside[l] = (d2.0[l] < rc2) & (d2.0[l] > 0.0);
+        }
         if any(inside) {
-            for l in 0..LANES {
-                if inside[l] {
-                    let mut p = xk.lane(l);
-                    self.collide(&mut p);
-                    xk.set_lane(l, p);
-                }
-            }
+            let pushed = center + r * (F8::splat(rc) / d2.sqrt());
+            *xk = V3::select(inside, pushed, *xk);
         }
     }
 
-    /// [`StepContext::follow`] on four nodes: the common case (a segment of non-zero length
-    /// whose rest-length point is outside the head) in lanes, the others by the scalar code.
+    /// [`StepContext::follow`] on eight nodes, in lanes: the free case (a segment of non-zero
+    /// length whose rest-length point is outside the head) and the contact case (the point on
+    /// the circle where the rest-length sphere meets the collision sphere, or straight out when
+    /// they do not meet); the degenerate cases (a zero-length segment, a parent at the centre, a
+    /// prediction along the axis, non-finite values) by the scalar code on the lanes that take
+    /// them. Per lane the operations and their order are the scalar code's.
     #[inline(always)]
     fn follow_lanes(&self, parent: V3, predicted: V3) -> (V3, V3) {
+        let l0 = self.params.segment_length;
         let d = predicted - parent;
-        let rcp = F4::splat(1.0) / d.length();
+        let rcp = F8::splat(1.0) / d.length();
         let dir = d * rcp;
-        let candidate = parent + dir * F4::splat(self.params.segment_length);
-        // Squared distances, and `&` rather than `&&`: the test stays one vector compare per
-        // condition (a short-circuit made LLVM take each lane's square root one by one: 6% of
-        // verlet's CPU time). The contact case stays scalar: done in lanes (every lane computes
-        // the circle point when one touches) it measured 5-10% slower.
-        let dist2 = (candidate - V3::splat(self.center)).length_squared();
-        let rc2 = self.collide_radius * self.collide_radius;
-        let mut slow = [false; LANES];
+        let candidate = parent + dir * F8::splat(l0);
+        let center = V3::splat(self.center);
+        // |candidate - centre| >= rc without the square root (`sqrt_threshold`).
+        let d2 = (candidate - center).length_squared();
+        let outside2 = self.outside2;
+        let finite_max = self.finite_max;
+        let (mut normal, mut contact) = ([false; LANES], [false; LANES]);
         for l in 0..LANES {
             let r = rcp.0[l];
-            slow[l] = !(r.is_finite() & (r > 0.0) & (dist2.0[l] >= rc2));
+            // glam's try_normalize: 1/ℓ finite and positive.
+            normal[l] = (r > 0.0) & (r <= finite_max);
+            // Negated on purpose: NaN takes the contact branch, as in the scalar code.
+            #[allow(clippy::neg_cmp_op_on_partial_ord)]
+            let inside = !(d2.0[l] >= outside2);
+            contact[l] = normal[l] & inside;
         }
-        if !any(slow) {
+        if all(normal) && !any(contact) {
             return (candidate, candidate);
         }
-        let (mut placed, mut followed) = (candidate, candidate);
+        let mut placed = candidate;
+        let mut scalar = normal.map(|n| !n);
+        if any(contact) {
+            let rc = self.collide_radius;
+            let axis = center - parent;
+            let dist = axis.length();
+            let e = axis / dist;
+            // Circle of {|y - parent| = l0} ∩ {|y - center| = rc}: centre parent + h e, radius ρ.
+            let h = (F8::splat(l0 * l0 - rc * rc) + dist * dist) / (F8::splat(2.0) * dist);
+            let rho2 = F8::splat(l0 * l0) - h * h;
+            let w = d - e * d.dot(e);
+            let w_rcp = F8::splat(1.0) / w.length();
+            let on_circle = parent + e * h + (w * w_rcp) * rho2.sqrt();
+            let straight_out = parent - e * F8::splat(l0);
+            let (mut circle, mut out) = ([false; LANES], [false; LANES]);
+            for l in 0..LANES {
+                if contact[l] {
+                    let wr = w_rcp.0[l];
+                    if dist.0[l] == 0.0 {
+                        scalar[l] = true;
+                    } else if rho2.0[l] < 0.0 {
+                        out[l] = true;
+                    } else if wr > 0.0 && wr < f64::INFINITY {
+                        circle[l] = true;
+                    } else {
+                        scalar[l] = true;
+                    }
+                }
+            }
+            placed = V3::select(circle, on_circle, placed);
+            placed = V3::select(out, straight_out, placed);
+        }
+        let mut followed = candidate;
         for l in 0..LANES {
-            if slow[l] {
+            if scalar[l] {
                 let (a, b) = self.follow(parent.lane(l), predicted.lane(l));
                 placed.set_lane(l, a);
                 followed.set_lane(l, b);
@@ -556,24 +679,40 @@ impl StepContext<'_> {
     }
 }
 
-/// One Newton step of the chain's length constraints on four strands (as
+/// The smallest a with fl(√a) ≥ r (r > 0): since the square root is correctly rounded and
+/// monotone, `a >= sqrt_threshold(r)` decides `a.sqrt() >= r` exactly, without the root.
+pub(super) fn sqrt_threshold(r: f64) -> f64 {
+    let mut a = r * r;
+    while a > 0.0 && a.next_down().sqrt() >= r {
+        a = a.next_down();
+    }
+    while a.sqrt() < r {
+        a = a.next_up();
+    }
+    a
+}
+
+/// One Newton step of the chain's length constraints on eight strands (as
 /// [`super::direct`] describes it), each lane one strand; with `collide`, every moved node is pushed out of the head.
 #[inline(always)]
 pub(super) fn newton_lanes(
     x: &mut [V3],
     u: &mut [V3],
-    cp: &mut [F4],
-    dp: &mut [F4],
-    mu: &mut [F4],
+    cp: &mut [F8],
+    dp: &mut [F8],
+    mu: &mut [F8],
     l0: f64,
     collide: Option<&StepContext>,
 ) {
     let m = x.len() - 1;
-    let l0 = F4::splat(l0);
-    let zero = F4::ZERO;
+    let l0 = F8::splat(l0);
+    let zero = F8::ZERO;
     let unit_z = V3::splat(DVec3::Z);
-    let (one, two) = (F4::splat(1.0), F4::splat(2.0));
+    let (one, two) = (F8::splat(1.0), F8::splat(2.0));
     for j in 0..m {
+        // Keeps LLVM's loop vectoriser from vectorising across segments (it would gather
+        // lanes of four segments, 3× the instructions); the lane operations are vectors already.
+        let j = std::hint::black_box(j);
         let d = x[j + 1] - x[j];
         let len = d.length();
         // One division per segment (d·(1/ℓ), not glam's d/ℓ per component).
@@ -620,11 +759,11 @@ pub(super) fn newton_lanes(
 /// compressed segment adds no coupling; the root-to-tip finish restores its length), so the
 /// matrix is diagonally dominant and the elimination cannot break down. `c` is scratch.
 #[inline(always)]
-pub(super) fn tension_solve_lanes(x: &mut [V3], q: &[V3], mu: &[F4], c: &mut [F4], l0: f64) {
+pub(super) fn tension_solve_lanes(x: &mut [V3], q: &[V3], mu: &[F8], c: &mut [F8], l0: f64) {
     let m = x.len() - 1;
-    let zero = F4::ZERO;
-    let one = F4::splat(1.0);
-    let inv_l0 = F4::splat(1.0 / l0);
+    let zero = F8::ZERO;
+    let one = F8::splat(1.0);
+    let inv_l0 = F8::splat(1.0 / l0);
     // Coupling w_j = max(μ_j, 0)/ℓ0 of segment j (nodes j, j+1); node k has b_k = 1 + w_{k-1} +
     // w_k (w_m = 0), off-diagonals -w.
     let w = |j: usize| {
@@ -650,5 +789,66 @@ pub(super) fn tension_solve_lanes(x: &mut [V3], q: &[V3], mu: &[F4], c: &mut [F4
     // Back substitution: x_k = d'_k + c'_k x_{k+1} (the off-diagonal is -w).
     for k in (1..m).rev() {
         x[k] = x[k] + x[k + 1] * c[k];
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::hair::{Hair, HairParams};
+
+    /// Every compilation of the kernel this processor runs gives the same bits: positions after
+    /// a second of the default tour (hair lying on the head, so the contact branches run) and
+    /// the measured invariants, on 21 strands (a partial chunk) for verlet and ftl.
+    #[test]
+    fn every_kernel_compilation_gives_the_same_bits() {
+        let mut paths = vec![Isa::Portable];
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx2") {
+                paths.push(Isa::Avx2);
+            }
+            if std::arch::is_x86_feature_detected!("avx512f") {
+                paths.push(Isa::Avx512);
+            }
+        }
+        let run = |method: HairMethod| {
+            let params = HairParams {
+                strands: 21,
+                ..HairParams::default()
+            };
+            let mut hair = Hair::new(params, method);
+            for _ in 0..60 {
+                hair.step(1.0 / 60.0);
+            }
+            let s = hair.stats();
+            let bits: Vec<u64> = hair
+                .positions()
+                .iter()
+                .flat_map(|p| p.to_array())
+                .chain([s.stretch, s.penetration, s.kinetic])
+                .map(f64::to_bits)
+                .collect();
+            bits
+        };
+        for method in [HairMethod::Verlet, HairMethod::Ftl] {
+            let results: Vec<Vec<u64>> = paths
+                .iter()
+                .map(|&isa| {
+                    force_isa(Some(isa));
+                    let r = run(method);
+                    force_isa(None);
+                    r
+                })
+                .collect();
+            for (isa, r) in paths.iter().zip(&results) {
+                assert!(
+                    r == &results[0],
+                    "{}: {isa:?} differs from {:?}",
+                    method.name(),
+                    paths[0]
+                );
+            }
+        }
     }
 }

@@ -12,12 +12,19 @@
 //! - `ftl`: dynamic follow-the-leader (Müller, Kim & Chentanez 2012), inextensible in one pass.
 //!
 //! Layout is structure-of-arrays: positions, previous positions and velocities are separate
-//! arrays, strand-major (node k of strand s at s·nodes + k), so each strand is a contiguous slice
-//! of every array and strands are stepped in parallel without sharing anything; a method keeps
-//! only the arrays it needs (verlet: positions and previous positions; ftl: positions and
-//! velocities). `verlet` with the direct solver and `ftl` step four strands at once in the lanes
-//! of an AVX2 register ([`lanes`]). The hot loop allocates nothing (per-thread scratch is made
-//! once). f64 throughout: segment lengths (~1 cm)
+//! arrays, and a method keeps only the arrays it needs (verlet: positions and previous
+//! positions; ftl: positions and velocities; the springs all three). Two layouts (`State`):
+//! - lane form, for `verlet` with the direct solver and `ftl`, which step eight strands at once
+//!   in the lanes of a vector register ([`lanes`]): chunks of eight strands, node-major within a
+//!   chunk (node k of strand s in lane s % 8 of element (s / 8)·nodes + k), stepped in place;
+//! - strand-major `DVec3` (node k of strand s at s·nodes + k) for gauss-seidel verlet and the
+//!   spring methods, which step one strand at a time.
+//!
+//! Either way the strands of a group are contiguous, so groups are stepped in parallel without
+//! sharing anything. Nothing outside this module depends on the layout: positions are read
+//! through [`Hair::node`], [`Hair::strand`] and [`Hair::positions`] (the recorder, the tests, the
+//! invariants), so the transposition happens only where something is read. The hot loop
+//! allocates nothing (per-thread scratch is made once). f64 throughout: segment lengths (~1 cm)
 //! must hold to 1e-6 relative at positions ~1 m away from the origin, which f32 (7 digits)
 //! cannot.
 
@@ -31,6 +38,8 @@ use std::cell::RefCell;
 
 use glam::{DQuat, DVec3};
 use rayon::prelude::*;
+
+use lanes::{LANES, V3};
 
 pub use head::{HeadMotion, head_pose};
 
@@ -262,13 +271,18 @@ impl HairParams {
     /// is a smooth deterministic gust signal in [-1, 1] that travels downwind. Evaluated once per
     /// strand per step (at the root): gusts vary over metres, strands are centimetres long.
     pub fn wind_at(&self, t: f64, x: DVec3) -> DVec3 {
-        if self.gust == 0.0 {
-            return self.wind;
+        self.wind_field(t).at(x)
+    }
+
+    /// The wind at time t, with what does not depend on the position evaluated once.
+    pub fn wind_field(&self, t: f64) -> WindField {
+        WindField {
+            base: self.wind,
+            gust: self.gust,
+            along: self.wind.normalize_or_zero(),
+            t,
+            slow: (2.0 * std::f64::consts::PI * 0.23 * t).sin(),
         }
-        let along = x.dot(self.wind.normalize_or_zero());
-        let s = (2.0 * std::f64::consts::PI * (0.7 * t - 2.0 * along)).sin()
-            * (2.0 * std::f64::consts::PI * 0.23 * t).sin();
-        self.wind * (1.0 + self.gust * s)
     }
 
     /// Highest angular frequency of a strand's springs (pinned root, free tip, unit masses):
@@ -285,6 +299,31 @@ impl HairParams {
         // Positive root of w2 h² + 2 g h - 4 = 0.
         let h = (-g + (g * g + 4.0 * w2).sqrt()) / w2;
         0.9 * h
+    }
+}
+
+/// The wind at one time ([`HairParams::wind_at`]).
+#[derive(Clone, Copy, Debug)]
+pub struct WindField {
+    base: DVec3,
+    gust: f64,
+    /// The unit downwind direction.
+    along: DVec3,
+    t: f64,
+    /// The gust signal's slow factor, sin(2π·0.23·t).
+    slow: f64,
+}
+
+impl WindField {
+    /// The wind acceleration at x [m/s²].
+    #[inline]
+    pub fn at(&self, x: DVec3) -> DVec3 {
+        if self.gust == 0.0 {
+            return self.base;
+        }
+        let along = x.dot(self.along);
+        let s = (2.0 * std::f64::consts::PI * (0.7 * self.t - 2.0 * along)).sin() * self.slow;
+        self.base * (1.0 + self.gust * s)
     }
 }
 
@@ -308,12 +347,9 @@ pub struct Hair {
     pub method: HairMethod,
     /// Root directions in the head frame (unit).
     roots: Vec<DVec3>,
-    pub pos: Vec<DVec3>,
-    /// Positions at the start of the last step (empty for ftl).
-    pub prev: Vec<DVec3>,
-    /// Velocities (semi-implicit-euler, implicit-euler, ftl; verlet keeps them implicit in
-    /// pos - prev and leaves this empty).
-    pub vel: Vec<DVec3>,
+    /// Positions and what the method keeps besides, in the method's layout: read them through
+    /// [`Hair::node`], [`Hair::strand`] or [`Hair::positions`].
+    state: State,
     /// Time of the current state [s].
     pub time: f64,
     /// The last step's length [s] (0 before the first step).
@@ -324,36 +360,84 @@ pub struct Hair {
     group_stats: Vec<GroupStats>,
 }
 
+/// A method's state in its layout (module docs).
+#[derive(Clone, Debug)]
+enum State {
+    /// Strand-major `DVec3` (gauss-seidel verlet and the spring methods): node k of strand s at
+    /// s·nodes + k. `prev` holds the positions at the start of the last step, `vel` the
+    /// velocities (spring methods; empty for verlet).
+    Strands {
+        pos: Vec<DVec3>,
+        prev: Vec<DVec3>,
+        vel: Vec<DVec3>,
+    },
+    /// Lane form ([`lanes`]; verlet with the direct solver, ftl): chunks of `LANES` strands,
+    /// node-major within a chunk: node k of strand s in lane s % LANES of element
+    /// (s / LANES)·nodes + k. The spare lanes of a partial last chunk hold copies of the chunk's
+    /// first strand (stepped with it, never read). `prev` is verlet's (empty for ftl), `vel`
+    /// ftl's (empty for verlet).
+    Lanes {
+        x: Vec<V3>,
+        prev: Vec<V3>,
+        vel: Vec<V3>,
+    },
+}
+
 impl Hair {
     /// Strands straight out along their root normals, at rest, head at home.
     pub fn new(params: HairParams, method: HairMethod) -> Self {
         let roots = params.root_directions();
         let (center, rotation) = head_pose(params.motion, 0.0, params.head_radius);
         let n = params.nodes;
-        let mut pos = Vec::with_capacity(roots.len() * n);
-        for dir in &roots {
-            let d = rotation * *dir;
-            for k in 0..n {
-                pos.push(center + d * (params.head_radius + k as f64 * params.segment_length));
-            }
-        }
-        let total = pos.len();
+        let normals: Vec<DVec3> = roots.iter().map(|dir| rotation * *dir).collect();
+        let start = |s: usize, k: usize| {
+            center + normals[s] * (params.head_radius + k as f64 * params.segment_length)
+        };
         let groups = roots.len().div_ceil(GROUP);
+        let state = if lanes::in_lanes(&params, method) {
+            let chunks = roots.len().div_ceil(LANES);
+            let mut x = Vec::with_capacity(chunks * n);
+            for c in 0..chunks {
+                let live = (roots.len() - c * LANES).min(LANES);
+                for k in 0..n {
+                    // Spare lanes repeat the chunk's first strand.
+                    x.push(V3::from_lanes(std::array::from_fn(|l| {
+                        start(c * LANES + if l < live { l } else { 0 }, k)
+                    })));
+                }
+            }
+            let ftl = method == HairMethod::Ftl;
+            State::Lanes {
+                // ftl needs no previous positions (its step keeps them in scratch): a third less
+                // memory traffic per frame.
+                prev: if ftl { Vec::new() } else { x.clone() },
+                vel: if ftl {
+                    vec![V3::default(); x.len()]
+                } else {
+                    Vec::new()
+                },
+                x,
+            }
+        } else {
+            let mut pos = Vec::with_capacity(roots.len() * n);
+            for s in 0..roots.len() {
+                for k in 0..n {
+                    pos.push(start(s, k));
+                }
+            }
+            State::Strands {
+                prev: pos.clone(),
+                vel: if method == HairMethod::Verlet {
+                    Vec::new()
+                } else {
+                    vec![DVec3::ZERO; pos.len()]
+                },
+                pos,
+            }
+        };
         Hair {
             roots,
-            // ftl needs no previous positions (its step keeps them in scratch): a third less
-            // memory traffic per frame.
-            prev: if method == HairMethod::Ftl {
-                Vec::new()
-            } else {
-                pos.clone()
-            },
-            vel: if method == HairMethod::Verlet {
-                Vec::new()
-            } else {
-                vec![DVec3::ZERO; total]
-            },
-            pos,
+            state,
             time: 0.0,
             last_dt: 0.0,
             head_center: center,
@@ -372,6 +456,26 @@ impl Hair {
 
     pub fn strands(&self) -> usize {
         self.params.strands
+    }
+
+    /// Node k of strand s (k = 0 is the root).
+    #[inline]
+    pub fn node(&self, s: usize, k: usize) -> DVec3 {
+        let n = self.params.nodes;
+        match &self.state {
+            State::Strands { pos, .. } => pos[s * n + k],
+            State::Lanes { x, .. } => x[(s / LANES) * n + k].lane(s % LANES),
+        }
+    }
+
+    /// Strand s's nodes from root to tip.
+    pub fn strand(&self, s: usize) -> impl ExactSizeIterator<Item = DVec3> + '_ {
+        (0..self.params.nodes).map(move |k| self.node(s, k))
+    }
+
+    /// Every position, strand-major (node k of strand s at s·nodes + k), as a copy.
+    pub fn positions(&self) -> Vec<DVec3> {
+        (0..self.strands()).flat_map(|s| self.strand(s)).collect()
     }
 
     /// Where strand s's root is attached at the current head pose.
@@ -416,35 +520,52 @@ impl Hair {
                 rotation,
                 keep: (-p.damping * h).exp(),
                 collide_radius,
+                outside2: lanes::sqrt_threshold(collide_radius),
+                finite_max: std::hint::black_box(f64::MAX),
+                wind: p.wind_field(t0),
                 first: j == 0,
                 last: j + 1 == inner,
             };
-            if self.method == HairMethod::Verlet {
-                self.pos
-                    .par_chunks_mut(g)
-                    .zip(self.prev.par_chunks_mut(g))
-                    .zip(self.roots.par_chunks(GROUP))
-                    .zip(self.group_stats.par_iter_mut())
-                    .for_each(|(((x, prev), roots), st)| {
-                        *st = ctx.step_group(x, prev, &mut [], roots)
-                    });
-            } else if self.method == HairMethod::Ftl {
-                self.pos
-                    .par_chunks_mut(g)
-                    .zip(self.vel.par_chunks_mut(g))
-                    .zip(self.roots.par_chunks(GROUP))
-                    .zip(self.group_stats.par_iter_mut())
-                    .for_each(|(((x, v), roots), st)| *st = ctx.step_group(x, &mut [], v, roots));
-            } else {
-                self.pos
-                    .par_chunks_mut(g)
-                    .zip(self.prev.par_chunks_mut(g))
-                    .zip(self.vel.par_chunks_mut(g))
-                    .zip(self.roots.par_chunks(GROUP))
-                    .zip(self.group_stats.par_iter_mut())
-                    .for_each(|((((x, prev), v), roots), st)| {
-                        *st = ctx.step_group(x, prev, v, roots)
-                    });
+            match &mut self.state {
+                State::Lanes { x, prev, vel } => {
+                    // A group's chunks, `nodes` lane vectors each.
+                    let gl = GROUP / LANES * n;
+                    let ftl = self.method == HairMethod::Ftl;
+                    let kept = if ftl { vel } else { prev };
+                    x.par_chunks_mut(gl)
+                        .zip(kept.par_chunks_mut(gl))
+                        .zip(self.roots.par_chunks(GROUP))
+                        .zip(self.group_stats.par_iter_mut())
+                        .for_each(|(((x, kept), roots), st)| {
+                            *st = SCRATCH.with_borrow_mut(|s| {
+                                if ftl {
+                                    ctx.step_lanes(x, &mut [], kept, roots, &mut s.lanes)
+                                } else {
+                                    ctx.step_lanes(x, kept, &mut [], roots, &mut s.lanes)
+                                }
+                            })
+                        });
+                }
+                State::Strands { pos, prev, vel } if self.method == HairMethod::Verlet => {
+                    pos.par_chunks_mut(g)
+                        .zip(prev.par_chunks_mut(g))
+                        .zip(self.roots.par_chunks(GROUP))
+                        .zip(self.group_stats.par_iter_mut())
+                        .for_each(|(((x, prev), roots), st)| {
+                            *st = ctx.step_group(x, prev, &mut [], roots)
+                        });
+                    debug_assert!(vel.is_empty());
+                }
+                State::Strands { pos, prev, vel } => {
+                    pos.par_chunks_mut(g)
+                        .zip(prev.par_chunks_mut(g))
+                        .zip(vel.par_chunks_mut(g))
+                        .zip(self.roots.par_chunks(GROUP))
+                        .zip(self.group_stats.par_iter_mut())
+                        .for_each(|((((x, prev), v), roots), st)| {
+                            *st = ctx.step_group(x, prev, v, roots)
+                        });
+                }
             }
             self.head_center = center;
             self.head_rotation = rotation;
@@ -474,17 +595,26 @@ impl Hair {
         out
     }
 
+    /// The largest of `f` over every strand, in parallel.
+    fn max_over_strands(&self, f: impl Fn(&mut dyn Iterator<Item = DVec3>) -> f64 + Sync) -> f64 {
+        (0..self.strands())
+            .into_par_iter()
+            .map(|s| f(&mut self.strand(s)))
+            .reduce(|| 0.0, f64::max)
+    }
+
     /// Largest |ℓ - ℓ0| / ℓ0 over all segments (a separate pass; the run uses [`Hair::stats`]).
     pub fn max_stretch(&self) -> f64 {
         let l0 = self.params.segment_length;
-        self.pos
-            .par_chunks(self.params.nodes)
-            .map(|x| {
-                x.windows(2)
-                    .map(|w| ((w[1] - w[0]).length() - l0).abs() / l0)
-                    .fold(0.0, f64::max)
+        self.max_over_strands(|x| {
+            let mut a = x.next().unwrap_or_default();
+            x.map(|b| {
+                let r = ((b - a).length() - l0).abs() / l0;
+                a = b;
+                r
             })
-            .reduce(|| 0.0, f64::max)
+            .fold(0.0, f64::max)
+        })
     }
 
     /// Deepest penetration of any non-root node into the collision sphere R(1 + margin) [m]
@@ -492,22 +622,20 @@ impl Hair {
     pub fn max_penetration(&self) -> f64 {
         let c = self.head_center;
         let rc = self.params.head_radius * (1.0 + self.params.margin);
-        self.pos
-            .par_chunks(self.params.nodes)
-            .map(|x| {
-                x[1..]
-                    .iter()
-                    .map(|x| (rc - (*x - c).length()).max(0.0))
-                    .fold(0.0, f64::max)
-            })
-            .reduce(|| 0.0, f64::max)
+        self.max_over_strands(|x| {
+            x.skip(1)
+                .map(|x| (rc - (x - c).length()).max(0.0))
+                .fold(0.0, f64::max)
+        })
     }
 
     /// Largest distance of a root node from its attachment point [m].
     pub fn max_root_error(&self) -> f64 {
         (0..self.strands())
-            .map(|s| (self.pos[s * self.params.nodes] - self.root_anchor(s)).length())
-            .fold(0.0, f64::max)
+            .into_par_iter()
+            .with_min_len(1024)
+            .map(|s| (self.node(s, 0) - self.root_anchor(s)).length())
+            .reduce(|| 0.0, f64::max)
     }
 
     /// Kinetic energy per unit node mass, ½ Σ |Δx/dt|² [J/kg], from how far each node actually
@@ -546,14 +674,22 @@ struct StepContext<'a> {
     /// Velocity kept per step, exp(-c dt).
     keep: f64,
     collide_radius: f64,
+    /// The smallest squared distance from the centre whose square root is ≥ `collide_radius`
+    /// ([`lanes::sqrt_threshold`]).
+    outside2: f64,
+    /// f64::MAX, opaque to the optimiser: `r <= finite_max` tests "finite" as one vector
+    /// comparison (LLVM rewrites a comparison with the constant into integer bit tests per lane).
+    finite_max: f64,
+    /// The wind at `time`.
+    wind: WindField,
     /// Whether this is the first / last inner step of the step.
     first: bool,
     last: bool,
 }
 
 impl StepContext<'_> {
-    /// Steps a group of consecutive strands (`roots.len()` of them, node-major per strand) and
-    /// measures the result.
+    /// Steps a group of consecutive strands in strand-major layout (`roots.len()` of them,
+    /// node-major per strand) and measures the result.
     fn step_group(
         &self,
         x: &mut [DVec3],
@@ -561,10 +697,6 @@ impl StepContext<'_> {
         v: &mut [DVec3],
         roots: &[DVec3],
     ) -> GroupStats {
-        if self.has_lanes() {
-            return SCRATCH
-                .with_borrow_mut(|scratch| self.step_lanes(x, prev, v, roots, &mut scratch.lanes));
-        }
         let n = self.params.nodes;
         match self.method {
             HairMethod::Verlet => {
