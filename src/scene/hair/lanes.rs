@@ -558,14 +558,24 @@ impl StepContext<'_> {
         let half = F8::splat(0.5);
         let center = V3::splat(self.center);
         let mut kinetic = half * ((x[0] - p[0]) * inv_dt).length_squared();
-        let mut stretch = F8::ZERO;
+        // The shortest and longest segments (squared; NaN, which min and max pass over, until a
+        // finite length comes).
+        let (mut shortest2, mut longest2) = (F8::splat(f64::NAN), F8::splat(f64::NAN));
         let mut depth2 = F8::splat(f64::INFINITY);
         for k in 1..n {
-            let len = (x[k] - x[k - 1]).length();
-            stretch = stretch.max((len - l0).abs() * inv_l0);
+            let len2 = (x[k] - x[k - 1]).length_squared();
+            shortest2 = shortest2.min(len2);
+            longest2 = longest2.max(len2);
             depth2 = depth2.min((x[k] - center).length_squared());
             kinetic = kinetic + half * ((x[k] - p[k]) * inv_dt).length_squared();
         }
+        // |ℓ - ℓ0|/ℓ0 as `StepContext::measure` computes it per segment falls and then rises
+        // with ℓ² (the square root and every rounding are monotone), so its largest value is at
+        // the shortest or the longest segment: two square roots per strand, the same bits.
+        let stretch_of = |len2: F8| (len2.sqrt() - l0).abs() * inv_l0;
+        let stretch = F8::ZERO
+            .max(stretch_of(longest2))
+            .max(stretch_of(shortest2));
         Some(LaneStats {
             stretch,
             depth2,
