@@ -47,7 +47,9 @@ pub fn newton_step(x: &mut [DVec3], l0: f64) -> f64 {
     let n = x.len();
     let (mut u, mut cp, mut dp) = (vec![V3::default(); n], vec![F8::ZERO; n], vec![F8::ZERO; n]);
     let mut mu = vec![F8::ZERO; n];
-    newton_lanes(&mut lanes, &mut u, &mut cp, &mut dp, &mut mu, l0, None);
+    newton_lanes(
+        &mut lanes, &mut u, &mut cp, &mut dp, &mut mu, l0, true, None,
+    );
     for (p, l) in x.iter_mut().zip(&lanes) {
         *p = l.lane(0);
     }

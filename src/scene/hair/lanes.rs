@@ -542,7 +542,9 @@ impl StepContext<'_> {
             let (q, mu) = (&mut s.q[..n], &mut s.mu[..n]);
             q.copy_from_slice(x);
             mu.fill(F8::ZERO);
-            for _ in 0..self.params.iterations {
+            let steps = self.params.iterations;
+            for i in 0..steps {
+                // The last step's positions would be overwritten by the tension solve.
                 newton_lanes(
                     x,
                     &mut s.u[..n],
@@ -550,6 +552,7 @@ impl StepContext<'_> {
                     &mut s.dp[..n],
                     mu,
                     l0,
+                    i + 1 < steps,
                     Some(self),
                 );
             }
@@ -703,7 +706,11 @@ pub(super) fn sqrt_threshold(r: f64) -> f64 {
 }
 
 /// One Newton step of the chain's length constraints on eight strands (as
-/// [`super::direct`] describes it), each lane one strand; with `collide`, every moved node is pushed out of the head.
+/// [`super::direct`] describes it), each lane one strand; the multipliers are added to `mu`
+/// (as tensions, -λ). With `move_nodes` the step is applied to `x` (and with `collide` every
+/// moved node is pushed out of the head); without, only the tensions are wanted (the last step
+/// before the tension solve, which places every node itself).
+#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub(super) fn newton_lanes(
     x: &mut [V3],
@@ -712,6 +719,7 @@ pub(super) fn newton_lanes(
     dp: &mut [F8],
     mu: &mut [F8],
     l0: f64,
+    move_nodes: bool,
     collide: Option<&StepContext>,
 ) {
     let m = x.len() - 1;
@@ -745,9 +753,11 @@ pub(super) fn newton_lanes(
     for j in (0..m).rev() {
         let lambda = dp[j] - cp[j] * lambda_next;
         mu[j] = mu[j] - lambda;
-        x[j + 1] = x[j + 1] + (u[j] * lambda - u_next * lambda_next);
-        if let Some(ctx) = collide {
-            ctx.collide_lanes(&mut x[j + 1]);
+        if move_nodes {
+            x[j + 1] = x[j + 1] + (u[j] * lambda - u_next * lambda_next);
+            if let Some(ctx) = collide {
+                ctx.collide_lanes(&mut x[j + 1]);
+            }
         }
         lambda_next = lambda;
         u_next = u[j];
