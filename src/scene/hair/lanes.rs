@@ -353,6 +353,72 @@ struct LaneStats {
     kinetic: F8,
 }
 
+/// The measurements of a chunk's new state (as `StepContext::measure`, per lane), taken node by
+/// node inside the step's last loop while the node is in registers.
+struct Measure {
+    l0: F8,
+    inv_l0: F8,
+    inv_dt: F8,
+    center: V3,
+    kinetic: F8,
+    /// The shortest and longest segments, squared (NaN, which min and max pass over, until a
+    /// finite length comes).
+    shortest2: F8,
+    longest2: F8,
+    depth2: F8,
+}
+
+impl Measure {
+    #[inline(always)]
+    fn new(ctx: &StepContext) -> Measure {
+        let l0 = ctx.params.segment_length;
+        Measure {
+            l0: F8::splat(l0),
+            inv_l0: F8::splat(1.0 / l0),
+            inv_dt: F8::splat(1.0 / ctx.frame_dt),
+            center: V3::splat(ctx.center),
+            kinetic: F8::ZERO,
+            shortest2: F8::splat(f64::NAN),
+            longest2: F8::splat(f64::NAN),
+            depth2: F8::splat(f64::INFINITY),
+        }
+    }
+
+    /// Node k's final position (its segment to node k - 1 when k > 0); nodes in order, so the
+    /// kinetic energy sums in node order.
+    #[inline(always)]
+    fn node(&mut self, x: &[V3], p: &[V3], k: usize) {
+        let half = F8::splat(0.5);
+        let e = half * ((x[k] - p[k]) * self.inv_dt).length_squared();
+        if k == 0 {
+            // As the separate pass did: the root's term starts the sum.
+            self.kinetic = e;
+            return;
+        }
+        let len2 = (x[k] - x[k - 1]).length_squared();
+        self.shortest2 = self.shortest2.min(len2);
+        self.longest2 = self.longest2.max(len2);
+        self.depth2 = self.depth2.min((x[k] - self.center).length_squared());
+        self.kinetic = self.kinetic + e;
+    }
+
+    #[inline(always)]
+    fn finish(self) -> LaneStats {
+        // |ℓ - ℓ0|/ℓ0 as `StepContext::measure` computes it per segment falls and then rises
+        // with ℓ² (the square root and every rounding are monotone), so its largest value is at
+        // the shortest or the longest segment: two square roots per strand, the same bits.
+        let stretch_of = |len2: F8| (len2.sqrt() - self.l0).abs() * self.inv_l0;
+        let stretch = F8::ZERO
+            .max(stretch_of(self.longest2))
+            .max(stretch_of(self.shortest2));
+        LaneStats {
+            stretch,
+            depth2: self.depth2,
+            kinetic: self.kinetic,
+        }
+    }
+}
+
 /// Per-lane inputs computed outside the kernel: the roots' anchors at the end of the step and
 /// the acceleration (gravity and the wind at the root).
 struct LaneInputs {
@@ -521,6 +587,7 @@ impl StepContext<'_> {
             // Velocities from positions, with the DFTL correction -s d_{k+1}/dt.
             let s_corr = F8::splat(FTL_CORRECTION);
             let last = n - 1;
+            let mut measure = self.last.then(|| Measure::new(self));
             for k in 0..=last {
                 let correction = if k < last && k > 0 {
                     v[k + 1]
@@ -528,7 +595,11 @@ impl StepContext<'_> {
                     V3::default()
                 };
                 v[k] = (x[k] - p[k]) / dt - (correction * s_corr) / dt;
+                if let Some(m) = measure.as_mut() {
+                    m.node(x, p, k);
+                }
             }
+            return measure.map(|m| m.finish());
         } else {
             let adt2 = V3::from_lanes(inputs.accel.map(|a| a * self.dt * self.dt));
             for k in 1..n {
@@ -559,43 +630,18 @@ impl StepContext<'_> {
             if self.params.iterations > 0 {
                 tension_solve_lanes(x, q, mu, &mut s.cp[..n], l0);
             }
+            let mut measure = self.last.then(|| Measure::new(self));
+            if let Some(m) = measure.as_mut() {
+                m.node(x, p, 0);
+            }
             for k in 1..n {
                 x[k] = self.follow_lanes(x[k - 1], x[k]).0;
+                if let Some(m) = measure.as_mut() {
+                    m.node(x, p, k);
+                }
             }
+            measure.map(|m| m.finish())
         }
-        if !self.last {
-            return None;
-        }
-        // The measurements (as `StepContext::measure`, per lane).
-        let l0 = F8::splat(self.params.segment_length);
-        let inv_l0 = F8::splat(1.0 / self.params.segment_length);
-        let inv_dt = F8::splat(1.0 / self.frame_dt);
-        let half = F8::splat(0.5);
-        let center = V3::splat(self.center);
-        let mut kinetic = half * ((x[0] - p[0]) * inv_dt).length_squared();
-        // The shortest and longest segments (squared; NaN, which min and max pass over, until a
-        // finite length comes).
-        let (mut shortest2, mut longest2) = (F8::splat(f64::NAN), F8::splat(f64::NAN));
-        let mut depth2 = F8::splat(f64::INFINITY);
-        for k in 1..n {
-            let len2 = (x[k] - x[k - 1]).length_squared();
-            shortest2 = shortest2.min(len2);
-            longest2 = longest2.max(len2);
-            depth2 = depth2.min((x[k] - center).length_squared());
-            kinetic = kinetic + half * ((x[k] - p[k]) * inv_dt).length_squared();
-        }
-        // |ℓ - ℓ0|/ℓ0 as `StepContext::measure` computes it per segment falls and then rises
-        // with ℓ² (the square root and every rounding are monotone), so its largest value is at
-        // the shortest or the longest segment: two square roots per strand, the same bits.
-        let stretch_of = |len2: F8| (len2.sqrt() - l0).abs() * inv_l0;
-        let stretch = F8::ZERO
-            .max(stretch_of(longest2))
-            .max(stretch_of(shortest2));
-        Some(LaneStats {
-            stretch,
-            depth2,
-            kinetic,
-        })
     }
 
     /// [`StepContext::collide`] on eight nodes, in lanes: the lanes inside take the push, the
