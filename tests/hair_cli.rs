@@ -94,7 +94,14 @@ fn bad_hair_input_is_refused_with_exit_code_2() {
         (&["--wind", "a,b"], "expected x,y,z"),
         (&["--methods", "rk4"], "unknown hair method 'rk4'"),
         (
-            &["--strands", "1000000", "--nodes", "1000", "--duration", "600"],
+            &[
+                "--strands",
+                "1000000",
+                "--nodes",
+                "1000",
+                "--duration",
+                "600",
+            ],
             "node-updates per method",
         ),
     ];
