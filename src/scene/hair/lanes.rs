@@ -599,7 +599,7 @@ impl StepContext<'_> {
                     m.node(x, p, k);
                 }
             }
-            return measure.map(|m| m.finish());
+            measure.map(|m| m.finish())
         } else {
             let adt2 = V3::from_lanes(inputs.accel.map(|a| a * self.dt * self.dt));
             for k in 1..n {
