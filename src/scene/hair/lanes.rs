@@ -627,9 +627,9 @@ impl StepContext<'_> {
                     Some(self),
                 );
             }
-            if self.params.iterations > 0 {
-                tension_solve_lanes(x, q, mu, &mut s.cp[..n], l0);
-            }
+            // With no Newton step (iterations 0, refused by the command line) μ = 0 and this
+            // returns the prediction unchanged.
+            tension_solve_lanes(x, q, mu, &mut s.cp[..n], l0);
             let mut measure = self.last.then(|| Measure::new(self));
             if let Some(m) = measure.as_mut() {
                 m.node(x, p, 0);
