@@ -16,7 +16,7 @@ pub fn method_color(name: &str) -> [u8; 3] {
         "yoshida4" => [188, 189, 34],
         "dopri5" => [255, 215, 0],
         "dop853" => [90, 110, 255],
-        "vern9" | "vern7" => [0, 128, 110],
+        "vern9" => [0, 128, 110],
         "exact" | "reference" => [220, 220, 220],
         // A name without a colour of its own still gets a distinct, stable one.
         other => {

@@ -122,9 +122,37 @@ fn every_explicit_method_counts_its_acceleration_calls_on_the_rope() {
         }
         assert_eq!(it.evals(), sys.calls.get(), "{m}");
         assert_eq!(it.jacobian_evals(), 0, "{m}");
-        if let EvalsPerStep::Fixed(k) = m.info().evals_per_step {
-            let start = u64::from(m == Method::Verlet);
-            assert_eq!(it.evals(), 300 * u64::from(k) + start, "{m}");
+        match m.info().evals_per_step {
+            EvalsPerStep::Fixed(k) => {
+                let start = u64::from(m == Method::Verlet);
+                assert_eq!(it.evals(), 300 * u64::from(k) + start, "{m}");
+            }
+            // The registry's substep costs against the calls counted: exact without dense
+            // output, and at most one dense build per accepted substep with it.
+            EvalsPerStep::Adaptive(e) => {
+                let (accepted, rejected) = (it.accepted_steps(), it.rejected_steps());
+                let stepping = u64::from(e.first)
+                    + accepted * u64::from(e.accepted)
+                    + rejected * u64::from(e.rejected);
+                let dense = it.evals() - stepping.min(it.evals());
+                assert!(it.evals() >= stepping, "{m}: {} < {stepping}", it.evals());
+                assert!(
+                    dense <= accepted * u64::from(e.dense),
+                    "{m}: {dense} dense evals"
+                );
+                assert_eq!(
+                    dense % u64::from(e.dense.max(1)),
+                    0,
+                    "{m}: {dense} dense evals"
+                );
+                if m == Method::Dopri5 {
+                    assert!(
+                        rejected > 0,
+                        "the tight tolerance makes dopri5 reject substeps"
+                    );
+                }
+            }
+            EvalsPerStep::NewtonIterations => {}
         }
     }
 }

@@ -1,5 +1,5 @@
 //! Explicit one-step methods: explicit Euler, the explicit midpoint rule (RK2) and Heun's
-//! method (the explicit trapezoid rule, named `trapezoid` for the seeds).
+//! method (the explicit trapezoid rule, named `trapezoid`: not the implicit one).
 
 use super::{SecondOrderSystem, State};
 

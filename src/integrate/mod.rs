@@ -25,7 +25,9 @@ mod verner;
 
 pub use composition::{YOSHIDA4_STABILITY_LIMIT, yoshida_weights};
 pub use implicit::scalar_backward_euler;
-pub use registry::{EvalsPerStep, Family, Method, MethodInfo, Stability, UnknownMethod};
+pub use registry::{
+    AdaptiveEvals, EvalsPerStep, Family, Method, MethodInfo, Stability, UnknownMethod,
+};
 
 /// What one implicit solve did.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -114,7 +116,6 @@ enum Stepper {
 /// once in [`Integrator::new`], so stepping never allocates.
 #[derive(Clone, Debug)]
 pub struct Integrator {
-    method: Method,
     dt: f64,
     x: Vec<f64>,
     v: Vec<f64>,
@@ -180,7 +181,6 @@ impl Integrator {
             )),
         };
         Integrator {
-            method,
             dt,
             x: x0.to_vec(),
             v: v0.to_vec(),
@@ -191,9 +191,6 @@ impl Integrator {
         }
     }
 
-    pub fn method(&self) -> Method {
-        self.method
-    }
     pub fn dt(&self) -> f64 {
         self.dt
     }

@@ -7,27 +7,27 @@ use std::str::FromStr;
 
 use super::composition::YOSHIDA4_STABILITY_LIMIT;
 
-/// The integrators physlab knows, by their canonical command-line names.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum Method {
-    ExplicitEuler,
-    SemiImplicitEuler,
-    ImplicitEuler,
-    Midpoint,
-    Trapezoid,
-    Rk4,
-    Verlet,
-    /// Fourth-order symplectic composition of three position-Verlet steps (Yoshida 1990);
-    /// second order when the force depends on the velocity.
-    Yoshida4,
-    /// Dormand–Prince 5(4), adaptive, error-controlled by `MethodOptions::rtol`.
-    Dopri5,
-    /// Dormand–Prince 8(5,3) (Hairer's DOP853), adaptive with seventh-order dense output,
-    /// error-controlled by `MethodOptions::rtol`.
-    Dop853,
-    /// Verner's 9(8) "most efficient" pair with its 8th-order interpolant, adaptive,
-    /// error-controlled by `MethodOptions::rtol`.
-    Vern9,
+/// Defines [`Method`] (one variant per entry), `Method::ALL` in entry order and `Method::info`.
+macro_rules! registry {
+    ($($(#[$doc:meta])* $variant:ident => $info:expr,)*) => {
+        /// The integrators physlab knows, by their canonical command-line names.
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+        pub enum Method {
+            $($(#[$doc])* $variant,)*
+        }
+
+        impl Method {
+            /// Every method in the registry, in registry order.
+            pub const ALL: [Method; [$(Method::$variant),*].len()] = [$(Method::$variant),*];
+
+            /// What the method is: its row of the registry.
+            pub const fn info(self) -> MethodInfo {
+                match self {
+                    $(Method::$variant => $info,)*
+                }
+            }
+        }
+    };
 }
 
 /// How many force (acceleration) evaluations one step costs.
@@ -40,10 +40,46 @@ pub enum EvalsPerStep {
     /// explicit-Euler guess; the rope's solver starts from the current state and has none); the
     /// count varies by step.
     NewtonIterations,
-    /// Six per substep tried, accepted or rejected (first-same-as-last: the last stage of an
-    /// accepted substep is the next one's first; the run's first substep costs seven), as many
-    /// substeps as error control needs.
-    Adaptive,
+    /// As many substeps as error control needs, each costing what [`AdaptiveEvals`] says.
+    Adaptive(AdaptiveEvals),
+}
+
+/// What an embedded pair's substeps cost in force evaluations, read from the pair itself
+/// ([`super::dense`]), so that no table retypes them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct AdaptiveEvals {
+    /// An accepted substep (first-same-as-last: its last stage is the next one's first).
+    pub accepted: u32,
+    /// A rejected substep (its first stage is reused by the retry).
+    pub rejected: u32,
+    /// The extra stages of the dense output, once per accepted substep that holds a sample time.
+    pub dense: u32,
+    /// The first stage of the run's first substep.
+    pub first: u32,
+}
+
+impl AdaptiveEvals {
+    const fn of<P: super::dense::Pair>() -> Self {
+        AdaptiveEvals {
+            accepted: P::TRIAL_EVALS as u32 + if P::FSAL_IN_TRIAL { 0 } else { 1 },
+            rejected: P::TRIAL_EVALS as u32,
+            dense: P::DENSE_EVALS as u32,
+            first: 1,
+        }
+    }
+}
+
+impl fmt::Display for AdaptiveEvals {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{} per step", self.accepted)?;
+        if self.rejected != self.accepted {
+            write!(f, ", {} per rejected one", self.rejected)?;
+        }
+        if self.dense > 0 {
+            write!(f, ", +{} for dense output", self.dense)?;
+        }
+        write!(f, " (FSAL; the run's first step +{})", self.first)
+    }
 }
 
 impl fmt::Display for EvalsPerStep {
@@ -51,7 +87,7 @@ impl fmt::Display for EvalsPerStep {
         match self {
             EvalsPerStep::Fixed(n) => write!(f, "{n}"),
             EvalsPerStep::NewtonIterations => write!(f, "Newton"),
-            EvalsPerStep::Adaptive => write!(f, "adaptive"),
+            EvalsPerStep::Adaptive(_) => write!(f, "adaptive"),
         }
     }
 }
@@ -100,11 +136,15 @@ pub struct MethodInfo {
     pub update: &'static str,
     /// What a user choosing the method should know beyond the numbers; empty when nothing.
     pub notes: &'static str,
+    /// Whether the scenes run it when --methods is not given.
+    pub default: bool,
 }
 
-/// The registry, one row per method, in the order of tables and layouts.
-const REGISTRY: [MethodInfo; 11] = [
-    MethodInfo {
+// The registry: one entry per method, in the order of tables and layouts. The macro makes the
+// `Method` enum, `Method::ALL` and `Method::info` from the one list, so a method is named once
+// and the compiler checks that every variant has its row.
+registry! {
+    ExplicitEuler => MethodInfo {
         name: "explicit-euler",
         family: Family::Explicit,
         order: 1,
@@ -115,8 +155,9 @@ const REGISTRY: [MethodInfo; 11] = [
         stability: Stability::Never,
         update: "x += v dt; v += a(x,v) dt (both from the old state)",
         notes: "",
+        default: true,
     },
-    MethodInfo {
+    SemiImplicitEuler => MethodInfo {
         name: "semi-implicit-euler",
         family: Family::SemiImplicit,
         order: 1,
@@ -127,8 +168,9 @@ const REGISTRY: [MethodInfo; 11] = [
         stability: Stability::Below(2.0),
         update: "v += a(x,v) dt; x += v_new dt",
         notes: "",
+        default: true,
     },
-    MethodInfo {
+    ImplicitEuler => MethodInfo {
         name: "implicit-euler",
         family: Family::Implicit,
         order: 1,
@@ -148,8 +190,9 @@ const REGISTRY: [MethodInfo; 11] = [
                 unconditionally stable: the default rope diverges at dt = 0.3 s (at t = 0.6 s). \
                 With --newton-iterations 20 the solve converges and the rope stays stable there \
                 (tried to dt = 1 s).",
+        default: true,
     },
-    MethodInfo {
+    Midpoint => MethodInfo {
         name: "midpoint",
         family: Family::Explicit,
         order: 2,
@@ -160,8 +203,9 @@ const REGISTRY: [MethodInfo; 11] = [
         stability: Stability::Never,
         update: "explicit RK2 through the half step",
         notes: "",
+        default: true,
     },
-    MethodInfo {
+    Trapezoid => MethodInfo {
         name: "trapezoid",
         family: Family::Explicit,
         order: 2,
@@ -172,10 +216,10 @@ const REGISTRY: [MethodInfo; 11] = [
         stability: Stability::Never,
         update: "explicit trapezoid rule (Heun): Euler predictor, then the mean of the slopes \
                  at both ends",
-        notes: "Not the implicit trapezoid rule of the textbooks (Crank-Nicolson, A-stable); \
-                the name is the seeds'.",
+        notes: "Not the implicit trapezoid rule of the textbooks (Crank-Nicolson, A-stable).",
+        default: true,
     },
-    MethodInfo {
+    Rk4 => MethodInfo {
         name: "rk4",
         family: Family::RungeKutta,
         order: 4,
@@ -186,8 +230,9 @@ const REGISTRY: [MethodInfo; 11] = [
         stability: Stability::Below(2.0 * std::f64::consts::SQRT_2),
         update: "classic Runge-Kutta",
         notes: "",
+        default: true,
     },
-    MethodInfo {
+    Verlet => MethodInfo {
         name: "verlet",
         family: Family::Verlet,
         order: 2,
@@ -203,8 +248,11 @@ const REGISTRY: [MethodInfo; 11] = [
                 holds for d = 0 (the default): d > 0 adds a drag of rate d/dt, which grows as \
                 dt shrinks. Damping shrinks the stable step: h < 1.81 at damping ratio 0.05 and \
                 1.64 at 0.1 on the oscillator (h < 2 undamped).",
+        default: true,
     },
-    MethodInfo {
+    /// Fourth-order symplectic composition of three position-Verlet steps (Yoshida 1990);
+    /// second order when the force depends on the velocity.
+    Yoshida4 => MethodInfo {
         name: "yoshida4",
         family: Family::Composition,
         order: 4,
@@ -219,77 +267,67 @@ const REGISTRY: [MethodInfo; 11] = [
                 damping and drag) order 2: order 4 would need each kick's mid-velocity exactly \
                 (an implicit kick); it is predicted with the last acceleration evaluated (a kick \
                 with the pre-kick velocity made it order 1).",
+        default: false,
     },
-    MethodInfo {
+    /// Dormand–Prince 5(4), adaptive, error-controlled by `MethodOptions::rtol`.
+    Dopri5 => MethodInfo {
         name: "dopri5",
         family: Family::Adaptive,
         order: 5,
         order_velocity_dependent: 5,
         implicit: false,
         symplectic: false,
-        evals_per_step: EvalsPerStep::Adaptive,
+        evals_per_step: EvalsPerStep::Adaptive(AdaptiveEvals::of::<super::adaptive::Dopri5>()),
         stability: Stability::Adaptive,
         update: "Dormand-Prince 5(4) steps of its own size, error per step <= rtol (abs(y) + 1); \
                  the state at each dt from its 4th-order dense output (Hairer's dopri5.f)",
         notes: "6 evaluations per step tried (FSAL; the run's first 7); the dense output costs \
                 none. Its steps do not end on the dt grid.",
+        default: false,
     },
-    MethodInfo {
+    /// Dormand–Prince 8(5,3) (Hairer's DOP853), adaptive with seventh-order dense output,
+    /// error-controlled by `MethodOptions::rtol`.
+    Dop853 => MethodInfo {
         name: "dop853",
         family: Family::Adaptive,
         order: 8,
         order_velocity_dependent: 8,
         implicit: false,
         symplectic: false,
-        evals_per_step: EvalsPerStep::Adaptive,
+        evals_per_step: EvalsPerStep::Adaptive(AdaptiveEvals::of::<super::dop853::Dop853>()),
         stability: Stability::Adaptive,
         update: "Dormand-Prince 8(5,3) (Hairer's DOP853) steps of its own size, error per step \
                  <= rtol (abs(y) + 1); the state at each dt from its 7th-order dense output",
         notes: "12 evaluations per step (11 per rejected step, FSAL), plus 3 for the dense output \
                 in a step that holds a sample time. Its steps do not end on the dt grid.",
+        default: false,
     },
-    MethodInfo {
+    /// Verner's 9(8) "most efficient" pair with its 8th-order interpolant, adaptive,
+    /// error-controlled by `MethodOptions::rtol`.
+    Vern9 => MethodInfo {
         name: "vern9",
         family: Family::Adaptive,
         order: 9,
         order_velocity_dependent: 9,
         implicit: false,
         symplectic: false,
-        evals_per_step: EvalsPerStep::Adaptive,
+        evals_per_step: EvalsPerStep::Adaptive(AdaptiveEvals::of::<super::verner::Vern9>()),
         stability: Stability::Adaptive,
         update: "Verner's 9(8) pair (RKV98.IIa efficient, 16 stages) steps of its own size, error \
                  per step <= rtol (abs(y) + 1); the state at each dt from its 8th-order interpolant",
         notes: "16 evaluations per step (15 per rejected step, FSAL), plus 4 for the interpolant \
                 in a step that holds a sample time. Its steps do not end on the dt grid. The \
                 cheapest at tight tolerances (1e-8 and below).",
+        default: false,
     },
-];
+}
 
 impl Method {
-    /// Every method in the registry, in registry order.
-    pub const ALL: [Method; 11] = [
-        Method::ExplicitEuler,
-        Method::SemiImplicitEuler,
-        Method::ImplicitEuler,
-        Method::Midpoint,
-        Method::Trapezoid,
-        Method::Rk4,
-        Method::Verlet,
-        Method::Yoshida4,
-        Method::Dopri5,
-        Method::Dop853,
-        Method::Vern9,
-    ];
+    /// The methods the scenes run when --methods is not given, in registry order: those marked
+    /// `default` in their row.
+    pub const DEFAULT: &'static [Method] = &DEFAULTS;
 
-    /// The seven methods the scenes run by default, in the order of tables and layouts; the
-    /// study's `yoshida4` and `dopri5` are available with --methods.
-    pub const DEFAULT: &'static [Method] = Method::ALL.split_at(7).0;
-
-    pub fn info(self) -> MethodInfo {
-        REGISTRY[self as usize]
-    }
-
-    pub fn name(self) -> &'static str {
+    pub const fn name(self) -> &'static str {
         self.info().name
     }
 
@@ -297,6 +335,31 @@ impl Method {
         Method::ALL.iter().map(|m| m.name())
     }
 }
+
+const DEFAULT_COUNT: usize = {
+    let mut n = 0;
+    let mut i = 0;
+    while i < Method::ALL.len() {
+        if Method::ALL[i].info().default {
+            n += 1;
+        }
+        i += 1;
+    }
+    n
+};
+
+const DEFAULTS: [Method; DEFAULT_COUNT] = {
+    let mut out = [Method::ALL[0]; DEFAULT_COUNT];
+    let (mut i, mut j) = (0, 0);
+    while i < Method::ALL.len() {
+        if Method::ALL[i].info().default {
+            out[j] = Method::ALL[i];
+            j += 1;
+        }
+        i += 1;
+    }
+    out
+};
 
 impl fmt::Display for Method {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -350,12 +413,18 @@ mod tests {
     use super::*;
 
     #[test]
-    fn registry_rows_are_in_enum_order() {
-        assert_eq!(Method::ALL.len(), REGISTRY.len());
-        for (i, m) in Method::ALL.into_iter().enumerate() {
-            assert_eq!(m as usize, i);
-            assert_eq!(REGISTRY[i].name, m.name());
-        }
+    fn names_are_unique_and_defaults_are_marked() {
+        let mut names: Vec<_> = Method::names().collect();
+        names.sort_unstable();
+        names.dedup();
+        assert_eq!(names.len(), Method::ALL.len());
+        let marked: Vec<_> = Method::ALL
+            .into_iter()
+            .filter(|m| m.info().default)
+            .collect();
+        assert_eq!(Method::DEFAULT, marked.as_slice());
+        assert!(Method::DEFAULT.contains(&Method::Verlet));
+        assert!(!Method::DEFAULT.contains(&Method::Dopri5));
     }
 
     #[test]

@@ -1,4 +1,4 @@
-//! Position Verlet in the seeds' form, with a damping factor and a synchronous velocity.
+//! Position Verlet, x1 = x0 + (1-d)(x0 - x_-1) + a dt², with a damping factor and a synchronous velocity.
 
 use super::{Counts, SecondOrderSystem, State};
 
@@ -23,8 +23,8 @@ pub struct Verlet {
 }
 
 impl Verlet {
-    /// Second-order start: x_-1 = x0 - v0 dt + a0 dt²/2 (Taylor backwards). The seeds'
-    /// x_-1 = x0 makes the first step a symplectic-Euler step and the whole run first order.
+    /// Second-order start: x_-1 = x0 - v0 dt + a0 dt²/2 (Taylor backwards). The naive
+    /// start x_-1 = x0 makes the first step a symplectic-Euler step and the whole run first order.
     /// `a` keeps a(x0, v0) for the first step; this start is the method's one extra evaluation.
     pub fn new<S: SecondOrderSystem>(
         sys: &S,

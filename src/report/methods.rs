@@ -33,15 +33,7 @@ pub fn methods_table() -> String {
                 EvalsPerStep::NewtonIterations => {
                     "1 force + 1 Jacobian per Newton iteration (+1 force: pendulum's guess)".into()
                 }
-                EvalsPerStep::Adaptive => match m {
-                    Method::Dop853 => {
-                        "12 per step, 11 per rejected one, +3 for dense output (FSAL)".into()
-                    }
-                    Method::Vern9 => {
-                        "16 per step, 15 per rejected one, +4 for the interpolant (FSAL)".into()
-                    }
-                    _ => "6 per substep tried (FSAL; the run's first: 7)".into(),
-                },
+                EvalsPerStep::Adaptive(e) => e.to_string(),
             },
             stability,
             i.update.to_string(),

@@ -12,13 +12,9 @@ pub fn cost_per_step(method: Method, newton_iterations: u32) -> String {
         EvalsPerStep::NewtonIterations => {
             format!("≤{newton_iterations} × (force + Jacobian + block-tridiagonal solve) O(N)")
         }
-        EvalsPerStep::Adaptive => format!(
+        EvalsPerStep::Adaptive(e) => format!(
             "adaptive: {} force evals O(N) per substep tried",
-            match method {
-                Method::Dop853 => 12,
-                Method::Vern9 => 16,
-                _ => 6,
-            }
+            e.accepted
         ),
     }
 }

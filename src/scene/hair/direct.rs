@@ -14,29 +14,26 @@
 //! position update and pushes each node out of the head as it goes. The run solves eight strands
 //! at once in the lanes of a vector register ([`super::lanes`]).
 //!
-//! The tension solve ([`super::lanes::tension_solve_lanes`]): Newton's corrections point along
+//! The tension solve ([`tension_solve_lanes`]): Newton's corrections point along
 //! the predicted segments, an explicit step on the tension's transverse stiffness (ω dt ≈ 3.3 at
 //! the root of a 16-node strand at 60 Hz, beyond the limit 2: hanging strands zig-zagged for
 //! ever). So the Newton steps only measure the tensions (their summed multipliers), and the
 //! positions are then solved with those tensions acting along the end-of-step segments: the
 //! stationarity condition of the closest-point projection, a second tridiagonal system, which
-//! damps every transverse mode instead (backward Euler). It costs ~8% more CPU per step.
+//! damps every transverse mode instead (backward Euler).
 //!
 //! The safeguard (chosen by measurement, see the tests): from a prediction stretched several
 //! times over at 60 Hz the Newton iterates converge quadratically but from far away, so after
 //! the `iterations` Newton steps one root-to-tip pass places every node at rest length from its
 //! parent and outside the head (the follow-the-leader projection), so length and collision both
 //! hold exactly at the end of every step. That pass moves nodes by what the solves left, which
-//! is not small where the motion is violent. Measured (100 strands, 8 s, 2 Newton steps; the
-//! worst segment of each group of four strands, averaged over steps, then the worst of the run):
-//! default tour 1.7e-2 (worst 0.99 ℓ0), gusty 30 m/s² wind 4.9e-2 (2.7), shake 0.15 (3.5; the
-//! roots move by ~2 segments a frame), 64 nodes 2.0e-2 (3.4). Newton steps alone left 3.9e-2,
-//! 0.39, 0.22 and 0.18; one Newton step with the tension solve leaves 1.7e-2, 6.0e-2, 0.20 and
-//! 2.5e-2, which is why the default stays at two.
+//! is not small where the motion is violent; docs/results.md measures how much, and why the
+//! default is two Newton steps.
 
 use glam::DVec3;
 
-use super::lanes::{F8, V3, newton_lanes};
+use super::StepContext;
+use super::simd::{F8, V3};
 
 /// One Newton step of the chain's length constraints on one strand `x` (root x[0] held, no
 /// collision): the strand in every lane of [`newton_lanes`], the kernel the run steps eight
@@ -61,6 +58,113 @@ pub fn residual(x: &[DVec3], l0: f64) -> f64 {
     x.windows(2)
         .map(|w| ((w[1] - w[0]).length() - l0).abs() / l0)
         .fold(0.0, f64::max)
+}
+
+/// One Newton step of the chain's length constraints on eight strands (as
+/// [`super::direct`] describes it), each lane one strand; the multipliers are added to `mu`
+/// (as tensions, -λ). With `move_nodes` the step is applied to `x` (and with `collide` every
+/// moved node is pushed out of the head); without, only the tensions are wanted (the last step
+/// before the tension solve, which places every node itself).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub(super) fn newton_lanes(
+    x: &mut [V3],
+    u: &mut [V3],
+    cp: &mut [F8],
+    dp: &mut [F8],
+    mu: &mut [F8],
+    l0: f64,
+    move_nodes: bool,
+    collide: Option<&StepContext>,
+) {
+    let m = x.len() - 1;
+    let l0 = F8::splat(l0);
+    let zero = F8::ZERO;
+    let unit_z = V3::splat(DVec3::Z);
+    let (one, two) = (F8::splat(1.0), F8::splat(2.0));
+    for j in 0..m {
+        // Keeps LLVM's loop vectoriser from vectorising across segments (it would gather
+        // lanes of four segments, 3× the instructions); the lane operations are vectors already.
+        let j = std::hint::black_box(j);
+        let d = x[j + 1] - x[j];
+        let len = d.length();
+        // One division per segment (d·(1/ℓ), not glam's d/ℓ per component).
+        u[j] = V3::select(len.test(zero, |a, b| a > b), d * (one / len), unit_z);
+        dp[j] = -(len - l0);
+    }
+    let (mut o_prev, mut cp_prev, mut dp_prev) = (zero, zero, zero);
+    for j in 0..m {
+        let diag = if j == 0 { one } else { two };
+        let inv = one / (diag - o_prev * cp_prev);
+        let o = if j + 1 < m { -u[j].dot(u[j + 1]) } else { zero };
+        let d = (dp[j] - o_prev * dp_prev) * inv;
+        let c = o * inv;
+        cp[j] = c;
+        dp[j] = d;
+        (o_prev, cp_prev, dp_prev) = (o, c, d);
+    }
+    let mut lambda_next = zero;
+    let mut u_next = V3::default();
+    for j in (0..m).rev() {
+        let lambda = dp[j] - cp[j] * lambda_next;
+        mu[j] = mu[j] - lambda;
+        if move_nodes {
+            x[j + 1] = x[j + 1] + (u[j] * lambda - u_next * lambda_next);
+            if let Some(ctx) = collide {
+                ctx.collide_lanes(&mut x[j + 1]);
+            }
+        }
+        lambda_next = lambda;
+        u_next = u[j];
+    }
+}
+
+/// The positions that the segment tensions `mu` (accumulated by [`newton_lanes`]) give when
+/// they act along the segments at the *end* of the step: the stationarity condition of the
+/// closest-point projection of the prediction `q` onto the constraints,
+///
+/// x_k - q_k = -(μ_{k-1}/ℓ0)(x_k - x_{k-1}) + (μ_k/ℓ0)(x_{k+1} - x_k),   x_0 held,
+///
+/// a symmetric tridiagonal system in the nodes (the same for x, y and z), solved by the Thomas
+/// algorithm. Why: the Newton steps correct along the segment directions of the prediction,
+/// which treats the tension's transverse stiffness explicitly (stable only for ω dt < 2 with ω
+/// ≈ 2 √(T/(m ℓ0)), the root segment's T carrying the whole strand: ω dt ≈ 3.3 at 16 nodes and
+/// 60 Hz, so strands hanging still zig-zag for ever). Here it is implicit (backward Euler in the
+/// transverse direction: every mode is damped, none grows). Tensions are clamped at zero (a
+/// compressed segment adds no coupling; the root-to-tip finish restores its length), so the
+/// matrix is diagonally dominant and the elimination cannot break down. `c` is scratch.
+#[inline(always)]
+pub(super) fn tension_solve_lanes(x: &mut [V3], q: &[V3], mu: &[F8], c: &mut [F8], l0: f64) {
+    let m = x.len() - 1;
+    let zero = F8::ZERO;
+    let one = F8::splat(1.0);
+    let inv_l0 = F8::splat(1.0 / l0);
+    // Coupling w_j = max(μ_j, 0)/ℓ0 of segment j (nodes j, j+1); node k has b_k = 1 + w_{k-1} +
+    // w_k (w_m = 0), off-diagonals -w.
+    let w = |j: usize| {
+        if j < m {
+            mu[j].max(zero) * inv_l0
+        } else {
+            zero
+        }
+    };
+    // Forward elimination: c[k] = c'_k, x[k] = d'_k.
+    let mut w_prev = w(0);
+    let mut c_prev = zero;
+    let mut d_prev = x[0];
+    for k in 1..=m {
+        let w_k = w(k);
+        let inv = one / (one + w_prev + w_k - w_prev * c_prev);
+        let d = (q[k] + d_prev * w_prev) * inv;
+        let ck = w_k * inv;
+        c[k] = ck;
+        x[k] = d;
+        (w_prev, c_prev, d_prev) = (w_k, ck, d);
+    }
+    // Back substitution: x_k = d'_k + c'_k x_{k+1} (the off-diagonal is -w).
+    for k in (1..m).rev() {
+        x[k] = x[k] + x[k + 1] * c[k];
+    }
 }
 
 #[cfg(test)]

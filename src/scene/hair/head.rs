@@ -1,5 +1,5 @@
-//! The head's scripted path: the seeds' keys (WASD move, QE turn) replaced by a smooth,
-//! deterministic script. Every motion is a C²-smooth pulse that starts and ends at rest, so
+//! The head's scripted path: a smooth, deterministic script of moves and turns (no keyboard, so
+//! that a run reproduces). Every motion is a C²-smooth pulse that starts and ends at rest, so
 //! velocities and accelerations stay finite and the head always returns home.
 
 use glam::{DQuat, DVec3};

@@ -32,6 +32,7 @@ pub mod direct;
 pub mod head;
 pub mod lanes;
 pub mod run;
+pub mod simd;
 pub mod spring;
 
 use std::cell::RefCell;
@@ -39,7 +40,7 @@ use std::cell::RefCell;
 use glam::{DQuat, DVec3};
 use rayon::prelude::*;
 
-use lanes::{LANES, V3};
+use simd::{LANES, V3};
 
 pub use head::{HeadMotion, head_pose};
 
@@ -283,12 +284,6 @@ impl HairParams {
             t,
             slow: (2.0 * std::f64::consts::PI * 0.23 * t).sin(),
         }
-    }
-
-    /// Highest angular frequency of a strand's springs (pinned root, free tip, unit masses):
-    /// below 2 sqrt(k/m); the bound is used.
-    pub fn omega_max(&self) -> f64 {
-        2.0 * self.stiffness.sqrt()
     }
 
     /// The longest step symplectic Euler takes on the springs: the highest mode (ω² = 4k/m,

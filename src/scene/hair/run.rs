@@ -18,7 +18,7 @@ pub const STRETCH_BOUND: f64 = 10.0;
 #[derive(Clone, Debug, PartialEq)]
 pub struct HairConfig {
     pub params: HairParams,
-    /// Simulation frames per simulated second (the seeds' 60 Hz).
+    /// Simulation frames per simulated second (60 Hz: a display's frame rate).
     pub rate: f64,
     /// Steps per simulation frame.
     pub substeps: u32,

@@ -1,5 +1,5 @@
 //! physlab against compiled peers at equal accuracy (issue 13, point 4):
-//! `cargo bench --no-default-features --bench peers`.
+//! `cargo bench -p physlab-peers`.
 //!
 //! The problem: the pendulum θ'' = -(g/L) sin θ, g = 9.81, L = 3.521, released from rest at
 //! θ0 = 60°, over 20 s, sampled every 0.1 s (200 sample times). The error of a run is
@@ -16,7 +16,7 @@
 //! `.even(0.1)` output). State types: nalgebra Vector2 for ode_solvers, [f64; 2] for
 //! differential-equations, physlab's own flat slices.
 //!
-//! Then `benches/scipy_peer.py` times scipy's solve_ivp(method="DOP853") on the same problem at
+//! Then `peers/benches/scipy_peer.py` times scipy's solve_ivp(method="DOP853") on the same problem at
 //! equal error, in the same session, when python3 and scipy are installed.
 //!
 //! After the tables, criterion times RK4 at h = 1e-3 s over the 20 s (20 000 steps) for physlab

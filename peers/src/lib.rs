@@ -1,0 +1,1 @@
+//! Empty: this package holds the peers benchmark (`benches/peers.rs`).
