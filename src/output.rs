@@ -49,7 +49,16 @@ impl Output {
                 sink: Sink::Stdout(std::io::stdout()),
                 done: None,
             }),
-            Some(target) => Partial::beside(self.named(), target),
+            Some(target) => Partial::beside(self.named(), target, false),
+        }
+    }
+
+    /// Like [`Output::create`], the hidden file keeping the target's extension
+    /// (`.NAME.PID.partial.png`), for writers that choose a format by it.
+    pub fn create_keeping_extension(&self) -> anyhow::Result<Partial> {
+        match &self.target {
+            None => self.create(),
+            Some(target) => Partial::beside(self.named(), target, true),
         }
     }
 
@@ -121,8 +130,8 @@ pub fn check(flag: &str, path: &Path, dash: Dash) -> anyhow::Result<Output> {
                 "{named}: is {what}; physlab writes only regular files (`-` is standard output)"
             ));
         }
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
-        Err(e) => return Err(anyhow::anyhow!("{named}: {}", cause(&e))),
+        // Not there (or under a file): making its folder below says why it cannot be.
+        Err(_) => {}
     }
     let name = target
         .file_name()
@@ -143,7 +152,7 @@ pub fn check(flag: &str, path: &Path, dash: Dash) -> anyhow::Result<Output> {
     })?;
     remove_stale_partials(&target);
     // Writable: the hidden file the write will use can be made (and is removed at once).
-    drop(Partial::beside(named, &target)?);
+    drop(Partial::beside(named, &target, false)?);
     Ok(Output {
         flag: flag.into(),
         given: path.into(),
@@ -250,13 +259,19 @@ pub fn cause(e: &std::io::Error) -> String {
 }
 
 /// The hidden file's name for `name` written by process `pid`: `.NAME.PID.partial`, with NAME
-/// shortened (bytes from its end dropped) so that the whole fits in [`NAME_MAX`].
-fn partial_name(name: &[u8], pid: u32) -> OsString {
+/// shortened (bytes from its end dropped) so that the whole fits in [`NAME_MAX`]; with
+/// `extension`, the name's extension is appended (`.NAME.PID.partial.png`).
+fn partial_name(name: &[u8], pid: u32, extension: bool) -> OsString {
+    let ext = match name.iter().rposition(|&b| b == b'.') {
+        Some(dot) if extension && dot > 0 && name.len() - dot <= 16 => &name[dot..],
+        _ => &[][..],
+    };
     let suffix = format!(".{pid}.partial");
-    let room = NAME_MAX - 1 - suffix.len();
+    let room = NAME_MAX - 1 - suffix.len() - ext.len();
     let mut out = vec![b'.'];
     out.extend_from_slice(&name[..name.len().min(room)]);
     out.extend_from_slice(suffix.as_bytes());
+    out.extend_from_slice(ext);
     OsString::from_vec(out)
 }
 
@@ -280,10 +295,14 @@ fn remove_stale_partials(target: &Path) {
 
 /// The process id in `file` when it is a hidden file of `name`.
 fn partial_pid(name: &[u8], file: &[u8]) -> Option<u32> {
-    let rest = file.strip_prefix(b".")?.strip_suffix(b".partial")?;
+    let end = file.windows(8).rposition(|w| w == b".partial")?;
+    let rest = file.strip_prefix(b".")?.get(..end - 1)?;
     let dot = rest.iter().rposition(|&b| b == b'.')?;
     let pid: u32 = std::str::from_utf8(&rest[dot + 1..]).ok()?.parse().ok()?;
-    (partial_name(name, pid).as_bytes() == file).then_some(pid)
+    [false, true]
+        .into_iter()
+        .any(|e| partial_name(name, pid, e).as_bytes() == file)
+        .then_some(pid)
 }
 
 fn process_runs(pid: u32) -> bool {
@@ -310,9 +329,13 @@ pub struct Partial {
 }
 
 impl Partial {
-    fn beside(named: String, target: &Path) -> anyhow::Result<Self> {
+    fn beside(named: String, target: &Path, extension: bool) -> anyhow::Result<Self> {
         let name = target.file_name().unwrap_or_default();
-        let tmp = parent_dir(target).join(partial_name(name.as_bytes(), std::process::id()));
+        let tmp = parent_dir(target).join(partial_name(
+            name.as_bytes(),
+            std::process::id(),
+            extension,
+        ));
         let file = std::fs::OpenOptions::new()
             .write(true)
             .create(true)
@@ -402,11 +425,15 @@ mod tests {
         for len in [1usize, 10, 200, 240, 241, 250, 255] {
             let name = vec![b'n'; len];
             for pid in [1u32, 4_194_304, u32::MAX] {
-                let p = partial_name(&name, pid);
-                assert!(p.len() <= NAME_MAX, "{len} {pid}: {}", p.len());
-                assert_eq!(partial_pid(&name, p.as_bytes()), Some(pid));
-                // Another target's hidden files are not this one's.
-                assert_eq!(partial_pid(b"other", p.as_bytes()), None);
+                for ext in [false, true] {
+                    let mut name = name.clone();
+                    name.splice(len - 4.min(len)..len - 4.min(len), *b".png");
+                    let p = partial_name(&name, pid, ext);
+                    assert!(p.len() <= NAME_MAX, "{len} {pid}: {}", p.len());
+                    assert_eq!(partial_pid(&name, p.as_bytes()), Some(pid));
+                    // Another target's hidden files are not this one's.
+                    assert_eq!(partial_pid(b"other", p.as_bytes()), None);
+                }
             }
         }
         assert_eq!(partial_pid(b"a.rrd", b".a.rrd.x.partial"), None);

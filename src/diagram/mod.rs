@@ -104,8 +104,9 @@ impl Diagram {
             root.present().map_err(|e| err(Box::new(e)))?;
         }
         svg_out.write(text.as_bytes())?;
-        // plotters encodes the PNG into a path: the hidden file of the atomic write.
-        let partial = png_out.create()?;
+        // plotters encodes the PNG into a path, by its extension: the hidden file of the
+        // atomic write, named `.NAME.PID.partial.png`.
+        let partial = png_out.create_keeping_extension()?;
         let hidden = partial.path().context("a diagram's PNG goes to a file")?;
         {
             let root = BitMapBackend::new(hidden, self.size).into_drawing_area();
