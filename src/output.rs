@@ -331,11 +331,8 @@ pub struct Partial {
 impl Partial {
     fn beside(named: String, target: &Path, extension: bool) -> anyhow::Result<Self> {
         let name = target.file_name().unwrap_or_default();
-        let tmp = parent_dir(target).join(partial_name(
-            name.as_bytes(),
-            std::process::id(),
-            extension,
-        ));
+        let tmp =
+            parent_dir(target).join(partial_name(name.as_bytes(), std::process::id(), extension));
         let file = std::fs::OpenOptions::new()
             .write(true)
             .create(true)

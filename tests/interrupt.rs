@@ -181,9 +181,14 @@ fn a_signal_at_any_moment_of_a_study_leaves_old_or_complete_files() {
         let sent = Instant::now();
         kill(&child, *signal);
         let (code, err, took) = wait(child, sent);
-        assert!(code == 0 || code == 130, "{name} at {i}/11: {code} {err}");
+        // -1: killed by the signal itself, sent before the handlers were installed at start-up
+        // (nothing written yet); the files below must hold in every case.
+        assert!(
+            code == 0 || code == 130 || code == -1,
+            "{name} at {i}/11: {code} {err}"
+        );
         assert!(took < ENDS_WITHIN, "{name}: took {took:.2} s");
-        outcomes[usize::from(code == 130)] += 1;
+        outcomes[usize::from(code != 0)] += 1;
         let c = std::fs::read(&csv).unwrap();
         assert!(
             c == b"old csv"
