@@ -12,6 +12,7 @@ pub mod elliptic;
 pub mod error;
 pub mod integrate;
 pub mod interrupt;
+pub mod output;
 pub mod palette;
 pub mod report;
 pub mod scene;

@@ -6,6 +6,23 @@ use crate::error::UsageError;
 use crate::record::inspect::{LoggedEvent, read_recording};
 
 pub fn inspect_command(args: &InspectArgs) -> anyhow::Result<()> {
+    use crate::output::{Dash, check, distinct};
+    // Checked before reading: never the recording itself; `-` is standard output, and the
+    // report then goes to stderr.
+    let config_out = args
+        .config_out
+        .as_deref()
+        .map(|p| check("--config-out", p, Dash::Text))
+        .transpose()?;
+    if let Some(o) = &config_out {
+        distinct(&[o], &[("the recording inspected", &args.file)])?;
+    }
+    let to_stderr = config_out.as_ref().is_some_and(|o| o.is_stdout());
+    macro_rules! println {
+        ($($t:tt)*) => {
+            if to_stderr { eprintln!($($t)*) } else { std::println!($($t)*) }
+        };
+    }
     let info = read_recording(&args.file)?;
     let p = |k: &str| {
         info.properties
@@ -65,20 +82,21 @@ pub fn inspect_command(args: &InspectArgs) -> anyhow::Result<()> {
     for line in p("config").lines() {
         println!("    {line}");
     }
-    if let Some(out) = &args.config_out {
+    if let Some(out) = &config_out {
         let config = info.properties.get("config").ok_or_else(|| {
             UsageError(format!(
                 "{}: holds no physlab config to write",
                 args.file.display()
             ))
         })?;
-        std::fs::write(out, config)
-            .map_err(|e| anyhow::anyhow!("--config-out {}: cannot write it: {e}", out.display()))?;
-        eprintln!(
-            "wrote the scene file to {} (run it again with --config {})",
-            out.display(),
-            out.display()
-        );
+        out.write(config.as_bytes())?;
+        if !out.is_stdout() {
+            eprintln!(
+                "wrote the scene file to {} (run it again with --config {})",
+                out.given.display(),
+                out.given.display()
+            );
+        }
     }
     Ok(())
 }

@@ -383,6 +383,13 @@ fn simulate(plan: Plan, run: &RunArgs, output: &Output, replay: &Replay) -> anyh
     } else {
         destinations(run, name)
     };
+    // The recording never replaces the scene file it was made from.
+    if let (Some(out), Some(input)) = (d.written()?, &run.config) {
+        crate::output::distinct(
+            &[&out],
+            &[("the scene file read (--config)", input.as_path())],
+        )?;
+    }
     let recording = if no_record {
         None
     } else {
@@ -638,16 +645,15 @@ fn finish(
     run: &RunArgs,
 ) -> anyhow::Result<()> {
     let recorded = recording.is_some();
-    let bytes = match recording {
-        Some(r) => Some(r.commit()?),
-        None => None,
-    };
+    // A recording that cannot be written (a full disk) still shows the summaries first.
+    let committed = recording.map(Recording::commit).transpose();
     // With `-o -` standard output carries the recording: the summary goes to stderr.
     if d.stdout {
         eprint!("{}", summaries.join("\n"));
     } else {
         print!("{}", summaries.join("\n"));
     }
+    let bytes = committed?;
     if let Some(bytes) = bytes
         && !summaries.is_empty()
     {

@@ -95,31 +95,41 @@ fn this_version() -> String {
     )
 }
 
-/// Refuses an output that is one of the inputs: writing it would replace the recording compared.
-fn not_an_input(output: Option<&PathBuf>, inputs: &[&Path]) -> Result<(), UsageError> {
-    let Some(out) = output else {
-        return Ok(());
+/// Checks `-o` before any work (`crate::output`): never one of the inputs.
+fn check_output(
+    output: Option<&PathBuf>,
+    dash: crate::output::Dash,
+    inputs: &[&Path],
+) -> anyhow::Result<Option<crate::output::Output>> {
+    let Some(path) = output else {
+        return Ok(None);
     };
-    let same = |p: &Path| match (out.canonicalize(), p.canonicalize()) {
-        (Ok(a), Ok(b)) => a == b,
-        _ => false,
-    };
-    if let Some(input) = inputs.iter().find(|p| same(p)) {
-        return Err(UsageError(format!(
-            "-o {}: is the recording being compared ({}); give another path",
-            out.display(),
-            input.display()
-        )));
-    }
-    Ok(())
+    let out = crate::output::check("-o", path, dash)?;
+    let inputs: Vec<(&str, &Path)> = inputs
+        .iter()
+        .map(|p| ("the recording being compared", *p))
+        .collect();
+    crate::output::distinct(&[&out], &inputs)?;
+    Ok(Some(out))
 }
 
 /// A file in the temporary folder, removed when dropped.
 struct TempFile(PathBuf);
 
 impl TempFile {
-    fn new(name: &str) -> Self {
-        TempFile(std::env::temp_dir().join(format!("physlab-{}-{name}", std::process::id())))
+    /// Fails with a message naming TMPDIR when the temporary folder cannot be written.
+    fn new(name: &str) -> anyhow::Result<Self> {
+        let dir = std::env::temp_dir();
+        let path = dir.join(format!("physlab-{}-{name}", std::process::id()));
+        std::fs::File::create(&path).map_err(|e| {
+            anyhow::anyhow!(
+                "the temporary folder {} (TMPDIR, or /tmp when unset) cannot be written: {}; \
+                 set TMPDIR to a writable folder",
+                dir.display(),
+                crate::output::cause(&e)
+            )
+        })?;
+        Ok(TempFile(path))
     }
 }
 
@@ -233,7 +243,14 @@ fn by_entity(diffs: Vec<((String, String), SeriesDiff)>) -> Vec<EntityReport> {
 
 pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
     let tol = tolerance(args.tolerance)?;
-    not_an_input(args.output.as_ref(), &[&args.file])?;
+    check_output(
+        args.output.as_ref(),
+        crate::output::Dash::Refused(
+            "cannot carry the re-run: it is read back and compared, and the report is printed there; \
+             give a file path",
+        ),
+        &[&args.file],
+    )?;
     let info = physlab_recording(&args.file)?;
     let scenes_property = info.properties.get("scenes").cloned().unwrap_or_default();
     if scenes_property.starts_with("study") {
@@ -314,9 +331,15 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
         );
     }
 
-    let config = TempFile::new("reproduce.toml");
-    std::fs::write(&config.0, &info.properties["config"])?;
-    let scratch = TempFile::new("reproduce.rrd");
+    let config = TempFile::new("reproduce.toml")?;
+    std::fs::write(&config.0, &info.properties["config"]).map_err(|e| {
+        anyhow::anyhow!(
+            "{}: cannot write it: {}",
+            config.0.display(),
+            crate::output::cause(&e)
+        )
+    })?;
+    let scratch = TempFile::new("reproduce.rrd")?;
     let output = args.output.clone().unwrap_or_else(|| scratch.0.clone());
     let run = RunArgs {
         config: Some(config.0.clone()),
@@ -455,12 +478,22 @@ fn single_method(info: &RecordingInfo) -> Option<String> {
 
 pub fn diff_command(args: &DiffArgs) -> anyhow::Result<()> {
     let tol = tolerance(args.tolerance)?;
-    not_an_input(args.output.as_ref(), &[&args.a, &args.b])?;
+    let output = check_output(
+        args.output.as_ref(),
+        crate::output::Dash::Binary,
+        &[&args.a, &args.b],
+    )?;
+    // With `-o -` standard output carries the difference recording: the report goes to stderr.
+    let to_stdout = output.as_ref().is_some_and(|o| o.is_stdout());
     let (ia, ib) = (complete_recording(&args.a)?, complete_recording(&args.b)?);
     let (ca, cb) = (read_contents(&args.a)?, read_contents(&args.b)?);
     let mut report = String::new();
     let mut line = |s: String| {
-        println!("{s}");
+        if to_stdout {
+            eprintln!("{s}");
+        } else {
+            println!("{s}");
+        }
         report.push_str(&s);
         report.push('\n');
     };
@@ -601,7 +634,12 @@ pub fn diff_command(args: &DiffArgs) -> anyhow::Result<()> {
     ));
     if let Some(out) = &args.output {
         let n = crate::record::diff::record_diff(out, &ca, &cb, &report)?;
-        println!("wrote {} difference series (B − A) to {}", n, out.display());
+        let wrote = format!("wrote {} difference series (B − A) to {}", n, out.display());
+        if to_stdout {
+            eprintln!("{wrote}");
+        } else {
+            println!("{wrote}");
+        }
     }
     if differing > 0 || !only_a.is_empty() || !only_b.is_empty() {
         return Err(Differs("the recordings differ".into()).into());

@@ -242,6 +242,15 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
         return hair_study(a);
     }
     let (problem, sw, steps, scene_file) = setup(a)?;
+    let stems: Vec<String> = match a.kind {
+        StudyKind::Convergence => vec!["convergence", "convergence-damped"],
+        StudyKind::WorkPrecision => vec!["work-precision"],
+        _ => vec!["stability"],
+    }
+    .into_iter()
+    .map(|s| format!("{}-{s}", problem.name()))
+    .collect();
+    let outputs = check_outputs(a, &stems)?;
     let mut out = String::new();
     let csv;
     let mut diagrams: Vec<crate::diagram::Diagram> = Vec::new();
@@ -404,33 +413,23 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
         out.clear();
         diagrams.clear();
     }
-    // With `-o -` standard output carries the recording: the tables go to stderr.
-    let to_stdout = a.output.as_ref().is_some_and(|p| p.as_os_str() == "-");
+    // With `-o -` or `--csv -` standard output carries the file: the tables go to stderr.
+    let to_stdout = outputs.to_stdout();
     if to_stdout {
         eprint!("{out}");
     } else {
         print!("{out}");
     }
-    if let Some(path) = &a.csv
+    if let Some(csv_out) = &outputs.csv
         && complete
     {
-        write_whole(path, csv.as_bytes())
-            .map_err(|e| anyhow::anyhow!("--csv {}: cannot write it: {e}", path.display()))?;
-        eprintln!("wrote {}", path.display());
+        csv_out.write(csv.as_bytes())?;
+        if !csv_out.is_stdout() {
+            eprintln!("wrote {}", csv_out.given.display());
+        }
     }
-    // The diagrams go to --plots, or beside the recording or the CSV; with none of the three
-    // the study only prints.
-    let beside = |p: &std::path::Path| match p.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => std::path::PathBuf::from("."),
-    };
-    let plots_dir = a
-        .plots
-        .clone()
-        .or_else(|| a.output.as_deref().filter(|_| !to_stdout).map(beside))
-        .or_else(|| a.csv.as_deref().map(beside));
     let mut images: Vec<(String, Vec<u8>)> = Vec::new();
-    if let Some(dir) = plots_dir.as_ref().filter(|_| complete) {
+    if let Some(dir) = outputs.plots.as_ref().filter(|_| complete) {
         for d in &diagrams {
             let w = d.write(dir)?;
             eprintln!("wrote {} and {}", w.svg.display(), w.png.display());
@@ -454,15 +453,7 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
             &out,
             (&config, &methods),
         )?;
-        if to_stdout {
-            eprintln!("\nrecording written to standard output");
-        } else {
-            println!(
-                "\nrecording: {} ({:.2} MB)",
-                path.display(),
-                bytes.unwrap_or(0) as f64 / 1e6
-            );
-        }
+        report_recording(path, bytes, to_stdout);
     }
     if interrupted {
         return Err(interrupted_error(a, &sw, done, complete));
@@ -480,6 +471,7 @@ fn hair_study(a: &StudyArgs) -> anyhow::Result<()> {
         ..HairConfig::default()
     };
     base.validate()?;
+    let outputs = check_outputs(a, &[])?;
     let configs = crate::study::hair::configurations(&base);
     let rows = crate::study::hair::hair_trade(&configs);
     let mut out = String::new();
@@ -502,17 +494,18 @@ fn hair_study(a: &StudyArgs) -> anyhow::Result<()> {
         &rows,
         &[1e-2, 1e-3, 1e-6],
     ));
-    // With `-o -` standard output carries the recording: the tables go to stderr.
-    let to_stdout = a.output.as_ref().is_some_and(|p| p.as_os_str() == "-");
+    // With `-o -` or `--csv -` standard output carries the file: the tables go to stderr.
+    let to_stdout = outputs.to_stdout();
     if to_stdout {
         eprint!("{out}");
     } else {
         print!("{out}");
     }
-    if let Some(path) = &a.csv {
-        std::fs::write(path, crate::report::hair::trade_csv(&rows))
-            .map_err(|e| anyhow::anyhow!("--csv {}: cannot write it: {e}", path.display()))?;
-        eprintln!("wrote {}", path.display());
+    if let Some(csv_out) = &outputs.csv {
+        csv_out.write(crate::report::hair::trade_csv(&rows).as_bytes())?;
+        if !csv_out.is_stdout() {
+            eprintln!("wrote {}", csv_out.given.display());
+        }
     }
     if let Some(path) = &a.output {
         let d = crate::record::Destinations::output(path);
@@ -527,15 +520,26 @@ fn hair_study(a: &StudyArgs) -> anyhow::Result<()> {
             .map(|m| m.name())
             .collect();
         let bytes = crate::record::study::record_study(&d, "hair", &[], &out, (&config, &methods))?;
-        if !to_stdout {
-            println!(
-                "\nrecording: {} ({:.2} MB)",
-                path.display(),
-                bytes.unwrap_or(0) as f64 / 1e6
-            );
-        }
+        report_recording(path, bytes, to_stdout);
     }
     Ok(())
+}
+
+/// Where the study's recording went; on stderr when standard output carries a file.
+fn report_recording(path: &std::path::Path, bytes: Option<u64>, to_stdout: bool) {
+    let line = match bytes {
+        Some(bytes) => format!(
+            "\nrecording: {} ({:.2} MB)",
+            path.display(),
+            bytes as f64 / 1e6
+        ),
+        None => "\nrecording written to standard output".into(),
+    };
+    if to_stdout {
+        eprintln!("{line}");
+    } else {
+        println!("{line}");
+    }
 }
 
 /// What an interrupted study says: how many of its planned runs (or methods' limits) were
@@ -571,24 +575,84 @@ fn interrupted_error(a: &StudyArgs, sw: &Sweep, done: usize, complete: bool) -> 
     .into()
 }
 
-/// Writes `bytes` to `path` whole or not at all: to a hidden file beside it, renamed over it
-/// once complete, so that a failure or a second Ctrl-C never leaves a truncated file where a
-/// good one was (the signal handler removes the hidden file).
-fn write_whole(path: &std::path::Path, bytes: &[u8]) -> std::io::Result<()> {
-    let name = path
-        .file_name()
-        .ok_or_else(|| std::io::Error::other("not a file name"))?
-        .to_string_lossy();
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => std::path::Path::new("."),
-    };
-    let tmp = dir.join(format!(".{name}.{}.partial", std::process::id()));
-    crate::interrupt::set_partial_file(Some(&tmp));
-    let written = std::fs::write(&tmp, bytes).and_then(|()| std::fs::rename(&tmp, path));
-    crate::interrupt::set_partial_file(None);
-    if written.is_err() {
-        let _ = std::fs::remove_file(&tmp);
+/// A study's outputs, checked before it runs (`crate::output`): the CSV, the recording, and
+/// the diagrams' folder (--plots, else beside the recording or the CSV) with the files the
+/// diagrams `stems` will be written to; no two of them one file, none the scene file read.
+struct Outputs {
+    csv: Option<crate::output::Output>,
+    recording: Option<crate::output::Output>,
+    plots: Option<std::path::PathBuf>,
+}
+
+impl Outputs {
+    fn to_stdout(&self) -> bool {
+        [&self.csv, &self.recording]
+            .into_iter()
+            .flatten()
+            .any(|o| o.is_stdout())
     }
-    written
+}
+
+fn check_outputs(a: &StudyArgs, stems: &[String]) -> anyhow::Result<Outputs> {
+    use crate::output::{Dash, check, distinct};
+    use std::path::{Path, PathBuf};
+    let csv = a
+        .csv
+        .as_deref()
+        .map(|p| check("--csv", p, Dash::Text))
+        .transpose()?;
+    let recording = match &a.output {
+        Some(path) => crate::record::Destinations::output(path).written()?,
+        None => None,
+    };
+    let beside = |o: &crate::output::Output| {
+        o.target.as_ref().map(|t| match t.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+            _ => PathBuf::from("."),
+        })
+    };
+    if a.plots.as_deref() == Some(Path::new("-")) {
+        return Err(UsageError(
+            "--plots -: standard output is not a folder; --plots names the folder of the diagrams"
+                .into(),
+        )
+        .into());
+    }
+    let plots = a
+        .plots
+        .clone()
+        .or_else(|| recording.as_ref().and_then(beside))
+        .or_else(|| csv.as_ref().and_then(beside))
+        .filter(|_| !stems.is_empty());
+    let mut diagrams = Vec::new();
+    if let Some(dir) = &plots {
+        if dir.exists() && !dir.is_dir() {
+            anyhow::bail!(
+                "--plots {}: is not a folder; --plots names the folder the diagrams go to",
+                dir.display()
+            );
+        }
+        let no_dash = Dash::Refused("is not a folder");
+        for stem in stems {
+            for file in crate::diagram::Diagram::files(stem, dir) {
+                diagrams.push(check("--plots", &file, no_dash)?);
+            }
+        }
+    }
+    let all: Vec<&crate::output::Output> = csv
+        .iter()
+        .chain(recording.iter())
+        .chain(diagrams.iter())
+        .collect();
+    let inputs: Vec<(&str, &Path)> = a
+        .config
+        .iter()
+        .map(|p| ("the scene file read (--config)", p.as_path()))
+        .collect();
+    distinct(&all, &inputs)?;
+    Ok(Outputs {
+        csv,
+        recording,
+        plots,
+    })
 }

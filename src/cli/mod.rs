@@ -156,6 +156,7 @@ pub struct InspectArgs {
     /// The recording to describe
     pub file: PathBuf,
     /// Write the recording's embedded scene file here, to run the same thing again with --config
+    /// (`-` for standard output; the description then goes to stderr)
     #[arg(long, value_name = "FILE.toml")]
     pub config_out: Option<PathBuf>,
 }
@@ -168,7 +169,7 @@ pub struct ReproduceArgs {
     /// compiler) [default: 0, bit-identical]
     #[arg(long, value_name = "REL", allow_negative_numbers = true)]
     pub tolerance: Option<f64>,
-    /// Also write the re-run's recording here
+    /// Also write the re-run's recording here (a file: the re-run is read back to compare)
     #[arg(short, long, value_name = "PATH")]
     pub output: Option<PathBuf>,
 }
@@ -184,6 +185,7 @@ pub struct DiffArgs {
     #[arg(long, value_name = "REL", allow_negative_numbers = true)]
     pub tolerance: Option<f64>,
     /// Write a recording of the differences B − A, one series per entity, to see where they part
+    /// (`-` for standard output; the report then goes to stderr)
     #[arg(short, long, value_name = "D.rrd")]
     pub output: Option<PathBuf>,
 }
@@ -262,7 +264,7 @@ pub struct StudyArgs {
     #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub steps: Option<u64>,
 
-    /// Also write one row per run as CSV
+    /// Also write one row per run as CSV (`-` for standard output; the tables then go to stderr)
     #[arg(long, value_name = "FILE.csv")]
     pub csv: Option<PathBuf>,
 

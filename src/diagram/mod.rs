@@ -78,27 +78,52 @@ fn register_font() {
 }
 
 impl Diagram {
-    /// Writes `<dir>/<stem>.svg` and `<dir>/<stem>.png`.
+    /// The files it is written to in `dir`: `<stem>.svg` and `<stem>.png`.
+    pub fn files(stem: &str, dir: &Path) -> [PathBuf; 2] {
+        [
+            dir.join(format!("{stem}.svg")),
+            dir.join(format!("{stem}.png")),
+        ]
+    }
+
+    /// Writes `<dir>/<stem>.svg` and `<dir>/<stem>.png`, each whole or not at all
+    /// (`crate::output`).
     pub fn write(&self, dir: &Path) -> anyhow::Result<Written> {
+        use crate::output::{Dash, check};
         register_font();
-        std::fs::create_dir_all(dir)
-            .with_context(|| format!("--plots {}: cannot create the folder", dir.display()))?;
-        let svg = dir.join(format!("{}.svg", self.stem));
-        let png = dir.join(format!("{}.png", self.stem));
+        let [svg, png] = Self::files(&self.stem, dir);
+        let no_dash = Dash::Refused("is not a folder; --plots names the folder of the diagrams");
+        let (svg_out, png_out) = (
+            check("--plots", &svg, no_dash)?,
+            check("--plots", &png, no_dash)?,
+        );
         let mut text = String::new();
         {
             let root = SVGBackend::with_string(&mut text, self.size).into_drawing_area();
             self.draw(&root).map_err(err)?;
             root.present().map_err(|e| err(Box::new(e)))?;
         }
-        std::fs::write(&svg, text).with_context(|| format!("cannot write {}", svg.display()))?;
+        svg_out.write(text.as_bytes())?;
+        // plotters encodes the PNG into a path, by its extension: the hidden file of the
+        // atomic write, named `.NAME.PID.partial.png`.
+        let partial = png_out.create_keeping_extension()?;
+        let hidden = partial.path().context("a diagram's PNG goes to a file")?;
         {
-            let root = BitMapBackend::new(&png, self.size).into_drawing_area();
+            let root = BitMapBackend::new(hidden, self.size).into_drawing_area();
             self.draw(&root).map_err(err)?;
-            root.present().map_err(|e| err(Box::new(e)))?;
+            root.present().map_err(|e| {
+                let e = e.to_string();
+                let disk_full = e.contains("No space left on device");
+                anyhow::anyhow!(
+                    "{}: cannot write it: {}{e}; the previous file, if any, is unchanged",
+                    png_out.named(),
+                    if disk_full { "disk full: " } else { "" }
+                )
+            })?;
         }
-        let png_bytes =
-            std::fs::read(&png).with_context(|| format!("cannot write {}", png.display()))?;
+        let png_bytes = std::fs::read(hidden)
+            .with_context(|| format!("{}: cannot read it back", png_out.named()))?;
+        partial.commit()?;
         Ok(Written {
             svg,
             png,

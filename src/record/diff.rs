@@ -14,16 +14,21 @@ use super::{Destinations, Recording};
 /// `diff/<entity>/<component>`; and the printed report as `diff/report`. Returns the number of
 /// series.
 pub fn record_diff(path: &Path, a: &Contents, b: &Contents, report: &str) -> anyhow::Result<usize> {
-    let d = Destinations {
-        file: Some(path.to_path_buf()),
-        ..Destinations::default()
-    };
+    let d = Destinations::output(path);
     let blueprint = Blueprint::new(TextDocumentView::new("report").with_origin("/diff/report"))
         .with_auto_views(true);
     let recording = Recording::create(&d, "physlab-diff", "diff", blueprint)?;
     let rec = recording.stream();
     let mut series = 0;
     for (key, rows_a) in a {
+        if crate::interrupt::requested() {
+            // Dropped uncommitted: the hidden file goes, an earlier file stays as it was.
+            return Err(crate::interrupt::Interrupted(format!(
+                "interrupted: {} not written",
+                path.display()
+            ))
+            .into());
+        }
         let Some(rows_b) = b.get(key) else {
             continue;
         };

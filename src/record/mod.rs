@@ -290,39 +290,22 @@ impl Destinations {
             }
         }
     }
+
+    /// The recording as a checked output (`crate::output`): a file or standard output.
+    pub fn written(&self) -> anyhow::Result<Option<crate::output::Output>> {
+        use crate::output::{Dash, check};
+        match (&self.file, self.stdout) {
+            (Some(path), _) => check("-o", path, Dash::Binary).map(Some),
+            (None, true) => check("-o", Path::new("-"), Dash::Binary).map(Some),
+            (None, false) => Ok(None),
+        }
+    }
 }
 
-/// Checks the destinations before anything is simulated: the file's folder can be created and
-/// written, the target is not a folder, the viewer URL parses, `rerun` is on PATH for --spawn.
+/// Checks the destinations before anything is simulated: the file can be written
+/// (`crate::output::check`), the viewer URL parses, `rerun` is on PATH for --spawn.
 pub fn check_destinations(d: &Destinations) -> anyhow::Result<()> {
-    if d.stdout {
-        use std::io::IsTerminal as _;
-        if std::io::stdout().is_terminal() {
-            return Err(crate::error::UsageError(
-                "-o -: standard output is a terminal; pipe it into the viewer, e.g. \
-                 `physlab pendulum -o - | rerun -`, or give a file name"
-                    .into(),
-            )
-            .into());
-        }
-    }
-    if let Some(target) = &d.file {
-        if target.is_dir() {
-            anyhow::bail!(
-                "-o {}: is a folder; give a file path such as {}/run.rrd",
-                target.display(),
-                target.display()
-            );
-        }
-        let dir = parent_dir(target);
-        std::fs::create_dir_all(&dir).with_context(|| {
-            format!(
-                "-o {}: cannot create the folder {}",
-                target.display(),
-                dir.display()
-            )
-        })?;
-    }
+    d.written()?;
     if let Some(url) = &d.connect {
         parse_proxy_url(url)?;
     }
@@ -354,13 +337,6 @@ fn viewer_listens(uri: &rerun::external::re_uri::ProxyUri) -> bool {
     addrs.into_iter().any(|a| {
         std::net::TcpStream::connect_timeout(&a, std::time::Duration::from_secs(1)).is_ok()
     })
-}
-
-fn parent_dir(target: &Path) -> PathBuf {
-    match target.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    }
 }
 
 /// The first executable called `name` on PATH.
@@ -396,13 +372,16 @@ pub const BATCHING: rerun::log::ChunkBatcherConfig = rerun::log::ChunkBatcherCon
 /// The chunk size `rerun rrd optimize` compacts to (`ChunkStoreConfig::DEFAULT`: 384 KiB).
 pub const CHUNK_BYTES: usize = 12 * 8 * 4096;
 
-/// A recording being written. A file goes to a temporary path beside its target;
-/// [`Recording::commit`] finalises it (footer written) and renames it into place, and dropping
-/// it uncommitted removes the temporary file, so a failed run never leaves a partial file or
-/// touches an earlier recording.
+/// A recording being written. A file goes through `crate::output` (a hidden file beside its
+/// target, renamed into place when complete); [`Recording::commit`] finalises it (footer
+/// written, fsynced) and renames it into place, and dropping it uncommitted removes the hidden
+/// file, so a failed run never leaves a partial file or touches an earlier recording. A write
+/// error (a full disk) stops the run at its next check, as a signal would, and `commit` reports it.
 pub struct Recording {
     rec: Option<rerun::RecordingStream>,
-    file: Option<(PathBuf, PathBuf)>,
+    file: Option<std::sync::Arc<sink::Shared>>,
+    /// Where the file goes, for the size reported.
+    target: Option<PathBuf>,
 }
 
 impl Recording {
@@ -425,26 +404,12 @@ impl Recording {
         check_destinations(d)?;
         let mut sinks: Vec<Box<dyn rerun::sink::LogSink>> = Vec::new();
         let mut file = None;
-        if let Some(target) = &d.file {
-            let file_name = target
-                .file_name()
-                .map(|n| n.to_string_lossy().into_owned())
-                .unwrap_or_default();
-            let tmp =
-                parent_dir(target).join(format!(".{file_name}.{}.partial", std::process::id()));
-            std::fs::File::create(&tmp)
-                .with_context(|| format!("-o {}: cannot write in its folder", target.display()))?;
-            sinks.push(Box::new(
-                rerun::sink::FileSink::new(&tmp)
-                    .with_context(|| format!("cannot open {}", tmp.display()))?,
-            ));
-            crate::interrupt::set_partial_file(Some(&tmp));
-            file = Some((tmp, target.clone()));
-        }
-        if d.stdout {
-            sinks.push(Box::new(
-                rerun::sink::FileSink::stdout().context("-o -: cannot write to standard output")?,
-            ));
+        let mut target = None;
+        if let Some(output) = d.written()? {
+            let shared = std::sync::Arc::new(sink::Shared::new(output.create()?)?);
+            sinks.push(Box::new(sink::EncodedSink(shared.clone())));
+            file = Some(shared);
+            target = output.target;
         }
         if d.spawn {
             rerun::spawn(&rerun::SpawnOptions::default())
@@ -486,6 +451,7 @@ impl Recording {
         Ok(Recording {
             rec: Some(rec),
             file,
+            target,
         })
     }
 
@@ -493,39 +459,33 @@ impl Recording {
         self.rec.as_ref().expect("stream is present until commit")
     }
 
-    /// Flushes, writes the footer, and renames the file into place. Returns the file's size.
+    /// Flushes, writes the footer, fsyncs and renames the file into place. Returns the file's
+    /// size.
     pub fn commit(mut self) -> anyhow::Result<Option<u64>> {
         let rec = self.rec.take().expect("commit once");
-        rec.flush_blocking().context("cannot flush the recording")?;
-        // Dropping the last handle finalises the sinks: the file's footer is written and its
-        // writer thread joined before `drop` returns.
+        let flushed = rec.flush_blocking();
+        // Dropping the last handle hands every message still batched to the sinks.
         drop(rec);
-        match self.file.take() {
-            None => Ok(None),
-            Some((tmp, target)) => {
-                let renamed = std::fs::rename(&tmp, &target);
-                // Only now: a second Ctrl-C before the rename still removes the partial file.
-                crate::interrupt::set_partial_file(None);
-                renamed.with_context(|| {
-                    format!("cannot move {} to {}", tmp.display(), target.display())
-                })?;
-                Ok(Some(std::fs::metadata(&target)?.len()))
-            }
-        }
+        let Some(file) = self.file.take() else {
+            flushed.context("cannot flush the recording")?;
+            return Ok(None);
+        };
+        file.finish()?;
+        Ok(match &self.target {
+            Some(target) => Some(std::fs::metadata(target)?.len()),
+            None => None,
+        })
     }
 }
 
 impl Drop for Recording {
     fn drop(&mut self) {
-        if let Some(rec) = self.rec.take() {
-            drop(rec);
-            if let Some((tmp, _)) = &self.file {
-                crate::interrupt::set_partial_file(None);
-                let _ = std::fs::remove_file(tmp);
-            }
-        }
+        // Uncommitted: the stream is dropped first, then the hidden file with `file`.
+        drop(self.rec.take());
     }
 }
+
+mod sink;
 
 /// Sends the run's provenance as recording properties (`/__properties/physlab`): the scene file
 /// that reproduces it, physlab's version and git commit, the Rerun SDK's version, the command

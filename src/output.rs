@@ -1,0 +1,439 @@
+//! Every file physlab writes goes through here, so that each is written the same way:
+//!
+//! - only to a regular file or a new one: a symlink is written through (its target is replaced,
+//!   the link kept); a folder, FIFO, device or socket is refused (`-` is standard output);
+//! - checked before any work ([`check`]): the folder can be created and written in, the name
+//!   fits, and no two outputs of a command, nor an output and an input, are one file
+//!   ([`distinct`]);
+//! - atomically ([`Partial`]): into a hidden `.NAME.PID.partial` beside the target, flushed and
+//!   fsynced, renamed over the target, the folder fsynced; any failure removes the hidden file
+//!   and leaves the old target untouched, and the error names the file and the cause;
+//! - a second SIGINT/SIGTERM/SIGHUP removes the hidden file (`crate::interrupt`), and hidden
+//!   files of processes that no longer run are removed when their target is written again.
+
+use std::ffi::OsString;
+use std::io::Write as _;
+use std::os::unix::ffi::{OsStrExt as _, OsStringExt as _};
+use std::os::unix::fs::FileTypeExt as _;
+use std::path::{Path, PathBuf};
+
+use crate::error::UsageError;
+
+/// The longest file name the file systems physlab runs on take, in bytes.
+const NAME_MAX: usize = 255;
+
+/// A checked output: the flag that named it, the path as given, and where the bytes go.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Output {
+    pub flag: String,
+    pub given: PathBuf,
+    /// The regular file written (symlinks followed); `None` for standard output.
+    pub target: Option<PathBuf>,
+}
+
+impl Output {
+    pub fn is_stdout(&self) -> bool {
+        self.target.is_none()
+    }
+
+    /// `FLAG PATH`, as errors name it.
+    pub fn named(&self) -> String {
+        format!("{} {}", self.flag, self.given.display())
+    }
+
+    /// Starts writing: a hidden file beside the target (standard output is written directly).
+    pub fn create(&self) -> anyhow::Result<Partial> {
+        match &self.target {
+            None => Ok(Partial {
+                named: self.named(),
+                sink: Sink::Stdout(std::io::stdout()),
+                done: None,
+            }),
+            Some(target) => Partial::beside(self.named(), target, false),
+        }
+    }
+
+    /// Like [`Output::create`], the hidden file keeping the target's extension
+    /// (`.NAME.PID.partial.png`), for writers that choose a format by it.
+    pub fn create_keeping_extension(&self) -> anyhow::Result<Partial> {
+        match &self.target {
+            None => self.create(),
+            Some(target) => Partial::beside(self.named(), target, true),
+        }
+    }
+
+    /// Writes `bytes` whole or not at all.
+    pub fn write(&self, bytes: &[u8]) -> anyhow::Result<()> {
+        let mut partial = self.create()?;
+        partial.write_all(bytes).map_err(|e| partial.failed(&e))?;
+        partial.commit()
+    }
+}
+
+/// Standard output as a destination: where `-` makes sense for a flag, and where not.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Dash {
+    /// Binary data (a recording): refused when standard output is a terminal.
+    Binary,
+    /// Text (CSV, TOML).
+    Text,
+    /// `-` makes no sense here (a folder, a file read back): refused.
+    Refused(&'static str),
+}
+
+/// Checks an output before any work: see the module documentation. Creates its folder.
+/// A path that cannot be written is a runtime failure (exit 1); `-` where it makes no sense is
+/// a usage error (exit 2).
+pub fn check(flag: &str, path: &Path, dash: Dash) -> anyhow::Result<Output> {
+    let named = format!("{flag} {}", path.display());
+    if path.as_os_str() == "-" {
+        match dash {
+            Dash::Refused(why) => {
+                return Err(UsageError(format!("{flag} -: standard output {why}")).into());
+            }
+            Dash::Binary => {
+                use std::io::IsTerminal as _;
+                if std::io::stdout().is_terminal() {
+                    return Err(UsageError(format!(
+                        "{flag} -: standard output is a terminal; pipe it into the viewer, e.g. \
+                         `physlab pendulum -o - | rerun -`, or give a file name"
+                    ))
+                    .into());
+                }
+            }
+            Dash::Text => {}
+        }
+        return Ok(Output {
+            flag: flag.into(),
+            given: path.into(),
+            target: None,
+        });
+    }
+    let target = follow_links(path).map_err(|e| anyhow::anyhow!("{named}: {}", cause(&e)))?;
+    match std::fs::metadata(&target) {
+        Ok(m) if m.is_file() => {}
+        Ok(m) => {
+            let t = m.file_type();
+            let what = if t.is_dir() {
+                return Err(anyhow::anyhow!(
+                    "{named}: is a folder; give a file path such as {}/out",
+                    path.display()
+                ));
+            } else if t.is_fifo() {
+                "a FIFO"
+            } else if t.is_char_device() || t.is_block_device() {
+                "a device"
+            } else {
+                "a socket"
+            };
+            return Err(anyhow::anyhow!(
+                "{named}: is {what}; physlab writes only regular files (`-` is standard output)"
+            ));
+        }
+        // Not there (or under a file): making its folder below says why it cannot be.
+        Err(_) => {}
+    }
+    let name = target
+        .file_name()
+        .ok_or_else(|| anyhow::anyhow!("{named}: names no file"))?;
+    if name.len() > NAME_MAX {
+        return Err(anyhow::anyhow!(
+            "{named}: the file name is {} bytes long; at most {NAME_MAX} are allowed",
+            name.len()
+        ));
+    }
+    let dir = parent_dir(&target);
+    std::fs::create_dir_all(&dir).map_err(|e| {
+        anyhow::anyhow!(
+            "{named}: cannot create the folder {}: {}",
+            dir.display(),
+            cause(&e)
+        )
+    })?;
+    remove_stale_partials(&target);
+    // Writable: the hidden file the write will use can be made (and is removed at once).
+    drop(Partial::beside(named, &target, false)?);
+    Ok(Output {
+        flag: flag.into(),
+        given: path.into(),
+        target: Some(target),
+    })
+}
+
+/// Refuses two outputs of one command that are one file (or both standard output), and an
+/// output that is one of the command's inputs. Usage errors (exit 2).
+pub fn distinct(outputs: &[&Output], inputs: &[(&str, &Path)]) -> Result<(), UsageError> {
+    for (i, a) in outputs.iter().enumerate() {
+        for b in &outputs[..i] {
+            let same = match (&a.target, &b.target) {
+                (None, None) => true,
+                (Some(x), Some(y)) => same_file(x, y),
+                _ => false,
+            };
+            if same {
+                return Err(UsageError(format!(
+                    "{} and {}: both write {}; give each its own path",
+                    b.named(),
+                    a.named(),
+                    a.target
+                        .as_ref()
+                        .map_or("standard output".into(), |t| t.display().to_string())
+                )));
+            }
+        }
+        if let Some(t) = &a.target
+            && let Some((what, input)) = inputs.iter().find(|(_, p)| same_file(t, p))
+        {
+            return Err(UsageError(format!(
+                "{}: is {what} ({}); writing it would replace it; give another path",
+                a.named(),
+                input.display()
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Whether two paths name one file: the same inode when both exist, else the same resolved path.
+fn same_file(a: &Path, b: &Path) -> bool {
+    use std::os::unix::fs::MetadataExt as _;
+    match (std::fs::metadata(a), std::fs::metadata(b)) {
+        (Ok(x), Ok(y)) => x.dev() == y.dev() && x.ino() == y.ino(),
+        _ => resolved(a) == resolved(b),
+    }
+}
+
+/// `path` with its folder made absolute and canonical (the file itself may not exist yet).
+fn resolved(path: &Path) -> PathBuf {
+    let path = follow_links(path).unwrap_or_else(|_| path.to_path_buf());
+    let dir = parent_dir(&path);
+    let dir = dir.canonicalize().unwrap_or(dir);
+    match path.file_name() {
+        Some(n) => dir.join(n),
+        None => dir,
+    }
+}
+
+/// The path a write to `path` replaces: `path` itself, or where its chain of symlinks ends
+/// (which may not exist yet).
+fn follow_links(path: &Path) -> std::io::Result<PathBuf> {
+    let mut p = path.to_path_buf();
+    for _ in 0..40 {
+        match std::fs::symlink_metadata(&p) {
+            Ok(m) if m.file_type().is_symlink() => {
+                let link = std::fs::read_link(&p)?;
+                p = if link.is_absolute() {
+                    link
+                } else {
+                    parent_dir(&p).join(link)
+                };
+            }
+            _ => return Ok(p),
+        }
+    }
+    Err(std::io::Error::from_raw_os_error(libc::ELOOP))
+}
+
+fn parent_dir(target: &Path) -> PathBuf {
+    match target.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    }
+}
+
+/// The cause of an I/O error in words (`disk full`, `permission denied`...), with the system's
+/// own message.
+pub fn cause(e: &std::io::Error) -> String {
+    let words = match e.raw_os_error() {
+        Some(libc::ENOSPC) => "disk full",
+        Some(libc::EDQUOT) => "disk quota exceeded",
+        Some(libc::EACCES | libc::EPERM) => "permission denied",
+        Some(libc::EROFS) => "read-only file system",
+        Some(libc::ENAMETOOLONG) => "file name too long",
+        Some(libc::ENOENT) => "no such file or folder",
+        Some(libc::ENOTDIR) => "a part of the path is not a folder",
+        Some(libc::EIO) => "input/output error",
+        _ => return e.to_string(),
+    };
+    format!("{words} ({e})")
+}
+
+/// The hidden file's name for `name` written by process `pid`: `.NAME.PID.partial`, with NAME
+/// shortened (bytes from its end dropped) so that the whole fits in [`NAME_MAX`]; with
+/// `extension`, the name's extension is appended (`.NAME.PID.partial.png`).
+fn partial_name(name: &[u8], pid: u32, extension: bool) -> OsString {
+    let ext = match name.iter().rposition(|&b| b == b'.') {
+        Some(dot) if extension && dot > 0 && name.len() - dot <= 16 => &name[dot..],
+        _ => &[][..],
+    };
+    let suffix = format!(".{pid}.partial");
+    let room = NAME_MAX - 1 - suffix.len() - ext.len();
+    let mut out = vec![b'.'];
+    out.extend_from_slice(&name[..name.len().min(room)]);
+    out.extend_from_slice(suffix.as_bytes());
+    out.extend_from_slice(ext);
+    OsString::from_vec(out)
+}
+
+/// Removes the hidden files of `target` left by processes that no longer run (killed with
+/// SIGKILL, or by a power cut). Files of running processes are theirs.
+fn remove_stale_partials(target: &Path) {
+    let (Some(name), Ok(entries)) = (target.file_name(), std::fs::read_dir(parent_dir(target)))
+    else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let file = entry.file_name();
+        let Some(pid) = partial_pid(name.as_bytes(), file.as_bytes()) else {
+            continue;
+        };
+        if pid != std::process::id() && !process_runs(pid) {
+            let _ = std::fs::remove_file(entry.path());
+        }
+    }
+}
+
+/// The process id in `file` when it is a hidden file of `name`.
+fn partial_pid(name: &[u8], file: &[u8]) -> Option<u32> {
+    let end = file.windows(8).rposition(|w| w == b".partial")?;
+    let rest = file.strip_prefix(b".")?.get(..end - 1)?;
+    let dot = rest.iter().rposition(|&b| b == b'.')?;
+    let pid: u32 = std::str::from_utf8(&rest[dot + 1..]).ok()?.parse().ok()?;
+    [false, true]
+        .into_iter()
+        .any(|e| partial_name(name, pid, e).as_bytes() == file)
+        .then_some(pid)
+}
+
+fn process_runs(pid: u32) -> bool {
+    let Ok(pid) = libc::pid_t::try_from(pid) else {
+        return false;
+    };
+    // SAFETY: signal 0 only asks whether the process exists.
+    let r = unsafe { libc::kill(pid, 0) };
+    r == 0 || std::io::Error::last_os_error().raw_os_error() == Some(libc::EPERM)
+}
+
+enum Sink {
+    File(std::io::BufWriter<std::fs::File>),
+    Stdout(std::io::Stdout),
+}
+
+/// An output being written. [`Partial::commit`] puts it in place; dropping it uncommitted
+/// removes the hidden file, leaving the target as it was.
+pub struct Partial {
+    named: String,
+    sink: Sink,
+    /// The hidden file and the target, and the signal handler's slot for the hidden file.
+    done: Option<(PathBuf, PathBuf, usize)>,
+}
+
+impl Partial {
+    fn beside(named: String, target: &Path, extension: bool) -> anyhow::Result<Self> {
+        let name = target.file_name().unwrap_or_default();
+        let tmp =
+            parent_dir(target).join(partial_name(name.as_bytes(), std::process::id(), extension));
+        let file = std::fs::OpenOptions::new()
+            .write(true)
+            .create(true)
+            .truncate(true)
+            .open(&tmp)
+            .map_err(|e| {
+                anyhow::anyhow!(
+                    "{named}: cannot write in its folder {}: {}",
+                    parent_dir(target).display(),
+                    cause(&e)
+                )
+            })?;
+        let slot = crate::interrupt::add_partial_file(&tmp);
+        Ok(Partial {
+            named,
+            sink: Sink::File(std::io::BufWriter::with_capacity(1 << 20, file)),
+            done: Some((tmp, target.to_path_buf(), slot)),
+        })
+    }
+
+    /// The hidden file, for a writer that takes a path (nothing is buffered for it here).
+    pub fn path(&self) -> Option<&Path> {
+        self.done.as_ref().map(|d| d.0.as_path())
+    }
+
+    /// The error for a failed write: the output, and the cause; the old file is untouched.
+    pub fn failed(&self, e: &std::io::Error) -> anyhow::Error {
+        let kept = if self.done.is_some() {
+            "; the previous file, if any, is unchanged"
+        } else {
+            ""
+        };
+        anyhow::anyhow!("{}: cannot write it: {}{kept}", self.named, cause(e))
+    }
+
+    /// Flushes, fsyncs and renames the file into place, then fsyncs its folder.
+    pub fn commit(mut self) -> anyhow::Result<()> {
+        self.flush().map_err(|e| self.failed(&e))?;
+        let Some((tmp, target, _)) = &self.done else {
+            return Ok(());
+        };
+        if let Sink::File(w) = &self.sink {
+            w.get_ref().sync_all().map_err(|e| self.failed(&e))?;
+        }
+        std::fs::rename(tmp, target).map_err(|e| self.failed(&e))?;
+        let (_, target, slot) = self.done.take().expect("checked above");
+        crate::interrupt::remove_partial_file(slot);
+        // The rename is durable once the folder is.
+        if let Ok(dir) = std::fs::File::open(parent_dir(&target)) {
+            dir.sync_all()
+                .map_err(|e| anyhow::anyhow!("{}: cannot write it: {}", self.named, cause(&e)))?;
+        }
+        Ok(())
+    }
+}
+
+impl std::io::Write for Partial {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        match &mut self.sink {
+            Sink::File(w) => w.write(buf),
+            Sink::Stdout(w) => w.write(buf),
+        }
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        match &mut self.sink {
+            Sink::File(w) => w.flush(),
+            Sink::Stdout(w) => w.flush(),
+        }
+    }
+}
+
+impl Drop for Partial {
+    fn drop(&mut self) {
+        if let Some((tmp, _, slot)) = self.done.take() {
+            let _ = std::fs::remove_file(&tmp);
+            crate::interrupt::remove_partial_file(slot);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn partial_names_fit_and_are_recognised() {
+        for len in [1usize, 10, 200, 240, 241, 250, 255] {
+            let name = vec![b'n'; len];
+            for pid in [1u32, 4_194_304, u32::MAX] {
+                for ext in [false, true] {
+                    let mut name = name.clone();
+                    name.splice(len - 4.min(len)..len - 4.min(len), *b".png");
+                    let p = partial_name(&name, pid, ext);
+                    assert!(p.len() <= NAME_MAX, "{len} {pid}: {}", p.len());
+                    assert_eq!(partial_pid(&name, p.as_bytes()), Some(pid));
+                    // Another target's hidden files are not this one's.
+                    assert_eq!(partial_pid(b"other", p.as_bytes()), None);
+                }
+            }
+        }
+        assert_eq!(partial_pid(b"a.rrd", b".a.rrd.x.partial"), None);
+        assert_eq!(partial_pid(b"a.rrd", b"a.rrd.12.partial"), None);
+    }
+}
