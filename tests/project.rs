@@ -59,3 +59,141 @@ fn tests_reuse_every_crate_of_the_run_build() {
         differ.join("\n")
     );
 }
+
+/// Which of physlab's top-level modules each module may name (`crate::<module>` or, from the
+/// binary, `physlab::<module>`): the layering of ARCHITECTURE.md. A module not listed here fails
+/// the test until its layer is stated.
+const MAY_IMPORT: &[(&str, &[&str])] = &[
+    ("main", &["app", "cli", "error", "interrupt"]),
+    (
+        "app",
+        &[
+            "cli",
+            "record",
+            "diagram",
+            "report",
+            "study",
+            "scene",
+            "integrate",
+            "elliptic",
+            "interrupt",
+            "error",
+            "palette",
+            "output",
+        ],
+    ),
+    (
+        "cli",
+        &[
+            "scene",
+            "integrate",
+            "study",
+            "error",
+            "interrupt",
+            "output",
+        ],
+    ),
+    (
+        "record",
+        &[
+            "diagram",
+            "report",
+            "scene",
+            "integrate",
+            "study",
+            "elliptic",
+            "interrupt",
+            "error",
+            "palette",
+            "output",
+        ],
+    ),
+    (
+        "diagram",
+        &[
+            "report",
+            "study",
+            "scene",
+            "integrate",
+            "palette",
+            "error",
+            "output",
+        ],
+    ),
+    (
+        "report",
+        &[
+            "study",
+            "scene",
+            "integrate",
+            "elliptic",
+            "error",
+            "palette",
+        ],
+    ),
+    (
+        "study",
+        &["scene", "integrate", "elliptic", "interrupt", "error"],
+    ),
+    ("scene", &["integrate", "elliptic", "interrupt", "error"]),
+    ("integrate", &[]),
+    ("output", &["interrupt", "error"]),
+    ("elliptic", &[]),
+    ("interrupt", &["error"]),
+    ("error", &[]),
+    ("palette", &[]),
+    ("lib", &[]),
+];
+
+/// Every `.rs` file under `dir`, recursively.
+fn rust_files(dir: &std::path::Path, out: &mut Vec<std::path::PathBuf>) {
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir() {
+            rust_files(&path, out);
+        } else if path.extension().is_some_and(|e| e == "rs") {
+            out.push(path);
+        }
+    }
+}
+
+/// The layering holds in the code: every `crate::X` / `physlab::X` a module names is one it may
+/// import, so arrows point down only and there are no cycles.
+#[test]
+fn modules_import_only_the_layers_below_them() {
+    let src = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    rust_files(&src, &mut files);
+    let mut violations = Vec::new();
+    for file in &files {
+        let rel = file.strip_prefix(&src).unwrap();
+        let module = rel
+            .components()
+            .next()
+            .unwrap()
+            .as_os_str()
+            .to_str()
+            .unwrap()
+            .trim_end_matches(".rs");
+        let allowed = MAY_IMPORT
+            .iter()
+            .find(|(m, _)| *m == module)
+            .unwrap_or_else(|| panic!("src/{}: module `{module}` has no layer", rel.display()))
+            .1;
+        let text = std::fs::read_to_string(file).unwrap();
+        for prefix in ["crate::", "physlab::"] {
+            for (at, _) in text.match_indices(prefix) {
+                let name: String = text[at + prefix.len()..]
+                    .chars()
+                    .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
+                    .collect();
+                let known = MAY_IMPORT.iter().any(|(m, _)| *m == name);
+                if known && name != module && !allowed.contains(&name.as_str()) {
+                    violations.push(format!("src/{}: {module} names {name}", rel.display()));
+                }
+            }
+        }
+    }
+    assert!(files.len() > 50, "read {} files", files.len());
+    assert!(violations.is_empty(), "{}", violations.join("\n"));
+}
