@@ -319,9 +319,6 @@ fn bad_input_is_refused_with_exit_2_naming_the_file() {
             if args[0] == "diff" && path == &bare {
                 continue; // diff needs no configuration: it compares the data
             }
-            if args[0] == "diff" && path == &other {
-                continue;
-            }
             let (code, out, err) = physlab(&args);
             assert_eq!(code, 2, "{args:?}: {out}\n{err}");
             assert!(

@@ -76,7 +76,10 @@ fn check_keys(text: &str) -> Result<(), String> {
         ),
         (
             "hair",
-            known(toml::Value::try_from(HairArgs::defaults()), &["dt"]),
+            known(
+                toml::Value::try_from(HairArgs::defaults()),
+                &["dt", "log_strands"],
+            ),
         ),
     ];
     for (scene, keys) in &scenes {

@@ -61,10 +61,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                 ..Plan::default()
             },
             &c.run,
-            &Output::Hair {
-                threads: c.threads,
-                log_strands: c.log_strands,
-            },
+            &Output::Hair { threads: c.threads },
             &Replay::default(),
         ),
         Command::All(c) => simulate(all_plan(&c)?, &c.run, &Output::Record, &Replay::default()),
@@ -176,11 +173,8 @@ fn hair_names() -> String {
 enum Output {
     /// Record as the run options say.
     Record,
-    /// Hair's extras: its worker threads and --log-strands.
-    Hair {
-        threads: Option<usize>,
-        log_strands: Option<usize>,
-    },
+    /// Hair's worker threads (--log-strands is part of the scene: recorded, reproduced).
+    Hair { threads: Option<usize> },
 }
 
 /// A re-run of a recording (`physlab reproduce`): where the recorded run stopped each scene.
@@ -336,13 +330,11 @@ fn simulate(plan: Plan, run: &RunArgs, output: &Output, replay: &Replay) -> anyh
     let resolved = resolve(plan, run)?;
     let text = resolved.file.to_toml()?;
     let no_record = run.no_record;
-    let (threads, log_strands) = match output {
-        Output::Record => (None, None),
-        Output::Hair {
-            threads,
-            log_strands,
-        } => (*threads, *log_strands),
+    let threads = match output {
+        Output::Record => None,
+        Output::Hair { threads } => *threads,
     };
+    let log_strands = resolved.file.hair.as_ref().and_then(|h| h.log_strands);
     if threads == Some(0) {
         return Err(UsageError("--threads 0: must be at least 1".into()).into());
     }
@@ -510,7 +502,15 @@ fn simulate(plan: Plan, run: &RunArgs, output: &Output, replay: &Replay) -> anyh
                 plan.drawn, plan.strands
             ));
         }
+        let threads = pool.current_num_threads();
         collect(ran)?;
+        // Printed, not recorded: the thread count is the machine's, and the results do not
+        // depend on it, so a recording compares equal on any core count.
+        if let Some(summary) = summaries.last_mut() {
+            summary.push_str(&format!(
+                "threads: {threads} (the results do not depend on it)\n"
+            ));
+        }
     }
     progress.finish();
     crate::interrupt::set_stop_after(None);

@@ -9,7 +9,9 @@ use std::time::Instant;
 
 use super::{Output, Plan, Replay, UsageError, simulate};
 use crate::cli::{DiffArgs, HairArgs, PendulumArgs, ReproduceArgs, RopeArgs, RunArgs};
-use crate::record::compare::{Contents, Row, SeriesDiff, compare, read_contents, time_text};
+use crate::interrupt::Interrupted;
+use crate::record::compare::{Key, SeriesDiff, SeriesIndex, StreamSpec, compare_files, time_text};
+use crate::record::diff::DiffWriter;
 use crate::record::inspect::{RecordingInfo, read_recording};
 
 /// The comparison found differences (beyond the tolerance). Exit code 1.
@@ -42,31 +44,42 @@ fn tolerance(t: Option<f64>) -> Result<f64, UsageError> {
 
 /// A complete recording: one without its footer was cut off while being written (the process
 /// killed, the file truncated), and its last chunks are lost.
-fn complete_recording(path: &Path) -> Result<RecordingInfo, UsageError> {
+fn complete_recording(path: &Path) -> anyhow::Result<RecordingInfo> {
     let info = read_recording(path)?;
     if !info.has_footer {
         return Err(UsageError(format!(
-            "{}: truncated: the file ends without its footer (the writing process was killed or the              file cut short), so its last data are lost; `physlab inspect` shows what it holds",
+            "{}: truncated: the file ends without its footer (the writing process was killed or \
+             the file cut short), so its last data are lost; `physlab inspect` shows what it holds",
             path.display()
-        )));
+        ))
+        .into());
+    }
+    Ok(info)
+}
+
+/// A complete recording made by physlab (`diff` and `reproduce` compare nothing else).
+fn physlab_made(path: &Path) -> anyhow::Result<RecordingInfo> {
+    let info = complete_recording(path)?;
+    if !info.application_id.starts_with("physlab") {
+        return Err(UsageError(format!(
+            "{}: a recording of another application ({:?}), not of physlab",
+            path.display(),
+            info.application_id
+        ))
+        .into());
     }
     Ok(info)
 }
 
 /// A physlab recording of simulated scenes, with what is needed to run it again.
-fn physlab_recording(path: &Path) -> Result<RecordingInfo, UsageError> {
-    let info = complete_recording(path)?;
-    let fail = |what: &str| UsageError(format!("{}: {what}", path.display()));
-    if !info.application_id.starts_with("physlab") {
-        return Err(fail(&format!(
-            "a recording of another application ({:?}), not of physlab",
-            info.application_id
-        )));
-    }
+fn physlab_recording(path: &Path) -> anyhow::Result<RecordingInfo> {
+    let info = physlab_made(path)?;
     if !info.properties.contains_key("config") {
-        return Err(fail(
-            "holds no physlab configuration (recorded by a physlab older than its provenance)",
-        ));
+        return Err(UsageError(format!(
+            "{}: holds no physlab configuration (recorded by a physlab older than its provenance)",
+            path.display()
+        ))
+        .into());
     }
     Ok(info)
 }
@@ -111,6 +124,33 @@ fn check_output(
         .collect();
     crate::output::distinct(&[&out], &inputs)?;
     Ok(Some(out))
+}
+
+/// Why the re-run failed, in words true to the cause: a stop request stays an interruption (exit
+/// 130), a configuration this build refuses says so without the temporary file's name, and
+/// anything else (an unwritable `-o`, a full disk) is passed on as it is.
+fn rerun_failed(e: anyhow::Error, file: &Path, config: &Path) -> anyhow::Error {
+    if e.downcast_ref::<Interrupted>().is_some() {
+        return Interrupted(format!(
+            "interrupted: the re-run of {} was stopped, so nothing was compared",
+            file.display()
+        ))
+        .into();
+    }
+    if let Some(UsageError(message)) = e.downcast_ref::<UsageError>()
+        && message.contains(&config.display().to_string())
+    {
+        let message = message.replace(
+            &format!("--config {}: ", config.display()),
+            "its embedded configuration: ",
+        );
+        return UsageError(format!(
+            "{}: its configuration does not run with this build: {message}",
+            file.display()
+        ))
+        .into();
+    }
+    e.context(format!("re-running {}", file.display()))
 }
 
 /// A file in the temporary folder, removed when dropped.
@@ -280,8 +320,10 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
         ))
         .into());
     }
-    let recorded = read_contents(&args.file)?;
-    let timings = recorded.keys().any(|k| k.0.contains("/plots/frame_cost/"));
+    let timings = info
+        .entities
+        .iter()
+        .any(|e| e.contains("/plots/frame_cost/"));
 
     println!("reproducing {}", args.file.display());
     let (then, now) = (version_line(&info), this_version());
@@ -354,37 +396,38 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
         hair: scenes.contains(&"hair").then(HairArgs::default),
     };
     let started = Instant::now();
-    simulate(plan, &run, &Output::Record, &replay).map_err(|e| {
-        anyhow::anyhow!(
-            "{}: its configuration does not run with this build: {e:#}",
-            args.file.display()
-        )
-    })?;
+    simulate(plan, &run, &Output::Record, &replay)
+        .map_err(|e| rerun_failed(e, &args.file, &config.0))?;
     println!("  re-ran in {:.1} s", started.elapsed().as_secs_f64());
     if args.output.is_some() {
         println!("  wrote the re-run to {}", output.display());
     }
-    let recomputed = read_contents(&output)?;
-
-    let mut skipped = BTreeSet::new();
-    let mut diffs = Vec::new();
-    for (key, rows) in &recorded {
-        if wall_clock(&key.0, timings) {
-            skipped.insert(key.0.clone());
-            continue;
-        }
-        let empty: Vec<Row> = Vec::new();
-        let mine = recomputed.get(key).unwrap_or(&empty);
-        let mine: &[Row] = if killed {
-            &mine[..mine.len().min(rows.len())]
-        } else {
-            mine
-        };
-        diffs.push((key.clone(), compare(rows, mine, tol, None)));
-    }
-    let only_recomputed: BTreeSet<&String> = recomputed
+    let skip = |entity: &str| wall_clock(entity, timings);
+    let spec = StreamSpec {
+        tolerance: tol,
+        skip: &skip,
+        rename_b: None,
+        cap_b: killed,
+    };
+    let streamed = compare_files(&args.file, &output, &spec, &mut |_, _, _| Ok(()))?;
+    let skipped: BTreeSet<&String> = streamed
+        .index_a
         .keys()
-        .filter(|k| !recorded.contains_key(*k) && !wall_clock(&k.0, timings) && !killed)
+        .map(|k| &k.0)
+        .filter(|e| skip(e))
+        .collect();
+    // Static rows and timed rows of a series are compared apart; both count for its entity.
+    let mut diffs = Vec::new();
+    for (key, d) in streamed.statics.iter().chain(&streamed.timed) {
+        if streamed.index_a.contains_key(key) {
+            diffs.push((key.clone(), d.clone()));
+        }
+    }
+    diffs.sort_by(|x, y| x.0.cmp(&y.0));
+    let only_recomputed: BTreeSet<&String> = streamed
+        .index_b
+        .keys()
+        .filter(|k| !streamed.index_a.contains_key(*k) && !skip(&k.0) && !killed)
         .map(|k| &k.0)
         .collect();
     let reports = by_entity(diffs);
@@ -485,8 +528,28 @@ pub fn diff_command(args: &DiffArgs) -> anyhow::Result<()> {
     )?;
     // With `-o -` standard output carries the difference recording: the report goes to stderr.
     let to_stdout = output.as_ref().is_some_and(|o| o.is_stdout());
-    let (ia, ib) = (complete_recording(&args.a)?, complete_recording(&args.b)?);
-    let (ca, cb) = (read_contents(&args.a)?, read_contents(&args.b)?);
+    let (ia, ib) = (physlab_made(&args.a)?, physlab_made(&args.b)?);
+    // Runs of one method each: pair their lanes, so that Euler's series meet Verlet's.
+    let rename = match (single_method(&ia), single_method(&ib)) {
+        (Some(ma), Some(mb)) if ma != mb => Some((mb, ma)),
+        _ => None,
+    };
+    let mut writer = args.output.as_deref().map(DiffWriter::create).transpose()?;
+    let spec = StreamSpec {
+        tolerance: tol,
+        skip: &|_: &str| false,
+        rename_b: rename.clone(),
+        cap_b: false,
+    };
+    let streamed = compare_files(
+        &args.a,
+        &args.b,
+        &spec,
+        &mut |key, ra, rb| match &mut writer {
+            Some(w) => w.pair(key, ra, rb),
+            None => Ok(()),
+        },
+    )?;
     let mut report = String::new();
     let mut line = |s: String| {
         if to_stdout {
@@ -532,73 +595,61 @@ pub fn diff_command(args: &DiffArgs) -> anyhow::Result<()> {
         }
     }
 
-    // Runs of one method each: pair their lanes, so that Euler's series meet Verlet's.
-    let rename = match (single_method(&ia), single_method(&ib)) {
-        (Some(ma), Some(mb)) if ma != mb => {
-            line(format!(
-                "pairing A's lane {ma} with B's lane {mb} (one method in each)"
-            ));
-            Some((mb, ma))
-        }
-        _ => None,
-    };
-    let cb: Contents = match &rename {
-        None => cb,
-        Some((from, to)) => cb
-            .into_iter()
-            .map(|((entity, component), rows)| {
-                let entity = entity
-                    .split('/')
-                    .map(|part| if part == from { to.as_str() } else { part })
-                    .collect::<Vec<_>>()
-                    .join("/");
-                ((entity, component), rows)
-            })
-            .collect(),
-    };
+    if let Some((mb, ma)) = &rename {
+        line(format!(
+            "pairing A's lane {ma} with B's lane {mb} (one method in each)"
+        ));
+    }
 
-    // Series over time; static data (styles, descriptions) only noted when it differs: paired
-    // lanes have their own names and colours.
-    let mut diffs = Vec::new();
-    let mut static_differs: BTreeMap<String, Vec<String>> = BTreeMap::new();
-    let split = |rows: &[Row]| -> (Vec<Row>, Vec<Row>) {
-        rows.iter().cloned().partition(|r| r.time.is_some())
+    // Series over time, and static data (summaries, styles, static 3D, study tables) compared
+    // as it is: a component that differs or that only one of them holds makes its entity
+    // differ (paired lanes' names and colours too: they are what the runs were told to be).
+    let (xa, xb) = (&streamed.index_a, &streamed.index_b);
+    let entities = |x: &BTreeMap<Key, SeriesIndex>| -> BTreeSet<String> {
+        x.keys().map(|k| k.0.clone()).collect()
     };
-    for (key, rows) in &ca {
-        if let Some(other) = cb.get(key) {
-            let ((ta, sa), (tb, sb)) = (split(rows), split(other));
-            if sa != sb {
-                static_differs
-                    .entry(key.0.clone())
-                    .or_default()
-                    .push(key.1.clone());
-            }
-            if !ta.is_empty() || !tb.is_empty() {
-                diffs.push((key.clone(), compare(&ta, &tb, tol, None)));
-            }
+    let (ea, eb) = (entities(xa), entities(xb));
+    let shared_entity = |key: &(String, String)| ea.contains(&key.0) && eb.contains(&key.0);
+    let mut static_differs: BTreeMap<String, Vec<String>> = BTreeMap::new();
+    for (key, d) in &streamed.statics {
+        if shared_entity(key) && !d.same() {
+            let side = match (xa.get(key), xb.get(key)) {
+                (Some(a), b) if b.is_none_or(|b| b.statics == 0) && a.statics > 0 => " (only in A)",
+                (a, Some(b)) if a.is_none_or(|a| a.statics == 0) && b.statics > 0 => " (only in B)",
+                _ => "",
+            };
+            static_differs
+                .entry(key.0.clone())
+                .or_default()
+                .push(format!("{}{side}", key.1));
         }
     }
-    let only = |x: &Contents, y: &Contents| -> BTreeSet<String> {
-        x.keys()
-            .filter(|k| !y.keys().any(|o| o.0 == k.0))
-            .map(|k| k.0.clone())
-            .collect()
-    };
-    let (only_a, only_b) = (only(&ca, &cb), only(&cb, &ca));
+    let diffs: Vec<((String, String), SeriesDiff)> = streamed
+        .timed
+        .iter()
+        .filter(|(k, _)| shared_entity(k))
+        .map(|(k, d)| (k.clone(), d.clone()))
+        .collect();
+    let only_a: BTreeSet<&String> = ea.difference(&eb).collect();
+    let only_b: BTreeSet<&String> = eb.difference(&ea).collect();
     let reports = by_entity(diffs.clone());
     let mut differing = 0;
     for r in &reports {
-        let mut text = if r.same() {
+        let statics = static_differs.get(&r.entity);
+        let mut text = if r.same() && statics.is_none() {
             if r.bit_identical() {
                 "identical".to_string()
             } else {
                 format!("within --tolerance {tol}: {}", r.describe("A", "B"))
             }
+        } else if r.same() {
+            differing += 1;
+            String::from("series identical")
         } else {
             differing += 1;
             r.describe("A", "B")
         };
-        if let Some(components) = static_differs.get(&r.entity) {
+        if let Some(components) = statics {
             text.push_str(&format!(
                 " (static data differs: {})",
                 components.join(", ")
@@ -608,6 +659,7 @@ pub fn diff_command(args: &DiffArgs) -> anyhow::Result<()> {
     }
     for (entity, components) in &static_differs {
         if !reports.iter().any(|r| &r.entity == entity) {
+            differing += 1;
             line(format!(
                 "  {entity}: static data differs: {}",
                 components.join(", ")
@@ -623,7 +675,7 @@ pub fn diff_command(args: &DiffArgs) -> anyhow::Result<()> {
     line(format!(
         "{} of {} shared entities differ{}; {} only in A, {} only in B",
         differing,
-        reports.len(),
+        ea.intersection(&eb).count(),
         if tol > 0.0 {
             format!(" beyond --tolerance {tol}")
         } else {
@@ -632,8 +684,8 @@ pub fn diff_command(args: &DiffArgs) -> anyhow::Result<()> {
         only_a.len(),
         only_b.len()
     ));
-    if let Some(out) = &args.output {
-        let n = crate::record::diff::record_diff(out, &ca, &cb, &report)?;
+    if let (Some(w), Some(out)) = (writer, &args.output) {
+        let n = w.finish(&report)?;
         let wrote = format!("wrote {} difference series (B − A) to {}", n, out.display());
         if to_stdout {
             eprintln!("{wrote}");

@@ -442,7 +442,7 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
         let d = crate::record::Destinations::output(path);
         let config = format!(
             "# the scene of `{}`\n{}",
-            std::env::args().collect::<Vec<_>>().join(" "),
+            crate::record::command_line(),
             scene_file.to_toml()?
         );
         let methods: Vec<&str> = sw.methods.iter().map(|m| m.name()).collect();
@@ -513,7 +513,7 @@ fn hair_study(a: &StudyArgs) -> anyhow::Result<()> {
         // this one) and the command line.
         let config = format!(
             "# the scene of `{}`\n[hair]\nduration = {duration:?}\n",
-            std::env::args().collect::<Vec<_>>().join(" ")
+            crate::record::command_line()
         );
         let methods: Vec<&str> = crate::scene::hair::HairMethod::ALL
             .iter()

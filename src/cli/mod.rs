@@ -145,10 +145,6 @@ pub struct HairCommand {
     /// Worker threads for the strands [default: all cores]; results do not depend on it
     #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub threads: Option<usize>,
-    /// Strands drawn in 3D, spread evenly over the head; every strand is still simulated and
-    /// measured [default: as many as keep the 3D part of the recording under 180 MB]
-    #[arg(long, value_name = "N", allow_negative_numbers = true)]
-    pub log_strands: Option<usize>,
 }
 
 #[derive(Args, Debug, Clone)]

@@ -287,6 +287,11 @@ pub struct HairArgs {
     /// Methods to run, comma-separated: verlet, semi-implicit-euler, implicit-euler, ftl
     #[arg(long, value_delimiter = ',', value_name = "LIST")]
     pub methods: Option<Vec<HairMethod>>,
+
+    /// Strands drawn in 3D, spread evenly over the head; every strand is still simulated and
+    /// measured [default: as many as keep the 3D part of the recording under 180 MB]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub log_strands: Option<usize>,
 }
 
 overlay!(PendulumStart { theta0, omega0 });
@@ -466,7 +471,8 @@ overlay!(HairArgs {
     fps,
     duration,
     margin,
-    methods
+    methods,
+    log_strands
 });
 
 impl HairArgs {
@@ -496,6 +502,8 @@ impl HairArgs {
             duration: Some(c.duration),
             margin: Some(p.margin),
             methods: Some(c.methods),
+            // What the recording draws, not what is simulated: sized to the run when not given.
+            log_strands: None,
         }
     }
 

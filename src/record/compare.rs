@@ -2,7 +2,7 @@
 //! `physlab reproduce` and `physlab diff` report. Every component of every entity is read, on
 //! the `sim_time` timeline (static data has no time), with Rerun's own decoder.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, VecDeque};
 use std::path::Path;
 
 use rerun::external::arrow::array::{Array, AsArray as _};
@@ -10,10 +10,9 @@ use rerun::external::arrow::datatypes::{
     DataType, Float32Type, Float64Type, Int8Type, Int16Type, Int32Type, Int64Type, UInt8Type,
     UInt16Type, UInt32Type, UInt64Type,
 };
-use rerun::external::re_log_encoding::DecoderApp;
 use rerun::log::{Chunk, LogMsg};
 
-use crate::error::UsageError;
+use super::read::{Messages, each_message, unusable};
 
 /// One logged row of one component: its `sim_time` in ns (`None` for static data), every number
 /// it holds (floats widened to f64 exactly, integers converted), and every text.
@@ -27,52 +26,353 @@ pub struct Row {
 /// (entity path, component) → rows, in time order (rows at the same time in logging order).
 pub type Contents = BTreeMap<(String, String), Vec<Row>>;
 
-/// Reads every component of every entity (not the properties, not the blueprint).
-pub fn read_contents(path: &Path) -> Result<Contents, UsageError> {
-    let fail = |what: String| UsageError(format!("{}: {what}", path.display()));
-    let file = std::fs::File::open(path).map_err(|e| fail(format!("cannot open it: {e}")))?;
+/// An (entity path, component) pair: one series.
+pub type Key = (String, String);
+
+/// One message's rows, grouped by series in logging order: every component of every entity of
+/// a recording chunk (not the properties, not the blueprint). `Err` says what is wrong.
+fn message_rows(msg: LogMsg) -> Result<Vec<(Key, Vec<Row>)>, String> {
+    let LogMsg::ArrowMsg(store_id, arrow_msg) = msg else {
+        return Ok(Vec::new());
+    };
+    if !store_id.is_recording() {
+        return Ok(Vec::new());
+    }
+    let chunk =
+        Chunk::from_arrow_msg(&arrow_msg).map_err(|e| format!("a chunk cannot be decoded: {e}"))?;
+    let entity = chunk.entity_path().to_string();
+    if entity.starts_with("/__properties") {
+        return Ok(Vec::new());
+    }
     let sim_time = rerun::TimelineName::from("sim_time");
-    let mut contents = Contents::new();
-    for msg in DecoderApp::decode_lazy(std::io::BufReader::new(file)) {
-        let msg = msg.map_err(|e| fail(format!("the recording is corrupt or truncated: {e}")))?;
-        let LogMsg::ArrowMsg(store_id, arrow_msg) = msg else {
+    let times = chunk.timelines().get(&sim_time).map(|c| c.times_raw());
+    let mut out = Vec::new();
+    for descriptor in chunk.component_descriptors() {
+        let Some(list) = chunk.components().get_array(descriptor.component) else {
             continue;
         };
-        if !store_id.is_recording() {
-            continue;
-        }
-        let chunk = Chunk::from_arrow_msg(&arrow_msg)
-            .map_err(|e| fail(format!("a chunk cannot be decoded: {e}")))?;
-        let entity = chunk.entity_path().to_string();
-        if entity.starts_with("/__properties") {
-            continue;
-        }
-        let times = chunk.timelines().get(&sim_time).map(|c| c.times_raw());
-        for descriptor in chunk.component_descriptors() {
-            let Some(list) = chunk.components().get_array(descriptor.component) else {
+        let mut rows = Vec::new();
+        for i in 0..chunk.num_rows().min(list.len()) {
+            if list.is_null(i) {
                 continue;
-            };
-            let rows = contents
-                .entry((entity.clone(), descriptor.component.as_str().to_string()))
-                .or_default();
-            for i in 0..chunk.num_rows() {
-                if list.is_null(i) {
-                    continue;
-                }
-                let mut row = Row {
-                    time: times.and_then(|t| t.get(i).copied()),
-                    nums: Vec::new(),
-                    texts: Vec::new(),
-                };
-                flatten(list.value(i).as_ref(), &mut row.nums, &mut row.texts);
-                rows.push(row);
             }
+            let mut row = Row {
+                time: times.and_then(|t| t.get(i).copied()),
+                nums: Vec::new(),
+                texts: Vec::new(),
+            };
+            flatten(list.value(i).as_ref(), &mut row.nums, &mut row.texts);
+            rows.push(row);
         }
+        out.push((
+            (entity.clone(), descriptor.component.as_str().to_string()),
+            rows,
+        ));
     }
+    Ok(out)
+}
+
+/// Reads every component of every entity (not the properties, not the blueprint), the whole
+/// file into memory: for small recordings and tests; `diff` and `reproduce` stream instead
+/// ([`compare_files`]). An unusable file is a `UsageError` naming it, a stop request
+/// `Interrupted` (see [`each_message`]).
+pub fn read_contents(path: &Path) -> anyhow::Result<Contents> {
+    let mut contents = Contents::new();
+    each_message(path, |msg| {
+        for (key, rows) in message_rows(msg)? {
+            contents.entry(key).or_default().extend(rows);
+        }
+        Ok(())
+    })?;
     for rows in contents.values_mut() {
         rows.sort_by_key(|r| r.time); // stable: same-time rows keep their logging order
     }
     Ok(contents)
+}
+
+/// What one pass over a recording learns of each series, in memory that grows with the number
+/// of series only.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SeriesIndex {
+    /// Rows on `sim_time`, and static rows.
+    pub timed: usize,
+    pub statics: usize,
+    /// The largest finite |value| of the timed rows: the scale tolerances are relative to.
+    pub scale: f64,
+}
+
+fn largest_finite(rows: &[Row]) -> f64 {
+    rows.iter()
+        .flat_map(|r| &r.nums)
+        .filter(|v| v.is_finite())
+        .fold(0.0f64, |m, v| m.max(v.abs()))
+}
+
+/// Every series of a recording with its row counts and scale, read message by message.
+pub fn index_series(path: &Path) -> anyhow::Result<BTreeMap<Key, SeriesIndex>> {
+    let mut index: BTreeMap<Key, SeriesIndex> = BTreeMap::new();
+    each_message(path, |msg| {
+        for (key, rows) in message_rows(msg)? {
+            let entry = index.entry(key).or_default();
+            let (timed, statics): (Vec<Row>, Vec<Row>) =
+                rows.into_iter().partition(|r| r.time.is_some());
+            entry.timed += timed.len();
+            entry.statics += statics.len();
+            entry.scale = entry.scale.max(largest_finite(&timed));
+        }
+        Ok(())
+    })?;
+    Ok(index)
+}
+
+/// How two recordings are read against each other by [`compare_files`].
+pub struct StreamSpec<'a> {
+    /// A fraction of each series' scale (0: bit for bit).
+    pub tolerance: f64,
+    /// Entities left out of the comparison (wall-clock timings).
+    pub skip: &'a dyn Fn(&str) -> bool,
+    /// B's entity path parts renamed (from, to): one method's lanes paired with another's.
+    pub rename_b: Option<(String, String)>,
+    /// B's timed rows compared only as far as A's go, series by series (A cut short).
+    pub cap_b: bool,
+}
+
+/// What [`compare_files`] found: per series, the timed rows' comparison and the static rows'.
+#[derive(Debug, Default)]
+pub struct Streamed {
+    pub index_a: BTreeMap<Key, SeriesIndex>,
+    pub index_b: BTreeMap<Key, SeriesIndex>,
+    pub timed: BTreeMap<Key, SeriesDiff>,
+    pub statics: BTreeMap<Key, SeriesDiff>,
+}
+
+/// One series being compared: rows waiting for their partner on the other side.
+struct Lane {
+    qa: VecDeque<Row>,
+    qb: VecDeque<Row>,
+    pairing: Pairing,
+    statics_a: Vec<Row>,
+    statics_b: Vec<Row>,
+    /// B's timed rows taken so far, and how many may be (A's count, when capped).
+    taken_b: usize,
+    cap_b: Option<usize>,
+    shared: bool,
+}
+
+/// Compares two recordings series by series while reading them in step, so that memory holds
+/// what one has read ahead of the other (about a chunk per series when they were logged in the
+/// same order), never a whole file. Each timed pair of rows is also handed to `on_pair`.
+/// Rows of one series must come in time order within each file, as physlab logs them.
+pub fn compare_files(
+    a: &Path,
+    b: &Path,
+    spec: &StreamSpec,
+    on_pair: &mut dyn FnMut(&Key, &Row, &Row) -> anyhow::Result<()>,
+) -> anyhow::Result<Streamed> {
+    let rename = |key: Key| -> Key {
+        match &spec.rename_b {
+            None => key,
+            Some((from, to)) => {
+                let entity = key
+                    .0
+                    .split('/')
+                    .map(|part| if part == from { to.as_str() } else { part })
+                    .collect::<Vec<_>>()
+                    .join("/");
+                (entity, key.1)
+            }
+        }
+    };
+    let index_a = index_series(a)?;
+    let index_b: BTreeMap<Key, SeriesIndex> = index_series(b)?
+        .into_iter()
+        .map(|(k, v)| (rename(k), v))
+        .collect();
+    let mut lanes: BTreeMap<Key, Lane> = BTreeMap::new();
+    for key in index_a.keys().chain(index_b.keys()) {
+        if (spec.skip)(&key.0) || lanes.contains_key(key) {
+            continue;
+        }
+        let (ia, ib) = (index_a.get(key), index_b.get(key));
+        let scale = match ia.map_or(0.0, |i| i.scale) {
+            0.0 => ib.map_or(0.0, |i| i.scale),
+            s => s,
+        };
+        lanes.insert(
+            key.clone(),
+            Lane {
+                qa: VecDeque::new(),
+                qb: VecDeque::new(),
+                pairing: Pairing::new(spec.tolerance, scale),
+                statics_a: Vec::new(),
+                statics_b: Vec::new(),
+                taken_b: 0,
+                cap_b: spec.cap_b.then(|| ia.map_or(0, |i| i.timed)),
+                shared: ia.is_some_and(|i| i.timed > 0) && ib.is_some_and(|i| i.timed > 0),
+            },
+        );
+    }
+    let (mut ma, mut mb) = (Messages::open(a)?, Messages::open(b)?);
+    let (mut done_a, mut done_b) = (false, false);
+    // Rows waiting in the queues, per side: read from the side that is behind.
+    let (mut queued_a, mut queued_b) = (0usize, 0usize);
+    while !(done_a && done_b) {
+        let from_a = !done_a && (done_b || queued_a <= queued_b);
+        let (messages, done) = if from_a {
+            (&mut ma, &mut done_a)
+        } else {
+            (&mut mb, &mut done_b)
+        };
+        let Some(msg) = messages.next_message()? else {
+            *done = true;
+            continue;
+        };
+        let series = messages
+            .guarded(|| message_rows(msg))?
+            .map_err(|e| unusable(if from_a { a } else { b }, e))?;
+        for (key, rows) in series {
+            let key = if from_a { key } else { rename(key) };
+            let Some(lane) = lanes.get_mut(&key) else {
+                continue; // skipped
+            };
+            for row in rows {
+                match (row.time.is_some(), from_a) {
+                    (false, true) => lane.statics_a.push(row),
+                    (false, false) => lane.statics_b.push(row),
+                    (true, true) => {
+                        lane.pairing.out.rows_a += 1;
+                        if lane.shared {
+                            lane.qa.push_back(row);
+                            queued_a += 1;
+                        } else {
+                            lane.pairing.out.unpaired += 1;
+                        }
+                    }
+                    (true, false) => {
+                        if lane.cap_b.is_some_and(|cap| lane.taken_b >= cap) {
+                            continue;
+                        }
+                        lane.taken_b += 1;
+                        lane.pairing.out.rows_b += 1;
+                        if lane.shared {
+                            lane.qb.push_back(row);
+                            queued_b += 1;
+                        } else {
+                            lane.pairing.out.unpaired += 1;
+                        }
+                    }
+                }
+            }
+            let (na, nb) = (lane.qa.len(), lane.qb.len());
+            lane.pairing
+                .merge(&mut lane.qa, &mut lane.qb, &mut |ra, rb| {
+                    on_pair(&key, ra, rb)
+                })?;
+            queued_a -= na - lane.qa.len();
+            queued_b -= nb - lane.qb.len();
+        }
+    }
+    let mut out = Streamed {
+        index_a,
+        index_b,
+        ..Streamed::default()
+    };
+    for (key, mut lane) in lanes {
+        lane.pairing.out.unpaired += lane.qa.len() + lane.qb.len();
+        if !lane.statics_a.is_empty() || !lane.statics_b.is_empty() {
+            out.statics.insert(
+                key.clone(),
+                compare(&lane.statics_a, &lane.statics_b, spec.tolerance, None),
+            );
+        }
+        if lane.pairing.out.rows_a > 0 || lane.pairing.out.rows_b > 0 {
+            out.timed.insert(key, lane.pairing.out);
+        }
+    }
+    Ok(out)
+}
+
+/// The comparison of one series built row by row: rows paired by time, each value judged
+/// against the tolerance × the series' scale (with tolerance 0: its bits).
+struct Pairing {
+    out: SeriesDiff,
+    tolerance: f64,
+    bound: f64,
+}
+
+impl Pairing {
+    fn new(tolerance: f64, scale: f64) -> Self {
+        Pairing {
+            out: SeriesDiff {
+                scale,
+                ..SeriesDiff::default()
+            },
+            tolerance,
+            bound: tolerance * scale,
+        }
+    }
+
+    /// Pairs the queues' rows by time from the front, as far as both go: a row whose time the
+    /// other side has passed has no partner. Rows are in time order on each side.
+    fn merge(
+        &mut self,
+        qa: &mut VecDeque<Row>,
+        qb: &mut VecDeque<Row>,
+        on_pair: &mut dyn FnMut(&Row, &Row) -> anyhow::Result<()>,
+    ) -> anyhow::Result<()> {
+        while let (Some(ra), Some(rb)) = (qa.front(), qb.front()) {
+            if ra.time != rb.time {
+                self.out.unpaired += 1;
+                if ra.time < rb.time {
+                    qa.pop_front();
+                } else {
+                    qb.pop_front();
+                }
+                continue;
+            }
+            self.pair(ra, rb);
+            on_pair(ra, rb)?;
+            qa.pop_front();
+            qb.pop_front();
+        }
+        Ok(())
+    }
+
+    fn pair(&mut self, ra: &Row, rb: &Row) {
+        let out = &mut self.out;
+        out.paired += 1;
+        if (ra.texts != rb.texts || ra.nums.len() != rb.nums.len()) && out.first_other.is_none() {
+            let what = if ra.texts != rb.texts {
+                format!("text {:?} vs {:?}", ra.texts.join(" "), rb.texts.join(" "))
+            } else {
+                format!("{} values vs {}", ra.nums.len(), rb.nums.len())
+            };
+            out.first_other = Some((ra.time, what));
+        }
+        for (&x, &y) in ra.nums.iter().zip(&rb.nums) {
+            let d = Difference {
+                time: ra.time,
+                a: x,
+                b: y,
+            };
+            let size = d.abs();
+            let beyond = if self.tolerance == 0.0 {
+                x.to_bits() != y.to_bits()
+            } else {
+                size.is_nan() || size > self.bound // NaN against a number is beyond any bound
+            };
+            if beyond && out.first.is_none() {
+                out.first = Some(d.clone());
+            }
+            let bigger = match &out.largest {
+                None => true,
+                Some(l) => size > l.abs() || (size.is_nan() && !l.abs().is_nan()),
+            };
+            if bigger {
+                out.largest = Some(d);
+            }
+        }
+    }
 }
 
 /// Every number and text an arrow array holds, depth first.
@@ -215,74 +515,19 @@ impl SeriesDiff {
 /// `until` (ns of `sim_time`) are left out on both sides.
 pub fn compare(a: &[Row], b: &[Row], tolerance: f64, until: Option<i64>) -> SeriesDiff {
     let keep = |r: &&Row| until.is_none_or(|u| r.time.is_none_or(|t| t <= u));
-    let a: Vec<&Row> = a.iter().filter(keep).collect();
-    let b: Vec<&Row> = b.iter().filter(keep).collect();
-    let largest_finite = |rows: &[&Row]| {
-        rows.iter()
-            .flat_map(|r| &r.nums)
-            .filter(|v| v.is_finite())
-            .fold(0.0f64, |m, v| m.max(v.abs()))
-    };
-    let mut scale = largest_finite(&a);
+    let mut qa: VecDeque<Row> = a.iter().filter(keep).cloned().collect();
+    let mut qb: VecDeque<Row> = b.iter().filter(keep).cloned().collect();
+    let mut scale = largest_finite(qa.make_contiguous());
     if scale == 0.0 {
-        scale = largest_finite(&b);
+        scale = largest_finite(qb.make_contiguous());
     }
-    let mut out = SeriesDiff {
-        rows_a: a.len(),
-        rows_b: b.len(),
-        scale,
-        ..SeriesDiff::default()
-    };
-    let bound = tolerance * scale;
-    let (mut i, mut j) = (0, 0);
-    while i < a.len() && j < b.len() {
-        let (ra, rb) = (a[i], b[j]);
-        if ra.time != rb.time {
-            out.unpaired += 1;
-            if ra.time < rb.time {
-                i += 1;
-            } else {
-                j += 1;
-            }
-            continue;
-        }
-        out.paired += 1;
-        if (ra.texts != rb.texts || ra.nums.len() != rb.nums.len()) && out.first_other.is_none() {
-            let what = if ra.texts != rb.texts {
-                format!("text {:?} vs {:?}", ra.texts.join(" "), rb.texts.join(" "))
-            } else {
-                format!("{} values vs {}", ra.nums.len(), rb.nums.len())
-            };
-            out.first_other = Some((ra.time, what));
-        }
-        for (&x, &y) in ra.nums.iter().zip(&rb.nums) {
-            let d = Difference {
-                time: ra.time,
-                a: x,
-                b: y,
-            };
-            let size = d.abs();
-            let beyond = if tolerance == 0.0 {
-                x.to_bits() != y.to_bits()
-            } else {
-                size.is_nan() || size > bound // NaN against a number is beyond any bound
-            };
-            if beyond && out.first.is_none() {
-                out.first = Some(d.clone());
-            }
-            let bigger = match &out.largest {
-                None => true,
-                Some(l) => size > l.abs() || (size.is_nan() && !l.abs().is_nan()),
-            };
-            if bigger {
-                out.largest = Some(d);
-            }
-        }
-        i += 1;
-        j += 1;
-    }
-    out.unpaired += (a.len() - i) + (b.len() - j);
-    out
+    let mut pairing = Pairing::new(tolerance, scale);
+    pairing.out.rows_a = qa.len();
+    pairing.out.rows_b = qb.len();
+    let merged = pairing.merge(&mut qa, &mut qb, &mut |_, _| Ok(()));
+    debug_assert!(merged.is_ok(), "pairing without a callback cannot fail");
+    pairing.out.unpaired += qa.len() + qb.len();
+    pairing.out
 }
 
 /// A time on `sim_time` in seconds, exactly as stored (ns), or "static".

@@ -4,10 +4,9 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 
-use rerun::external::re_log_encoding::DecoderApp;
 use rerun::log::{Chunk, LogMsg};
 
-use crate::error::UsageError;
+use super::read::each_message;
 
 /// A warning or info line of a scene's event log.
 #[derive(Clone, Debug, PartialEq)]
@@ -51,44 +50,25 @@ impl RecordingInfo {
     }
 }
 
-/// Reads a recording. A missing, empty, non-rrd, corrupt or truncated file is an error naming
-/// the file and what is wrong with it.
-pub fn read_recording(path: &Path) -> Result<RecordingInfo, UsageError> {
-    let fail = |what: String| UsageError(format!("{}: {what}", path.display()));
-    let meta = std::fs::metadata(path).map_err(|e| fail(format!("cannot read it: {e}")))?;
-    if meta.is_dir() {
-        return Err(fail("is a folder, not a recording (.rrd)".into()));
-    }
-    if meta.len() == 0 {
-        return Err(fail("the file is empty, not a recording (.rrd)".into()));
-    }
-    let file = std::fs::File::open(path).map_err(|e| fail(format!("cannot open it: {e}")))?;
-    let mut messages = DecoderApp::decode_lazy(std::io::BufReader::new(file));
+/// Reads a recording. A missing, empty, non-rrd, corrupt or truncated file is a `UsageError`
+/// naming the file and what is wrong with it; a stop request `Interrupted`.
+pub fn read_recording(path: &Path) -> anyhow::Result<RecordingInfo> {
     let mut info = RecordingInfo::default();
     let sim_time = rerun::TimelineName::from("sim_time");
     let text = rerun::TextLog::descriptor_text().component;
     let level = rerun::TextLog::descriptor_level().component;
-    let mut seen_any = false;
-    for msg in messages.by_ref() {
-        let msg = msg.map_err(|e| {
-            if seen_any {
-                fail(format!("the recording is corrupt or truncated: {e}"))
-            } else {
-                fail(format!("not a Rerun recording (.rrd): {e}"))
-            }
-        })?;
-        seen_any = true;
+    let end = each_message(path, |msg| {
         let LogMsg::ArrowMsg(store_id, arrow_msg) = msg else {
-            continue;
+            return Ok(());
         };
         if !store_id.is_recording() {
-            continue; // the blueprint
+            return Ok(()); // the blueprint
         }
         if info.application_id.is_empty() {
             info.application_id = store_id.application_id().to_string();
         }
         let chunk = Chunk::from_arrow_msg(&arrow_msg)
-            .map_err(|e| fail(format!("a chunk cannot be decoded: {e}")))?;
+            .map_err(|e| format!("a chunk cannot be decoded: {e}"))?;
         info.chunks += 1;
         let entity = chunk.entity_path().to_string();
         if entity.starts_with("/__properties") {
@@ -110,7 +90,7 @@ pub fn read_recording(path: &Path) -> Result<RecordingInfo, UsageError> {
                     }
                 }
             }
-            continue;
+            return Ok(());
         }
         info.entities.insert(entity.clone());
         if let Some(column) = chunk.timelines().get(&sim_time) {
@@ -144,16 +124,9 @@ pub fn read_recording(path: &Path) -> Result<RecordingInfo, UsageError> {
                 }
             }
         }
-    }
-    if !seen_any {
-        return Err(fail(
-            "not a Rerun recording (.rrd): no messages could be decoded".into(),
-        ));
-    }
-    info.has_footer = messages
-        .rrd_manifests()
-        .map(|m| !m.is_empty())
-        .unwrap_or(false);
+        Ok(())
+    })?;
+    info.has_footer = end.has_footer;
     info.events.sort_by(|a, b| {
         a.time
             .total_cmp(&b.time)

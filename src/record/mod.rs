@@ -6,6 +6,7 @@ pub mod diff;
 pub mod hair;
 pub mod inspect;
 pub mod pendulum;
+pub mod read;
 pub mod rope;
 pub mod scene;
 pub mod study;
@@ -496,7 +497,7 @@ pub fn send_provenance(
     config_toml: &str,
     methods: &[&str],
 ) -> anyhow::Result<()> {
-    let command_line = std::env::args().collect::<Vec<_>>().join(" ");
+    let command_line = command_line();
     rec.send_property(
         "physlab",
         &rerun::AnyValues::default()
@@ -515,6 +516,48 @@ pub fn send_provenance(
     rec.flush_blocking()
         .context("cannot write the recording's properties")?;
     Ok(())
+}
+
+/// The process's command line as one line of text, losslessly: arguments of plain characters
+/// as they are, any other (spaces, quotes, control characters, bytes that are not UTF-8) in
+/// shell ANSI-C quoting (`$'\xff\xfe.rrd'`), so that pasted into bash it gives the same bytes.
+pub fn command_line() -> String {
+    std::env::args_os()
+        .map(|a| shell_word(std::os::unix::ffi::OsStrExt::as_bytes(a.as_os_str())))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+fn shell_word(bytes: &[u8]) -> String {
+    let plain = |c: char| c.is_alphanumeric() || "-_./=:,+@%^".contains(c);
+    if let Ok(s) = std::str::from_utf8(bytes)
+        && !s.is_empty()
+        && s.chars().all(plain)
+    {
+        return s.to_string();
+    }
+    let mut out = String::from("$'");
+    for chunk in bytes.utf8_chunks() {
+        for c in chunk.valid().chars() {
+            match c {
+                '\\' => out.push_str("\\\\"),
+                '\'' => out.push_str("\\'"),
+                '\n' => out.push_str("\\n"),
+                '\t' => out.push_str("\\t"),
+                c if c.is_control() => {
+                    for b in c.to_string().bytes() {
+                        out.push_str(&format!("\\x{b:02x}"));
+                    }
+                }
+                c => out.push(c),
+            }
+        }
+        for b in chunk.invalid() {
+            out.push_str(&format!("\\x{b:02x}"));
+        }
+    }
+    out.push('\'');
+    out
 }
 
 /// Where one scene of a recording ended (`physlab inspect` and `reproduce` read it back).
@@ -617,3 +660,35 @@ pub const GIT_COMMIT: &str = env!("PHYSLAB_GIT_COMMIT");
 
 /// The Rerun SDK this build links (pinned in Cargo.toml).
 pub const RERUN_SDK_VERSION: &str = "0.36.3";
+
+#[cfg(test)]
+mod command_line_tests {
+    use super::shell_word;
+
+    /// Every word comes back byte for byte through bash's own reading of the quoting.
+    #[test]
+    fn words_are_quoted_losslessly_for_bash() {
+        let words: [&[u8]; 9] = [
+            b"pendulum",
+            b"--theta0=-30",
+            b"\xff\xfe.rrd",
+            b"a b",
+            b"it's",
+            b"back\\slash\n\ttab",
+            b"",
+            "\u{e9}t\u{e9} \u{7f}\u{85}".as_bytes(),
+            b"$HOME;`x`\"y\"",
+        ];
+        for word in words {
+            let quoted = shell_word(word);
+            assert!(!quoted.contains('\n'), "{quoted}");
+            let out = std::process::Command::new("bash")
+                .arg("-c")
+                .arg(format!("printf %s {quoted}"))
+                .env("LC_ALL", "C")
+                .output()
+                .expect("bash runs");
+            assert_eq!(out.stdout, word, "{quoted}");
+        }
+    }
+}

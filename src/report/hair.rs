@@ -11,7 +11,7 @@ pub fn summary_text(scene: &HairScene, run: &Run<HairLane>) -> String {
     let mut out = format!(
         "hair: {} strands × {} nodes, segment {} m, head radius {} m (head motion {}), wind {:?} m/s² ± {}%, damping {} 1/s\n\
          verlet solver {}, {} iterations; springs k/m = {:.3e} 1/s², kd/m = {} 1/s (semi-implicit-euler: {} inner steps per substep); \
-         {} per frame at {} Hz (dt = {:.3e} s), {} frames to t = {} s, {} threads\n\
+         {} per frame at {} Hz (dt = {:.3e} s), {} frames to t = {} s\n\
          collision pushes nodes to R(1 + {}); invariants: penetration of non-root nodes into R(1 + margin), \
          root distance from its anchor, |ℓ - ℓ0|/ℓ0; KE = kinetic energy per unit mass of hair, ½|Δx/dt|² \
          averaged over the nodes; divergence = a non-finite position or a stretch |ℓ - ℓ0|/ℓ0 > {}\n\n",
@@ -33,7 +33,6 @@ pub fn summary_text(scene: &HairScene, run: &Run<HairLane>) -> String {
         c.step_dt(),
         c.frames(),
         trim_number(c.frames() as f64 / c.rate, 6),
-        scene.threads,
         p.margin,
         crate::scene::hair::run::STRETCH_BOUND,
     );

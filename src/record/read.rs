@@ -1,0 +1,170 @@
+//! Reading a recording that may be anything a user names: every reader (`inspect`, `diff`,
+//! `reproduce`) goes through [`each_message`]. What can be checked before Rerun's decoder sees
+//! the bytes is checked (a regular, non-empty file that starts with Rerun's header); the decoder
+//! and what reads its chunks run under `catch_unwind`, because a corrupt Arrow buffer can make
+//! them panic rather than fail, and every message first looks at the stop flag, so that a long
+//! read ends within a message of Ctrl-C.
+
+use std::cell::Cell;
+use std::fs::File;
+use std::io::{BufReader, Read as _, Seek as _, SeekFrom};
+use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::path::{Path, PathBuf};
+use std::sync::Once;
+
+use rerun::external::re_log_encoding::{DecoderApp, DecoderIterator};
+use rerun::log::LogMsg;
+
+use crate::error::UsageError;
+use crate::interrupt::Interrupted;
+
+/// The first bytes of every Rerun recording (the stream header's FourCC).
+const RRD_MAGIC: &[u8; 4] = b"RRF2";
+
+/// What a complete read found besides the messages.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ReadEnd {
+    /// The file ends with Rerun's footer (a manifest): it was finalised, not cut short.
+    pub has_footer: bool,
+}
+
+/// The error for an unusable file: its path, then what is wrong. Exit code 2.
+pub fn unusable(path: &Path, what: impl std::fmt::Display) -> anyhow::Error {
+    UsageError(format!("{}: unusable file: {what}", path.display())).into()
+}
+
+/// An open recording, read message by message: two can be read in step (`diff`, `reproduce`).
+pub struct Messages {
+    path: PathBuf,
+    decoder: DecoderIterator<LogMsg, BufReader<File>>,
+    seen_any: bool,
+}
+
+impl Messages {
+    /// Opens `path` after checking what can be checked without decoding: a missing, folder,
+    /// empty, non-regular or non-rrd file is a [`UsageError`] naming the file.
+    pub fn open(path: &Path) -> anyhow::Result<Self> {
+        let what = |w: &str| unusable(path, w);
+        let meta =
+            std::fs::metadata(path).map_err(|e| unusable(path, format!("cannot read it: {e}")))?;
+        if meta.is_dir() {
+            return Err(what("is a folder, not a recording (.rrd)"));
+        }
+        if !meta.is_file() {
+            return Err(what(
+                "not a regular file (a device, FIFO or socket), not a recording (.rrd)",
+            ));
+        }
+        if meta.len() == 0 {
+            return Err(what("the file is empty, not a recording (.rrd)"));
+        }
+        let mut file =
+            File::open(path).map_err(|e| unusable(path, format!("cannot open it: {e}")))?;
+        let mut magic = [0u8; 4];
+        if file.read_exact(&mut magic).is_err() || &magic != RRD_MAGIC {
+            return Err(what(
+                "not a Rerun recording (.rrd): it does not start with Rerun's header",
+            ));
+        }
+        file.seek(SeekFrom::Start(0))
+            .map_err(|e| unusable(path, format!("cannot read it: {e}")))?;
+        Ok(Messages {
+            path: path.to_path_buf(),
+            decoder: DecoderApp::decode_lazy(BufReader::new(file)),
+            seen_any: false,
+        })
+    }
+
+    /// The next message, `None` at the end. A corrupt or truncated message is a [`UsageError`]
+    /// naming the file; a stop request an [`Interrupted`].
+    pub fn next_message(&mut self) -> anyhow::Result<Option<LogMsg>> {
+        let path = self.path.as_path();
+        if crate::interrupt::requested() {
+            return Err(Interrupted(format!(
+                "interrupted while reading {}: nothing was compared or written",
+                path.display()
+            ))
+            .into());
+        }
+        let Some(msg) = guarded(path, || self.decoder.next())? else {
+            if !self.seen_any {
+                return Err(unusable(
+                    path,
+                    "not a Rerun recording (.rrd): no messages could be decoded",
+                ));
+            }
+            return Ok(None);
+        };
+        let msg = msg.map_err(|e| {
+            if self.seen_any {
+                unusable(path, format!("the recording is corrupt or truncated: {e}"))
+            } else {
+                unusable(path, format!("not a Rerun recording (.rrd): {e}"))
+            }
+        })?;
+        self.seen_any = true;
+        Ok(Some(msg))
+    }
+
+    /// What the read found at the end (call after `next_message` returned `None`).
+    pub fn end(&self) -> anyhow::Result<ReadEnd> {
+        let manifests = guarded(&self.path, || self.decoder.rrd_manifests())?;
+        Ok(ReadEnd {
+            has_footer: manifests.is_ok_and(|m| !m.is_empty()),
+        })
+    }
+
+    /// Runs `f` on this file's contents, a panic in it reported as the file being unusable.
+    pub fn guarded<T>(&self, f: impl FnOnce() -> T) -> anyhow::Result<T> {
+        guarded(&self.path, f)
+    }
+}
+
+/// Decodes `path` message by message and hands each to `each` (whose `Err` is what is wrong with
+/// the file, in words). A missing, empty, non-regular, non-rrd, corrupt or truncated file is a
+/// [`UsageError`] naming the file; a stop request an [`Interrupted`]. Never panics on any bytes.
+pub fn each_message(
+    path: &Path,
+    mut each: impl FnMut(LogMsg) -> Result<(), String>,
+) -> anyhow::Result<ReadEnd> {
+    let mut messages = Messages::open(path)?;
+    while let Some(msg) = messages.next_message()? {
+        messages
+            .guarded(|| each(msg))?
+            .map_err(|e| unusable(path, e))?;
+    }
+    messages.end()
+}
+
+thread_local! {
+    /// Set while this thread runs guarded decoding: its panics are reported as errors, so the
+    /// default hook's message would only repeat them.
+    static QUIET: Cell<bool> = const { Cell::new(false) };
+}
+
+/// Runs `f`, turning a panic into an "unusable file" error naming `path`.
+fn guarded<T>(path: &Path, f: impl FnOnce() -> T) -> anyhow::Result<T> {
+    static HOOK: Once = Once::new();
+    HOOK.call_once(|| {
+        let previous = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            if !QUIET.with(Cell::get) {
+                previous(info);
+            }
+        }));
+    });
+    QUIET.with(|q| q.set(true));
+    let result = catch_unwind(AssertUnwindSafe(f));
+    QUIET.with(|q| q.set(false));
+    result.map_err(|payload| {
+        let why = payload
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| payload.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "no reason given".into());
+        unusable(
+            path,
+            format!("the recording is corrupt: Rerun's decoder failed on its contents ({why})"),
+        )
+    })
+}
