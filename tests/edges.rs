@@ -57,7 +57,7 @@ fn magnitudes_beyond_the_physics_are_refused_by_name() {
 #[test]
 fn any_angle_is_the_same_pendulum_modulo_a_turn() {
     // 181° is the release from -179°, which the closed form covers; so is 541° and -539°.
-    for theta0 in ["181", "541", "-539", "1e300"] {
+    for theta0 in ["181", "541", "-539", "359999.5"] {
         let (code, stdout, stderr) = physlab(&[
             "pendulum",
             "--theta0",

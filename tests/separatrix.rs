@@ -81,9 +81,10 @@ fn period_holds_to_1e_12_up_to_the_separatrix() {
     assert!((t - 36.755_935_9).abs() < 1e-7, "{t}");
 }
 
-/// What the rounding of the decimal degrees to a radian double costs, which no code downstream
-/// of the conversion can recover: at 179.9999999° the period of the double differs from the
-/// decimal angle's by about 2e-9 relative. Documents that the table's reference is the right one.
+/// What the rounding of the decimal degrees to a radian double costs: at 179.9999999° the period
+/// of the radian double differs from the decimal angle's by about 2e-9 relative. The table's
+/// references are for the radian double; `theta0_from_degrees` keeps what the rounding lost
+/// (`typed_angles_get_the_period_of_the_angle_typed`).
 #[test]
 fn input_rounding_dominates_beyond_179_9999999() {
     let r = rows()
@@ -196,4 +197,52 @@ fn scene_runs_at_any_release_angle() {
         }
         assert!(!out.lanes.is_empty(), "{deg}°");
     }
+}
+
+/// The period of a release from rest at an angle typed in degrees is that of the very double
+/// typed (`tests/data/typed_angle_period.csv`, 60-digit mpmath from the typed double, wrapped as
+/// physlab wraps it), 90° to 179.999999999999°, negative, past 180° and several turns out, to
+/// 1e-13 relative (measured 4.4e-16); the radian double alone is off by up to 1.4e-4 there.
+#[test]
+fn typed_angles_get_the_period_of_the_angle_typed() {
+    use physlab::scene::pendulum::theta0_from_degrees;
+    let rows: Vec<(String, f64)> = include_str!("data/typed_angle_period.csv")
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.starts_with("theta0"))
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            (f[0].to_string(), f[2].parse().unwrap())
+        })
+        .collect();
+    assert_eq!(rows.len(), 24);
+    let (mut worst, mut worst_radians): (f64, f64) = (0.0, 0.0);
+    for (typed, period) in rows {
+        let (theta0, theta0_low) = theta0_from_degrees(typed.parse().unwrap());
+        let p = PendulumParams {
+            theta0,
+            theta0_low,
+            ..PendulumParams::default()
+        };
+        for (what, got) in [
+            ("ExactPendulum", ExactPendulum::new(&p).unwrap().period()),
+            ("exact_period", exact_period(&p).unwrap()),
+        ] {
+            let rel = (got / period - 1.0).abs();
+            worst = worst.max(rel);
+            assert!(
+                rel <= 1e-13,
+                "{what} at {typed}°: {got} vs {period}: {rel:.1e}"
+            );
+        }
+        // Without the low part: what rounding to radians alone costs (the test can fail).
+        let rounded = ExactPendulum::new(&PendulumParams {
+            theta0_low: 0.0,
+            ..p
+        })
+        .unwrap()
+        .period();
+        worst_radians = worst_radians.max((rounded / period - 1.0).abs());
+    }
+    println!("worst {worst:.1e}; from the radian double alone {worst_radians:.1e}");
+    assert!(worst_radians > 1e-9, "{worst_radians:e}");
 }

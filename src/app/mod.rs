@@ -335,8 +335,8 @@ fn simulate(plan: Plan, run: &RunArgs, output: &Output, replay: &Replay) -> anyh
         Output::Hair { threads } => *threads,
     };
     let log_strands = resolved.file.hair.as_ref().and_then(|h| h.log_strands);
-    if threads == Some(0) {
-        return Err(UsageError("--threads 0: must be at least 1".into()).into());
+    if let Some(n) = threads {
+        crate::scene::params::threads(n)?;
     }
     if log_strands == Some(0) {
         return Err(UsageError(

@@ -142,7 +142,8 @@ pub struct HairCommand {
     pub scene: HairArgs,
     #[command(flatten)]
     pub run: RunArgs,
-    /// Worker threads for the strands [default: all cores]; results do not depend on it
+    /// Worker threads for the strands, at most 4 × the cores [default: all cores]; results do
+    /// not depend on it
     #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub threads: Option<usize>,
 }
@@ -211,9 +212,9 @@ pub struct StudyArgs {
     #[arg(value_enum)]
     pub kind: StudyKind,
 
-    /// The scene
-    #[arg(long, value_enum, default_value_t = StudyScene::Pendulum)]
-    pub scene: StudyScene,
+    /// The scene [default: pendulum] (not with `hair`, which has its own)
+    #[arg(long, value_enum)]
+    pub scene: Option<StudyScene>,
 
     /// Scene parameters from a scene file (its [pendulum] or [rope] table); flags override it
     #[arg(long, value_name = "FILE.toml")]
@@ -243,7 +244,8 @@ pub struct StudyArgs {
     #[arg(long, value_delimiter = ',', value_name = "LIST")]
     pub methods: Option<Vec<Method>>,
 
-    /// dopri5's tolerances for work-precision, comma-separated
+    /// The adaptive methods' tolerances, comma-separated (convergence and work-precision, with
+    /// an adaptive method among --methods)
     #[arg(
         long,
         value_delimiter = ',',
@@ -252,7 +254,7 @@ pub struct StudyArgs {
     )]
     pub rtol: Option<Vec<f64>>,
 
-    /// Timed repeats per run for work-precision (the median is kept)
+    /// Timed repeats per run for convergence and work-precision (the median wall time is kept)
     #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub repeats: Option<u32>,
 
@@ -308,7 +310,32 @@ fn with_method_names(cmd: clap::Command) -> clap::Command {
 pub fn parse() -> Cli {
     use clap::FromArgMatches as _;
     let args = join_negative_values(std::env::args_os());
-    Cli::from_arg_matches(&command().get_matches_from(args)).unwrap_or_else(|e| e.exit())
+    let matches = command().try_get_matches_from(args).unwrap_or_else(|e| {
+        if let Some(message) = negative_count(&e) {
+            eprintln!("error: {message}");
+            std::process::exit(2);
+        }
+        e.exit()
+    });
+    Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit())
+}
+
+/// A negative number given to a count or an index (`--pinned -1`), which clap reports only as
+/// "invalid digit found in string": said as what is wrong, with the flag and the value.
+fn negative_count(e: &clap::Error) -> Option<String> {
+    use clap::error::{ContextKind, ContextValue};
+    if e.kind() != clap::error::ErrorKind::ValueValidation {
+        return None;
+    }
+    let (Some(ContextValue::String(arg)), Some(ContextValue::String(value))) = (
+        e.get(ContextKind::InvalidArg),
+        e.get(ContextKind::InvalidValue),
+    ) else {
+        return None;
+    };
+    let negative = value.starts_with('-') && value[1..].parse::<u128>().is_ok();
+    let flag = arg.split_whitespace().next().unwrap_or(arg);
+    negative.then(|| format!("{flag} {value}: must be a whole number ≥ 0"))
 }
 
 /// `--flag -1e-3` as `--flag=-1e-3`: a long option followed by a negative number (or a

@@ -32,9 +32,9 @@ macro_rules! overlay {
 /// The pendulum's start: the flags `physlab pendulum` and `physlab study` share.
 #[derive(Args, Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
 pub struct PendulumStart {
-    /// Initial angle θ0 from straight down [degrees]. Release from rest with
-    /// |θ0| < 180° is compared with the exact elliptic solution; any other start with a converged
-    /// fine-step one
+    /// Initial angle θ0 from straight down [degrees], within ±1000 turns, taken into
+    /// (-180°, 180°] (so 190° is -170°). A release from rest is compared with the exact elliptic
+    /// solution; a start with ω0 ≠ 0, or at exactly 180°, with a fine-step RK4 one
     #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
     pub theta0: Option<f64>,
 
@@ -327,17 +327,16 @@ impl PendulumArgs {
         let p = &mut c.params;
         set(&mut p.gravity, self.gravity.map(|g| g.0));
         set(&mut p.length, self.length);
-        set(
-            &mut p.theta0,
-            self.initial.theta0.map(|d| wrap_degrees(d).to_radians()),
-        );
+        if let Some(d) = self.initial.theta0 {
+            (p.theta0, p.theta0_low) = crate::scene::pendulum::theta0_from_degrees(d);
+        }
         set(&mut p.omega0, self.initial.omega0);
         set(&mut c.dt, self.dt);
         set(&mut c.duration, self.duration);
         set(&mut c.fps, self.fps);
         set(&mut c.plot_every, self.plot_every);
         if let Some(m) = &self.methods {
-            c.methods = dedup_methods(m, Method::DEFAULT);
+            c.methods = dedup_methods(m);
         }
         set_options(&mut c.options, self.verlet_damping, self.rtol);
         c
@@ -420,7 +419,7 @@ impl RopeArgs {
         set(&mut c.fps, self.fps);
         set(&mut c.plot_every, self.plot_every);
         if let Some(m) = &self.methods {
-            c.methods = dedup_methods(m, Method::DEFAULT);
+            c.methods = dedup_methods(m);
         }
         set(&mut c.layout, self.layout);
         set_options(&mut c.options, self.verlet_damping, self.rtol);
@@ -530,17 +529,10 @@ impl HairArgs {
         set(&mut c.fps, self.fps);
         set(&mut c.duration, self.duration);
         if let Some(m) = &self.methods {
-            c.methods = dedup_methods(m, &HairMethod::DEFAULT);
+            c.methods = dedup_methods(m);
         }
         c
     }
-}
-
-/// An angle in (-180°, 180°]: the same pendulum state, so that 181° is the release from -179°
-/// that the closed form covers. (`%` on f64 is exact.)
-fn wrap_degrees(d: f64) -> f64 {
-    let r = d.rem_euclid(360.0);
-    if r > 180.0 { r - 360.0 } else { r }
 }
 
 /// `*slot = value` when a value was given.

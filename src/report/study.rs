@@ -48,6 +48,31 @@ pub fn orders_table(rows: &[Row], floor: f64, velocity_dependent: bool) -> Strin
     t.render()
 }
 
+/// One line per method whose errors stopped falling as the step halved ([`crate::study::stalled`]):
+/// where, and that those rows are left out of its fit. Empty when none did.
+pub fn stalled_note(rows: &[Row], floor: f64) -> String {
+    let mut note = String::new();
+    for o in orders(rows, floor) {
+        if let Some(dt) = o.stalled_at {
+            let error = |dt: f64| {
+                rows.iter()
+                    .find(|r| r.method == o.method && r.rtol.is_none() && r.dt == dt)
+                    .and_then(|r| r.error)
+                    .map_or("—".into(), sci)
+            };
+            let _ = writeln!(
+                note,
+                "warning: {}'s error stops falling at dt = {} s ({}, against {} at twice the step):                  the floor of round-off (amplified by the motion) or of the reference is reached there;                  that row and the finer ones are left out of its fit",
+                o.method.name(),
+                sci(dt),
+                error(dt),
+                error(2.0 * dt)
+            );
+        }
+    }
+    note
+}
+
 /// Tolerance proportionality per adaptive method: the slope of log error against log rtol
 /// (1: the error follows the tolerance), leaving out errors below `floor`.
 pub fn proportionality_table(rows: &[Row], floor: f64) -> String {

@@ -93,7 +93,8 @@ pub fn rtol(rtol: f64) -> Result<(), Invalid> {
         Ok(())
     } else {
         Err(Invalid(format!(
-            "--rtol {rtol}: must be between 1e-14 and 0.1"
+            "--rtol {}: must be between 1e-14 and 0.1",
+            shown(rtol)
         )))
     }
 }
@@ -102,7 +103,10 @@ pub fn verlet_damping(d: f64) -> Result<(), Invalid> {
     if d.is_finite() && (0.0..1.0).contains(&d) {
         Ok(())
     } else {
-        Err(Invalid(format!("--verlet-damping {d}: must be in [0, 1)")))
+        Err(Invalid(format!(
+            "--verlet-damping {}: must be in [0, 1)",
+            shown(d)
+        )))
     }
 }
 
@@ -158,17 +162,48 @@ pub fn memory(what: &str, bytes: f64, change: &str) -> Result<(), Invalid> {
     Ok(())
 }
 
-/// The methods as given, first occurrence kept; `defaults` when none is given.
-pub fn dedup_methods<M: Copy + PartialEq>(given: &[M], defaults: &[M]) -> Vec<M> {
+/// The methods as given, first occurrence kept (an empty list stays empty, for `validate()` to
+/// refuse: `methods = []` in a scene file is no more a request for the defaults than
+/// `--methods ""` is).
+pub fn dedup_methods<M: Copy + PartialEq>(given: &[M]) -> Vec<M> {
     let mut methods: Vec<M> = Vec::new();
     for &m in given {
         if !methods.contains(&m) {
             methods.push(m);
         }
     }
-    if methods.is_empty() {
-        defaults.to_vec()
+    methods
+}
+
+/// Worker threads allowed per core: a few more threads than cores can hide a stall, while
+/// thousands only add switching (and each must see a stop request).
+pub const MAX_THREADS_PER_CORE: usize = 4;
+
+/// The cores this process may run on (1 when unknown).
+pub fn cores() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+/// A worker thread count between 1 and [`MAX_THREADS_PER_CORE`] × the cores.
+pub fn threads(n: usize) -> Result<(), Invalid> {
+    let max = MAX_THREADS_PER_CORE * cores();
+    if (1..=max).contains(&n) {
+        Ok(())
     } else {
-        methods
+        Err(Invalid(format!(
+            "--threads {n}: must be between 1 and {max} ({MAX_THREADS_PER_CORE} × the {} cores here)",
+            cores()
+        )))
+    }
+}
+
+/// At least one method to run; `names` lists those allowed.
+pub fn some_methods<M>(methods: &[M], names: &str) -> Result<(), Invalid> {
+    if methods.is_empty() {
+        Err(Invalid(format!(
+            "--methods []: must name at least one method (any of: {names})"
+        )))
+    } else {
+        Ok(())
     }
 }

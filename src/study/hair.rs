@@ -1,4 +1,4 @@
-//! The hair trade (issue 12, point 4): largest stretch over a run against the cost of a frame,
+//! The hair trade: largest stretch over a run against the cost of a frame,
 //! over the constraint solvers (Gauss–Seidel sweeps × substeps, direct Newton steps), the
 //! spring methods over stiffness and substeps, and DFTL. Each configuration runs alone on the
 //! hair scene (its own lane, 200 strands by default), so its wall time per frame is its own;
@@ -89,16 +89,24 @@ pub fn configurations(base: &HairConfig) -> Vec<HairConfig> {
     out
 }
 
-/// Runs every configuration and measures it.
+/// Runs every configuration and measures it. After a stop request
+/// ([`crate::interrupt::requested`]) the rows of the configurations that ran to the end: one cut
+/// short has no stretch or cost to show, and the rest never ran.
 pub fn hair_trade(configs: &[HairConfig]) -> Vec<HairRow> {
     configs
         .iter()
-        .map(|c| {
+        .map_while(|c| {
+            if crate::interrupt::requested() {
+                return None;
+            }
             let method = c.methods[0];
             let r = run(&mut HairScene::new(c.clone()), &mut NoObserver)
                 .expect("a configuration from `configurations` is valid");
+            if r.interrupted {
+                return None;
+            }
             let (lane, stats) = (&r.lanes[0], &r.stats[0]);
-            HairRow {
+            Some(HairRow {
                 method,
                 solver: (method == HairMethod::Verlet).then_some(c.params.solver),
                 iterations: c.params.iterations,
@@ -106,7 +114,7 @@ pub fn hair_trade(configs: &[HairConfig]) -> Vec<HairRow> {
                 stiffness: method.is_spring().then_some(c.params.stiffness),
                 stretch: stats.divergence.is_none().then_some(lane.worst.max_stretch),
                 ms_per_frame: stats.wall.as_secs_f64() * 1e3 / stats.timed_ticks.max(1) as f64,
-            }
+            })
         })
         .collect()
 }

@@ -6,8 +6,9 @@
 //! RK4 at a step 8× finer than the finest tested, whose own error is estimated by Richardson
 //! extrapolation against a run at twice its step.
 //!
-//! A stop request ([`crate::interrupt::requested`], Ctrl-C or SIGTERM) is looked at every
-//! [`STOP_CHECK_STEPS`] steps of every run, the reference's included: [`sweep`] and
+//! A stop request ([`crate::interrupt::requested`], Ctrl-C or SIGTERM) is looked at after every
+//! [`STOP_CHECK_STEPS`] coordinates stepped in every run, the reference's and every bisection
+//! trial's included: [`sweep`] and
 //! [`stability`] then return the rows and limits complete so far (a run cut short is dropped,
 //! never shown), and the caller says the study was interrupted.
 
@@ -153,20 +154,28 @@ struct Measured {
     wall: f64,
 }
 
-/// Steps between looks at the stop flag: an atomic load, free at this stride, and well under a
-/// millisecond of stepping on every scene the studies run.
+/// Coordinates stepped between looks at the stop flag: an atomic load, free at this stride, and
+/// well under a millisecond of stepping (4096 steps of the pendulum; one step of a rope of more
+/// than 1365 nodes, whose single step may take milliseconds).
 pub const STOP_CHECK_STEPS: u64 = 4096;
+
+/// Steps between looks at the stop flag for a state of `coordinates` numbers: a fixed amount of
+/// work between looks, however large the system, so that a stop is seen within milliseconds.
+fn stop_stride(coordinates: usize) -> u64 {
+    (STOP_CHECK_STEPS / coordinates.max(1) as u64).max(1)
+}
 
 /// Whether a stop was asked for.
 fn stop() -> bool {
     crate::interrupt::requested()
 }
 
-/// Takes `n` steps, looking at the stop flag every [`STOP_CHECK_STEPS`]; false when stopped.
+/// Takes `n` steps, looking at the stop flag every [`stop_stride`]; false when stopped.
 fn steps<S: SecondOrderSystem>(it: &mut Integrator, sys: &S, n: u64) -> bool {
+    let stride = stop_stride(it.position().len());
     let mut left = n;
     while left > 0 {
-        let chunk = left.min(STOP_CHECK_STEPS);
+        let chunk = left.min(stride);
         for _ in 0..chunk {
             it.step(sys);
         }
@@ -230,7 +239,7 @@ pub fn reference(
         let r = (1..=samples)
             .map(|k| vec![exact.state(k as f64 * sample_dt).0])
             .collect();
-        return Some((r, crate::scene::pendulum::reference::EXACT_THETA_ACCURACY));
+        return Some((r, exact.theta_accuracy(samples as f64 * sample_dt)));
     }
     let h = finest_dt / 8.0;
     let per = (sample_dt / h).round() as u64;
@@ -293,11 +302,11 @@ pub struct Sweep {
 
 /// Every (method, dt) of the sweep: fixed-step methods over the halved steps, the adaptive
 /// methods (family `Adaptive`: dopri5, dop853, vern9) over their tolerances. Returns the rows and
-/// the reference's accuracy (the exact pendulum's [`EXACT_THETA_ACCURACY`], or the fine run's
+/// the reference's accuracy (the exact pendulum's [`theta_accuracy`] over the run, or the fine run's
 /// Richardson estimate); after a stop request, the rows complete so far (none if the reference
 /// was not).
 ///
-/// [`EXACT_THETA_ACCURACY`]: crate::scene::pendulum::reference::EXACT_THETA_ACCURACY
+/// [`theta_accuracy`]: crate::scene::pendulum::reference::ExactPendulum::theta_accuracy
 pub fn sweep(problem: &Problem, s: &Sweep) -> (Vec<Row>, f64) {
     let sample_dt = SAMPLE_EVERY as f64 * s.dt0;
     let samples = ((s.duration / sample_dt).round() as usize).max(1);
@@ -392,6 +401,26 @@ pub struct Order {
     pub range: Option<(f64, f64)>,
     /// Step sizes at which the method diverged.
     pub diverged_at: Vec<f64>,
+    /// The step from which the errors stopped falling (see [`stalled`]); that row and the finer
+    /// ones are left out of the fit.
+    pub stalled_at: Option<f64>,
+}
+
+/// Errors below this [rad or m] that stop falling as the step halves are taken for a floor, not
+/// for a coarse step's pre-asymptotic bump (those come at errors near the size of the motion).
+pub const STALL_BELOW: f64 = 1e-6;
+
+/// The index of the first error (rows from the coarsest step to the finest) that is not below
+/// the one before it, where that one is below [`STALL_BELOW`]: a convergent method's error falls
+/// by 2^order with every halving, so one that stays or grows has reached a floor — round-off
+/// accumulated over more steps, which the motion amplifies (near the separatrix by orders of
+/// magnitude), or the reference's own error. From there on the rows measure the floor, not the
+/// method.
+pub fn stalled(errors: &[Option<f64>]) -> Option<usize> {
+    (1..errors.len()).find(|&i| match (errors[i - 1], errors[i]) {
+        (Some(before), Some(now)) => before < STALL_BELOW && now >= before,
+        _ => false,
+    })
 }
 
 /// Rows whose error is within 100× of the reference's estimated error, or below 1e-11 (where
@@ -419,7 +448,8 @@ pub fn orders(rows: &[Row], floor: f64) -> Vec<Order> {
                 .filter(|r| r.error.is_none())
                 .map(|r| r.dt)
                 .collect();
-            let pts: Vec<(f64, f64)> = mine
+            let stall = stalled(&mine.iter().map(|r| r.error).collect::<Vec<_>>());
+            let pts: Vec<(f64, f64)> = mine[..stall.unwrap_or(mine.len())]
                 .iter()
                 .filter_map(|r| r.error.filter(|e| *e > floor).map(|e| (r.dt.ln(), e.ln())))
                 .collect();
@@ -429,6 +459,7 @@ pub fn orders(rows: &[Row], floor: f64) -> Vec<Order> {
                 fitted,
                 range,
                 diverged_at,
+                stalled_at: stall.map(|i| mine[i].dt),
             }
         })
         .collect()
@@ -592,6 +623,7 @@ fn bounded(
                 .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
         };
         let initial = size(&start.0);
+        let stride = stop_stride(start.0.len());
         let mut it = Integrator::new(
             method,
             sys,
@@ -608,7 +640,7 @@ fn bounded(
                 return false;
             }
             // Stopped: the answer is dropped by `stability`, so any will do.
-            if k % STOP_CHECK_STEPS == STOP_CHECK_STEPS - 1 && stop() {
+            if k % stride == stride - 1 && stop() {
                 return false;
             }
         }
@@ -667,6 +699,9 @@ pub fn stability(problem: &Problem, methods: &[Method], steps: u64) -> Vec<Limit
                         None
                     } else {
                         for _ in 0..40 {
+                            if stop() {
+                                break;
+                            }
                             let mid = (lo * hi).sqrt();
                             if bounded(&lin, &start, m, mid, steps) {
                                 lo = mid;

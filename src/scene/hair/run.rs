@@ -50,6 +50,14 @@ impl HairConfig {
         let p = &self.params;
         let (strands, nodes, iterations, substeps) =
             (p.strands, p.nodes, p.iterations, self.substeps);
+        params::some_methods(
+            &self.methods,
+            &HairMethod::ALL
+                .iter()
+                .map(|m| m.name())
+                .collect::<Vec<_>>()
+                .join(", "),
+        )?;
         if !(1..=1_000_000).contains(&strands) {
             return Err(Invalid(format!(
                 "--strands {strands}: must be between 1 and 1000000"

@@ -23,8 +23,41 @@ pub struct PendulumParams {
     pub length: f64,
     /// θ(0) [rad], measured from straight down
     pub theta0: f64,
+    /// What θ0 lost to rounding when it was converted from degrees [rad]: θ0 + theta0_low is the
+    /// angle typed to about 1e-32 rad. Only the closed form reads it, for π - |θ0| near the top,
+    /// where that rounding would otherwise be all the digits of the complement; 0 when θ0 was
+    /// given in radians, and always within half an ulp of θ0, so a stale value is harmless.
+    pub theta0_low: f64,
     /// ω(0) = θ'(0) [rad/s]
     pub omega0: f64,
+}
+
+/// Largest |θ0| accepted, in turns: any pendulum state is reached within one, so an angle
+/// thousands of turns out is a typo, not a start (and beyond ~1e16° f64 keeps no degree at all).
+pub const MAX_THETA0_TURNS: f64 = 1000.0;
+
+/// π/180 as a double-double (the second part is the first's rounding error).
+const RADIANS_PER_DEGREE: (f64, f64) = (0.017_453_292_519_943_295, 2.948_652_270_870_168_7e-19);
+
+/// π as a double-double.
+const PI_DD: (f64, f64) = (std::f64::consts::PI, 1.224_646_799_147_353_2e-16);
+
+/// θ0 [rad] and the part of it below its last bit (see [`PendulumParams::theta0_low`]) from an
+/// angle in degrees, wrapped into (-180°, 180°] (the same pendulum state, so that 181° is the
+/// release from -179° that the closed form covers; `rem_euclid` on f64 is exact). An angle
+/// beyond [`MAX_THETA0_TURNS`], or not finite, is returned unwrapped for `validate()` to refuse
+/// by its value.
+pub fn theta0_from_degrees(degrees: f64) -> (f64, f64) {
+    if degrees.is_nan() || degrees.abs() > MAX_THETA0_TURNS * 360.0 {
+        return (degrees.to_radians(), 0.0);
+    }
+    let r = degrees.rem_euclid(360.0);
+    let d = if r > 180.0 { r - 360.0 } else { r };
+    // d × π/180 in double-double: the product's rounding error by fma, plus d × the low part.
+    let hi = d * RADIANS_PER_DEGREE.0;
+    let low = d.mul_add(RADIANS_PER_DEGREE.0, -hi) + d * RADIANS_PER_DEGREE.1;
+    let theta = hi + low;
+    (theta, low - (theta - hi))
 }
 
 impl Default for PendulumParams {
@@ -33,12 +66,32 @@ impl Default for PendulumParams {
             gravity: 9.81,
             length: 3.521,
             theta0: run::DEFAULT_THETA0_DEGREES.to_radians(),
+            theta0_low: 0.0,
             omega0: 0.0,
         }
     }
 }
 
 impl PendulumParams {
+    /// (sin(θ0/2), cos(θ0/2)). Beyond ±90° the cosine is taken as sin((π - |θ0|)/2), with the
+    /// complement π - |θ0| formed from π and θ0 as double-doubles: the subtraction of the high
+    /// parts is exact (Sterbenz), so near the top the complement keeps the digits of the angle
+    /// typed rather than those of its rounding to radians.
+    pub fn half_angle(&self) -> (f64, f64) {
+        let (s, c) = (0.5 * self.theta0).sin_cos();
+        if self.theta0.abs() <= std::f64::consts::FRAC_PI_2 {
+            return (s, c);
+        }
+        // |θ0 + low| = |θ0| + low·sign(θ0).
+        let low = if self.theta0 < 0.0 {
+            -self.theta0_low
+        } else {
+            self.theta0_low
+        };
+        let complement = (PI_DD.0 - self.theta0.abs()) + (PI_DD.1 - low);
+        (s, (0.5 * complement).sin())
+    }
+
     /// Small-angle angular frequency sqrt(g/L) [rad/s].
     pub fn omega_n(&self) -> f64 {
         (self.gravity / self.length).sqrt()

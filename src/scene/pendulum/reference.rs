@@ -1,24 +1,30 @@
 //! The pendulum's reference solutions: the closed form for a release from rest with |θ0| < 180°,
 //! and a converged fine-step solution for every other start, plus the exact period for any energy.
 
-use super::{Pendulum, PendulumParams};
+use super::PendulumParams;
 use crate::elliptic::{complete_k_m1, jacobi_m1};
-use crate::integrate::{Integrator, Method, MethodOptions};
 
 /// θ(t) = 2 atan2(k sn, dn)(K - ωn t | k²) (= 2 asin(k sn), written so that it keeps its
 /// digits near the top, where k sn → 1), ω(t) = -2 k ωn cn(K - ωn t | k²), with k = sin(θ0/2),
 /// ωn = sqrt(g/L): the exact motion after release from rest at θ0, |θ0| < 180°.
 ///
 /// Near the separatrix the parameter m = k² rounds to 1, so the complement m1 = k'² is formed
-/// from k' = cos(θ0/2) (no cancellation: θ0/2 is exact and cos of a double is correctly
-/// reduced) and handed to [`complete_k_m1`] and [`jacobi_m1`]. The period and θ(t) then keep
-/// their full precision up to the last double below π; what is left is the input's own rounding
-/// (a release angle in degrees is rounded to radians before it gets here, which at 179.9999999°
-/// already moves k' by up to 1.3e-7 relative and T by up to 7e-9).
-/// How well [`ExactPendulum::state`] gives θ [rad]: measured against 100-digit mpmath values
-/// from 10° to 179.99999999999° (`tests/separatrix.rs`, worst 9.6e-15 rad), so a claimed error
-/// is resolved down to ~1e-13 (the studies leave out targets below 10× this).
+/// from k' = cos(θ0/2) = sin((π - |θ0|)/2), the complement taken from the angle as typed
+/// ([`PendulumParams::half_angle`]: θ0 in degrees rounded to radians alone would move k' by up to
+/// 1.3e-7 relative at 179.9999999°), and handed to [`complete_k_m1`] and [`jacobi_m1`]. The
+/// period and θ(t) then keep their full precision up to the last double below 180°.
+/// How well [`ExactPendulum::state`] gives θ [rad] within the first periods: measured against
+/// 100-digit mpmath values from 10° to 179.99999999999° (`tests/separatrix.rs`, worst 9.6e-15
+/// rad). Over a run it grows by [`EXACT_THETA_DRIFT`] per radian of ωn t
+/// ([`ExactPendulum::theta_accuracy`]).
 pub const EXACT_THETA_ACCURACY: f64 = 1e-14;
+
+/// How much the closed form's θ error grows per radian of ωn t [rad]: ωn is a rounded double
+/// (its relative error, up to 1.1e-16, becomes a phase error growing with t), and so are
+/// ωn t and its reduction by the period. Measured over whole runs against mpmath
+/// (`tests/pendulum_numerics.rs`, 10° to 179.999999°, 30–100 s): at most 5.5e-16 per radian
+/// (120° over 30 s: 2.8e-14 rad in all; -150° over 100 s at ωn = 3.1/s: 1.0e-13).
+pub const EXACT_THETA_DRIFT: f64 = 1e-15;
 
 #[derive(Clone, Copy, Debug)]
 pub struct ExactPendulum {
@@ -35,7 +41,7 @@ impl ExactPendulum {
         if p.omega0 != 0.0 || p.theta0.is_nan() || p.theta0.abs() >= std::f64::consts::PI {
             return None;
         }
-        let (k, k1) = (0.5 * p.theta0).sin_cos();
+        let (k, k1) = p.half_angle();
         let (m, m1) = (k * k, k1 * k1);
         Some(ExactPendulum {
             k,
@@ -52,6 +58,12 @@ impl ExactPendulum {
         let theta = 2.0 * (self.k * j.sn).atan2(j.dn);
         let omega = -2.0 * self.k * self.omega_n * j.cn;
         (theta, omega)
+    }
+
+    /// How well [`Self::state`] gives θ up to time t [rad]: [`EXACT_THETA_ACCURACY`] plus
+    /// [`EXACT_THETA_DRIFT`] per radian of ωn t.
+    pub fn theta_accuracy(&self, t: f64) -> f64 {
+        EXACT_THETA_ACCURACY + EXACT_THETA_DRIFT * self.omega_n * t.abs()
     }
 
     /// T = 4 K(k²) / ωn [s].
@@ -77,7 +89,7 @@ pub fn exact_period(p: &PendulumParams) -> Option<f64> {
     if e0.is_nan() || e0 <= 0.0 {
         return None;
     }
-    let (s, c) = (0.5 * p.theta0).sin_cos();
+    let (s, c) = p.half_angle();
     let kinetic = p.length * p.omega0 * p.omega0 / (4.0 * p.gravity);
     let k2 = s * s + kinetic;
     let k2_complement = c * c - kinetic;
@@ -93,16 +105,68 @@ pub fn exact_period(p: &PendulumParams) -> Option<f64> {
     }
 }
 
+/// RK4 on the pendulum with the state kept as compensated (Kahan) sums: each step's increment
+/// is added with the rounding of the previous additions carried along, so the round-off of
+/// θ and ω stays near one ulp over millions of steps instead of growing with their number.
+/// Without it the fine run's round-off, amplified by the motion (over the top, near the
+/// separatrix), grows past its truncation error, which the comparison of two step sizes
+/// does not see.
+#[derive(Clone, Debug)]
+struct CompensatedRk4 {
+    g_over_l: f64,
+    h: f64,
+    theta: (f64, f64),
+    omega: (f64, f64),
+}
+
+impl CompensatedRk4 {
+    fn new(p: &PendulumParams, h: f64) -> Self {
+        CompensatedRk4 {
+            g_over_l: p.gravity / p.length,
+            h,
+            theta: (p.theta0, 0.0),
+            omega: (p.omega0, 0.0),
+        }
+    }
+
+    fn step(&mut self) {
+        let (c, h) = (self.g_over_l, self.h);
+        let (x, v) = (self.theta.0, self.omega.0);
+        let a = |x: f64| -c * x.sin();
+        let (k1x, k1v) = (v, a(x));
+        let (k2x, k2v) = (v + 0.5 * h * k1v, a(x + 0.5 * h * k1x));
+        let (k3x, k3v) = (v + 0.5 * h * k2v, a(x + 0.5 * h * k2x));
+        let (k4x, k4v) = (v + h * k3v, a(x + h * k3x));
+        let add = |(sum, carry): (f64, f64), increment: f64| {
+            let y = increment - carry;
+            let t = sum + y;
+            (t, (t - sum) - y)
+        };
+        self.theta = add(self.theta, h / 6.0 * (k1x + 2.0 * (k2x + k3x) + k4x));
+        self.omega = add(self.omega, h / 6.0 * (k1v + 2.0 * (k2v + k3v) + k4v));
+    }
+
+    /// (θ, ω), their carries folded in.
+    fn state(&self) -> (f64, f64) {
+        (self.theta.0 - self.theta.1, self.omega.0 - self.omega.1)
+    }
+}
+
 /// A fine-step RK4 solution for starts the closed form does not cover. It is run twice, at
 /// h and h/2, and the finer one is used; their difference / (2⁴ - 1) (Richardson for order 4)
-/// estimates its error, reported with the run.
+/// estimates its error, reported with the run. Both runs keep their state as compensated sums
+/// ([`CompensatedRk4`]), so that what is left of their error is truncation, which the
+/// comparison sees; the estimate is checked against mpmath over whole runs with ω0 ≠ 0
+/// (`tests/pendulum_numerics.rs`).
 #[derive(Clone, Debug)]
 pub struct FineStepReference {
-    fine: Integrator,
-    coarse: Integrator,
-    system: Pendulum,
+    fine: CompensatedRk4,
+    coarse: CompensatedRk4,
     substeps: u64,
     max_difference: f64,
+    /// Largest |θ| so far [rad] (over the top it grows without bound), which sets the state's
+    /// own rounding.
+    max_theta: f64,
     step: u64,
 }
 
@@ -123,25 +187,14 @@ impl FineStepReference {
 
     /// A reference sampled every `dt`, stepped with RK4 at dt / substeps and dt / (2 substeps).
     pub fn new(p: &PendulumParams, dt: f64) -> Self {
-        let system = Pendulum::new(p);
         let substeps = Self::substeps(p, dt) as u64;
         let h = dt / substeps as f64;
-        let make = |h: f64| {
-            Integrator::new(
-                Method::Rk4,
-                &system,
-                &[p.theta0],
-                &[p.omega0],
-                h,
-                MethodOptions::default(),
-            )
-        };
         FineStepReference {
-            coarse: make(h),
-            fine: make(0.5 * h),
-            system,
+            coarse: CompensatedRk4::new(p, h),
+            fine: CompensatedRk4::new(p, 0.5 * h),
             substeps,
             max_difference: 0.0,
+            max_theta: p.theta0.abs(),
             step: 0,
         }
     }
@@ -154,25 +207,30 @@ impl FineStepReference {
             if k % 65_536 == 65_535 && crate::interrupt::requested() {
                 break;
             }
-            self.coarse.step(&self.system);
-            self.fine.step(&self.system);
-            self.fine.step(&self.system);
+            self.coarse.step();
+            self.fine.step();
+            self.fine.step();
         }
         self.step += 1;
-        let diff = (self.fine.position()[0] - self.coarse.position()[0]).abs();
-        self.max_difference = self.max_difference.max(diff);
-        (self.fine.position()[0], self.fine.velocity()[0])
+        let (fine, coarse) = (self.fine.state(), self.coarse.state());
+        self.max_difference = self.max_difference.max((fine.0 - coarse.0).abs());
+        self.max_theta = self.max_theta.max(fine.0.abs());
+        fine
     }
 
     /// Estimated largest error of θ so far [rad]: the h/2 run's error is the difference
-    /// between the runs / (2⁴ - 1) for a fourth-order method.
+    /// between the runs / (2⁴ - 1) for a fourth-order method, taken twice (the largest
+    /// difference and the largest error need not fall on the same sample, and the ratio is 2⁴
+    /// only in the limit), plus 4 ulps of the largest |θ| for the state's own rounding. Measured
+    /// against mpmath over whole runs with ω0 ≠ 0 (`tests/pendulum_numerics.rs`): 1.9 to 5.8 times
+    /// the true error.
     pub fn error_estimate(&self) -> f64 {
-        self.max_difference / 15.0
+        2.0 * self.max_difference / 15.0 + 4.0 * f64::EPSILON * self.max_theta
     }
 
     /// The fine step size [s].
     pub fn fine_step(&self) -> f64 {
-        self.fine.dt()
+        self.fine.h
     }
 }
 

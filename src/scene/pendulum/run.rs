@@ -55,9 +55,24 @@ impl PendulumConfig {
     pub fn validate(&self) -> Result<(), Invalid> {
         let p = &self.params;
         let max = params::MAX_MAGNITUDE;
+        params::some_methods(
+            &self.methods,
+            &Method::names().collect::<Vec<_>>().join(", "),
+        )?;
         params::within("--gravity", p.gravity, 1.0 / max, max, "m/s²")?;
         params::within("--length", p.length, 1.0 / max, max, "m")?;
-        params::finite("--theta0", p.theta0.to_degrees(), "degrees")?;
+        let turns = super::MAX_THETA0_TURNS;
+        if p.theta0.is_nan() || p.theta0.abs() > turns * std::f64::consts::TAU {
+            // The value as typed: degrees → radians → degrees, rounded to 12 digits.
+            let typed: f64 = format!("{:.11e}", p.theta0.to_degrees())
+                .parse()
+                .unwrap_or(f64::NAN);
+            return Err(Invalid(format!(
+                "--theta0 {}: must be a finite angle within ±{turns} turns (±{}°) [degrees]",
+                params::shown(typed),
+                turns * 360.0
+            )));
+        }
         params::within("--omega0", p.omega0, -max, max, "rad/s")?;
         params::time(self.dt, self.duration, self.fps, 1)?;
         self.reference_guard()?;

@@ -105,6 +105,10 @@ impl RopeConfig {
     /// Every value in range, or the first that is not, named by its flag.
     pub fn validate(&self) -> Result<(), Invalid> {
         let p = &self.params;
+        params::some_methods(
+            &self.methods,
+            &Method::names().collect::<Vec<_>>().join(", "),
+        )?;
         if !(2..=MAX_NODES).contains(&p.nodes) {
             return Err(Invalid(format!(
                 "--nodes {}: must be between 2 and {MAX_NODES}",
