@@ -1,5 +1,4 @@
-//! (Studies, bisections and worker threads.)
-//! Signals are honoured in every phase: a command stopped by SIGINT or SIGTERM ends within a
+//! Signals in studies, bisections and worker threads: a command stopped by SIGINT or SIGTERM ends within a
 //! second with exit 130, and shows or writes only what ran to the end.
 
 #![cfg(feature = "rerun")]
