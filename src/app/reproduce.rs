@@ -7,22 +7,11 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use super::{Output, Plan, Replay, UsageError, simulate};
-use crate::cli::{DiffArgs, HairArgs, PendulumArgs, ReproduceArgs, RopeArgs, RunArgs};
+use super::scenes::{AllFlags, SCENES};
+use super::{Error, Output, Plan, Replay, simulate};
+use crate::cli::{DiffArgs, ReproduceArgs, RunArgs};
 use crate::record::compare::{Contents, Row, SeriesDiff, compare, read_contents, time_text};
 use crate::record::inspect::{RecordingInfo, read_recording};
-
-/// The comparison found differences (beyond the tolerance). Exit code 1.
-#[derive(Debug)]
-pub struct Differs(pub String);
-
-impl std::fmt::Display for Differs {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for Differs {}
 
 /// Entities whose values depend on the wall clock, so that no re-run can match them: the
 /// --timings plots, and with --timings the summaries (which then hold wall times, ns/step).
@@ -30,11 +19,11 @@ fn wall_clock(entity: &str, timings: bool) -> bool {
     entity.contains("/plots/frame_cost/") || (timings && entity.ends_with("/summary"))
 }
 
-fn tolerance(t: Option<f64>) -> Result<f64, UsageError> {
+fn tolerance(t: Option<f64>) -> Result<f64, Error> {
     match t {
         None => Ok(0.0),
         Some(t) if t.is_finite() && (0.0..1.0).contains(&t) => Ok(t),
-        Some(t) => Err(UsageError(format!(
+        Some(t) => Err(Error::Usage(format!(
             "--tolerance {t}: must be a fraction in [0, 1), e.g. 1e-12"
         ))),
     }
@@ -42,10 +31,10 @@ fn tolerance(t: Option<f64>) -> Result<f64, UsageError> {
 
 /// A complete recording: one without its footer was cut off while being written (the process
 /// killed, the file truncated), and its last chunks are lost.
-fn complete_recording(path: &Path) -> Result<RecordingInfo, UsageError> {
+fn complete_recording(path: &Path) -> Result<RecordingInfo, Error> {
     let info = read_recording(path)?;
     if !info.has_footer {
-        return Err(UsageError(format!(
+        return Err(Error::Usage(format!(
             "{}: truncated: the file ends without its footer (the writing process was killed or the              file cut short), so its last data are lost; `physlab inspect` shows what it holds",
             path.display()
         )));
@@ -54,9 +43,9 @@ fn complete_recording(path: &Path) -> Result<RecordingInfo, UsageError> {
 }
 
 /// A physlab recording of simulated scenes, with what is needed to run it again.
-fn physlab_recording(path: &Path) -> Result<RecordingInfo, UsageError> {
+fn physlab_recording(path: &Path) -> Result<RecordingInfo, Error> {
     let info = complete_recording(path)?;
-    let fail = |what: &str| UsageError(format!("{}: {what}", path.display()));
+    let fail = |what: &str| Error::Usage(format!("{}: {what}", path.display()));
     if !info.application_id.starts_with("physlab") {
         return Err(fail(&format!(
             "a recording of another application ({:?}), not of physlab",
@@ -96,7 +85,7 @@ fn this_version() -> String {
 }
 
 /// Refuses an output that is one of the inputs: writing it would replace the recording compared.
-fn not_an_input(output: Option<&PathBuf>, inputs: &[&Path]) -> Result<(), UsageError> {
+fn not_an_input(output: Option<&PathBuf>, inputs: &[&Path]) -> Result<(), Error> {
     let Some(out) = output else {
         return Ok(());
     };
@@ -105,7 +94,7 @@ fn not_an_input(output: Option<&PathBuf>, inputs: &[&Path]) -> Result<(), UsageE
         _ => false,
     };
     if let Some(input) = inputs.iter().find(|p| same(p)) {
-        return Err(UsageError(format!(
+        return Err(Error::Usage(format!(
             "-o {}: is the recording being compared ({}); give another path",
             out.display(),
             input.display()
@@ -237,7 +226,7 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
     let info = physlab_recording(&args.file)?;
     let scenes_property = info.properties.get("scenes").cloned().unwrap_or_default();
     if scenes_property.starts_with("study") {
-        return Err(UsageError(format!(
+        return Err(Error::Usage(format!(
             "{}: a study recording ({scenes_property}); its numbers include wall-clock timings, so \
              reproduce re-runs scene recordings only (run its command line again: {})",
             args.file.display(),
@@ -252,13 +241,14 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
         .split(',')
         .filter(|s| !s.is_empty())
         .collect();
-    if scenes.is_empty()
-        || scenes
-            .iter()
-            .any(|s| !["pendulum", "rope", "hair"].contains(s))
-    {
-        return Err(UsageError(format!(
-            "{}: its provenance names the scenes {scenes_property:?}; expected pendulum, rope and/or hair",
+    let known: Vec<&str> = SCENES.iter().map(|s| s.name()).collect();
+    if scenes.is_empty() || scenes.iter().any(|s| !known.contains(s)) {
+        let expected = match known.split_last() {
+            Some((last, rest)) if !rest.is_empty() => format!("{} and/or {last}", rest.join(", ")),
+            _ => known.join(""),
+        };
+        return Err(Error::Usage(format!(
+            "{}: its provenance names the scenes {scenes_property:?}; expected {expected}",
             args.file.display()
         ))
         .into());
@@ -291,7 +281,7 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
                     .get(&format!("{scene}_last_tick"))
                     .and_then(|t| t.parse::<u64>().ok())
                     .ok_or_else(|| {
-                        UsageError(format!(
+                        Error::Usage(format!(
                             "{}: {scene} was interrupted but its last tick is not recorded",
                             args.file.display()
                         ))
@@ -325,11 +315,11 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
         timings,
         ..RunArgs::default()
     };
-    let plan = Plan {
-        pendulum: scenes.contains(&"pendulum").then(PendulumArgs::default),
-        rope: scenes.contains(&"rope").then(RopeArgs::default),
-        hair: scenes.contains(&"hair").then(HairArgs::default),
-    };
+    let plan: Plan = SCENES
+        .iter()
+        .filter(|s| scenes.contains(&s.name()))
+        .map(|s| s.flags(&AllFlags::default()))
+        .collect();
     let started = Instant::now();
     simulate(plan, &run, &Output::Record, &replay).map_err(|e| {
         anyhow::anyhow!(
@@ -404,7 +394,7 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
             }
         );
         println!("{verdict}");
-        return Err(Differs(format!("{}: does not reproduce", args.file.display())).into());
+        return Err(Error::Differs(format!("{}: does not reproduce", args.file.display())).into());
     }
     if within > 0 {
         println!(
@@ -604,7 +594,7 @@ pub fn diff_command(args: &DiffArgs) -> anyhow::Result<()> {
         println!("wrote {} difference series (B − A) to {}", n, out.display());
     }
     if differing > 0 || !only_a.is_empty() || !only_b.is_empty() {
-        return Err(Differs("the recordings differ".into()).into());
+        return Err(Error::Differs("the recordings differ".into()).into());
     }
     Ok(())
 }

@@ -3,8 +3,8 @@
 
 use std::fmt::Write as _;
 
+use super::Error;
 use super::SceneFile;
-use super::UsageError;
 use crate::cli::{PendulumArgs, RopeArgs, RopeBody, StudyArgs, StudyKind, StudyScene};
 use crate::integrate::{Method, MethodOptions};
 use crate::report::study as report;
@@ -20,7 +20,7 @@ const STUDY_MAX_STEPS: f64 = 10.0 * MAX_STEPS;
 /// converge and the theory's orders apply).
 /// Also returns the study's scene as a scene file (its problem, dt, duration and methods), the
 /// provenance of its recording.
-fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), UsageError> {
+fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), Error> {
     let file = match &a.config {
         Some(path) => SceneFile::load(path)?,
         None => SceneFile::default(),
@@ -28,19 +28,19 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), UsageError> 
     let stability_study = a.kind == StudyKind::Stability;
     let levels = a.levels.unwrap_or(crate::study::DEFAULT_LEVELS);
     if !(2..=20).contains(&levels) {
-        return Err(UsageError(format!(
+        return Err(Error::Usage(format!(
             "--levels {levels}: must be between 2 and 20"
         )));
     }
     let repeats = a.repeats.unwrap_or(crate::study::DEFAULT_REPEATS);
     if !(1..=100).contains(&repeats) {
-        return Err(UsageError(format!(
+        return Err(Error::Usage(format!(
             "--repeats {repeats}: must be between 1 and 100"
         )));
     }
     let steps = a.steps.unwrap_or(crate::study::DEFAULT_STABILITY_STEPS);
     if !(10..=10_000_000).contains(&steps) {
-        return Err(UsageError(format!(
+        return Err(Error::Usage(format!(
             "--steps {steps}: must be between 10 and 10000000"
         )));
     }
@@ -49,7 +49,7 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), UsageError> 
         .iter()
         .find(|r| !(r.is_finite() && (1e-14..=0.1).contains(*r)))
     {
-        return Err(UsageError(format!(
+        return Err(Error::Usage(format!(
             "--rtol {bad}: must be between 1e-14 and 0.1"
         )));
     }
@@ -75,17 +75,17 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), UsageError> 
             .map(|f| (f.0, "pendulum")),
     };
     if let Some((flag, scene)) = foreign {
-        return Err(UsageError(format!(
+        return Err(Error::Usage(format!(
             "{flag} is a {scene} parameter; add --scene {scene}, or drop it"
         )));
     }
     // The scene file's schedule and methods apply too: its dt is the coarsest step.
     let (file_dt, file_duration, file_methods) = match a.scene {
         StudyScene::Pendulum => file.pendulum.as_ref().map_or((None, None, None), |t| {
-            (t.dt, t.duration, t.methods.clone())
+            (t.step.dt, t.step.duration, t.step.methods.clone())
         }),
         StudyScene::Rope => file.rope.as_ref().map_or((None, None, None), |t| {
-            (t.dt, t.duration, t.methods.clone())
+            (t.step.dt, t.step.duration, t.step.methods.clone())
         }),
     };
     let methods = a
@@ -136,7 +136,7 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), UsageError> 
     // Errors are compared every SAMPLE_EVERY coarsest steps; fewer than one sample fits nothing.
     let longest = duration / crate::study::SAMPLE_EVERY as f64;
     if dt0 > longest {
-        return Err(UsageError(format!(
+        return Err(Error::Usage(format!(
             "--dt {}: must not exceed --duration / {} = {} s (errors are sampled every {} \
              coarsest steps)",
             shown(dt0),
@@ -155,7 +155,7 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), UsageError> 
         shown(duration)
     );
     if reference_steps > MAX_STEPS {
-        return Err(UsageError(format!(
+        return Err(Error::Usage(format!(
             "{schedule} needs {reference_steps:.2e} reference steps; at most {MAX_STEPS:.0e} are allowed \
              (raise --dt or lower --levels)"
         )));
@@ -189,7 +189,7 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), UsageError> 
                     + fixed * repeats as f64 * (duration / dt0) * (2f64.powi(levels as i32) - 1.0));
             let work = steps * work_per_step;
             if steps > STUDY_MAX_STEPS || work > MAX_NODE_STEPS {
-                return Err(UsageError(format!(
+                return Err(Error::Usage(format!(
                     "{schedule}, --repeats {repeats}{nodes} and {fixed} fixed-step methods is {steps:.2e} steps \
                      ({work:.2e} node-steps) in all; at most {STUDY_MAX_STEPS:.0e} steps and {MAX_NODE_STEPS:.0e} \
                      node-steps are allowed (raise --dt, lower --levels or --repeats, or choose fewer --methods)"
@@ -209,7 +209,7 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), UsageError> 
             let runs = 41.0 * methods.len() as f64;
             let work = runs * steps as f64 * work_per_step;
             if work > MAX_NODE_STEPS {
-                return Err(UsageError(format!(
+                return Err(Error::Usage(format!(
                     "--steps {steps}{nodes} over {} methods × 41 bisection trials is {work:.2e} node-steps; at most \
                      {MAX_NODE_STEPS:.0e} are allowed (lower --steps or choose fewer --methods)",
                     methods.len()
@@ -229,10 +229,12 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), UsageError> 
     };
     // The schedule and methods the sweep starts from, in the scene's table.
     if let Some(t) = effective.pendulum.as_mut() {
-        (t.dt, t.duration, t.methods) = (Some(dt0), Some(duration), Some(sweep.methods.clone()));
+        let s = &mut t.step;
+        (s.dt, s.duration, s.methods) = (Some(dt0), Some(duration), Some(sweep.methods.clone()));
     }
     if let Some(t) = effective.rope.as_mut() {
-        (t.dt, t.duration, t.methods) = (Some(dt0), Some(duration), Some(sweep.methods.clone()));
+        let s = &mut t.step;
+        (s.dt, s.duration, s.methods) = (Some(dt0), Some(duration), Some(sweep.methods.clone()));
     }
     Ok((problem, sweep, steps, effective))
 }
@@ -560,7 +562,7 @@ fn interrupted_error(a: &StudyArgs, sw: &Sweep, done: usize, complete: bool) -> 
     } else {
         "; nothing was written"
     };
-    crate::interrupt::Interrupted(format!(
+    crate::error::Error::Interrupted(format!(
         "interrupted: {done} of {planned} {} complete{kept}",
         if a.kind == StudyKind::Stability {
             "methods' limits"

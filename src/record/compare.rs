@@ -13,7 +13,7 @@ use rerun::external::arrow::datatypes::{
 use rerun::external::re_log_encoding::DecoderApp;
 use rerun::log::{Chunk, LogMsg};
 
-use crate::error::UsageError;
+use crate::error::Error;
 
 /// One logged row of one component: its `sim_time` in ns (`None` for static data), every number
 /// it holds (floats widened to f64 exactly, integers converted), and every text.
@@ -28,8 +28,8 @@ pub struct Row {
 pub type Contents = BTreeMap<(String, String), Vec<Row>>;
 
 /// Reads every component of every entity (not the properties, not the blueprint).
-pub fn read_contents(path: &Path) -> Result<Contents, UsageError> {
-    let fail = |what: String| UsageError(format!("{}: {what}", path.display()));
+pub fn read_contents(path: &Path) -> Result<Contents, Error> {
+    let fail = |what: String| Error::Usage(format!("{}: {what}", path.display()));
     let file = std::fs::File::open(path).map_err(|e| fail(format!("cannot open it: {e}")))?;
     let sim_time = rerun::TimelineName::from("sim_time");
     let mut contents = Contents::new();

@@ -7,7 +7,7 @@ use std::path::Path;
 use rerun::external::re_log_encoding::DecoderApp;
 use rerun::log::{Chunk, LogMsg};
 
-use crate::error::UsageError;
+use crate::error::Error;
 
 /// A warning or info line of a scene's event log.
 #[derive(Clone, Debug, PartialEq)]
@@ -53,8 +53,8 @@ impl RecordingInfo {
 
 /// Reads a recording. A missing, empty, non-rrd, corrupt or truncated file is an error naming
 /// the file and what is wrong with it.
-pub fn read_recording(path: &Path) -> Result<RecordingInfo, UsageError> {
-    let fail = |what: String| UsageError(format!("{}: {what}", path.display()));
+pub fn read_recording(path: &Path) -> Result<RecordingInfo, Error> {
+    let fail = |what: String| Error::Usage(format!("{}: {what}", path.display()));
     let meta = std::fs::metadata(path).map_err(|e| fail(format!("cannot read it: {e}")))?;
     if meta.is_dir() {
         return Err(fail("is a folder, not a recording (.rrd)".into()));
