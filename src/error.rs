@@ -1,15 +1,88 @@
-//! The error every layer uses for bad input: the option, the value and what is allowed. The
-//! binary maps it to exit code 2.
+//! The one error type of physlab's outcomes that are not plain runtime failures, each with its
+//! exit code. Bad input names the option (or the file, table and key), the value and what is
+//! allowed.
 
 use std::fmt;
 
-#[derive(Debug, Clone, PartialEq)]
-pub struct UsageError(pub String);
+#[derive(Debug)]
+pub enum Error {
+    /// Bad input: a flag, a scene file, a recording that cannot be used. Exit 2.
+    Usage(String),
+    /// Anything else that failed while running (an I/O error, a failed write). Exit 1.
+    Runtime(anyhow::Error),
+    /// `reproduce` or `diff` found a difference (beyond the tolerance). Exit 1.
+    Differs(String),
+    /// A method diverged, with --fail-on-divergence. Exit 3.
+    Diverged(String),
+    /// The run was stopped by a signal, after its recording was finalised. Exit 130.
+    Interrupted(String),
+}
 
-impl fmt::Display for UsageError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.0)
+impl Error {
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            Error::Usage(_) => 2,
+            Error::Runtime(_) | Error::Differs(_) => 1,
+            Error::Diverged(_) => 3,
+            Error::Interrupted(_) => 130,
+        }
+    }
+
+    /// The line the binary prints on standard error: failures are marked `error:`, the
+    /// outcomes a script asked about (a difference, a divergence, a stop) are stated as they are.
+    pub fn report(&self) -> String {
+        match self {
+            Error::Usage(_) | Error::Runtime(_) => format!("error: {self}"),
+            _ => self.to_string(),
+        }
     }
 }
 
-impl std::error::Error for UsageError {}
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Error::Usage(m) | Error::Differs(m) | Error::Diverged(m) | Error::Interrupted(m) => {
+                f.write_str(m)
+            }
+            Error::Runtime(e) => write!(f, "{e:#}"),
+        }
+    }
+}
+
+impl std::error::Error for Error {}
+
+/// Any failure as physlab's error: one of its own as it is, anything else a runtime failure.
+impl From<anyhow::Error> for Error {
+    fn from(err: anyhow::Error) -> Self {
+        match err.downcast::<Error>() {
+            Ok(own) => own,
+            Err(other) => Error::Runtime(other),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Error;
+
+    #[test]
+    fn each_outcome_keeps_its_exit_code_through_anyhow() {
+        let cases: [(fn(String) -> Error, u8, &str); 4] = [
+            (Error::Usage, 2, "error: m"),
+            (Error::Differs, 1, "m"),
+            (Error::Diverged, 3, "m"),
+            (Error::Interrupted, 130, "m"),
+        ];
+        for (make, code, line) in cases {
+            let through: Error = anyhow::Error::from(make("m".into())).into();
+            assert_eq!(
+                (through.exit_code(), through.report().as_str()),
+                (code, line)
+            );
+        }
+        let io = std::io::Error::other("disk full");
+        let runtime: Error = anyhow::Error::from(io).context("writing x").into();
+        assert_eq!(runtime.exit_code(), 1);
+        assert_eq!(runtime.report(), "error: writing x: disk full");
+    }
+}

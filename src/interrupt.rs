@@ -4,7 +4,7 @@
 //! hidden partial file is left behind.
 
 use std::ffi::CString;
-use std::sync::atomic::{AtomicBool, AtomicPtr, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicPtr, Ordering};
 
 static REQUESTED: AtomicBool = AtomicBool::new(false);
 
@@ -85,29 +85,3 @@ pub fn stop() {
 pub fn requested() -> bool {
     REQUESTED.load(Ordering::Relaxed)
 }
-
-static STOP_AFTER: AtomicU64 = AtomicU64::new(u64::MAX);
-
-/// Replays an interruption (`physlab reproduce` of a run cut short): the next scene run stops
-/// as if asked to once it has passed `tick`, at the same block boundary the signal stopped the
-/// recorded run. `None` runs to the end.
-pub fn set_stop_after(tick: Option<u64>) {
-    STOP_AFTER.store(tick.unwrap_or(u64::MAX), Ordering::Relaxed);
-}
-
-/// Whether a run whose next block starts at `first` stops there: on request, or as replayed.
-pub fn stops_at(first: u64) -> bool {
-    requested() || first > STOP_AFTER.load(Ordering::Relaxed)
-}
-
-/// Returned when a run was stopped by a signal (after its recording was finalised); exit 130.
-#[derive(Debug)]
-pub struct Interrupted(pub String);
-
-impl std::fmt::Display for Interrupted {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for Interrupted {}

@@ -2,8 +2,7 @@
 
 use std::process::ExitCode;
 
-use physlab::app::{self, Differs, Diverged, UsageError};
-use physlab::interrupt::Interrupted;
+use physlab::error::Error;
 
 fn main() -> ExitCode {
     // Like other command-line tools, end quietly when stdout is closed early (`physlab ... | head`)
@@ -15,25 +14,12 @@ fn main() -> ExitCode {
     // clap prints its own usage errors and exits with code 2.
     let cli = physlab::cli::parse();
     physlab::interrupt::install();
-    match app::run(cli) {
+    match physlab::app::run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(err) => {
-            if let Some(usage) = err.downcast_ref::<UsageError>() {
-                eprintln!("error: {usage}");
-                ExitCode::from(2)
-            } else if let Some(stop) = err.downcast_ref::<Interrupted>() {
-                eprintln!("{stop}");
-                ExitCode::from(130)
-            } else if let Some(diverged) = err.downcast_ref::<Diverged>() {
-                eprintln!("{diverged}");
-                ExitCode::from(3)
-            } else if let Some(differs) = err.downcast_ref::<Differs>() {
-                eprintln!("{differs}");
-                ExitCode::from(1)
-            } else {
-                eprintln!("error: {err:#}");
-                ExitCode::from(1)
-            }
+            let err = Error::from(err);
+            eprintln!("{}", err.report());
+            ExitCode::from(err.exit_code())
         }
     }
 }

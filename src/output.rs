@@ -17,7 +17,7 @@ use std::os::unix::ffi::{OsStrExt as _, OsStringExt as _};
 use std::os::unix::fs::FileTypeExt as _;
 use std::path::{Path, PathBuf};
 
-use crate::error::UsageError;
+use crate::error::Error;
 
 /// The longest file name the file systems physlab runs on take, in bytes.
 const NAME_MAX: usize = 255;
@@ -89,12 +89,12 @@ pub fn check(flag: &str, path: &Path, dash: Dash) -> anyhow::Result<Output> {
     if path.as_os_str() == "-" {
         match dash {
             Dash::Refused(why) => {
-                return Err(UsageError(format!("{flag} -: standard output {why}")).into());
+                return Err(Error::Usage(format!("{flag} -: standard output {why}")).into());
             }
             Dash::Binary => {
                 use std::io::IsTerminal as _;
                 if std::io::stdout().is_terminal() {
-                    return Err(UsageError(format!(
+                    return Err(Error::Usage(format!(
                         "{flag} -: standard output is a terminal; pipe it into the viewer, e.g. \
                          `physlab pendulum -o - | rerun -`, or give a file name"
                     ))
@@ -162,7 +162,7 @@ pub fn check(flag: &str, path: &Path, dash: Dash) -> anyhow::Result<Output> {
 
 /// Refuses two outputs of one command that are one file (or both standard output), and an
 /// output that is one of the command's inputs. Usage errors (exit 2).
-pub fn distinct(outputs: &[&Output], inputs: &[(&str, &Path)]) -> Result<(), UsageError> {
+pub fn distinct(outputs: &[&Output], inputs: &[(&str, &Path)]) -> Result<(), Error> {
     for (i, a) in outputs.iter().enumerate() {
         for b in &outputs[..i] {
             let same = match (&a.target, &b.target) {
@@ -171,7 +171,7 @@ pub fn distinct(outputs: &[&Output], inputs: &[(&str, &Path)]) -> Result<(), Usa
                 _ => false,
             };
             if same {
-                return Err(UsageError(format!(
+                return Err(Error::Usage(format!(
                     "{} and {}: both write {}; give each its own path",
                     b.named(),
                     a.named(),
@@ -184,7 +184,7 @@ pub fn distinct(outputs: &[&Output], inputs: &[(&str, &Path)]) -> Result<(), Usa
         if let Some(t) = &a.target
             && let Some((what, input)) = inputs.iter().find(|(_, p)| same_file(t, p))
         {
-            return Err(UsageError(format!(
+            return Err(Error::Usage(format!(
                 "{}: is {what} ({}); writing it would replace it; give another path",
                 a.named(),
                 input.display()

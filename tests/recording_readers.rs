@@ -53,8 +53,8 @@ fn clean_error_naming(e: &anyhow::Error, paths: &[&Path]) -> Result<(), String> 
             .any(|p| m.starts_with(&format!("{}: ", p.display())))
     };
     match e.downcast_ref::<UsageError>() {
-        Some(UsageError(m)) if names(m) => Ok(()),
-        Some(UsageError(m)) => Err(format!("the error does not name the file: {m}")),
+        Some(Error::Usage(m)) if names(m) => Ok(()),
+        Some(Error::Usage(m)) => Err(format!("the error does not name the file: {m}")),
         None => Err(format!("not a usage error (exit 2): {e:#}")),
     }
 }

@@ -2,7 +2,7 @@
 //! scene file.
 
 use crate::cli::InspectArgs;
-use crate::error::UsageError;
+use crate::error::Error;
 use crate::record::inspect::{LoggedEvent, read_recording};
 
 pub fn inspect_command(args: &InspectArgs) -> anyhow::Result<()> {
@@ -84,7 +84,7 @@ pub fn inspect_command(args: &InspectArgs) -> anyhow::Result<()> {
     }
     if let Some(out) = &config_out {
         let config = info.properties.get("config").ok_or_else(|| {
-            UsageError(format!(
+            Error::Usage(format!(
                 "{}: holds no physlab config to write",
                 args.file.display()
             ))

@@ -9,26 +9,24 @@ mod file;
 mod inspect;
 mod progress;
 mod reproduce;
+mod scenes;
 mod study;
 
-use std::fmt;
 use std::path::PathBuf;
 use std::time::Instant;
 
-pub use crate::error::UsageError;
-pub use file::SceneFile;
-pub use reproduce::Differs;
+use crate::error::Error;
+pub use file::{MAX_SCENE_FILE_BYTES, SceneFile};
+pub use scenes::{hair_config, pendulum_config, rope_config};
 
-use crate::cli::{AllArgs, Cli, Command, HairArgs, PendulumArgs, RopeArgs, RunArgs};
+use crate::cli::{AllArgs, Cli, Command, RunArgs};
 use crate::record::scene::{Draw, SceneRecorder};
 use crate::record::{Destinations, Recording, SceneEnd, send_provenance};
 use crate::scene::hair::HairMethod;
-use crate::scene::hair::run::{HairConfig, HairScene};
 use crate::scene::harness::{self, NoObserver, Observer, Run, Scene};
-use crate::scene::pendulum::run::{PendulumConfig, PendulumScene};
-use crate::scene::rope::run::{RopeConfig, RopeScene};
 use crate::{record, report};
 use progress::{Progress, WithProgress};
+use scenes::{AllFlags, Flags, RunContext, SCENES};
 
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
@@ -38,28 +36,19 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         }
         Command::Inspect(args) => inspect::inspect_command(&args),
         Command::Pendulum(c) => simulate(
-            Plan {
-                pendulum: Some(c.scene),
-                ..Plan::default()
-            },
+            vec![Box::new(c.scene)],
             &c.run,
             &Output::Record,
             &Replay::default(),
         ),
         Command::Rope(c) => simulate(
-            Plan {
-                rope: Some(c.scene),
-                ..Plan::default()
-            },
+            vec![Box::new(c.scene)],
             &c.run,
             &Output::Record,
             &Replay::default(),
         ),
         Command::Hair(c) => simulate(
-            Plan {
-                hair: Some(c.scene),
-                ..Plan::default()
-            },
+            vec![Box::new(c.scene)],
             &c.run,
             &Output::Hair { threads: c.threads },
             &Replay::default(),
@@ -71,29 +60,12 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     }
 }
 
-/// A run in which a method diverged, with --fail-on-divergence. Exit code 3.
-#[derive(Debug)]
-pub struct Diverged(pub String);
-
-impl fmt::Display for Diverged {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for Diverged {}
-
 /// The scenes a command runs, each with its flags (not yet layered over file and defaults).
-#[derive(Default)]
-struct Plan {
-    pendulum: Option<PendulumArgs>,
-    rope: Option<RopeArgs>,
-    hair: Option<HairArgs>,
-}
+type Plan = Vec<Box<dyn Flags>>;
 
-/// `physlab all`: the three scenes; its own --fps, --plot-every and --methods override every
+/// `physlab all`: every scene; its own --fps, --plot-every and --methods override every
 /// scene's. Each scene takes the listed methods it supports.
-fn all_plan(c: &AllArgs) -> Result<Plan, UsageError> {
+fn all_plan(c: &AllArgs) -> Result<Plan, Error> {
     let (registry, hair) = match &c.methods {
         Some(names) => {
             let (registry, hair) = split_methods(names)?;
@@ -101,32 +73,20 @@ fn all_plan(c: &AllArgs) -> Result<Plan, UsageError> {
         }
         None => (None, None),
     };
-    Ok(Plan {
-        pendulum: Some(PendulumArgs {
-            fps: c.fps,
-            plot_every: c.plot_every,
-            methods: registry.clone(),
-            ..PendulumArgs::default()
-        }),
-        rope: Some(RopeArgs {
-            fps: c.fps,
-            plot_every: c.plot_every,
-            methods: registry,
-            ..RopeArgs::default()
-        }),
-        hair: Some(HairArgs {
-            fps: c.fps,
-            methods: hair,
-            ..HairArgs::default()
-        }),
-    })
+    let all = AllFlags {
+        fps: c.fps,
+        plot_every: c.plot_every,
+        registry,
+        hair,
+    };
+    Ok(SCENES.iter().map(|scene| scene.flags(&all)).collect())
 }
 
 /// `all --methods`: the names the pendulum and rope take (the registry's) and those hair takes.
 /// A name no scene knows, or a list that leaves a scene with none, is refused.
 fn split_methods(
     names: &[String],
-) -> Result<(Vec<crate::integrate::Method>, Vec<HairMethod>), UsageError> {
+) -> Result<(Vec<crate::integrate::Method>, Vec<HairMethod>), Error> {
     use crate::integrate::Method;
     let list = names.join(",");
     let mut registry = Vec::new();
@@ -135,7 +95,7 @@ fn split_methods(
         let r = name.parse::<Method>().ok();
         let h = name.parse::<HairMethod>().ok();
         if r.is_none() && h.is_none() {
-            return Err(UsageError(format!(
+            return Err(Error::Usage(format!(
                 "--methods {list}: no scene has a method '{name}' (pendulum and rope: {}; hair: {})",
                 Method::names().collect::<Vec<_>>().join(", "),
                 hair_names()
@@ -145,7 +105,7 @@ fn split_methods(
         hair.extend(h);
     }
     let none = |scene: &str, allowed: String| {
-        UsageError(format!(
+        Error::Usage(format!(
             "--methods {list}: leaves {scene} no method (allowed: {allowed})"
         ))
     };
@@ -189,19 +149,19 @@ struct Replay {
 }
 
 impl Replay {
-    /// Whether `scene` runs, and (if so) sets where it stops.
-    fn runs(&self, scene: &str) -> bool {
-        let stop = self.stop_after.iter().find(|s| s.0 == scene).map(|s| s.1);
-        crate::interrupt::set_stop_after(stop);
-        !self.skip.iter().any(|s| s == scene)
+    /// Where `scene` stops, if the recorded run was interrupted in it.
+    fn stop_after(&self, scene: &str) -> Option<u64> {
+        self.stop_after.iter().find(|s| s.0 == scene).map(|s| s.1)
+    }
+
+    fn skips(&self, scene: &str) -> bool {
+        self.skip.iter().any(|s| s == scene)
     }
 }
 
 /// The plan's scenes, layered and validated, and the scene file that reproduces them.
 struct Resolved {
-    pendulum: Option<PendulumConfig>,
-    rope: Option<RopeConfig>,
-    hair: Option<HairConfig>,
+    scenes: Vec<Box<dyn scenes::Resolved>>,
     /// The effective parameters of every scene run, as a scene file.
     file: SceneFile,
 }
@@ -212,117 +172,50 @@ fn resolve(plan: Plan, run: &RunArgs) -> anyhow::Result<Resolved> {
         Some(path) => SceneFile::load(path)?,
         None => SceneFile::default(),
     };
-    let single = [
-        plan.pendulum.is_some(),
-        plan.rope.is_some(),
-        plan.hair.is_some(),
-    ]
-    .iter()
-    .filter(|&&p| p)
-    .count()
-        == 1;
-    let table = |name: &str, given: bool| -> Result<(), UsageError> {
-        let Some(path) = &run.config else {
-            return Ok(());
-        };
-        if given {
-            Ok(())
-        } else if single {
-            Err(UsageError(format!(
-                "--config {}: has no [{name}] table, so nothing in it applies to this command",
-                path.display()
-            )))
-        } else {
+    let single = plan.len() == 1;
+    let mut resolved = Resolved {
+        scenes: Vec::new(),
+        file: SceneFile::default(),
+    };
+    for flags in plan {
+        let name = flags.kind().name();
+        if let Some(path) = &run.config
+            && !flags.kind().has_table(&file)
+        {
+            if single {
+                return Err(Error::Usage(format!(
+                    "--config {}: has no [{name}] table, so nothing in it applies to this command",
+                    path.display()
+                ))
+                .into());
+            }
             eprintln!(
                 "note: --config {}: no [{name}] table; {name} runs at its defaults",
                 path.display()
             );
-            Ok(())
         }
-    };
-    let mut effective = SceneFile::default();
-    let mut resolved = Resolved {
-        pendulum: None,
-        rope: None,
-        hair: None,
-        file: SceneFile::default(),
-    };
-    if let Some(flags) = plan.pendulum {
-        table("pendulum", file.pendulum.is_some())?;
-        let from_file = file.pendulum.clone().unwrap_or_default();
-        in_file(run, "pendulum", pendulum_config(&from_file))?;
-        let args = flags.over(from_file);
-        resolved.pendulum = Some(pendulum_config(&args)?);
-        effective.pendulum = Some(args.over(PendulumArgs::defaults()));
+        let scene = flags.resolve(&file, run)?;
+        scene.effective(&mut resolved.file);
+        resolved.scenes.push(scene);
     }
-    if let Some(flags) = plan.rope {
-        table("rope", file.rope.is_some())?;
-        let from_file = file.rope.clone().unwrap_or_default();
-        in_file(run, "rope", rope_config(&from_file))?;
-        let args = flags.over(from_file);
-        resolved.rope = Some(rope_config(&args)?);
-        effective.rope = Some(args.effective());
-    }
-    if let Some(flags) = plan.hair {
-        table("hair", file.hair.is_some())?;
-        let from_file = file.hair.clone().unwrap_or_default();
-        in_file(run, "hair", hair_config(&from_file))?;
-        let args = flags.over(from_file);
-        let config = hair_config(&args)?;
-        // The file states the substeps --dt resolved to, so that it says one consistent thing.
-        effective.hair = Some(HairArgs {
-            substeps: Some(config.substeps),
-            ..args.over(HairArgs::defaults())
-        });
-        resolved.hair = Some(config);
-    }
-    resolved.file = effective;
     Ok(resolved)
 }
 
 /// A scene file's values checked on their own, so that an error names the file, the table and
 /// the key (`nodes = 1` in [rope]) rather than a flag the user never typed.
-fn in_file<T>(
-    run: &RunArgs,
-    table: &str,
-    checked: Result<T, UsageError>,
-) -> Result<(), UsageError> {
+fn in_file<T>(run: &RunArgs, table: &str, checked: Result<T, Error>) -> Result<(), Error> {
     match (&run.config, checked) {
-        (Some(path), Err(UsageError(message))) => {
+        (Some(path), Err(Error::Usage(message))) => {
             // Messages start with the flag and its value: "--nodes 1: must be ...".
             let (flag, rest) = message.split_once(' ').unwrap_or((&message, ""));
             let key = flag.trim_start_matches("--").replace('-', "_");
-            Err(UsageError(format!(
+            Err(Error::Usage(format!(
                 "--config {}: [{table}] {key} = {rest}",
                 path.display()
             )))
         }
         _ => Ok(()),
     }
-}
-
-/// The pendulum's parameters (missing ones at their defaults), validated.
-pub fn pendulum_config(args: &PendulumArgs) -> Result<PendulumConfig, UsageError> {
-    let config = args.config();
-    config.validate()?;
-    Ok(config)
-}
-
-/// The rope's parameters (missing ones from the preset, if any, or the defaults), validated.
-pub fn rope_config(args: &RopeArgs) -> Result<RopeConfig, UsageError> {
-    let config = args.clone().effective().config();
-    config.validate()?;
-    Ok(config)
-}
-
-/// The hair's parameters (missing ones at their defaults), validated.
-pub fn hair_config(args: &HairArgs) -> Result<HairConfig, UsageError> {
-    let mut config = args.config();
-    if let Some(dt) = args.dt {
-        config.substeps = crate::scene::hair::run::substeps_for_dt(config.rate, dt, args.substeps)?;
-    }
-    config.validate()?;
-    Ok(config)
 }
 
 /// The one pipeline of every simulating command.
@@ -339,15 +232,16 @@ fn simulate(plan: Plan, run: &RunArgs, output: &Output, replay: &Replay) -> anyh
         crate::scene::params::threads(n)?;
     }
     if log_strands == Some(0) {
-        return Err(UsageError(
+        return Err(Error::Usage(
             "--log-strands 0: must be at least 1 (--no-record draws nothing at all)".into(),
         )
         .into());
     }
     if no_record && log_strands.is_some() {
-        return Err(
-            UsageError("--no-record with --log-strands: --no-record draws nothing".into()).into(),
-        );
+        return Err(Error::Usage(
+            "--no-record with --log-strands: --no-record draws nothing".into(),
+        )
+        .into());
     }
     refuse_contradictions(run, no_record)?;
     if run.print_config {
@@ -360,15 +254,12 @@ fn simulate(plan: Plan, run: &RunArgs, output: &Output, replay: &Replay) -> anyh
     }
     let pool = pool.build()?;
 
-    let scenes: Vec<&'static str> = [
-        resolved.pendulum.as_ref().map(|_| "pendulum"),
-        resolved.rope.as_ref().map(|_| "rope"),
-        resolved.hair.as_ref().map(|_| "hair"),
-    ]
-    .into_iter()
-    .flatten()
-    .collect();
-    let name = if scenes.len() == 1 { scenes[0] } else { "all" };
+    let scenes: Vec<&'static str> = resolved.scenes.iter().map(|s| s.kind().name()).collect();
+    let single = match resolved.scenes.as_slice() {
+        [one] => Some(one),
+        _ => None,
+    };
+    let name = single.map_or("all", |s| s.kind().name());
     let started = Instant::now();
     let d = if no_record {
         Destinations::default()
@@ -385,22 +276,18 @@ fn simulate(plan: Plan, run: &RunArgs, output: &Output, replay: &Replay) -> anyh
     let recording = if no_record {
         None
     } else {
-        let framings = record::Framings {
-            pendulum: resolved.pendulum.as_ref().map(record::pendulum::framing),
-            rope: resolved.rope.as_ref().map(record::rope::framing),
-            hair: resolved.hair.as_ref().map(record::hair::framing),
+        let layout = match single {
+            Some(one) => record::scene_layout(one.kind().views(), run.timings, one.framing()),
+            None => {
+                let views: Vec<_> = resolved
+                    .scenes
+                    .iter()
+                    .map(|s| (s.kind().views(), s.framing()))
+                    .collect();
+                record::all_layout(run.timings, &views)
+            }
         };
-        let one = (framings.pendulum.or(framings.rope)).or(framings.hair);
-        let layout = match one {
-            Some(framing) if scenes.len() == 1 => record::scene_layout(name, run.timings, framing),
-            _ => record::all_layout(run.timings, &framings),
-        };
-        let application_id = match name {
-            "pendulum" => "physlab-pendulum",
-            "rope" => "physlab-rope",
-            "hair" => "physlab-hair",
-            _ => "physlab-all",
-        };
+        let application_id = single.map_or("physlab-all", |s| s.kind().application_id());
         let recording = Recording::create(&d, application_id, name, layout)?;
         send_provenance(
             recording.stream(),
@@ -413,107 +300,36 @@ fn simulate(plan: Plan, run: &RunArgs, output: &Output, replay: &Replay) -> anyh
     let mut progress = Progress::new(run.quiet);
     let mut summaries = Vec::new();
     let mut diverged = Vec::new();
-    let stream = recording.as_ref().map(|r| r.stream().clone());
     // One `frame` timeline for the whole recording: frame N at N / (the highest fps) s.
-    let frame_rate = [
-        resolved.pendulum.as_ref().map(|c| c.fps),
-        resolved.rope.as_ref().map(|c| c.fps),
-        resolved.hair.as_ref().map(|c| c.fps),
-    ]
-    .into_iter()
-    .flatten()
-    .fold(0.0, f64::max);
+    let frame_rate = resolved.scenes.iter().map(|s| s.fps()).fold(0.0, f64::max);
+    let mut ctx = RunContext {
+        stream: recording.as_ref().map(|r| r.stream().clone()),
+        timings: run.timings,
+        frame_rate,
+        quiet: run.quiet,
+        progress: &mut progress,
+        pool: &pool,
+        log_strands,
+        stop_after: None,
+    };
     // Scenes run one after another; after an interruption the remaining ones are skipped.
-    let timings = run.timings;
     let mut ends: Vec<SceneEnd> = Vec::new();
-    let mut collect = |ran: Ran| -> anyhow::Result<()> {
-        if let Some(s) = &stream {
-            record::log_summary(s, ran.end.scene, &ran.summary, &ran.end.text, timings)?;
+    for scene in resolved.scenes {
+        let name = scene.kind().name();
+        if crate::interrupt::requested() || replay.skips(name) {
+            continue;
         }
-        summaries.push(ran.summary);
+        ctx.stop_after = replay.stop_after(name);
+        let ran = scene.run(&mut ctx)?;
+        if let Some(s) = &ctx.stream {
+            record::log_summary(s, ran.end.scene, &ran.summary, &ran.end.text, run.timings)?;
+        }
+        summaries.push(ran.summary + &ran.printed_only);
         diverged.extend(ran.diverged);
         ends.push(ran.end);
-        Ok(())
-    };
-    if let Some(config) = resolved.pendulum
-        && replay.runs("pendulum")
-    {
-        let reference_steps = config.reference_steps();
-        if reference_steps > 3e7 && !run.quiet {
-            // Allowed, but not instant: say what the time goes to (~0.1 µs per RK4 step).
-            eprintln!(
-                "pendulum: the fine-step reference takes {reference_steps:.1e} RK4 steps (about {:.0} s); Ctrl-C stops it",
-                reference_steps * 1e-7
-            );
-        }
-        let recorder = stream
-            .clone()
-            .map(|s| record::pendulum::recorder(s, timings).with_frame_rate(frame_rate));
-        collect(run_scene(
-            PendulumScene::new(config),
-            recorder,
-            report::pendulum::summary_text,
-            &mut progress,
-        )?)?;
     }
-    if let Some(config) = resolved.rope
-        && !crate::interrupt::requested()
-        && replay.runs("rope")
-    {
-        let recorder = stream
-            .clone()
-            .map(|s| record::rope::recorder(s, timings).with_frame_rate(frame_rate));
-        collect(run_scene(
-            RopeScene::new(config),
-            recorder,
-            report::rope::summary_text,
-            &mut progress,
-        )?)?;
-    }
-    if let Some(config) = resolved.hair
-        && !crate::interrupt::requested()
-        && replay.runs("hair")
-    {
-        // Said before anything is written: how many strands are drawn, and the expected size.
-        let plan = record::hair::strand_plan(&config, log_strands);
-        if stream.is_some() && !run.quiet {
-            eprintln!(
-                "hair: drawing {} of {} strands in 3D; expected recording ≈ {:.0} MB",
-                plan.drawn,
-                plan.strands,
-                plan.expected_bytes / 1e6
-            );
-        }
-        let recorder = stream
-            .clone()
-            .map(|s| record::hair::recorder(s, timings, log_strands).with_frame_rate(frame_rate));
-        // Hair spreads its strands over the pool (--threads); the results do not depend on it.
-        let mut ran = pool.install(|| {
-            run_scene(
-                HairScene::new(config),
-                recorder,
-                report::hair::summary_text,
-                &mut progress,
-            )
-        })?;
-        if !no_record {
-            ran.summary.push_str(&format!(
-                "\n3D: {} of {} strands drawn per head (--log-strands); every strand is simulated and measured above\n",
-                plan.drawn, plan.strands
-            ));
-        }
-        let threads = pool.current_num_threads();
-        collect(ran)?;
-        // Printed, not recorded: the thread count is the machine's, and the results do not
-        // depend on it, so a recording compares equal on any core count.
-        if let Some(summary) = summaries.last_mut() {
-            summary.push_str(&format!(
-                "threads: {threads} (the results do not depend on it)\n"
-            ));
-        }
-    }
+    let stream = ctx.stream.take();
     progress.finish();
-    crate::interrupt::set_stop_after(None);
     if let Some(s) = &stream {
         // Scenes skipped after an interruption say so too.
         for scene in &scenes {
@@ -537,17 +353,17 @@ fn simulate(plan: Plan, run: &RunArgs, output: &Output, replay: &Replay) -> anyh
 }
 
 /// Output options that cannot hold together.
-fn refuse_contradictions(run: &RunArgs, no_record: bool) -> Result<(), UsageError> {
+fn refuse_contradictions(run: &RunArgs, no_record: bool) -> Result<(), Error> {
     if run.no_save
         && let Some(path) = &run.output
     {
-        return Err(UsageError(format!(
+        return Err(Error::Usage(format!(
             "--no-save with -o {}: one says write no file, the other names it; drop one",
             path.display()
         )));
     }
     if run.no_save && run.connect.is_none() && !run.spawn {
-        return Err(UsageError(
+        return Err(Error::Usage(
             "--no-save without --connect or --spawn: the run would go nowhere".into(),
         ));
     }
@@ -560,7 +376,7 @@ fn refuse_contradictions(run: &RunArgs, no_record: bool) -> Result<(), UsageErro
             (run.timings, "--timings"),
         ] {
             if given {
-                return Err(UsageError(format!(
+                return Err(Error::Usage(format!(
                     "--no-record with {flag}: --no-record writes and streams nothing"
                 )));
             }
@@ -572,6 +388,9 @@ fn refuse_contradictions(run: &RunArgs, no_record: bool) -> Result<(), UsageErro
 /// One scene's run: its summary, the lanes that diverged, where it ended.
 struct Ran {
     summary: String,
+    /// Printed under the summary but not recorded: what depends on the machine, not the inputs
+    /// (hair's thread count), so that a recording compares equal on any machine.
+    printed_only: String,
     diverged: Vec<String>,
     end: SceneEnd,
 }
@@ -583,6 +402,7 @@ fn run_scene<S: Scene, D: Draw<S>>(
     mut recorder: Option<SceneRecorder<D>>,
     summary: fn(&S, &Run<S::Lane>) -> String,
     progress: &mut Progress,
+    stop_after: Option<u64>,
 ) -> anyhow::Result<Ran> {
     progress.stage(scene.name(), scene.schedule().end_time());
     let mut quiet = NoObserver;
@@ -590,10 +410,15 @@ fn run_scene<S: Scene, D: Draw<S>>(
         Some(r) => r,
         None => &mut quiet,
     };
-    let run = harness::run(&mut scene, &mut WithProgress { inner, progress })?;
+    let run = harness::run_until(
+        &mut scene,
+        &mut WithProgress { inner, progress },
+        stop_after,
+    )?;
     let schedule = scene.schedule();
     Ok(Ran {
         summary: summary(&scene, &run),
+        printed_only: String::new(),
         diverged: run.diverged(scene.name()),
         end: SceneEnd {
             scene: scene.name(),
@@ -609,24 +434,10 @@ fn run_scene<S: Scene, D: Draw<S>>(
     })
 }
 
-/// Every method the recording holds, first occurrence kept (pendulum, hair, rope).
+/// Every method the recording holds, first occurrence kept, in the order the scenes run.
 fn method_names(r: &Resolved) -> Vec<&'static str> {
     let mut names: Vec<&'static str> = Vec::new();
-    let all = r
-        .pendulum
-        .iter()
-        .flat_map(|c| c.methods.iter().map(|m| m.name()))
-        .chain(
-            r.hair
-                .iter()
-                .flat_map(|c| c.methods.iter().map(|m| m.name())),
-        )
-        .chain(
-            r.rope
-                .iter()
-                .flat_map(|c| c.methods.iter().map(|m| m.name())),
-        );
-    for m in all {
+    for m in r.scenes.iter().flat_map(|s| s.methods()) {
         if !names.contains(&m) {
             names.push(m);
         }
@@ -672,10 +483,10 @@ fn finish(
             ),
             _ => String::new(),
         };
-        return Err(crate::interrupt::Interrupted(format!("interrupted{kept}")).into());
+        return Err(Error::Interrupted(format!("interrupted{kept}")).into());
     }
     if run.fail_on_divergence && !diverged.is_empty() {
-        return Err(Diverged(format!(
+        return Err(Error::Diverged(format!(
             "--fail-on-divergence: {} diverged",
             diverged.join(", ")
         ))

@@ -7,24 +7,12 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use super::{Output, Plan, Replay, UsageError, simulate};
-use crate::cli::{DiffArgs, HairArgs, PendulumArgs, ReproduceArgs, RopeArgs, RunArgs};
-use crate::interrupt::Interrupted;
+use super::scenes::{AllFlags, SCENES};
+use super::{Error, Output, Plan, Replay, simulate};
+use crate::cli::{DiffArgs, ReproduceArgs, RunArgs};
 use crate::record::compare::{Key, SeriesDiff, SeriesIndex, StreamSpec, compare_files, time_text};
 use crate::record::diff::DiffWriter;
 use crate::record::inspect::{RecordingInfo, read_recording};
-
-/// The comparison found differences (beyond the tolerance). Exit code 1.
-#[derive(Debug)]
-pub struct Differs(pub String);
-
-impl std::fmt::Display for Differs {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for Differs {}
 
 /// Entities whose values depend on the wall clock, so that no re-run can match them: the
 /// --timings plots, and with --timings the summaries (which then hold wall times, ns/step).
@@ -32,11 +20,11 @@ fn wall_clock(entity: &str, timings: bool) -> bool {
     entity.contains("/plots/frame_cost/") || (timings && entity.ends_with("/summary"))
 }
 
-fn tolerance(t: Option<f64>) -> Result<f64, UsageError> {
+fn tolerance(t: Option<f64>) -> Result<f64, Error> {
     match t {
         None => Ok(0.0),
         Some(t) if t.is_finite() && (0.0..1.0).contains(&t) => Ok(t),
-        Some(t) => Err(UsageError(format!(
+        Some(t) => Err(Error::Usage(format!(
             "--tolerance {t}: must be a fraction in [0, 1), e.g. 1e-12"
         ))),
     }
@@ -47,7 +35,7 @@ fn tolerance(t: Option<f64>) -> Result<f64, UsageError> {
 fn complete_recording(path: &Path) -> anyhow::Result<RecordingInfo> {
     let info = read_recording(path)?;
     if !info.has_footer {
-        return Err(UsageError(format!(
+        return Err(Error::Usage(format!(
             "{}: truncated: the file ends without its footer (the writing process was killed or \
              the file cut short), so its last data are lost; `physlab inspect` shows what it holds",
             path.display()
@@ -61,7 +49,7 @@ fn complete_recording(path: &Path) -> anyhow::Result<RecordingInfo> {
 fn physlab_made(path: &Path) -> anyhow::Result<RecordingInfo> {
     let info = complete_recording(path)?;
     if !info.application_id.starts_with("physlab") {
-        return Err(UsageError(format!(
+        return Err(Error::Usage(format!(
             "{}: a recording of another application ({:?}), not of physlab",
             path.display(),
             info.application_id
@@ -75,7 +63,7 @@ fn physlab_made(path: &Path) -> anyhow::Result<RecordingInfo> {
 fn physlab_recording(path: &Path) -> anyhow::Result<RecordingInfo> {
     let info = physlab_made(path)?;
     if !info.properties.contains_key("config") {
-        return Err(UsageError(format!(
+        return Err(Error::Usage(format!(
             "{}: holds no physlab configuration (recorded by a physlab older than its provenance)",
             path.display()
         ))
@@ -130,21 +118,21 @@ fn check_output(
 /// 130), a configuration this build refuses says so without the temporary file's name, and
 /// anything else (an unwritable `-o`, a full disk) is passed on as it is.
 fn rerun_failed(e: anyhow::Error, file: &Path, config: &Path) -> anyhow::Error {
-    if e.downcast_ref::<Interrupted>().is_some() {
-        return Interrupted(format!(
+    if matches!(e.downcast_ref::<Error>(), Some(Error::Interrupted(_))) {
+        return Error::Interrupted(format!(
             "interrupted: the re-run of {} was stopped, so nothing was compared",
             file.display()
         ))
         .into();
     }
-    if let Some(UsageError(message)) = e.downcast_ref::<UsageError>()
+    if let Some(Error::Usage(message)) = e.downcast_ref::<Error>()
         && message.contains(&config.display().to_string())
     {
         let message = message.replace(
             &format!("--config {}: ", config.display()),
             "its embedded configuration: ",
         );
-        return UsageError(format!(
+        return Error::Usage(format!(
             "{}: its configuration does not run with this build: {message}",
             file.display()
         ))
@@ -294,7 +282,7 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
     let info = physlab_recording(&args.file)?;
     let scenes_property = info.properties.get("scenes").cloned().unwrap_or_default();
     if scenes_property.starts_with("study") {
-        return Err(UsageError(format!(
+        return Err(Error::Usage(format!(
             "{}: a study recording ({scenes_property}); its numbers include wall-clock timings, so \
              reproduce re-runs scene recordings only (run its command line again: {})",
             args.file.display(),
@@ -309,13 +297,14 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
         .split(',')
         .filter(|s| !s.is_empty())
         .collect();
-    if scenes.is_empty()
-        || scenes
-            .iter()
-            .any(|s| !["pendulum", "rope", "hair"].contains(s))
-    {
-        return Err(UsageError(format!(
-            "{}: its provenance names the scenes {scenes_property:?}; expected pendulum, rope and/or hair",
+    let known: Vec<&str> = SCENES.iter().map(|s| s.name()).collect();
+    if scenes.is_empty() || scenes.iter().any(|s| !known.contains(s)) {
+        let expected = match known.split_last() {
+            Some((last, rest)) if !rest.is_empty() => format!("{} and/or {last}", rest.join(", ")),
+            _ => known.join(""),
+        };
+        return Err(Error::Usage(format!(
+            "{}: its provenance names the scenes {scenes_property:?}; expected {expected}",
             args.file.display()
         ))
         .into());
@@ -350,7 +339,7 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
                     .get(&format!("{scene}_last_tick"))
                     .and_then(|t| t.parse::<u64>().ok())
                     .ok_or_else(|| {
-                        UsageError(format!(
+                        Error::Usage(format!(
                             "{}: {scene} was interrupted but its last tick is not recorded",
                             args.file.display()
                         ))
@@ -390,11 +379,11 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
         timings,
         ..RunArgs::default()
     };
-    let plan = Plan {
-        pendulum: scenes.contains(&"pendulum").then(PendulumArgs::default),
-        rope: scenes.contains(&"rope").then(RopeArgs::default),
-        hair: scenes.contains(&"hair").then(HairArgs::default),
-    };
+    let plan: Plan = SCENES
+        .iter()
+        .filter(|s| scenes.contains(&s.name()))
+        .map(|s| s.flags(&AllFlags::default()))
+        .collect();
     let started = Instant::now();
     simulate(plan, &run, &Output::Record, &replay)
         .map_err(|e| rerun_failed(e, &args.file, &config.0))?;
@@ -470,7 +459,7 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
             }
         );
         println!("{verdict}");
-        return Err(Differs(format!("{}: does not reproduce", args.file.display())).into());
+        return Err(Error::Differs(format!("{}: does not reproduce", args.file.display())).into());
     }
     if within > 0 {
         println!(
@@ -694,7 +683,7 @@ pub fn diff_command(args: &DiffArgs) -> anyhow::Result<()> {
         }
     }
     if differing > 0 || !only_a.is_empty() || !only_b.is_empty() {
-        return Err(Differs("the recordings differ".into()).into());
+        return Err(Error::Differs("the recordings differ".into()).into());
     }
     Ok(())
 }

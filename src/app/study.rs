@@ -3,8 +3,8 @@
 
 use std::fmt::Write as _;
 
+use super::Error;
 use super::SceneFile;
-use super::UsageError;
 use crate::cli::{PendulumArgs, RopeArgs, RopeBody, StudyArgs, StudyKind, StudyScene};
 use crate::integrate::{Method, MethodOptions};
 use crate::report::study as report;
@@ -40,7 +40,7 @@ fn warn_if_long(node_steps: f64) {
 /// converge and the theory's orders apply).
 /// Also returns the study's scene as a scene file (its problem, dt, duration and methods), the
 /// provenance of its recording.
-fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), UsageError> {
+fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), Error> {
     let file = match &a.config {
         Some(path) => SceneFile::load(path)?,
         None => SceneFile::default(),
@@ -48,19 +48,19 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), UsageError> 
     let stability_study = a.kind == StudyKind::Stability;
     let levels = a.levels.unwrap_or(crate::study::DEFAULT_LEVELS);
     if !(2..=20).contains(&levels) {
-        return Err(UsageError(format!(
+        return Err(Error::Usage(format!(
             "--levels {levels}: must be between 2 and 20"
         )));
     }
     let repeats = a.repeats.unwrap_or(crate::study::DEFAULT_REPEATS);
     if !(1..=100).contains(&repeats) {
-        return Err(UsageError(format!(
+        return Err(Error::Usage(format!(
             "--repeats {repeats}: must be between 1 and 100"
         )));
     }
     let steps = a.steps.unwrap_or(crate::study::DEFAULT_STABILITY_STEPS);
     if !(10..=10_000_000).contains(&steps) {
-        return Err(UsageError(format!(
+        return Err(Error::Usage(format!(
             "--steps {steps}: must be between 10 and 10000000"
         )));
     }
@@ -69,7 +69,7 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), UsageError> 
         .iter()
         .find(|r| !(r.is_finite() && (1e-14..=0.1).contains(*r)))
     {
-        return Err(UsageError(format!(
+        return Err(Error::Usage(format!(
             "--rtol {}: must be between 1e-14 and 0.1",
             shown(*bad)
         )));
@@ -97,17 +97,17 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), UsageError> 
             .map(|f| (f.0, "pendulum")),
     };
     if let Some((flag, scene)) = foreign {
-        return Err(UsageError(format!(
+        return Err(Error::Usage(format!(
             "{flag} is a {scene} parameter; add --scene {scene}, or drop it"
         )));
     }
     // The scene file's schedule and methods apply too: its dt is the coarsest step.
     let (file_dt, file_duration, file_methods) = match scene {
         StudyScene::Pendulum => file.pendulum.as_ref().map_or((None, None, None), |t| {
-            (t.dt, t.duration, t.methods.clone())
+            (t.step.dt, t.step.duration, t.step.methods.clone())
         }),
         StudyScene::Rope => file.rope.as_ref().map_or((None, None, None), |t| {
-            (t.dt, t.duration, t.methods.clone())
+            (t.step.dt, t.step.duration, t.step.methods.clone())
         }),
     };
     let methods = a
@@ -128,7 +128,7 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), UsageError> 
             ),
             _ => "--methods []".into(),
         };
-        return Err(UsageError(format!(
+        return Err(Error::Usage(format!(
             "{origin}: must name at least one method (any of: {})",
             Method::names().collect::<Vec<_>>().join(", ")
         )));
@@ -139,7 +139,7 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), UsageError> 
             .iter()
             .any(|m| m.info().family == crate::integrate::Family::Adaptive)
     {
-        return Err(UsageError(format!(
+        return Err(Error::Usage(format!(
             "--rtol: no adaptive method among --methods ({}) takes a tolerance; add one or drop --rtol",
             methods
                 .iter()
@@ -191,7 +191,7 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), UsageError> 
     // Errors are compared every SAMPLE_EVERY coarsest steps; fewer than one sample fits nothing.
     let longest = duration / crate::study::SAMPLE_EVERY as f64;
     if dt0 > longest {
-        return Err(UsageError(format!(
+        return Err(Error::Usage(format!(
             "--dt {}: must not exceed --duration / {} = {} s (errors are sampled every {} \
              coarsest steps)",
             shown(dt0),
@@ -210,7 +210,7 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), UsageError> 
         shown(duration)
     );
     if reference_steps > MAX_STEPS {
-        return Err(UsageError(format!(
+        return Err(Error::Usage(format!(
             "{schedule} needs {reference_steps:.2e} reference steps; at most {MAX_STEPS:.0e} are allowed \
              (raise --dt or lower --levels)"
         )));
@@ -244,7 +244,7 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), UsageError> 
                     + fixed * repeats as f64 * (duration / dt0) * (2f64.powi(levels as i32) - 1.0));
             let work = steps * work_per_step;
             if steps > STUDY_MAX_STEPS || work > MAX_NODE_STEPS {
-                return Err(UsageError(format!(
+                return Err(Error::Usage(format!(
                     "{schedule}, --repeats {repeats}{nodes} and {fixed} fixed-step methods is {steps:.2e} steps \
                      ({work:.2e} node-steps) in all; at most {STUDY_MAX_STEPS:.0e} steps and {MAX_NODE_STEPS:.0e} \
                      node-steps are allowed (raise --dt, lower --levels or --repeats, or choose fewer --methods)"
@@ -265,7 +265,7 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), UsageError> 
             let runs = 41.0 * methods.len() as f64;
             let work = runs * steps as f64 * work_per_step;
             if work > MAX_NODE_STEPS {
-                return Err(UsageError(format!(
+                return Err(Error::Usage(format!(
                     "--steps {steps}{nodes} over {} methods × 41 bisection trials is {work:.2e} node-steps; at most \
                      {MAX_NODE_STEPS:.0e} are allowed (lower --steps or choose fewer --methods)",
                     methods.len()
@@ -287,10 +287,12 @@ fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), UsageError> 
     };
     // The schedule and methods the sweep starts from, in the scene's table.
     if let Some(t) = effective.pendulum.as_mut() {
-        (t.dt, t.duration, t.methods) = (Some(dt0), Some(duration), Some(sweep.methods.clone()));
+        let s = &mut t.step;
+        (s.dt, s.duration, s.methods) = (Some(dt0), Some(duration), Some(sweep.methods.clone()));
     }
     if let Some(t) = effective.rope.as_mut() {
-        (t.dt, t.duration, t.methods) = (Some(dt0), Some(duration), Some(sweep.methods.clone()));
+        let s = &mut t.step;
+        (s.dt, s.duration, s.methods) = (Some(dt0), Some(duration), Some(sweep.methods.clone()));
     }
     Ok((problem, sweep, steps, effective))
 }
@@ -337,14 +339,14 @@ fn flag_uses(a: &StudyArgs) -> [(&'static str, bool, &'static [StudyKind]); 17] 
 
 /// Refuses a flag the study kind would ignore, naming the flag, the kind and the kinds that
 /// take it.
-fn refuse_unused(a: &StudyArgs) -> Result<(), UsageError> {
+fn refuse_unused(a: &StudyArgs) -> Result<(), Error> {
     for (flag, given, kinds) in flag_uses(a) {
         if given && !kinds.contains(&a.kind) {
             let takers: Vec<String> = kinds
                 .iter()
                 .map(|&k| format!("`study {}`", kind_name(k)))
                 .collect();
-            return Err(UsageError(format!(
+            return Err(Error::Usage(format!(
                 "{flag}: `study {}` does not use it (it is for {}); drop it",
                 kind_name(a.kind),
                 takers.join(", ")
@@ -603,7 +605,7 @@ fn hair_study(a: &StudyArgs) -> anyhow::Result<()> {
     let interrupted = crate::interrupt::requested();
     let complete = !rows.is_empty();
     let stopped = || -> anyhow::Error {
-        crate::interrupt::Interrupted(format!(
+        crate::error::Error::Interrupted(format!(
             "interrupted: {} of {} configurations complete{}",
             rows.len(),
             configs.len(),
@@ -711,7 +713,7 @@ fn interrupted_error(a: &StudyArgs, sw: &Sweep, done: usize, complete: bool) -> 
     } else {
         "; nothing was written"
     };
-    crate::interrupt::Interrupted(format!(
+    crate::error::Error::Interrupted(format!(
         "interrupted: {done} of {planned} {} complete{kept}",
         if a.kind == StudyKind::Stability {
             "methods' limits"
@@ -759,7 +761,7 @@ fn check_outputs(a: &StudyArgs, stems: &[String]) -> anyhow::Result<Outputs> {
         })
     };
     if a.plots.as_deref() == Some(Path::new("-")) {
-        return Err(UsageError(
+        return Err(Error::Usage(
             "--plots -: standard output is not a folder; --plots names the folder of the diagrams"
                 .into(),
         )

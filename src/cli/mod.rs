@@ -11,7 +11,8 @@ use clap::{Args, CommandFactory as _, Parser, Subcommand};
 use serde::Serialize;
 
 pub use scenes::{
-    HairArgs, PendulumArgs, PendulumStart, RopeArgs, RopeBody, RopePreset, games101_preset,
+    HairArgs, PendulumArgs, PendulumStart, RopeArgs, RopeBody, RopePreset, StepFlags,
+    games101_preset,
 };
 pub use vector::{Magnitude, Vector};
 

@@ -67,24 +67,9 @@ pub struct RopeBody {
     pub air_drag: Option<f64>,
 }
 
-// No `deny_unknown_fields` here or in the flattened structs (serde does not support it with
-// `flatten`): scene files are checked for unknown keys in `app::file` instead.
+/// How the pendulum and the rope are stepped, sampled and drawn: the flags both take.
 #[derive(Args, Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
-pub struct PendulumArgs {
-    /// Gravitational acceleration g [m/s²], or the z-up vector x,y,z the rope and hair take
-    /// (e.g. 0,0,-9.81), of which the pendulum uses the length |g| (it swings in the plane of
-    /// gravity; θ is measured from the direction gravity points)
-    #[arg(long, value_name = "G|X,Y,Z", allow_hyphen_values = true)]
-    pub gravity: Option<Magnitude>,
-
-    /// Rod length L, pivot to bob [m]
-    #[arg(long, value_name = "M", allow_negative_numbers = true)]
-    pub length: Option<f64>,
-
-    #[command(flatten)]
-    #[serde(flatten)]
-    pub initial: PendulumStart,
-
+pub struct StepFlags {
     /// Time step dt [s], the same for every method
     #[arg(long, value_name = "S", allow_negative_numbers = true)]
     pub dt: Option<f64>,
@@ -108,9 +93,33 @@ pub struct PendulumArgs {
     /// Verlet's damping factor d in x1 = x0 + (1-d)(x0 - x_-1) + a dt², 0 ≤ d < 1
     #[arg(long, value_name = "D", allow_negative_numbers = true)]
     pub verlet_damping: Option<f64>,
+
     /// dopri5's relative tolerance per substep (the absolute one equals it)
     #[arg(long, value_name = "TOL", allow_negative_numbers = true)]
     pub rtol: Option<f64>,
+}
+
+// No `deny_unknown_fields` here or in the flattened structs (serde does not support it with
+// `flatten`): scene files are checked for unknown keys in `app::file` instead.
+#[derive(Args, Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
+pub struct PendulumArgs {
+    /// Gravitational acceleration g [m/s²], or the z-up vector x,y,z the rope and hair take
+    /// (e.g. 0,0,-9.81), of which the pendulum uses the length |g| (it swings in the plane of
+    /// gravity; θ is measured from the direction gravity points)
+    #[arg(long, value_name = "G|X,Y,Z", allow_hyphen_values = true)]
+    pub gravity: Option<Magnitude>,
+
+    /// Rod length L, pivot to bob [m]
+    #[arg(long, value_name = "M", allow_negative_numbers = true)]
+    pub length: Option<f64>,
+
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub initial: PendulumStart,
+
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub step: StepFlags,
 }
 
 /// Parameter sets that reproduce a known setup; flags given with a preset override it.
@@ -155,29 +164,9 @@ pub struct RopeArgs {
     )]
     pub pinned: Option<Vec<usize>>,
 
-    /// Time step [s]
-    #[arg(long, value_name = "S", allow_negative_numbers = true)]
-    pub dt: Option<f64>,
-
-    /// Simulated time [s]
-    #[arg(long, value_name = "S", allow_negative_numbers = true)]
-    pub duration: Option<f64>,
-
-    /// 3D frames per simulated second
-    #[arg(long, value_name = "HZ", allow_negative_numbers = true)]
-    pub fps: Option<f64>,
-
-    /// Plot every Nth step (thinned further to at most 10,000 points per series)
-    #[arg(long, value_name = "N", allow_negative_numbers = true)]
-    pub plot_every: Option<u64>,
-
-    /// Methods to run, comma-separated (the names are listed from the registry by `cli::command`)
-    #[arg(long, value_delimiter = ',', value_name = "LIST")]
-    pub methods: Option<Vec<Method>>,
-
-    /// Verlet's damping factor d, 0 ≤ d < 1 (0.00005 with --preset games101)
-    #[arg(long, value_name = "D", allow_negative_numbers = true)]
-    pub verlet_damping: Option<f64>,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub step: StepFlags,
 
     /// Newton iterations per implicit-Euler step: 1 = linearised backward Euler
     /// (Baraff–Witkin), which is not unconditionally stable (it diverges on the default rope at
@@ -188,9 +177,6 @@ pub struct RopeArgs {
     /// Where each method's rope is drawn: side-by-side or overlay
     #[arg(long, value_name = "LAYOUT")]
     pub layout: Option<Layout>,
-    /// dopri5's relative tolerance per substep (the absolute one equals it)
-    #[arg(long, value_name = "TOL", allow_negative_numbers = true)]
-    pub rtol: Option<f64>,
 }
 
 #[derive(Args, Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
@@ -296,9 +282,17 @@ pub struct HairArgs {
 
 overlay!(PendulumStart { theta0, omega0 });
 
-overlay!(PendulumArgs {
-    gravity, length, dt, duration, fps, plot_every, methods, verlet_damping, rtol
-} nested { initial });
+overlay!(StepFlags {
+    dt,
+    duration,
+    fps,
+    plot_every,
+    methods,
+    verlet_damping,
+    rtol
+});
+
+overlay!(PendulumArgs { gravity, length } nested { initial, step });
 
 impl PendulumArgs {
     /// Every value at the scene's default.
@@ -311,13 +305,7 @@ impl PendulumArgs {
                 theta0: Some(DEFAULT_THETA0_DEGREES),
                 omega0: Some(c.params.omega0),
             },
-            dt: Some(c.dt),
-            duration: Some(c.duration),
-            fps: Some(c.fps),
-            plot_every: Some(c.plot_every),
-            methods: Some(c.methods),
-            verlet_damping: Some(c.options.verlet_damping),
-            rtol: Some(c.options.rtol),
+            step: StepFlags::given(c.dt, c.duration, c.fps, c.plot_every, c.methods, c.options),
         }
     }
 
@@ -331,14 +319,11 @@ impl PendulumArgs {
             (p.theta0, p.theta0_low) = crate::scene::pendulum::theta0_from_degrees(d);
         }
         set(&mut p.omega0, self.initial.omega0);
-        set(&mut c.dt, self.dt);
-        set(&mut c.duration, self.duration);
-        set(&mut c.fps, self.fps);
-        set(&mut c.plot_every, self.plot_every);
-        if let Some(m) = &self.methods {
-            c.methods = dedup_methods(m);
-        }
-        set_options(&mut c.options, self.verlet_damping, self.rtol);
+        self.step.set(
+            (&mut c.dt, &mut c.duration, &mut c.fps, &mut c.plot_every),
+            &mut c.methods,
+            &mut c.options,
+        );
         c
     }
 }
@@ -352,9 +337,8 @@ overlay!(RopeBody {
 });
 
 overlay!(RopeArgs {
-    preset, start, end, gravity, pinned, dt, duration, fps, plot_every, methods, verlet_damping,
-    newton_iterations, layout, rtol
-} nested { body });
+    preset, start, end, gravity, pinned, newton_iterations, layout
+} nested { body, step });
 
 impl RopeArgs {
     /// Every value at the scene's default.
@@ -374,15 +358,9 @@ impl RopeArgs {
             end: Some(Vector(p.end)),
             gravity: Some(Vector(p.gravity)),
             pinned: Some(p.pinned),
-            dt: Some(c.dt),
-            duration: Some(c.duration),
-            fps: Some(c.fps),
-            plot_every: Some(c.plot_every),
-            methods: Some(c.methods),
-            verlet_damping: Some(c.options.verlet_damping),
             newton_iterations: Some(p.newton_iterations),
             layout: Some(c.layout),
-            rtol: Some(c.options.rtol),
+            step: StepFlags::given(c.dt, c.duration, c.fps, c.plot_every, c.methods, c.options),
         }
     }
 
@@ -414,15 +392,12 @@ impl RopeArgs {
             p.pinned.dedup();
         }
         set(&mut p.newton_iterations, self.newton_iterations);
-        set(&mut c.dt, self.dt);
-        set(&mut c.duration, self.duration);
-        set(&mut c.fps, self.fps);
-        set(&mut c.plot_every, self.plot_every);
-        if let Some(m) = &self.methods {
-            c.methods = dedup_methods(m);
-        }
         set(&mut c.layout, self.layout);
-        set_options(&mut c.options, self.verlet_damping, self.rtol);
+        self.step.set(
+            (&mut c.dt, &mut c.duration, &mut c.fps, &mut c.plot_every),
+            &mut c.methods,
+            &mut c.options,
+        );
         c
     }
 }
@@ -441,11 +416,14 @@ pub fn games101_preset() -> RopeArgs {
         end: Some(Vector(glam::DVec3::new(-400.0, 0.0, 200.0))),
         gravity: Some(Vector(glam::DVec3::new(0.0, 0.0, -1.0))),
         pinned: Some(vec![0]),
-        dt: Some(1.0 / 64.0),
-        fps: Some(1.0), // one frame per time unit = 64 steps per frame
-        duration: Some(20.0),
-        plot_every: Some(1),
-        verlet_damping: Some(0.00005),
+        step: StepFlags {
+            dt: Some(1.0 / 64.0),
+            fps: Some(1.0), // one frame per time unit = 64 steps per frame
+            duration: Some(20.0),
+            plot_every: Some(1),
+            verlet_damping: Some(0.00005),
+            ..StepFlags::default()
+        },
         ..RopeArgs::default()
     }
 }
@@ -542,7 +520,42 @@ fn set<T>(slot: &mut T, value: Option<T>) {
     }
 }
 
-fn set_options(o: &mut MethodOptions, verlet_damping: Option<f64>, rtol: Option<f64>) {
-    set(&mut o.verlet_damping, verlet_damping);
-    set(&mut o.rtol, rtol);
+impl StepFlags {
+    /// Every value given: a scene's defaults.
+    fn given(
+        dt: f64,
+        duration: f64,
+        fps: f64,
+        plot_every: u64,
+        methods: Vec<Method>,
+        options: MethodOptions,
+    ) -> Self {
+        StepFlags {
+            dt: Some(dt),
+            duration: Some(duration),
+            fps: Some(fps),
+            plot_every: Some(plot_every),
+            methods: Some(methods),
+            verlet_damping: Some(options.verlet_damping),
+            rtol: Some(options.rtol),
+        }
+    }
+
+    /// Sets a config's (dt, duration, fps, plot_every), methods and options where given.
+    fn set(
+        &self,
+        (dt, duration, fps, plot_every): (&mut f64, &mut f64, &mut f64, &mut u64),
+        methods: &mut Vec<Method>,
+        options: &mut MethodOptions,
+    ) {
+        set(dt, self.dt);
+        set(duration, self.duration);
+        set(fps, self.fps);
+        set(plot_every, self.plot_every);
+        if let Some(m) = &self.methods {
+            *methods = dedup_methods(m);
+        }
+        set(&mut options.verlet_damping, self.verlet_damping);
+        set(&mut options.rtol, self.rtol);
+    }
 }

@@ -74,8 +74,8 @@ fn message_rows(msg: LogMsg) -> Result<Vec<(Key, Vec<Row>)>, String> {
 
 /// Reads every component of every entity (not the properties, not the blueprint), the whole
 /// file into memory: for small recordings and tests; `diff` and `reproduce` stream instead
-/// ([`compare_files`]). An unusable file is a `UsageError` naming it, a stop request
-/// `Interrupted` (see [`each_message`]).
+/// ([`compare_files`]). An unusable file is a usage error naming it, a stop request
+/// `Error::Interrupted` (see [`each_message`]).
 pub fn read_contents(path: &Path) -> anyhow::Result<Contents> {
     let mut contents = Contents::new();
     each_message(path, |msg| {

@@ -50,8 +50,8 @@ impl RecordingInfo {
     }
 }
 
-/// Reads a recording. A missing, empty, non-rrd, corrupt or truncated file is a `UsageError`
-/// naming the file and what is wrong with it; a stop request `Interrupted`.
+/// Reads a recording. A missing, empty, non-rrd, corrupt or truncated file is a usage error
+/// naming the file and what is wrong with it; a stop request `Error::Interrupted`.
 pub fn read_recording(path: &Path) -> anyhow::Result<RecordingInfo> {
     let mut info = RecordingInfo::default();
     let sim_time = rerun::TimelineName::from("sim_time");

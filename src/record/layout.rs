@@ -27,14 +27,6 @@ pub struct Framing {
     pub toward_eye: [f32; 3],
 }
 
-/// Each scene's framing in a run, `None` for a scene not run.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Framings {
-    pub pendulum: Option<Framing>,
-    pub rope: Option<Framing>,
-    pub hair: Option<Framing>,
-}
-
 /// Width / height of a 3D view in `all` at 1600×1000 (a third of the width, 3/8 of the height),
 /// measured on a screenshot.
 pub const ALL_VIEW_ASPECT: f32 = 1.62;

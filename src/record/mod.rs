@@ -21,7 +21,7 @@ use rerun::blueprint::{
 };
 
 pub mod layout;
-pub use layout::{Framing, Framings, Layout, ViewProperties};
+pub use layout::{Framing, Layout, ViewProperties};
 
 /// One colour per method (the palette is shared with the diagrams: `crate::palette`).
 pub use crate::palette::method_color;
@@ -79,14 +79,21 @@ pub fn plot_column(scene: &str, plots: &[(&str, &str)], props: &mut ViewProperti
     Vertical::new(plot_views(scene, plots, false, props))
 }
 
-/// A single scene's layout, by scene name, its 3D view framed on `framing`.
-pub fn scene_layout(scene: &str, timings: bool, framing: Framing) -> Layout {
+/// What the layouts need of a scene: its views alone, and its column in `physlab all`.
+pub struct SceneViews {
+    pub name: &'static str,
+    /// Its plots: entity name and title.
+    pub plots: &'static [(&'static str, &'static str)],
+    /// Subtrees its 3D view leaves out in `all` (drawn in views of their own when alone).
+    pub exclude_in_all: &'static [&'static str],
+    /// Its layout when it runs alone, its 3D view framed on the given box.
+    pub blueprint: fn(bool, Framing, &mut ViewProperties) -> Blueprint,
+}
+
+/// A single scene's layout, its 3D view framed on `framing`.
+pub fn scene_layout(scene: &SceneViews, timings: bool, framing: Framing) -> Layout {
     let mut props = ViewProperties::default();
-    let blueprint = match scene {
-        "pendulum" => pendulum::blueprint(timings, framing, &mut props),
-        "rope" => rope::blueprint(timings, framing, &mut props),
-        _ => hair::blueprint(timings, framing, &mut props),
-    };
+    let blueprint = (scene.blueprint)(timings, framing, &mut props);
     props.layout(blueprint)
 }
 
@@ -102,25 +109,18 @@ const ALL_PLOTS: [&str; 7] = [
     "max_penetration",
 ];
 
-/// `physlab all`: the three scenes side by side, each 3D view above its plots and its event log,
-/// each 3D view framed on its scene's `framings`.
-pub fn all_layout(timings: bool, framings: &Framings) -> Layout {
+/// `physlab all`: the scenes side by side, each 3D view above its plots and its event log,
+/// each 3D view framed on its scene's framing.
+pub fn all_layout(timings: bool, scenes: &[(&SceneViews, Framing)]) -> Layout {
     let mut props = ViewProperties::default();
-    let mut column = |scene: &str,
-                      plots: &[(&str, &str)],
-                      exclude: &[&str],
-                      framing: Option<Framing>|
-     -> ContainerLike {
-        let shown: Vec<(&str, &str)> = plots
-            .iter()
-            .copied()
+    let mut column = |views: &SceneViews, framing: Framing| -> ContainerLike {
+        let scene = views.name;
+        let shown: Vec<(&str, &str)> = plots_shown(views.plots, timings)
+            .into_iter()
             .filter(|(name, _)| ALL_PLOTS.contains(name) || *name == scene::FRAME_COST.0)
             .collect();
-        let view = scene_view(scene, scene, exclude);
-        let view = match framing {
-            Some(f) => props.eye(view, f, layout::ALL_VIEW_ASPECT),
-            None => view.into(),
-        };
+        let view = scene_view(scene, scene, views.exclude_in_all);
+        let view = props.eye(view, framing, layout::ALL_VIEW_ASPECT);
         Vertical::new([
             view,
             Vertical::new(plot_views(scene, &shown, true, &mut props)).into(),
@@ -135,34 +135,8 @@ pub fn all_layout(timings: bool, framings: &Framings) -> Layout {
         .with_row_shares([3.0, 4.0, 1.0])
         .into()
     };
-    let blueprint = Blueprint::new(Horizontal::new([
-        column(
-            "pendulum",
-            &plots_shown(&pendulum::PLOTS, timings),
-            &["phase/**"],
-            framings.pendulum,
-        ),
-        column(
-            "rope",
-            &plots_shown(&rope::PLOTS, timings),
-            &[],
-            framings.rope,
-        ),
-        column(
-            "hair",
-            &plots_shown(&hair::PLOTS, timings),
-            &[],
-            framings.hair,
-        ),
-    ]))
-    .with_auto_views(false)
-    .with_time_panel(
-        TimePanel::new()
-            .with_timeline("sim_time")
-            .with_state(PanelState::Collapsed),
-    )
-    .with_blueprint_panel(BlueprintPanel::new().with_state(PanelState::Collapsed))
-    .with_selection_panel(SelectionPanel::new().with_state(PanelState::Collapsed));
+    let columns: Vec<ContainerLike> = scenes.iter().map(|(v, f)| column(v, *f)).collect();
+    let blueprint = only_these_views(Blueprint::new(Horizontal::new(columns)));
     props.layout(blueprint)
 }
 
@@ -206,7 +180,14 @@ pub fn summary_view(scene: &str) -> TextDocumentView {
 
 /// A single scene's layout: `left` beside the plots, nothing else shown, `sim_time` selected.
 pub fn scene_blueprint(left: Vertical, plots: Vertical) -> Blueprint {
-    Blueprint::new(Horizontal::new([left.into(), plots.into()]).with_column_shares([1.0, 1.0]))
+    only_these_views(Blueprint::new(
+        Horizontal::new([left.into(), plots.into()]).with_column_shares([1.0, 1.0]),
+    ))
+}
+
+/// No views but the given ones, the panels collapsed, `sim_time` selected.
+fn only_these_views(blueprint: Blueprint) -> Blueprint {
+    blueprint
         .with_auto_views(false)
         .with_time_panel(
             TimePanel::new()
@@ -321,7 +302,7 @@ pub fn check_destinations(d: &Destinations) -> anyhow::Result<()> {
 
 fn parse_proxy_url(url: &str) -> anyhow::Result<rerun::external::re_uri::ProxyUri> {
     url.parse().map_err(|e| {
-        crate::error::UsageError(format!(
+        crate::error::Error::Usage(format!(
             "--connect {url}: not a viewer URL ({e}); expected e.g. rerun+http://127.0.0.1:9876/proxy"
         ))
         .into()

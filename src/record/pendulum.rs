@@ -47,6 +47,14 @@ const MAX_PHASE_POINTS: usize = 5_000;
 /// screenshot.
 const VIEW_ASPECT: f32 = 1.49;
 
+/// The pendulum's views, for the layouts.
+pub const VIEWS: super::SceneViews = super::SceneViews {
+    name: "pendulum",
+    plots: &PLOTS,
+    exclude_in_all: &["phase/**"],
+    blueprint,
+};
+
 /// The pendulum's layout: the 3D slots, phase portrait and events on the left, the plots on
 /// the right, every plot holding all lanes.
 pub fn blueprint(timings: bool, framing: Framing, props: &mut ViewProperties) -> Blueprint {

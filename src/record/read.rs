@@ -15,8 +15,7 @@ use std::sync::Once;
 use rerun::external::re_log_encoding::{DecoderApp, DecoderIterator};
 use rerun::log::LogMsg;
 
-use crate::error::UsageError;
-use crate::interrupt::Interrupted;
+use crate::error::Error;
 
 /// The first bytes of every Rerun recording (the stream header's FourCC).
 const RRD_MAGIC: &[u8; 4] = b"RRF2";
@@ -30,7 +29,7 @@ pub struct ReadEnd {
 
 /// The error for an unusable file: its path, then what is wrong. Exit code 2.
 pub fn unusable(path: &Path, what: impl std::fmt::Display) -> anyhow::Error {
-    UsageError(format!("{}: unusable file: {what}", path.display())).into()
+    Error::Usage(format!("{}: unusable file: {what}", path.display())).into()
 }
 
 /// An open recording, read message by message: two can be read in step (`diff`, `reproduce`).
@@ -42,7 +41,7 @@ pub struct Messages {
 
 impl Messages {
     /// Opens `path` after checking what can be checked without decoding: a missing, folder,
-    /// empty, non-regular or non-rrd file is a [`UsageError`] naming the file.
+    /// empty, non-regular or non-rrd file is a usage error naming the file.
     pub fn open(path: &Path) -> anyhow::Result<Self> {
         let what = |w: &str| unusable(path, w);
         let meta =
@@ -75,12 +74,12 @@ impl Messages {
         })
     }
 
-    /// The next message, `None` at the end. A corrupt or truncated message is a [`UsageError`]
-    /// naming the file; a stop request an [`Interrupted`].
+    /// The next message, `None` at the end. A corrupt or truncated message is a usage error
+    /// naming the file; a stop request an `Error::Interrupted`.
     pub fn next_message(&mut self) -> anyhow::Result<Option<LogMsg>> {
         let path = self.path.as_path();
         if crate::interrupt::requested() {
-            return Err(Interrupted(format!(
+            return Err(Error::Interrupted(format!(
                 "interrupted while reading {}: nothing was compared or written",
                 path.display()
             ))
@@ -122,7 +121,7 @@ impl Messages {
 
 /// Decodes `path` message by message and hands each to `each` (whose `Err` is what is wrong with
 /// the file, in words). A missing, empty, non-regular, non-rrd, corrupt or truncated file is a
-/// [`UsageError`] naming the file; a stop request an [`Interrupted`]. Never panics on any bytes.
+/// usage error naming the file; a stop request an `Error::Interrupted`. Never panics on any bytes.
 pub fn each_message(
     path: &Path,
     mut each: impl FnMut(LogMsg) -> Result<(), String>,

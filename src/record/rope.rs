@@ -34,6 +34,14 @@ pub const PLOTS: [(&str, &str); 3] = [
 /// screenshot.
 const VIEW_ASPECT: f32 = 1.19;
 
+/// The rope's views, for the layouts.
+pub const VIEWS: super::SceneViews = super::SceneViews {
+    name: "rope",
+    plots: &PLOTS,
+    exclude_in_all: &[],
+    blueprint,
+};
+
 pub fn blueprint(timings: bool, framing: Framing, props: &mut ViewProperties) -> Blueprint {
     let view = scene_view("rope", "rope: methods side by side", &[]);
     let left = Vertical::new([

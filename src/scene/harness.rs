@@ -456,6 +456,16 @@ pub fn run<S: Scene>(
     scene: &mut S,
     observer: &mut dyn Observer<S>,
 ) -> anyhow::Result<Run<S::Lane>> {
+    run_until(scene, observer, None)
+}
+
+/// [`run`], stopping as if interrupted at the first block boundary past `stop_after` (a
+/// replayed interruption: `physlab reproduce` of a run cut short stops where it stopped).
+pub fn run_until<S: Scene>(
+    scene: &mut S,
+    observer: &mut dyn Observer<S>,
+    stop_after: Option<u64>,
+) -> anyhow::Result<Run<S::Lane>> {
     let schedule = scene.schedule();
     let (names, mut lanes): (Vec<&'static str>, Vec<S::Lane>) = scene.lanes().into_iter().unzip();
     let mut stats: Vec<LaneStats> = names
@@ -511,7 +521,7 @@ pub fn run<S: Scene>(
     let mut interrupted = false;
     while first <= schedule.total {
         // A stop request (Ctrl-C) ends the run at a block boundary; what was done so far stands.
-        if crate::interrupt::stops_at(first) {
+        if crate::interrupt::requested() || stop_after.is_some_and(|tick| first > tick) {
             interrupted = true;
             break;
         }

@@ -1,7 +1,7 @@
 //! Checks shared by every scene's `validate()`: each names the parameter (as its flag), the value
 //! and what is allowed, so the same message serves a flag and a scene-file key.
 
-pub use crate::error::UsageError as Invalid;
+pub use crate::error::Error as Invalid;
 
 /// Runs longer than this many steps per method are refused: a typo in --dt should not
 /// start an hours-long run.
@@ -14,7 +14,7 @@ pub fn finite(option: &str, value: f64, unit: &str) -> Result<(), Invalid> {
     if value.is_finite() {
         Ok(())
     } else {
-        Err(Invalid(format!(
+        Err(Invalid::Usage(format!(
             "{option} {}: must be a finite number [{unit}]",
             shown(value)
         )))
@@ -25,7 +25,7 @@ pub fn positive(option: &str, value: f64, unit: &str) -> Result<(), Invalid> {
     if value.is_finite() && value > 0.0 {
         Ok(())
     } else {
-        Err(Invalid(format!(
+        Err(Invalid::Usage(format!(
             "{option} {}: must be a finite number > 0 [{unit}]",
             shown(value)
         )))
@@ -37,7 +37,7 @@ pub fn within(option: &str, value: f64, lo: f64, hi: f64, unit: &str) -> Result<
     if value.is_finite() && (lo..=hi).contains(&value) {
         Ok(())
     } else {
-        Err(Invalid(format!(
+        Err(Invalid::Usage(format!(
             "{option} {}: must be between {} and {} [{unit}]",
             shown(value),
             bound(lo),
@@ -73,7 +73,7 @@ pub fn non_negative(option: &str, value: f64, unit: &str) -> Result<(), Invalid>
     if value.is_finite() && value >= 0.0 {
         Ok(())
     } else {
-        Err(Invalid(format!(
+        Err(Invalid::Usage(format!(
             "{option} {}: must be a finite number ≥ 0 [{unit}]",
             shown(value)
         )))
@@ -82,7 +82,7 @@ pub fn non_negative(option: &str, value: f64, unit: &str) -> Result<(), Invalid>
 
 pub fn at_least_one(option: &str, value: u64) -> Result<(), Invalid> {
     if value == 0 {
-        Err(Invalid(format!("{option} 0: must be at least 1")))
+        Err(Invalid::Usage(format!("{option} 0: must be at least 1")))
     } else {
         Ok(())
     }
@@ -92,7 +92,7 @@ pub fn rtol(rtol: f64) -> Result<(), Invalid> {
     if rtol.is_finite() && (1e-14..=0.1).contains(&rtol) {
         Ok(())
     } else {
-        Err(Invalid(format!(
+        Err(Invalid::Usage(format!(
             "--rtol {}: must be between 1e-14 and 0.1",
             shown(rtol)
         )))
@@ -103,7 +103,7 @@ pub fn verlet_damping(d: f64) -> Result<(), Invalid> {
     if d.is_finite() && (0.0..1.0).contains(&d) {
         Ok(())
     } else {
-        Err(Invalid(format!(
+        Err(Invalid::Usage(format!(
             "--verlet-damping {}: must be in [0, 1)",
             shown(d)
         )))
@@ -117,13 +117,13 @@ pub fn time(dt: f64, duration: f64, fps: f64, work_per_step: usize) -> Result<()
     positive("--duration", duration, "s")?;
     positive("--fps", fps, "Hz")?;
     if dt > duration {
-        return Err(Invalid(format!(
+        return Err(Invalid::Usage(format!(
             "--dt {dt}: must not exceed --duration {duration} s"
         )));
     }
     let steps = duration / dt;
     if steps > MAX_STEPS {
-        return Err(Invalid(format!(
+        return Err(Invalid::Usage(format!(
             "--dt {} with --duration {} is {steps:.2e} steps per method; at most {MAX_STEPS:.0e} \
              are allowed (raise --dt or shorten --duration)",
             shown(dt),
@@ -132,7 +132,7 @@ pub fn time(dt: f64, duration: f64, fps: f64, work_per_step: usize) -> Result<()
     }
     let work = steps * work_per_step as f64;
     if work > MAX_NODE_STEPS {
-        return Err(Invalid(format!(
+        return Err(Invalid::Usage(format!(
             "--duration {duration} / --dt {dt} × {work_per_step} nodes is {work:.2e} node-steps per method; \
              at most {MAX_NODE_STEPS:.0e} are allowed (raise --dt, shorten --duration or use fewer --nodes)"
         )));
@@ -153,7 +153,7 @@ pub fn memory(what: &str, bytes: f64, change: &str) -> Result<(), Invalid> {
     if let Some(available) = available_memory()
         && bytes > 0.8 * available
     {
-        return Err(Invalid(format!(
+        return Err(Invalid::Usage(format!(
             "{what} needs about {:.1} GB of memory, more than the {:.1} GB available; {change}",
             bytes / 1e9,
             available / 1e9
@@ -190,7 +190,7 @@ pub fn threads(n: usize) -> Result<(), Invalid> {
     if (1..=max).contains(&n) {
         Ok(())
     } else {
-        Err(Invalid(format!(
+        Err(Invalid::Usage(format!(
             "--threads {n}: must be between 1 and {max} ({MAX_THREADS_PER_CORE} × the {} cores here)",
             cores()
         )))
@@ -200,7 +200,7 @@ pub fn threads(n: usize) -> Result<(), Invalid> {
 /// At least one method to run; `names` lists those allowed.
 pub fn some_methods<M>(methods: &[M], names: &str) -> Result<(), Invalid> {
     if methods.is_empty() {
-        Err(Invalid(format!(
+        Err(Invalid::Usage(format!(
             "--methods []: must name at least one method (any of: {names})"
         )))
     } else {

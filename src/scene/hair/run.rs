@@ -59,12 +59,12 @@ impl HairConfig {
                 .join(", "),
         )?;
         if !(1..=1_000_000).contains(&strands) {
-            return Err(Invalid(format!(
+            return Err(Invalid::Usage(format!(
                 "--strands {strands}: must be between 1 and 1000000"
             )));
         }
         if !(2..=10_000).contains(&nodes) {
-            return Err(Invalid(format!(
+            return Err(Invalid::Usage(format!(
                 "--nodes {nodes}: must be between 2 and 10000"
             )));
         }
@@ -74,7 +74,7 @@ impl HairConfig {
         params::within("--head-radius", p.head_radius, 1.0 / max, max, "m")?;
         for (option, v) in [("--gravity", p.gravity), ("--wind", p.wind)] {
             if !(v.is_finite() && v.abs().max_element() <= max) {
-                return Err(Invalid(format!(
+                return Err(Invalid::Usage(format!(
                     "{option} {},{},{}: every component must be a finite number within ±{max:e} [m/s²]",
                     params::shown(v.x),
                     params::shown(v.y),
@@ -85,7 +85,7 @@ impl HairConfig {
         params::non_negative("--gust", p.gust, "fraction")?;
         let peak = p.wind.length() * (1.0 + p.gust);
         if peak > max {
-            return Err(Invalid(format!(
+            return Err(Invalid::Usage(format!(
                 "--gust {} with --wind of {} m/s²: the gusts reach {} m/s²; at most {max:e} is allowed",
                 params::shown(p.gust),
                 params::shown(p.wind.length()),
@@ -94,7 +94,7 @@ impl HairConfig {
         }
         params::within("--damping", p.damping, 0.0, max, "1/s")?;
         if !(p.margin.is_finite() && (0.0..0.5).contains(&p.margin)) {
-            return Err(Invalid(format!(
+            return Err(Invalid::Usage(format!(
                 "--margin {}: must be in [0, 0.5) head radii",
                 p.margin
             )));
@@ -107,14 +107,14 @@ impl HairConfig {
         params::positive("--duration", self.duration, "s")?;
         let frames = self.duration * self.rate;
         if frames < 1.0 {
-            return Err(Invalid(format!(
+            return Err(Invalid::Usage(format!(
                 "--rate {} Hz over --duration {} s is less than one frame: raise --rate or lengthen --duration",
                 params::shown(self.rate),
                 params::shown(self.duration)
             )));
         }
         if frames > params::MAX_STEPS {
-            return Err(Invalid(format!(
+            return Err(Invalid::Usage(format!(
                 "--rate {} Hz over --duration {} s is {frames:.2e} frames; at most {:.0e} are allowed",
                 params::shown(self.rate),
                 params::shown(self.duration),
@@ -133,7 +133,7 @@ impl HairConfig {
             * (strands * nodes) as f64
             * ((iterations + 1) as f64).max(inner);
         if work > MAX_HAIR_WORK {
-            return Err(Invalid(format!(
+            return Err(Invalid::Usage(format!(
                 "--strands {strands} × --nodes {nodes} × --iterations {iterations} over {} frames × {substeps} substeps \
                  is {work:.2e} node-updates per method; at most {MAX_HAIR_WORK:.0e} are allowed (fewer strands or a \
                  shorter --duration)",
@@ -187,7 +187,7 @@ pub fn substeps_for_dt(rate: f64, dt: f64, substeps: Option<u32>) -> Result<u32,
         } else {
             format!("{} or {}", step(below), step(below + 1.0))
         };
-        return Err(Invalid(format!(
+        return Err(Invalid::Usage(format!(
             "--dt {}: a hair step is 1/(rate·substeps), and at --rate {} this is {} substeps per \
              frame, not a whole number; nearest allowed: --dt {nearest}",
             params::shown(dt),
@@ -197,7 +197,7 @@ pub fn substeps_for_dt(rate: f64, dt: f64, substeps: Option<u32>) -> Result<u32,
     }
     let whole = whole as u32;
     match substeps {
-        Some(given) if given != whole => Err(Invalid(format!(
+        Some(given) if given != whole => Err(Invalid::Usage(format!(
             "--dt {} and --substeps {given} disagree: at --rate {} that step is {whole} substeps \
              per frame, and --substeps {given} is --dt {}; give one of them",
             params::shown(dt),

@@ -67,7 +67,7 @@ impl PendulumConfig {
             let typed: f64 = format!("{:.11e}", p.theta0.to_degrees())
                 .parse()
                 .unwrap_or(f64::NAN);
-            return Err(Invalid(format!(
+            return Err(Invalid::Usage(format!(
                 "--theta0 {}: must be a finite angle within ±{turns} turns (±{}°) [degrees]",
                 params::shown(typed),
                 turns * 360.0
@@ -78,7 +78,7 @@ impl PendulumConfig {
         self.reference_guard()?;
         params::verlet_damping(self.options.verlet_damping)?;
         if self.plot_every == 0 {
-            return Err(Invalid(
+            return Err(Invalid::Usage(
                 "--plot-every 0: must be at least 1 (plot every Nth step)".into(),
             ));
         }
@@ -105,7 +105,7 @@ impl PendulumConfig {
         let steps = self.reference_steps();
         if steps > params::MAX_STEPS {
             let degrees = format!("{:.6}", self.params.theta0.to_degrees());
-            return Err(Invalid(format!(
+            return Err(Invalid::Usage(format!(
                 "--omega0 {} (θ0 {}°, --length {} m, --gravity {} m/s²) over --duration {} s: the fine-step \
                  reference needs {steps:.2e} RK4 steps (its step follows the fastest rate, here {:.3e} rad/s); \
                  at most {:.0e} are allowed (lower --omega0 or shorten --duration)",

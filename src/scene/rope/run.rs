@@ -110,13 +110,13 @@ impl RopeConfig {
             &Method::names().collect::<Vec<_>>().join(", "),
         )?;
         if !(2..=MAX_NODES).contains(&p.nodes) {
-            return Err(Invalid(format!(
+            return Err(Invalid::Usage(format!(
                 "--nodes {}: must be between 2 and {MAX_NODES}",
                 p.nodes
             )));
         }
         if (p.end - p.start).length() == 0.0 {
-            return Err(Invalid(format!(
+            return Err(Invalid::Usage(format!(
                 "--end {},{},{}: must differ from --start (the spacing is the springs' rest length)",
                 p.end.x, p.end.y, p.end.z
             )));
@@ -128,7 +128,7 @@ impl RopeConfig {
             ("--gravity", p.gravity),
         ] {
             if !(v.is_finite() && v.abs().max_element() <= max) {
-                return Err(Invalid(format!(
+                return Err(Invalid::Usage(format!(
                     "{option} {},{},{}: every component must be a finite number within ±{max:e}",
                     v.x, v.y, v.z
                 )));
@@ -140,7 +140,7 @@ impl RopeConfig {
         params::within("--spring-damping", p.spring_damping, 0.0, max, "N·s/m")?;
         params::within("--air-drag", p.air_drag, 0.0, max, "N·s/m")?;
         if let Some(&bad) = p.pinned.iter().find(|&&i| i >= p.nodes) {
-            return Err(Invalid(format!(
+            return Err(Invalid::Usage(format!(
                 "--pinned {bad}: node index out of range; the rope has nodes 0..={}",
                 p.nodes - 1
             )));
@@ -156,7 +156,7 @@ impl RopeConfig {
         )?;
         params::verlet_damping(self.options.verlet_damping)?;
         if self.plot_every == 0 {
-            return Err(Invalid(
+            return Err(Invalid::Usage(
                 "--plot-every 0: must be at least 1 (plot every Nth step)".into(),
             ));
         }

@@ -1,0 +1,382 @@
+//! Each scene once, as the commands see it: its name, its table in a scene file, how its flags,
+//! that table and its defaults resolve into a validated configuration, how its 3D view is framed
+//! and laid out, and how it runs and reports. Everything that lists scenes iterates over
+//! [`SCENES`]; a new scene is one entry here.
+
+use super::progress::Progress;
+use super::{Ran, SceneFile, in_file, run_scene};
+use crate::cli::{HairArgs, PendulumArgs, RopeArgs, RunArgs, StepFlags};
+use crate::error::Error;
+use crate::integrate::Method;
+use crate::record::{self, Framing, SceneViews};
+use crate::report;
+use crate::scene::hair::HairMethod;
+use crate::scene::hair::run::{HairConfig, HairScene};
+use crate::scene::pendulum::run::{PendulumConfig, PendulumScene};
+use crate::scene::rope::run::{RopeConfig, RopeScene};
+
+/// Every scene, in the order `physlab all` runs them.
+pub static SCENES: [&dyn SceneKind; 3] = [&Pendulum, &Rope, &Hair];
+
+/// A scene as the commands know it before any parameter is given.
+pub trait SceneKind: Sync {
+    fn name(&self) -> &'static str;
+    /// The recording's application id when it runs alone (the viewer keys layouts by it).
+    fn application_id(&self) -> &'static str;
+    fn views(&self) -> &'static SceneViews;
+    /// Whether `file` has a table for this scene.
+    fn has_table(&self, file: &SceneFile) -> bool;
+    /// Its flags as `physlab all` sets them (none given: what `reproduce` runs under the
+    /// recorded scene file).
+    fn flags(&self, all: &AllFlags) -> Box<dyn Flags>;
+}
+
+/// `physlab all`'s own flags, which override every scene's (each scene takes the methods it
+/// supports).
+#[derive(Default)]
+pub struct AllFlags {
+    pub fps: Option<f64>,
+    pub plot_every: Option<u64>,
+    pub registry: Option<Vec<Method>>,
+    pub hair: Option<Vec<HairMethod>>,
+}
+
+impl AllFlags {
+    /// As the step flags of the scenes that take the registry's methods.
+    fn step(&self) -> StepFlags {
+        StepFlags {
+            fps: self.fps,
+            plot_every: self.plot_every,
+            methods: self.registry.clone(),
+            ..StepFlags::default()
+        }
+    }
+}
+
+/// A scene's flags as given.
+pub trait Flags {
+    fn kind(&self) -> &'static dyn SceneKind;
+    /// These flags over the scene file's table (checked alone first, so that an error there
+    /// names the file, table and key) over the defaults, validated.
+    fn resolve(
+        self: Box<Self>,
+        file: &SceneFile,
+        run: &RunArgs,
+    ) -> Result<Box<dyn Resolved>, Error>;
+}
+
+/// A scene with its validated configuration, ready to run.
+pub trait Resolved: Send {
+    fn kind(&self) -> &'static dyn SceneKind;
+    /// The box its 3D view frames.
+    fn framing(&self) -> Framing;
+    /// Its 3D frames per simulated second.
+    fn fps(&self) -> f64;
+    /// Its methods' names, in the order they are shown.
+    fn methods(&self) -> Vec<&'static str>;
+    /// Sets its table in `file` to every effective value: the scene file that runs it again.
+    fn effective(&self, file: &mut SceneFile);
+    fn run(self: Box<Self>, ctx: &mut RunContext) -> anyhow::Result<Ran>;
+}
+
+/// What every scene's run shares.
+pub struct RunContext<'a> {
+    /// The recording, if one is written or streamed.
+    pub stream: Option<rerun::RecordingStream>,
+    /// Also record wall-clock costs.
+    pub timings: bool,
+    /// The `frame` timeline's rate: the highest fps of the scenes run.
+    pub frame_rate: f64,
+    pub quiet: bool,
+    pub progress: &'a mut Progress,
+    /// The worker threads (--threads) hair spreads its strands over.
+    pub pool: &'a rayon::ThreadPool,
+    /// --log-strands: the hair strands drawn in 3D.
+    pub log_strands: Option<usize>,
+    /// A replayed interruption: stop at the first block boundary past this tick.
+    pub stop_after: Option<u64>,
+}
+
+struct Pendulum;
+struct Rope;
+struct Hair;
+
+impl SceneKind for Pendulum {
+    fn name(&self) -> &'static str {
+        "pendulum"
+    }
+    fn application_id(&self) -> &'static str {
+        "physlab-pendulum"
+    }
+    fn views(&self) -> &'static SceneViews {
+        &record::pendulum::VIEWS
+    }
+    fn has_table(&self, file: &SceneFile) -> bool {
+        file.pendulum.is_some()
+    }
+    fn flags(&self, all: &AllFlags) -> Box<dyn Flags> {
+        Box::new(PendulumArgs {
+            step: all.step(),
+            ..PendulumArgs::default()
+        })
+    }
+}
+
+impl SceneKind for Rope {
+    fn name(&self) -> &'static str {
+        "rope"
+    }
+    fn application_id(&self) -> &'static str {
+        "physlab-rope"
+    }
+    fn views(&self) -> &'static SceneViews {
+        &record::rope::VIEWS
+    }
+    fn has_table(&self, file: &SceneFile) -> bool {
+        file.rope.is_some()
+    }
+    fn flags(&self, all: &AllFlags) -> Box<dyn Flags> {
+        Box::new(RopeArgs {
+            step: all.step(),
+            ..RopeArgs::default()
+        })
+    }
+}
+
+impl SceneKind for Hair {
+    fn name(&self) -> &'static str {
+        "hair"
+    }
+    fn application_id(&self) -> &'static str {
+        "physlab-hair"
+    }
+    fn views(&self) -> &'static SceneViews {
+        &record::hair::VIEWS
+    }
+    fn has_table(&self, file: &SceneFile) -> bool {
+        file.hair.is_some()
+    }
+    fn flags(&self, all: &AllFlags) -> Box<dyn Flags> {
+        Box::new(HairArgs {
+            fps: all.fps,
+            methods: all.hair.clone(),
+            ..HairArgs::default()
+        })
+    }
+}
+
+impl Flags for PendulumArgs {
+    fn kind(&self) -> &'static dyn SceneKind {
+        &Pendulum
+    }
+    fn resolve(
+        self: Box<Self>,
+        file: &SceneFile,
+        run: &RunArgs,
+    ) -> Result<Box<dyn Resolved>, Error> {
+        let from_file = file.pendulum.clone().unwrap_or_default();
+        in_file(run, "pendulum", pendulum_config(&from_file))?;
+        let args = self.over(from_file);
+        Ok(Box::new(Ready {
+            config: pendulum_config(&args)?,
+            effective: args.over(PendulumArgs::defaults()),
+        }))
+    }
+}
+
+impl Flags for RopeArgs {
+    fn kind(&self) -> &'static dyn SceneKind {
+        &Rope
+    }
+    fn resolve(
+        self: Box<Self>,
+        file: &SceneFile,
+        run: &RunArgs,
+    ) -> Result<Box<dyn Resolved>, Error> {
+        let from_file = file.rope.clone().unwrap_or_default();
+        in_file(run, "rope", rope_config(&from_file))?;
+        let args = self.over(from_file);
+        Ok(Box::new(Ready {
+            config: rope_config(&args)?,
+            effective: args.effective(),
+        }))
+    }
+}
+
+impl Flags for HairArgs {
+    fn kind(&self) -> &'static dyn SceneKind {
+        &Hair
+    }
+    fn resolve(
+        self: Box<Self>,
+        file: &SceneFile,
+        run: &RunArgs,
+    ) -> Result<Box<dyn Resolved>, Error> {
+        let from_file = file.hair.clone().unwrap_or_default();
+        in_file(run, "hair", hair_config(&from_file))?;
+        let args = self.over(from_file);
+        let config = hair_config(&args)?;
+        // The file states the substeps --dt resolved to, so that it says one consistent thing.
+        let effective = HairArgs {
+            substeps: Some(config.substeps),
+            ..args.over(HairArgs::defaults())
+        };
+        Ok(Box::new(Ready { config, effective }))
+    }
+}
+
+/// The pendulum's parameters (missing ones at their defaults), validated.
+pub fn pendulum_config(args: &PendulumArgs) -> Result<PendulumConfig, Error> {
+    let config = args.config();
+    config.validate()?;
+    Ok(config)
+}
+
+/// The rope's parameters (missing ones from the preset, if any, or the defaults), validated.
+pub fn rope_config(args: &RopeArgs) -> Result<RopeConfig, Error> {
+    let config = args.clone().effective().config();
+    config.validate()?;
+    Ok(config)
+}
+
+/// The hair's parameters (missing ones at their defaults), validated.
+pub fn hair_config(args: &HairArgs) -> Result<HairConfig, Error> {
+    let mut config = args.config();
+    if let Some(dt) = args.dt {
+        config.substeps = crate::scene::hair::run::substeps_for_dt(config.rate, dt, args.substeps)?;
+    }
+    config.validate()?;
+    Ok(config)
+}
+
+/// A scene's validated configuration and the scene-file table that says it in full.
+struct Ready<C, A> {
+    config: C,
+    effective: A,
+}
+
+impl Resolved for Ready<PendulumConfig, PendulumArgs> {
+    fn kind(&self) -> &'static dyn SceneKind {
+        &Pendulum
+    }
+    fn framing(&self) -> Framing {
+        record::pendulum::framing(&self.config)
+    }
+    fn fps(&self) -> f64 {
+        self.config.fps
+    }
+    fn methods(&self) -> Vec<&'static str> {
+        self.config.methods.iter().map(|m| m.name()).collect()
+    }
+    fn effective(&self, file: &mut SceneFile) {
+        file.pendulum = Some(self.effective.clone());
+    }
+    fn run(self: Box<Self>, ctx: &mut RunContext) -> anyhow::Result<Ran> {
+        let reference_steps = self.config.reference_steps();
+        if reference_steps > 3e7 && !ctx.quiet {
+            // Allowed, but not instant: say what the time goes to (~0.1 µs per RK4 step).
+            eprintln!(
+                "pendulum: the fine-step reference takes {reference_steps:.1e} RK4 steps (about {:.0} s); Ctrl-C stops it",
+                reference_steps * 1e-7
+            );
+        }
+        let recorder = ctx
+            .stream
+            .clone()
+            .map(|s| record::pendulum::recorder(s, ctx.timings).with_frame_rate(ctx.frame_rate));
+        run_scene(
+            PendulumScene::new(self.config),
+            recorder,
+            report::pendulum::summary_text,
+            ctx.progress,
+            ctx.stop_after,
+        )
+    }
+}
+
+impl Resolved for Ready<RopeConfig, RopeArgs> {
+    fn kind(&self) -> &'static dyn SceneKind {
+        &Rope
+    }
+    fn framing(&self) -> Framing {
+        record::rope::framing(&self.config)
+    }
+    fn fps(&self) -> f64 {
+        self.config.fps
+    }
+    fn methods(&self) -> Vec<&'static str> {
+        self.config.methods.iter().map(|m| m.name()).collect()
+    }
+    fn effective(&self, file: &mut SceneFile) {
+        file.rope = Some(self.effective.clone());
+    }
+    fn run(self: Box<Self>, ctx: &mut RunContext) -> anyhow::Result<Ran> {
+        let recorder = ctx
+            .stream
+            .clone()
+            .map(|s| record::rope::recorder(s, ctx.timings).with_frame_rate(ctx.frame_rate));
+        run_scene(
+            RopeScene::new(self.config),
+            recorder,
+            report::rope::summary_text,
+            ctx.progress,
+            ctx.stop_after,
+        )
+    }
+}
+
+impl Resolved for Ready<HairConfig, HairArgs> {
+    fn kind(&self) -> &'static dyn SceneKind {
+        &Hair
+    }
+    fn framing(&self) -> Framing {
+        record::hair::framing(&self.config)
+    }
+    fn fps(&self) -> f64 {
+        self.config.fps
+    }
+    fn methods(&self) -> Vec<&'static str> {
+        self.config.methods.iter().map(|m| m.name()).collect()
+    }
+    fn effective(&self, file: &mut SceneFile) {
+        file.hair = Some(self.effective.clone());
+    }
+    fn run(self: Box<Self>, ctx: &mut RunContext) -> anyhow::Result<Ran> {
+        // Said before anything is written: how many strands are drawn, and the expected size.
+        let plan = record::hair::strand_plan(&self.config, ctx.log_strands);
+        let recording = ctx.stream.is_some();
+        if recording && !ctx.quiet {
+            eprintln!(
+                "hair: drawing {} of {} strands in 3D; expected recording ≈ {:.0} MB",
+                plan.drawn,
+                plan.strands,
+                plan.expected_bytes / 1e6
+            );
+        }
+        let recorder = ctx.stream.clone().map(|s| {
+            record::hair::recorder(s, ctx.timings, ctx.log_strands).with_frame_rate(ctx.frame_rate)
+        });
+        let (config, progress, stop_after) = (self.config, &mut *ctx.progress, ctx.stop_after);
+        // Hair spreads its strands over the pool (--threads); the results do not depend on it.
+        let mut ran = ctx.pool.install(|| {
+            run_scene(
+                HairScene::new(config),
+                recorder,
+                report::hair::summary_text,
+                progress,
+                stop_after,
+            )
+        })?;
+        if recording {
+            ran.summary.push_str(&format!(
+                "\n3D: {} of {} strands drawn per head (--log-strands); every strand is simulated and measured above\n",
+                plan.drawn, plan.strands
+            ));
+        }
+        ran.printed_only = format!(
+            "threads: {} (the results do not depend on it)\n",
+            ctx.pool.current_num_threads()
+        );
+        Ok(ran)
+    }
+}
