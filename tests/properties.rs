@@ -30,7 +30,7 @@ proptest! {
         g in 0.1f64..50.0, l in 0.1f64..10.0, theta0 in -179.0f64..179.0, omega0 in -3.0f64..3.0,
         fraction in 0.01f64..0.33,
     ) {
-        let p = PendulumParams { gravity: g, length: l, theta0: theta0.to_radians(), omega0 };
+        let p = PendulumParams { gravity: g, length: l, theta0: theta0.to_radians(), omega0, theta0_low: 0.0 };
         let rate = p.omega_n().max((2.0 * p.initial_energy()).sqrt() / l);
         let dt = fraction * 2.0 / rate;
         let config = PendulumConfig {

@@ -15,8 +15,8 @@ use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use common::{physlab, scratch_dir};
-use physlab::app::{Differs, UsageError};
 use physlab::cli::{Cli, Command as Sub, DiffArgs};
+use physlab::error::Error;
 use proptest::prelude::*;
 
 fn s(p: &Path) -> &str {
@@ -52,10 +52,10 @@ fn clean_error_naming(e: &anyhow::Error, paths: &[&Path]) -> Result<(), String> 
             .iter()
             .any(|p| m.starts_with(&format!("{}: ", p.display())))
     };
-    match e.downcast_ref::<UsageError>() {
+    match e.downcast_ref::<Error>() {
         Some(Error::Usage(m)) if names(m) => Ok(()),
         Some(Error::Usage(m)) => Err(format!("the error does not name the file: {m}")),
-        None => Err(format!("not a usage error (exit 2): {e:#}")),
+        _ => Err(format!("not a usage error (exit 2): {e:#}")),
     }
 }
 
@@ -79,7 +79,7 @@ fn read_everything(path: &Path, good: &Path) -> Result<(), String> {
             }),
         };
         if let Err(e) = physlab::app::run(cli)
-            && e.downcast_ref::<Differs>().is_none()
+            && !matches!(e.downcast_ref::<Error>(), Some(Error::Differs(_)))
         {
             clean_error_naming(&e, &[path, good])?;
         }
