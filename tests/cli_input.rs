@@ -108,23 +108,23 @@ fn tolerances_without_an_adaptive_method_and_empty_method_lists_are_refused() {
         ),
         (
             vec!["study", "convergence", "--config", &pendulum],
-            "[pendulum] methods = []: must name at least one method".into(),
+            "[pendulum] methods = []: lists no method".into(),
         ),
         (
             vec!["study", "stability", "--scene", "rope", "--config", &rope],
-            "[rope] methods = []: must name at least one method".into(),
+            "[rope] methods = []: lists no method".into(),
         ),
         (
             vec!["pendulum", "--config", &pendulum, "--no-record"],
-            "[pendulum] methods = []: must name at least one method".into(),
+            "[pendulum] methods = []: lists no method".into(),
         ),
         (
             vec!["rope", "--config", &rope, "--no-record"],
-            "[rope] methods = []: must name at least one method".into(),
+            "[rope] methods = []: lists no method".into(),
         ),
         (
             vec!["hair", "--config", &hair, "--no-record"],
-            "[hair] methods = []: must name at least one method".into(),
+            "[hair] methods = []: lists no method".into(),
         ),
     ];
     refused(&cases);

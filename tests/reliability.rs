@@ -30,7 +30,7 @@ const BAD_INPUTS: &[(&[&str], i32, &str)] = &[
     (
         &["rope", "--nodes", "-3"],
         2,
-        "invalid value '-3' for '--nodes",
+        "--nodes -3: must be a whole number ≥ 0",
     ),
     (
         &["rope", "--nodes", "2.5"],
@@ -113,7 +113,7 @@ const BAD_INPUTS: &[(&[&str], i32, &str)] = &[
     (
         &["pendulum", "--theta0", "nan"],
         2,
-        "--theta0 NaN: must be a finite number",
+        "--theta0 NaN: must be a finite angle",
     ),
     (
         &["pendulum", "--omega0", "inf"],

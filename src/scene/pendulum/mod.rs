@@ -54,6 +54,8 @@ pub fn theta0_from_degrees(degrees: f64) -> (f64, f64) {
     let r = degrees.rem_euclid(360.0);
     let d = if r > 180.0 { r - 360.0 } else { r };
     // d × π/180 in double-double: the product's rounding error by fma, plus d × the low part.
+    // θ0 is d·π/180 correctly rounded (`to_radians` can be an ulp off, as at 60°), and what
+    // that rounding lost is kept beside it for the closed form near the separatrix.
     let hi = d * RADIANS_PER_DEGREE.0;
     let low = d.mul_add(RADIANS_PER_DEGREE.0, -hi) + d * RADIANS_PER_DEGREE.1;
     let theta = hi + low;
@@ -65,7 +67,9 @@ impl Default for PendulumParams {
         PendulumParams {
             gravity: 9.81,
             length: 3.521,
-            theta0: run::DEFAULT_THETA0_DEGREES.to_radians(),
+            // As `--theta0` converts it, so that a run with and without the flag agree. (Its
+            // low part only matters beyond 90°; 0 here so that `..default()` adds none.)
+            theta0: theta0_from_degrees(run::DEFAULT_THETA0_DEGREES).0,
             theta0_low: 0.0,
             omega0: 0.0,
         }
