@@ -67,7 +67,8 @@ mod tests {
 
     #[test]
     fn each_outcome_keeps_its_exit_code_through_anyhow() {
-        let cases: [(fn(String) -> Error, u8, &str); 4] = [
+        type Make = fn(String) -> Error;
+        let cases: [(Make, u8, &str); 4] = [
             (Error::Usage, 2, "error: m"),
             (Error::Differs, 1, "m"),
             (Error::Diverged, 3, "m"),
