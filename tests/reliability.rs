@@ -218,7 +218,7 @@ const BAD_INPUTS: &[(&[&str], i32, &str)] = &[
     (
         &["hair", "--threads", "0"],
         2,
-        "--threads 0: must be at least 1",
+        "--threads 0: must be between 1 and",
     ),
     // files
     (
