@@ -297,9 +297,7 @@ fn interrupt(args: &[&str], after: Duration) -> (Option<i32>, String, Duration) 
 #[test]
 fn every_reading_phase_answers_ctrl_c_within_a_second() {
     let dir = scratch_dir("readers-interrupt");
-    let started = Instant::now();
     let big = large_recording(&dir);
-    let making = started.elapsed();
     // How long an uninterrupted diff takes: the signals must land well inside it.
     let started = Instant::now();
     let (code, _, err) = physlab(&["diff", s(&big), s(&big)]);
@@ -315,7 +313,6 @@ fn every_reading_phase_answers_ctrl_c_within_a_second() {
     let (code, _, err) = physlab(&["reproduce", s(&big)]);
     let reproducing = started.elapsed();
     assert_eq!(code, 0, "{err}");
-    let _ = making;
     let cases: [(&[&str], Duration); 4] = [
         (&["diff", s(&big), s(&big)], whole.mul_f64(0.3)),
         (&["diff", s(&big), s(&big)], whole.mul_f64(0.7)),
