@@ -252,13 +252,15 @@ fn damaged_files_are_refused_as_unusable_through_every_command() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// A recording large enough that reading it takes seconds (made once per test).
+/// A recording large enough that reading it takes seconds (made once per test): about 40 MB,
+/// whose diff takes about 2 s on a quiet 2-core machine with the file in the page cache (half
+/// of it took 1.07 s, too short to signal inside).
 fn large_recording(dir: &Path) -> PathBuf {
     let big = dir.join("big.rrd");
     let (code, _, err) = physlab(&[
         "pendulum",
         "--duration",
-        "300",
+        "600",
         "--dt",
         "1e-4",
         "--plot-every",
