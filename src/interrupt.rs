@@ -1,27 +1,86 @@
 //! Ctrl-C, SIGTERM and SIGHUP (a closed terminal, a dropped ssh session): the first one asks the
 //! running command to stop at its next check, so what is complete can be finalised and kept; a
 //! second one ends the process at once, removing the unfinished output files first so that no
-//! hidden partial file is left behind.
+//! hidden partial file is left behind. A write to standard output that blocks (a pipe nobody
+//! reads) never reaches the next check, so a watchdog ends the process when a signal finds it
+//! blocked there for [`BLOCKED_GRACE`].
 
 use std::ffi::CString;
 use std::sync::atomic::{AtomicBool, AtomicPtr, Ordering};
 
 static REQUESTED: AtomicBool = AtomicBool::new(false);
+/// A signal (not [`stop`]) asked for the stop.
+static SIGNALLED: AtomicBool = AtomicBool::new(false);
+/// A write to standard output is under way ([`writing_stdout`]).
+static IN_STDOUT_WRITE: AtomicBool = AtomicBool::new(false);
+
+/// How long a signal waits for a write to standard output that does not return before the
+/// process ends without it (well inside the second a stop is promised in).
+pub const BLOCKED_GRACE: std::time::Duration = std::time::Duration::from_millis(500);
 
 /// The unfinished output files (leaked C strings), removed by a second signal. A command
 /// writes a few at most at once (a recording, a CSV, a diagram).
 static PARTIAL: [AtomicPtr<libc::c_char>; 8] = [const { AtomicPtr::new(std::ptr::null_mut()) }; 8];
 
 extern "C" fn on_signal(_: libc::c_int) {
+    SIGNALLED.store(true, Ordering::SeqCst);
     if REQUESTED.swap(true, Ordering::SeqCst) {
-        // Second signal: the user insists. Only async-signal-safe calls here.
-        for slot in &PARTIAL {
-            let partial = slot.load(Ordering::SeqCst);
-            if !partial.is_null() {
-                unsafe { libc::unlink(partial) };
-            }
+        // Second signal: the user insists.
+        remove_partials_and_exit();
+    }
+}
+
+/// Removes the unfinished files and ends the process with 130. Only async-signal-safe calls.
+fn remove_partials_and_exit() -> ! {
+    for slot in &PARTIAL {
+        let partial = slot.load(Ordering::SeqCst);
+        if !partial.is_null() {
+            // SAFETY: a non-null slot holds a C string leaked by `add_partial_file`.
+            unsafe { libc::unlink(partial) };
         }
-        unsafe { libc::_exit(130) };
+    }
+    // SAFETY: `_exit` ends the process without running anything else.
+    unsafe { libc::_exit(130) }
+}
+
+/// Runs `write` (a write to standard output), marked as one that may block for ever.
+pub fn writing_stdout<T>(write: impl FnOnce() -> T) -> T {
+    IN_STDOUT_WRITE.store(true, Ordering::SeqCst);
+    let result = write();
+    IN_STDOUT_WRITE.store(false, Ordering::SeqCst);
+    result
+}
+
+/// Ends the process when a signal has found a write to standard output blocked for
+/// [`BLOCKED_GRACE`]: the command cannot stop by itself there.
+fn watch_blocked_stdout() {
+    let tick = std::time::Duration::from_millis(20);
+    let mut blocked_for = std::time::Duration::ZERO;
+    loop {
+        std::thread::sleep(tick);
+        if SIGNALLED.load(Ordering::SeqCst) && IN_STDOUT_WRITE.load(Ordering::SeqCst) {
+            blocked_for += tick;
+        } else {
+            blocked_for = std::time::Duration::ZERO;
+        }
+        if blocked_for >= BLOCKED_GRACE {
+            let message = b"physlab: interrupted while standard output was not being read: \
+                            stopped without finishing what it was writing there\n";
+            // stderr may be an unread pipe too: write only if it has room now (a write of
+            // less than PIPE_BUF bytes then does not block).
+            let mut stderr = libc::pollfd {
+                fd: 2,
+                events: libc::POLLOUT,
+                revents: 0,
+            };
+            // SAFETY: one valid pollfd; the write reads `message` only.
+            unsafe {
+                if libc::poll(&mut stderr, 1, 0) == 1 && stderr.revents & libc::POLLOUT != 0 {
+                    libc::write(2, message.as_ptr().cast(), message.len());
+                }
+            }
+            remove_partials_and_exit();
+        }
     }
 }
 
@@ -34,6 +93,10 @@ pub fn install() {
             libc::signal(signal, on_signal as *const () as libc::sighandler_t);
         }
     }
+    std::thread::Builder::new()
+        .name("stop watchdog".into())
+        .spawn(watch_blocked_stdout)
+        .ok();
 }
 
 /// Names an unfinished file a second signal removes; returns its slot for

@@ -393,13 +393,13 @@ impl std::io::Write for Partial {
     fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
         match &mut self.sink {
             Sink::File(w) => w.write(buf),
-            Sink::Stdout(w) => w.write(buf),
+            Sink::Stdout(w) => crate::interrupt::writing_stdout(|| w.write(buf)),
         }
     }
     fn flush(&mut self) -> std::io::Result<()> {
         match &mut self.sink {
             Sink::File(w) => w.flush(),
-            Sink::Stdout(w) => w.flush(),
+            Sink::Stdout(w) => crate::interrupt::writing_stdout(|| w.flush()),
         }
     }
 }

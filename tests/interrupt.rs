@@ -216,3 +216,37 @@ fn a_signal_at_any_moment_of_a_study_leaves_old_or_complete_files() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A recording written to standard output that nobody reads blocks in `write`, where the run
+/// never reaches its next check: a signal still ends it, with 130 and a message saying why.
+#[test]
+fn a_signal_ends_a_run_blocked_writing_to_an_unread_pipe() {
+    for (signal, name) in SIGNALS {
+        let mut child = spawn(&["pendulum", "--duration", "1000", "-q", "-o", "-"]);
+        // The pipe (64 KiB) is full within a fraction of a second; nobody reads it.
+        std::thread::sleep(Duration::from_millis(1500));
+        assert!(child.try_wait().unwrap().is_none(), "{name}: ended unread");
+        let since = Instant::now();
+        kill(&child, signal);
+        let code = loop {
+            if let Some(status) = child.try_wait().unwrap() {
+                break status.code().unwrap_or(-1);
+            }
+            assert!(
+                since.elapsed().as_secs_f64() < ENDS_WITHIN,
+                "{name}: still blocked {ENDS_WITHIN} s after the signal"
+            );
+            std::thread::sleep(Duration::from_millis(10));
+        };
+        let took = since.elapsed().as_secs_f64();
+        let mut err = String::new();
+        std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut err).unwrap();
+        assert_eq!(code, 130, "{name}: {err}");
+        assert!(
+            err.contains("standard output was not being read"),
+            "{name}: {err}"
+        );
+        assert!(!err.contains("panicked"), "{err}");
+        eprintln!("{name}: ended {took:.2} s after the signal");
+    }
+}

@@ -197,3 +197,32 @@ fn modules_import_only_the_layers_below_them() {
     assert!(files.len() > 50, "read {} files", files.len());
     assert!(violations.is_empty(), "{}", violations.join("\n"));
 }
+
+/// No message a user reads carries a run of spaces inside its text: a string wrapped over lines
+/// without its `\` keeps the next line's indentation ("killed or the              file cut
+/// short"). Checked on every string literal of `src/` (a run of 6 or more spaces between two
+/// words; tables are padded by format widths, not literal runs).
+#[test]
+fn no_message_carries_the_indentation_of_a_wrapped_line() {
+    let src = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    rust_files(&src, &mut files);
+    let mut found = Vec::new();
+    for file in &files {
+        let text = std::fs::read_to_string(file).unwrap();
+        for (n, line) in text.lines().enumerate() {
+            if line.trim_start().starts_with("//") {
+                continue;
+            }
+            // The text between the quotes of each literal on the line.
+            for (i, literal) in line.split('"').enumerate() {
+                let inside = i % 2 == 1;
+                let words = literal.trim();
+                if inside && words.contains("      ") && !words.starts_with('|') {
+                    found.push(format!("{}:{}: {line}", file.display(), n + 1));
+                }
+            }
+        }
+    }
+    assert!(found.is_empty(), "{}", found.join("\n"));
+}

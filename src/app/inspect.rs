@@ -47,15 +47,14 @@ pub fn inspect_command(args: &InspectArgs) -> anyhow::Result<()> {
         Some((a, b)) => println!("  sim_time: {a:.6} s to {b:.6} s"),
         None => println!("  sim_time: (no timed data)"),
     }
-    println!(
-        "  {} chunks, {}",
-        info.chunks,
-        if info.has_footer {
-            "footer written"
-        } else {
-            "no footer: the process was killed or the file truncated"
-        }
-    );
+    if info.has_footer {
+        println!("  {} chunks, footer written", info.chunks);
+    } else {
+        println!(
+            "  {} chunks, no footer: {}",
+            info.chunks, info.why_no_footer
+        );
+    }
     let study = p("scenes").starts_with("study");
     if info.run.is_empty() && info.properties.contains_key("config") && !study {
         println!("  ended: (not recorded: killed before the end, or an older physlab)");

@@ -36,9 +36,9 @@ fn complete_recording(path: &Path) -> anyhow::Result<RecordingInfo> {
     let info = read_recording(path)?;
     if !info.has_footer {
         return Err(Error::Usage(format!(
-            "{}: truncated: the file ends without its footer (the writing process was killed or \
-             the file cut short), so its last data are lost; `physlab inspect` shows what it holds",
-            path.display()
+            "{}: truncated: {}, so its last data are lost; `physlab inspect` shows what it holds",
+            path.display(),
+            info.why_no_footer
         ))
         .into());
     }

@@ -28,7 +28,7 @@ fn warn_if_long(node_steps: f64) {
     let seconds = node_steps * SECONDS_PER_NODE_STEP;
     if seconds > LONG_STUDY_SECONDS {
         eprintln!(
-            "warning: this study is {node_steps:.1e} node-steps, roughly {:.0} minutes at ~{:.0} ns each              (more with implicit methods); Ctrl-C stops it and keeps the complete rows",
+            "warning: this study is {node_steps:.1e} node-steps, roughly {:.0} minutes at ~{:.0} ns each (more with implicit methods); Ctrl-C stops it and keeps the complete rows",
             (seconds / 60.0).ceil(),
             SECONDS_PER_NODE_STEP * 1e9
         );

@@ -32,6 +32,8 @@ pub struct RecordingInfo {
     pub events: Vec<LoggedEvent>,
     pub chunks: usize,
     pub has_footer: bool,
+    /// Why it has none, in words (empty when it has one).
+    pub why_no_footer: String,
 }
 
 impl RecordingInfo {
@@ -127,6 +129,9 @@ pub fn read_recording(path: &Path) -> anyhow::Result<RecordingInfo> {
         Ok(())
     })?;
     info.has_footer = end.has_footer;
+    if !end.has_footer {
+        info.why_no_footer = end.missing_footer();
+    }
     info.events.sort_by(|a, b| {
         a.time
             .total_cmp(&b.time)

@@ -3,6 +3,7 @@
 
 pub mod compare;
 pub mod diff;
+mod framing;
 pub mod hair;
 pub mod inspect;
 pub mod pendulum;

@@ -1,6 +1,7 @@
 //! Reading a recording that may be anything a user names: every reader (`inspect`, `diff`,
 //! `reproduce`) goes through [`each_message`]. What can be checked before Rerun's decoder sees
-//! the bytes is checked (a regular, non-empty file that starts with Rerun's header); the decoder
+//! the bytes is checked (a regular, non-empty file that starts with Rerun's header, its frames'
+//! lengths within the file: `framing.rs`); the decoder
 //! and what reads its chunks run under `catch_unwind`, because a corrupt Arrow buffer can make
 //! them panic rather than fail, and every message first looks at the stop flag, so that a long
 //! read ends within a message of Ctrl-C.
@@ -10,11 +11,13 @@ use std::fs::File;
 use std::io::{BufReader, Read as _, Seek as _, SeekFrom};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
+use std::rc::Rc;
 use std::sync::Once;
 
 use rerun::external::re_log_encoding::{DecoderApp, DecoderIterator};
 use rerun::log::LogMsg;
 
+use super::framing::{Cut, Framed};
 use crate::error::Error;
 
 /// The first bytes of every Rerun recording (the stream header's FourCC).
@@ -25,6 +28,24 @@ const RRD_MAGIC: &[u8; 4] = b"RRF2";
 pub struct ReadEnd {
     /// The file ends with Rerun's footer (a manifest): it was finalised, not cut short.
     pub has_footer: bool,
+    /// The read stopped at a message declaring more bytes than the file has left.
+    pub cut: Option<Cut>,
+}
+
+impl ReadEnd {
+    /// Why a file without its footer has none, in words.
+    pub fn missing_footer(&self) -> String {
+        match self.cut {
+            Some(Cut { at, declared, left }) => format!(
+                "the file ends inside the message at byte {at}, which declares {declared} bytes \
+                 where {left} are left (the writing process was killed or the file cut short, or \
+                 the file is corrupt there)"
+            ),
+            None => "the file ends without its footer (the writing process was killed or the \
+                     file cut short)"
+                .into(),
+        }
+    }
 }
 
 /// The error for an unusable file: its path, then what is wrong. Exit code 2.
@@ -35,7 +56,8 @@ pub fn unusable(path: &Path, what: impl std::fmt::Display) -> anyhow::Error {
 /// An open recording, read message by message: two can be read in step (`diff`, `reproduce`).
 pub struct Messages {
     path: PathBuf,
-    decoder: DecoderIterator<LogMsg, BufReader<File>>,
+    decoder: DecoderIterator<LogMsg, Framed<BufReader<File>>>,
+    cut: Rc<Cell<Option<Cut>>>,
     seen_any: bool,
 }
 
@@ -67,9 +89,12 @@ impl Messages {
         }
         file.seek(SeekFrom::Start(0))
             .map_err(|e| unusable(path, format!("cannot read it: {e}")))?;
+        let framed = Framed::new(BufReader::new(file), meta.len());
+        let cut = framed.cut_cell();
         Ok(Messages {
             path: path.to_path_buf(),
-            decoder: DecoderApp::decode_lazy(BufReader::new(file)),
+            decoder: DecoderApp::decode_lazy(framed),
+            cut,
             seen_any: false,
         })
     }
@@ -110,6 +135,7 @@ impl Messages {
         let manifests = guarded(&self.path, || self.decoder.rrd_manifests())?;
         Ok(ReadEnd {
             has_footer: manifests.is_ok_and(|m| !m.is_empty()),
+            cut: self.cut.get(),
         })
     }
 

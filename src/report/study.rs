@@ -62,7 +62,7 @@ pub fn stalled_note(rows: &[Row], floor: f64) -> String {
             };
             let _ = writeln!(
                 note,
-                "warning: {}'s error stops falling at dt = {} s ({}, against {} at twice the step):                  the floor of round-off (amplified by the motion) or of the reference is reached there;                  that row and the finer ones are left out of its fit",
+                "warning: {}'s error stops falling at dt = {} s ({}, against {} at twice the step): the floor of round-off (amplified by the motion) or of the reference is reached there; that row and the finer ones are left out of its fit",
                 o.method.name(),
                 sci(dt),
                 error(dt),
