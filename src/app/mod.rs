@@ -28,6 +28,9 @@ use crate::{record, report};
 use progress::{Progress, WithProgress};
 use scenes::{AllFlags, Flags, RunContext, SCENES};
 
+/// A run whose state takes more memory than this says so before it starts.
+const MEMORY_NOTICE_BYTES: f64 = 1e9;
+
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Methods => {
@@ -320,6 +323,17 @@ fn simulate(plan: Plan, run: &RunArgs, output: &Output, replay: &Replay) -> anyh
             continue;
         }
         ctx.stop_after = replay.stop_after(name);
+        let memory = scene.memory_bytes();
+        if memory > MEMORY_NOTICE_BYTES && !run.quiet {
+            // Allowed (validation refuses what does not fit), but not to be taken silently.
+            eprintln!(
+                "{name}: its state takes about {:.1} GB of memory{}",
+                memory / 1e9,
+                crate::scene::params::available_memory()
+                    .map(|a| format!(" (of {:.1} GB available)", a / 1e9))
+                    .unwrap_or_default()
+            );
+        }
         let ran = scene.run(&mut ctx)?;
         if let Some(s) = &ctx.stream {
             record::log_summary(s, ran.end.scene, &ran.summary, &ran.end.text, run.timings)?;

@@ -76,6 +76,10 @@ pub trait Resolved: Send {
     fn methods(&self) -> Vec<&'static str>;
     /// Sets its table in `file` to every effective value: the scene file that runs it again.
     fn effective(&self, file: &mut SceneFile);
+    /// The memory its state takes [B] (0 when small by construction).
+    fn memory_bytes(&self) -> f64 {
+        0.0
+    }
     fn run(self: Box<Self>, ctx: &mut RunContext) -> anyhow::Result<Ran>;
 }
 
@@ -295,6 +299,9 @@ impl Resolved for Ready<PendulumConfig, PendulumArgs> {
 }
 
 impl Resolved for Ready<RopeConfig, RopeArgs> {
+    fn memory_bytes(&self) -> f64 {
+        self.config.memory_bytes()
+    }
     fn kind(&self) -> &'static dyn SceneKind {
         &Rope
     }
@@ -326,6 +333,9 @@ impl Resolved for Ready<RopeConfig, RopeArgs> {
 }
 
 impl Resolved for Ready<HairConfig, HairArgs> {
+    fn memory_bytes(&self) -> f64 {
+        self.config.memory_bytes()
+    }
     fn kind(&self) -> &'static dyn SceneKind {
         &Hair
     }

@@ -128,6 +128,30 @@ pub struct Integrator {
 }
 
 impl Integrator {
+    /// How many vectors of the system's dimension an integrator of `method` holds: its state
+    /// (x, v) and its scratch, as its constructor allocates them. The memory of a large system
+    /// is this times 8 B times the dimension; the system's own storage (the implicit method's
+    /// Jacobian blocks, say) comes on top.
+    pub fn vectors(method: Method) -> usize {
+        // x, v; the adaptive pairs keep y and y_old (2 vectors each), the stages, a trial
+        // state and the dense-output rows, all over (x, v).
+        fn dense<P: dense::Pair>() -> usize {
+            2 * (2 + P::K_ROWS + 1 + P::CONT_ROWS)
+        }
+        let scratch = match method {
+            Method::ExplicitEuler | Method::SemiImplicitEuler => 1,
+            Method::ImplicitEuler => 0,
+            Method::Midpoint | Method::Verlet => 3,
+            Method::Trapezoid => 4,
+            Method::Rk4 => 5,
+            Method::Yoshida4 => 2,
+            Method::Dopri5 => return dense::<adaptive::Dopri5>(),
+            Method::Dop853 => return dense::<dop853::Dop853>(),
+            Method::Vern9 => return dense::<verner::Vern9>(),
+        };
+        2 + scratch
+    }
+
     pub fn new<S: SecondOrderSystem>(
         method: Method,
         system: &S,

@@ -26,8 +26,11 @@ const KIND_ARROW: u64 = 2;
 const KIND_LAST: u64 = 3;
 
 /// The field numbers of `rerun.log_msg.v1alpha1.ArrowMsg` that bound its decompression.
+const ARROW_COMPRESSION_FIELD: u64 = 2;
 const ARROW_UNCOMPRESSED_SIZE_FIELD: u64 = 3;
 const ARROW_PAYLOAD_FIELD: u64 = 5;
+/// `rerun.common.v1alpha1.Compression::Lz4`; every other value is read as uncompressed.
+const COMPRESSION_LZ4: u64 = 2;
 
 /// LZ4's block format expands a byte to at most 255 (a run of 0xFF length bytes); the slack
 /// covers the literals and the last sequence.
@@ -218,11 +221,15 @@ fn corrupt(at: u64, what: &str) -> io::Error {
     )
 }
 
-/// Refuses an Arrow message whose declared decompressed size LZ4 could not produce from its
-/// payload. Reads the protobuf's fields without decoding them (varints and lengths only).
+/// Refuses an Arrow message whose declared sizes its decoders would trust into a huge
+/// allocation: a decompressed size LZ4 could not produce from its payload, or an Arrow IPC
+/// message inside whose body runs past the bytes that follow it (Arrow sizes that buffer from
+/// the header before reading). Reads the protobuf's fields without decoding them (varints and
+/// lengths only), then decompresses the payload as Rerun's decoder will.
 fn check_arrow_sizes(message: &[u8]) -> Result<(), String> {
+    let mut compression = 0u64;
     let mut uncompressed = 0u64;
-    let mut payload = 0u64;
+    let mut payload: &[u8] = &[];
     let mut rest = message;
     while !rest.is_empty() {
         let key = varint(&mut rest).ok_or("a truncated field key in an Arrow message")?;
@@ -230,8 +237,10 @@ fn check_arrow_sizes(message: &[u8]) -> Result<(), String> {
         match wire {
             0 => {
                 let value = varint(&mut rest).ok_or("a truncated number in an Arrow message")?;
-                if field == ARROW_UNCOMPRESSED_SIZE_FIELD {
-                    uncompressed = value;
+                match field {
+                    ARROW_UNCOMPRESSED_SIZE_FIELD => uncompressed = value,
+                    ARROW_COMPRESSION_FIELD => compression = value,
+                    _ => {}
                 }
             }
             1 | 5 => {
@@ -247,19 +256,93 @@ fn check_arrow_sizes(message: &[u8]) -> Result<(), String> {
                     .filter(|&l| l <= rest.len())
                     .ok_or("a field longer than its Arrow message")?;
                 if field == ARROW_PAYLOAD_FIELD {
-                    payload = len as u64;
+                    payload = &rest[..len];
                 }
                 rest = &rest[len..];
             }
             _ => return Err(format!("an unknown protobuf wire type {wire}")),
         }
     }
-    if uncompressed > lz4_max_expansion(payload) {
+    if compression != COMPRESSION_LZ4 {
+        return check_ipc_stream(payload);
+    }
+    if uncompressed > lz4_max_expansion(payload.len() as u64) {
         return Err(format!(
-            "an Arrow message declaring {uncompressed} bytes once decompressed from {payload}"
+            "an Arrow message declaring {uncompressed} bytes once decompressed from {}",
+            payload.len()
         ));
     }
-    Ok(())
+    // As Rerun's decoder does: a buffer of the declared size, what LZ4 leaves unwritten zero.
+    let mut ipc = vec![0; uncompressed as usize];
+    match lz4_flex::block::decompress_into(payload, &mut ipc) {
+        Ok(_) => check_ipc_stream(&ipc),
+        // The decoder fails on it the same way, without allocating more.
+        Err(_) => Ok(()),
+    }
+}
+
+/// Walks an Arrow IPC stream (messages of: an optional 0xFFFFFFFF continuation marker, an i32
+/// metadata length, a flatbuffer `Message`, its body), refusing a metadata length or a body
+/// length longer than the bytes left, as Arrow's `MessageReader` would allocate it first.
+fn check_ipc_stream(mut ipc: &[u8]) -> Result<(), String> {
+    fn take_i32(ipc: &mut &[u8]) -> Option<i32> {
+        let (word, rest) = ipc.split_first_chunk::<4>()?;
+        *ipc = rest;
+        Some(i32::from_le_bytes(*word))
+    }
+    loop {
+        let Some(mut len) = take_i32(&mut ipc) else {
+            return Ok(());
+        };
+        if len == -1 {
+            let Some(after_marker) = take_i32(&mut ipc) else {
+                return Ok(());
+            };
+            len = after_marker;
+        }
+        if len == 0 {
+            return Ok(());
+        }
+        let meta_len = usize::try_from(len)
+            .ok()
+            .filter(|&l| l <= ipc.len())
+            .ok_or_else(|| {
+                format!(
+                    "an Arrow IPC message declaring {len} bytes of metadata where {} are left",
+                    ipc.len()
+                )
+            })?;
+        let (meta, rest) = ipc.split_at(meta_len);
+        let body = flatbuffer_body_length(meta).ok_or("an unreadable Arrow IPC message header")?;
+        if body > rest.len() as u64 {
+            return Err(format!(
+                "an Arrow IPC message declaring a body of {body} bytes where {} are left",
+                rest.len()
+            ));
+        }
+        ipc = &rest[body as usize..];
+    }
+}
+
+/// The `bodyLength` of a flatbuffer `org.apache.arrow.flatbuf.Message` (field 3; fields 1 and 2
+/// are its header union's type and value), read as Arrow reads it: an i64 taken as usize, so a
+/// negative one is huge. `None` when its offsets leave the buffer (Arrow's verifier refuses
+/// that too).
+fn flatbuffer_body_length(meta: &[u8]) -> Option<u64> {
+    const BODY_LENGTH_SLOT: usize = 4 + 2 * 3;
+    let u16_at = |i: usize| Some(u16::from_le_bytes(*meta.get(i..)?.first_chunk::<2>()?));
+    let u32_at = |i: usize| Some(u32::from_le_bytes(*meta.get(i..)?.first_chunk::<4>()?));
+    let table = u32_at(0)? as usize;
+    let vtable = usize::try_from(table as i64 - i64::from(u32_at(table)? as i32)).ok()?;
+    if usize::from(u16_at(vtable)?) < BODY_LENGTH_SLOT + 2 {
+        return Some(0);
+    }
+    let offset = usize::from(u16_at(vtable + BODY_LENGTH_SLOT)?);
+    if offset == 0 {
+        return Some(0);
+    }
+    let bytes = meta.get(table + offset..)?.first_chunk::<8>()?;
+    Some(i64::from_le_bytes(*bytes) as u64)
 }
 
 /// A protobuf varint from the front of `bytes`, which it advances.
@@ -344,8 +427,8 @@ mod tests {
 
     #[test]
     fn an_lz4_size_beyond_lz4s_expansion_is_refused() {
-        // field 3 (varint) = 2^40, field 5 (bytes) = 4 bytes.
-        let mut arrow = vec![3 << 3];
+        // field 2 (compression) = LZ4, field 3 (varint) = 2^40, field 5 (bytes) = 4 bytes.
+        let mut arrow = vec![2 << 3, 2, 3 << 3];
         let mut v = 1u64 << 40;
         while v >= 0x80 {
             arrow.push((v as u8) | 0x80);
@@ -355,13 +438,48 @@ mod tests {
         arrow.extend([(5 << 3) | 2, 4, 1, 2, 3, 4]);
         assert!(check_arrow_sizes(&arrow).is_err());
         // The same message declaring 1000 bytes is within LZ4's reach.
-        let ok = [3 << 3, 0xe8, 0x07, (5 << 3) | 2, 4, 1, 2, 3, 4];
+        let ok = [2 << 3, 2, 3 << 3, 0xe8, 0x07, (5 << 3) | 2, 4, 1, 2, 3, 4];
         assert_eq!(check_arrow_sizes(&ok), Ok(()));
         let mut file = header();
         let n = arrow.len() as u64;
         file.extend(message(KIND_ARROW, &arrow, n));
         let err = read_all(&file).0.unwrap_err();
         assert!(err.to_string().contains("at byte 28"), "{err}");
+    }
+
+    #[test]
+    fn an_arrow_body_longer_than_what_follows_is_refused() {
+        use rerun::external::arrow::array::{Float64Array, RecordBatch};
+        use rerun::external::arrow::ipc::writer::StreamWriter;
+        let column = Float64Array::from(vec![1.0, 2.0, 3.0]);
+        let batch = RecordBatch::try_from_iter([("x", std::sync::Arc::new(column) as _)]).unwrap();
+        let mut ipc = Vec::new();
+        let mut writer = StreamWriter::try_new(&mut ipc, &batch.schema()).unwrap();
+        writer.write(&batch).unwrap();
+        writer.finish().unwrap();
+        drop(writer);
+        assert_eq!(check_ipc_stream(&ipc), Ok(()), "Arrow's own stream");
+        // The second message (the batch): continuation, length, metadata, body.
+        let schema_len = i32::from_le_bytes(ipc[4..8].try_into().unwrap()) as usize;
+        let batch_at = 8 + schema_len;
+        let meta_len = i32::from_le_bytes(ipc[batch_at + 4..batch_at + 8].try_into().unwrap());
+        let meta = batch_at + 8;
+        let body = flatbuffer_body_length(&ipc[meta..meta + meta_len as usize]).unwrap();
+        assert_eq!(
+            body as usize,
+            ipc.len() - meta - meta_len as usize - 8,
+            "the body, then EOS"
+        );
+        let field = (meta..ipc.len() - 8)
+            .find(|&i| ipc[i..i + 8] == (body as i64).to_le_bytes())
+            .unwrap();
+        // One byte past what follows the metadata (the body and the 8-byte end marker).
+        for huge in [body as i64 + 9, 1 << 62, -1] {
+            let mut bad = ipc.clone();
+            bad[field..field + 8].copy_from_slice(&huge.to_le_bytes());
+            let why = check_ipc_stream(&bad).unwrap_err();
+            assert!(why.contains("declaring a body of"), "{why}");
+        }
     }
 
     #[test]

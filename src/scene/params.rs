@@ -141,7 +141,7 @@ pub fn time(dt: f64, duration: f64, fps: f64, work_per_step: usize) -> Result<()
 }
 
 /// The memory this machine has available [bytes] (MemAvailable), if it can be read.
-fn available_memory() -> Option<f64> {
+pub fn available_memory() -> Option<f64> {
     let info = std::fs::read_to_string("/proc/meminfo").ok()?;
     let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
     let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;

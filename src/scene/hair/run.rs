@@ -140,15 +140,20 @@ impl HairConfig {
                 self.frames()
             )));
         }
-        // Per node and method: position, previous position and velocity, 3 × 24 B.
         params::memory(
             &format!(
                 "--strands {strands} × --nodes {nodes} with {} methods",
                 self.methods.len()
             ),
-            (strands * nodes) as f64 * self.methods.len() as f64 * 72.0,
+            self.memory_bytes(),
             "use fewer --strands or --nodes",
         )
+    }
+
+    /// The memory the run's state takes [B]: per node and method, position, previous position
+    /// and velocity (3 × 24 B).
+    pub fn memory_bytes(&self) -> f64 {
+        (self.params.strands * self.params.nodes) as f64 * self.methods.len() as f64 * 72.0
     }
 
     pub fn frames(&self) -> u64 {

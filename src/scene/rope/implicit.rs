@@ -125,6 +125,9 @@ pub struct Workspace {
 }
 
 impl Workspace {
+    /// Its size per node [B]: three coordinate vectors, five 3×3 blocks and three 3-vectors.
+    pub const BYTES_PER_NODE: f64 = (3 * 3 * 8 + 5 * 9 * 8 + 3 * 3 * 8) as f64;
+
     pub fn new(nodes: usize) -> Self {
         let springs = nodes.saturating_sub(1);
         Workspace {

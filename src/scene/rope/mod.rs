@@ -105,8 +105,9 @@ pub struct Rope {
     pub params: RopeParams,
     rest: f64,
     pinned: Vec<bool>,
-    /// Scratch for the implicit solve, allocated once.
-    workspace: RefCell<Workspace>,
+    /// Scratch for the implicit solve, allocated at its first step (about 500 B per node, which
+    /// a run without an implicit method does not need).
+    workspace: RefCell<Option<Workspace>>,
 }
 
 impl Rope {
@@ -119,7 +120,7 @@ impl Rope {
         }
         Rope {
             rest: params.rest_length(),
-            workspace: RefCell::new(Workspace::new(params.nodes)),
+            workspace: RefCell::new(None),
             pinned,
             params,
         }
@@ -236,7 +237,9 @@ impl SecondOrderSystem for Rope {
     }
 
     fn implicit_euler_step(&self, x: &mut [f64], v: &mut [f64], dt: f64) -> ImplicitSolve {
-        implicit::backward_euler_step(self, &mut self.workspace.borrow_mut(), x, v, dt)
+        let mut workspace = self.workspace.borrow_mut();
+        let workspace = workspace.get_or_insert_with(|| Workspace::new(self.params.nodes));
+        implicit::backward_euler_step(self, workspace, x, v, dt)
     }
 }
 

@@ -1,6 +1,7 @@
 //! The rope as a [`Scene`]: every chosen method stepping its own copy of the rope over the same
 //! time grid, with energy and strain measured and checked after every step.
 
+use super::implicit::Workspace;
 use super::{Rope, RopeParams};
 use crate::integrate::{Counts, Integrator, Method, MethodOptions};
 use crate::scene::harness::{Checked, Sampler, Scene, Schedule};
@@ -147,11 +148,9 @@ impl RopeConfig {
         }
         params::at_least_one("--newton-iterations", p.newton_iterations.into())?;
         params::time(self.dt, self.duration, self.fps, p.nodes)?;
-        // Per node and method: state, scratch and Verlet's history (~10 × 24 B) and the implicit
-        // solver's 3×3 blocks (~6 × 72 B): about 1 kB.
         params::memory(
             &format!("--nodes {} with {} methods", p.nodes, self.methods.len()),
-            p.nodes as f64 * self.methods.len() as f64 * 1000.0,
+            self.memory_bytes(),
             "use fewer --nodes or --methods",
         )?;
         params::verlet_damping(self.options.verlet_damping)?;
@@ -165,6 +164,19 @@ impl RopeConfig {
 
     pub fn schedule(&self) -> Schedule {
         Schedule::fixed_step(self.dt, self.duration, self.fps, self.plot_every)
+    }
+
+    /// The memory the run's state takes [B]: per node, the start positions and pinned flags,
+    /// each method's vectors, and the implicit solve's workspace when an implicit method runs.
+    pub fn memory_bytes(&self) -> f64 {
+        let coordinates = 3.0 * self.params.nodes as f64;
+        let vectors: usize = self.methods.iter().map(|&m| Integrator::vectors(m)).sum();
+        let workspace = if self.methods.iter().any(|m| m.info().implicit) {
+            Workspace::BYTES_PER_NODE
+        } else {
+            0.0
+        };
+        self.params.nodes as f64 * (25.0 + workspace) + coordinates * 8.0 * vectors as f64
     }
 }
 
