@@ -1,4 +1,4 @@
-//! DOP853 and Verner's 9(8) (issue 13, points 2, 3 and 5): their measured order on the pendulum,
+//! DOP853 and Verner's 9(8): their measured order on the pendulum,
 //! their dense output, the exact period through it, tolerance proportionality, and the accepted /
 //! rejected step counts.
 

@@ -1,4 +1,4 @@
-//! `physlab all`, scene files, provenance and `inspect` (issue 5).
+//! `physlab all`, scene files, provenance and `inspect`.
 
 #![cfg(feature = "rerun")]
 

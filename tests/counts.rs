@@ -1,4 +1,4 @@
-//! Evaluation counts against what the methods compute (issue 16, point 2): for every method,
+//! Evaluation counts against what the methods compute: for every method,
 //! `Integrator::evals()` is the number of force evaluations actually made, counted where they
 //! happen, and `Integrator::jacobian_evals()` the number of Jacobian evaluations.
 

@@ -1,5 +1,5 @@
-//! dopri5's single step against the Dormand–Prince method's known behaviour on x'' = -x
-//! (issue 16, point 4). Its convergence order on the pendulum is in `pendulum_numerics.rs`.
+//! dopri5's single step against the Dormand–Prince method's known behaviour on x'' = -x.
+//! Its convergence order on the pendulum is in `pendulum_numerics.rs`.
 //!
 //! On y' = A y with A = [[0, 1], [-1, 0]] (x'' = -x as a first-order system), one Runge–Kutta
 //! step is y1 = R(hA) y0 with R the method's stability polynomial. Dormand–Prince 5(4) advances

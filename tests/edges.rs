@@ -1,4 +1,4 @@
-//! The edges (issue 17), each tried as a class of values: out-of-range inputs refused by name,
+//! The edges, each tried as a class of values: out-of-range inputs refused by name,
 //! contradictory output options refused, a missing viewer costing no file, scene files that do
 //! not apply refused, study guards, and no figures shown for a method that failed at once.
 

@@ -1,4 +1,4 @@
-//! The edges (issue 17) in every phase, each tried as a class of values: Ctrl-C and SIGTERM in
+//! The edges in every phase, each tried as a class of values: Ctrl-C and SIGTERM in
 //! every phase of `study` (reference, sweep, stability; both scenes) and in the pendulum's
 //! fine-step reference, with the files left on disk; the step guards of those phases; hair's
 //! divergence bound and its kinetic energy per unit mass; implicit Euler's root at large steps;

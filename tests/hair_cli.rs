@@ -1,4 +1,4 @@
-//! The hair command end to end (issue 4): exit code, summary, recording layout, bad input.
+//! The hair command end to end: exit code, summary, recording layout, bad input.
 
 #![cfg(feature = "rerun")]
 
@@ -172,7 +172,7 @@ fn hair_dt_is_the_simulation_step_and_sets_the_substeps() {
     assert_eq!(substeps(&["--config", file.to_str().unwrap()]).1, Some(2));
 }
 
-/// `physlab study hair` (issue 12, point 4): every configuration measured, the CSV written with
+/// `physlab study hair`: every configuration measured, the CSV written with
 /// one row each, the direct solver and ftl within 1e-6 and one Gauss–Seidel sweep not within
 /// 1e-1 (the chain cannot carry a correction from tip to root in one sweep).
 #[test]

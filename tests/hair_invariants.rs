@@ -1,4 +1,4 @@
-//! The hair scene's invariants, checked after every step (issue 4, point 5), and determinism
+//! The hair scene's invariants, checked after every step, and determinism
 //! across thread counts (point 6).
 
 use std::f64::consts::PI;

@@ -1,4 +1,4 @@
-//! Length at the defaults and at the extremes (issue 12, point 3): with the default solver,
+//! Length at the defaults and at the extremes: with the default solver,
 //! the largest relative stretch over the whole run stays ≤ 1e-3 for verlet and ≤ 1e-6 for ftl
 //! at the default scene, 64 nodes, strong gusty wind and the shaking head; no non-root node is
 //! inside R(1 + margin) (to round-off) and every root sits exactly on its anchor.

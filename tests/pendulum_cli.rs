@@ -1,4 +1,4 @@
-//! The binary end to end (issue 2, point 7d): exit code, summary, and the recording read back
+//! The binary end to end: exit code, summary, and the recording read back
 //! with Rerun's own decoder.
 
 #![cfg(feature = "rerun")]

@@ -1,4 +1,4 @@
-//! The pendulum's numbers against theory and independent references (issue 2, point 7 a-c).
+//! The pendulum's numbers against theory and independent references.
 //! Theory: `../shared/reference/oscillator_theory.md`; periods: `tests/data/pendulum_period.csv`
 //! (a verbatim copy of `../shared/reference/pendulum_period.csv`, computed with 40-digit mpmath).
 

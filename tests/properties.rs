@@ -1,4 +1,4 @@
-//! Property tests over random valid parameters (issue 7): no panic anywhere, and within its
+//! Property tests over random valid parameters: no panic anywhere, and within its
 //! stability limit no method produces a NaN or diverges.
 
 use glam::DVec3;

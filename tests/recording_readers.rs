@@ -156,9 +156,10 @@ fn fuzz_cases() -> u32 {
 proptest! {
     #![proptest_config(ProptestConfig { cases: fuzz_cases(), ..ProptestConfig::default() })]
 
-    /// Mutated recordings: every reader ends with a clean error or a good read. (A corrupted
-    /// message length once made Rerun's decoder reserve up to 2^64 bytes and abort; lengths are
-    /// now checked against the file before decoding, `record/framing.rs`.) More cases:
+    /// Mutated recordings: every reader ends with a clean error or a good read. A corrupted
+    /// length (of a message, an LZ4 buffer, an Arrow body) would make a decoder reserve up to
+    /// 2^64 bytes and abort, which no `catch_unwind` stops: `record/framing.rs` checks each
+    /// against what follows it first. More cases:
     /// `PROPTEST_CASES=20000 cargo test --release --test recording_readers mutated`.
     #[test]
     fn mutated_recordings_never_panic_a_reader(which in 0usize..64, m in mutation()) {

@@ -1,4 +1,4 @@
-//! Failing politely (issue 7): bad input of every kind, existing recordings left intact,
+//! Failing politely: bad input of every kind, existing recordings left intact,
 //! interruption, divergence as an exit code.
 
 #![cfg(feature = "rerun")]

@@ -1,4 +1,4 @@
-//! The rope command end to end (issue 3): exit code, summary, recording, preset resolution.
+//! The rope command end to end: exit code, summary, recording, preset resolution.
 
 #![cfg(feature = "rerun")]
 

@@ -1,4 +1,4 @@
-//! The rope against independent references and theory (issue 3, point 6).
+//! The rope against independent references and theory.
 
 use glam::DVec3;
 use physlab::integrate::{Integrator, Method, MethodOptions, SecondOrderSystem};

@@ -1,4 +1,4 @@
-//! The exact pendulum up to the separatrix (issue 13, point 6): the period and θ(t) of a release
+//! The exact pendulum up to the separatrix: the period and θ(t) of a release
 //! from rest just below 180° against `tests/data/separatrix_reference.csv` (100-digit mpmath at
 //! the exact radian doubles, two independent routes; `tests/data/separatrix_reference.py` wrote
 //! it), and no panic or hang for any finite release angle, on both reference paths.

@@ -1,4 +1,4 @@
-//! `physlab study` against theory (issue 6, point 5).
+//! `physlab study` against theory.
 
 #[cfg(feature = "rerun")]
 mod common;

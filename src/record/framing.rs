@@ -178,10 +178,12 @@ impl<R: Read> Framed<R> {
         self.frame.extend_from_slice(&header);
         let payload_start = self.frame.len();
         self.take(declared)?;
-        if kind == KIND_ARROW {
-            check_arrow_sizes(&self.frame[payload_start..])
-                .map_err(|why| corrupt(at + MESSAGE_HEADER_BYTES as u64, &why))?;
-        }
+        let checked = match kind {
+            KIND_ARROW => check_arrow_sizes(&self.frame[payload_start..]),
+            KIND_END => check_footer(&self.frame[payload_start..]),
+            _ => Ok(()),
+        };
+        checked.map_err(|why| corrupt(at + MESSAGE_HEADER_BYTES as u64, &why))?;
         self.expect = if kind == KIND_END {
             Expect::StreamFooter
         } else {
@@ -221,46 +223,96 @@ fn corrupt(at: u64, what: &str) -> io::Error {
     )
 }
 
-/// Refuses an Arrow message whose declared sizes its decoders would trust into a huge
-/// allocation: a decompressed size LZ4 could not produce from its payload, or an Arrow IPC
-/// message inside whose body runs past the bytes that follow it (Arrow sizes that buffer from
-/// the header before reading). Reads the protobuf's fields without decoding them (varints and
-/// lengths only), then decompresses the payload as Rerun's decoder will.
-fn check_arrow_sizes(message: &[u8]) -> Result<(), String> {
-    let mut compression = 0u64;
-    let mut uncompressed = 0u64;
-    let mut payload: &[u8] = &[];
+/// A protobuf field's value, as far as the size checks need it.
+enum Value<'a> {
+    Number(u64),
+    Bytes(&'a [u8]),
+    Other,
+}
+
+/// A protobuf message's fields in order, read without a schema (varints and lengths only).
+fn proto_fields(message: &[u8]) -> Result<Vec<(u64, Value<'_>)>, String> {
+    let mut fields = Vec::new();
     let mut rest = message;
     while !rest.is_empty() {
-        let key = varint(&mut rest).ok_or("a truncated field key in an Arrow message")?;
+        let key = varint(&mut rest).ok_or("a truncated field key in a message")?;
         let (field, wire) = (key >> 3, key & 7);
-        match wire {
-            0 => {
-                let value = varint(&mut rest).ok_or("a truncated number in an Arrow message")?;
-                match field {
-                    ARROW_UNCOMPRESSED_SIZE_FIELD => uncompressed = value,
-                    ARROW_COMPRESSION_FIELD => compression = value,
-                    _ => {}
-                }
-            }
+        let value = match wire {
+            0 => Value::Number(varint(&mut rest).ok_or("a truncated number in a message")?),
             1 | 5 => {
                 let n = if wire == 1 { 8 } else { 4 };
                 rest = rest
                     .get(n..)
-                    .ok_or("a truncated fixed-size field in an Arrow message")?;
+                    .ok_or("a truncated fixed-size field in a message")?;
+                Value::Other
             }
             2 => {
-                let len = varint(&mut rest).ok_or("a truncated length in an Arrow message")?;
+                let len = varint(&mut rest).ok_or("a truncated length in a message")?;
                 let len = usize::try_from(len)
                     .ok()
                     .filter(|&l| l <= rest.len())
-                    .ok_or("a field longer than its Arrow message")?;
-                if field == ARROW_PAYLOAD_FIELD {
-                    payload = &rest[..len];
-                }
-                rest = &rest[len..];
+                    .ok_or("a field longer than its message")?;
+                let (bytes, after) = rest.split_at(len);
+                rest = after;
+                Value::Bytes(bytes)
             }
             _ => return Err(format!("an unknown protobuf wire type {wire}")),
+        };
+        fields.push((field, value));
+    }
+    Ok(fields)
+}
+
+/// Checks an Arrow message (`rerun.log_msg.v1alpha1.ArrowMsg`: compression 2,
+/// uncompressed_size 3, payload 5) with [`check_compressed_ipc`].
+fn check_arrow_sizes(message: &[u8]) -> Result<(), String> {
+    check_dataframe(
+        message,
+        ARROW_COMPRESSION_FIELD,
+        ARROW_UNCOMPRESSED_SIZE_FIELD,
+        ARROW_PAYLOAD_FIELD,
+    )
+}
+
+/// Checks the Arrow data in an end message, the file's footer (`RrdFooter`: manifests 1, each an
+/// `RrdManifest` whose data 4 is a `DataframePart`: payload 2, compression 3,
+/// uncompressed_size 4), which the readers decode for the footer's manifest. A footer that is no
+/// protobuf is left for the decoder to refuse: nothing in it is then sized.
+fn check_footer(message: &[u8]) -> Result<(), String> {
+    let Ok(footer) = proto_fields(message) else {
+        return Ok(());
+    };
+    for (field, manifest) in footer {
+        let (1, Value::Bytes(manifest)) = (field, manifest) else {
+            continue;
+        };
+        for (field, part) in proto_fields(manifest).unwrap_or_default() {
+            if let (4, Value::Bytes(part)) = (field, part) {
+                check_dataframe(part, 3, 4, 2)?;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Refuses Arrow data (a compression, a declared decompressed size and a payload, at the given
+/// field numbers) whose sizes its decoders would trust into a huge allocation: a decompressed
+/// size LZ4 could not produce from its payload, or an Arrow IPC message inside whose body runs
+/// past the bytes that follow it (Arrow sizes that buffer from the header before reading).
+/// Decompresses the payload as Rerun's decoder will.
+fn check_dataframe(
+    message: &[u8],
+    compression_field: u64,
+    uncompressed_field: u64,
+    payload_field: u64,
+) -> Result<(), String> {
+    let (mut compression, mut uncompressed, mut payload) = (0, 0, &[][..]);
+    for (field, value) in proto_fields(message)? {
+        match value {
+            Value::Number(n) if field == compression_field => compression = n,
+            Value::Number(n) if field == uncompressed_field => uncompressed = n,
+            Value::Bytes(b) if field == payload_field => payload = b,
+            _ => {}
         }
     }
     if compression != COMPRESSION_LZ4 {
@@ -480,6 +532,45 @@ mod tests {
             let why = check_ipc_stream(&bad).unwrap_err();
             assert!(why.contains("declaring a body of"), "{why}");
         }
+    }
+
+    #[test]
+    fn a_real_footer_holds_the_arrow_data_that_is_checked() {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/tests/data/rrd-corpus/pendulum.rrd"
+        );
+        let file = std::fs::read(path).unwrap();
+        // The end message: the last one before the 32-byte stream footer.
+        let mut at = STREAM_HEADER_BYTES as usize;
+        let end = loop {
+            let word = |i: usize| u64::from_le_bytes(file[i..i + 8].try_into().unwrap());
+            let (kind, len) = (word(at), word(at + 8) as usize);
+            let payload = &file[at + MESSAGE_HEADER_BYTES..at + MESSAGE_HEADER_BYTES + len];
+            if kind == KIND_END {
+                break payload;
+            }
+            at += MESSAGE_HEADER_BYTES + len;
+        };
+        let mut parts = 0;
+        for (field, manifest) in proto_fields(end).unwrap() {
+            let (1, Value::Bytes(manifest)) = (field, manifest) else {
+                continue;
+            };
+            for (field, part) in proto_fields(manifest).unwrap() {
+                if let (4, Value::Bytes(part)) = (field, part) {
+                    let fields = proto_fields(part).unwrap();
+                    assert!(
+                        fields
+                            .iter()
+                            .any(|(f, v)| *f == 2 && matches!(v, Value::Bytes(b) if b.len() > 100))
+                    );
+                    parts += 1;
+                }
+            }
+        }
+        assert!(parts >= 1, "a manifest with its data");
+        assert_eq!(check_footer(end), Ok(()));
     }
 
     #[test]
