@@ -270,6 +270,13 @@ pub fn compare_files(
                 })?;
             queued_a -= na - lane.qa.len();
             queued_b -= nb - lane.qb.len();
+            // A drained queue gives its room back: kept, a chunk's worth of rows per series
+            // (hundreds of series) would hold more than the rows ever waiting at once.
+            for queue in [&mut lane.qa, &mut lane.qb] {
+                if queue.is_empty() && queue.capacity() > 64 {
+                    *queue = VecDeque::new();
+                }
+            }
         }
     }
     let mut out = Streamed {

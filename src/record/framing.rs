@@ -116,7 +116,19 @@ impl<R: Read> Framed<R> {
                 };
             }
             Expect::StreamFooter => {
+                let at = self.offset;
                 self.take(STREAM_FOOTER_BYTES)?;
+                // Its last field counts the entries before it, and the decoder sizes a list
+                // by that count before reading them; 32 bytes hold one.
+                if let Some(count) = self.frame.get(28..32) {
+                    let count = u32::from_le_bytes(count.try_into().unwrap_or_default());
+                    if count > 1 {
+                        return Err(corrupt(
+                            at,
+                            &format!("a stream footer counting {count} entries where it holds 1"),
+                        ));
+                    }
+                }
                 self.expect = Expect::StreamHeader;
             }
             Expect::Message => self.next_message()?,
@@ -440,7 +452,9 @@ mod tests {
         let mut file = header();
         file.extend(message(1, b"store", 5));
         file.extend(message(KIND_END, b"", 0));
-        file.extend([7u8; 32]);
+        file.extend([7u8; 20]); // one entry: its span and checksum
+        file.extend(*b"RRF2FOOT");
+        file.extend(1u32.to_le_bytes());
         file.extend(header());
         file.extend(message(1, b"again", 5));
         let (read, cut) = read_all(&file);
@@ -571,6 +585,25 @@ mod tests {
         }
         assert!(parts >= 1, "a manifest with its data");
         assert_eq!(check_footer(end), Ok(()));
+    }
+
+    #[test]
+    fn a_stream_footer_counting_more_entries_than_it_holds_is_refused() {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/tests/data/rrd-corpus/rope.rrd"
+        );
+        let mut file = std::fs::read(path).unwrap();
+        assert!(read_all(&file).0.is_ok());
+        let n = file.len();
+        assert_eq!(
+            &file[n - 8..n - 4],
+            b"FOOT",
+            "the stream footer ends the file"
+        );
+        file[n - 4..].copy_from_slice(&3_000_000_000u32.to_le_bytes());
+        let err = read_all(&file).0.unwrap_err().to_string();
+        assert!(err.contains("counting 3000000000 entries"), "{err}");
     }
 
     #[test]
