@@ -169,7 +169,15 @@ const BAD_INPUTS: &[(&[&str], i32, &str)] = &[
         "node-steps per method",
     ),
     (
-        &["rope", "--nodes", "9000000", "--duration", "0.01"],
+        &[
+            "rope",
+            "--nodes",
+            "9000000",
+            "--duration",
+            "0.01",
+            "--methods",
+            "explicit-euler,semi-implicit-euler,implicit-euler,midpoint,trapezoid,rk4,verlet,yoshida4,dopri5,dop853,vern9",
+        ],
         2,
         "of memory, more than",
     ),
