@@ -328,7 +328,6 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
         silent: true,
         ..Replay::default()
     };
-    let mut until: BTreeMap<String, Option<i64>> = BTreeMap::new();
     let killed = info.run.is_empty();
     for scene in &scenes {
         let status = info.run.get(&format!("{scene}_status")).map(String::as_str);
@@ -352,7 +351,6 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
         if let Some(ended) = info.run.get(&format!("{scene}_ended")) {
             println!("  {scene}: {ended}");
         }
-        until.insert(scene.to_string(), None);
     }
     if killed {
         // No end record (an older physlab): compare each series as far as it goes.

@@ -289,7 +289,7 @@ pub fn compare_files(
         if !lane.statics_a.is_empty() || !lane.statics_b.is_empty() {
             out.statics.insert(
                 key.clone(),
-                compare(&lane.statics_a, &lane.statics_b, spec.tolerance, None),
+                compare(&lane.statics_a, &lane.statics_b, spec.tolerance),
             );
         }
         if lane.pairing.out.rows_a > 0 || lane.pairing.out.rows_b > 0 {
@@ -518,12 +518,10 @@ impl SeriesDiff {
 }
 
 /// Compares two series row by row, pairing rows by time. A value differs when |b − a| exceeds
-/// `tolerance` × the series' scale (with tolerance 0: when its bits differ). Rows after
-/// `until` (ns of `sim_time`) are left out on both sides.
-pub fn compare(a: &[Row], b: &[Row], tolerance: f64, until: Option<i64>) -> SeriesDiff {
-    let keep = |r: &&Row| until.is_none_or(|u| r.time.is_none_or(|t| t <= u));
-    let mut qa: VecDeque<Row> = a.iter().filter(keep).cloned().collect();
-    let mut qb: VecDeque<Row> = b.iter().filter(keep).cloned().collect();
+/// `tolerance` × the series' scale (with tolerance 0: when its bits differ).
+pub fn compare(a: &[Row], b: &[Row], tolerance: f64) -> SeriesDiff {
+    let mut qa: VecDeque<Row> = a.iter().cloned().collect();
+    let mut qb: VecDeque<Row> = b.iter().cloned().collect();
     let mut scale = largest_finite(qa.make_contiguous());
     if scale == 0.0 {
         scale = largest_finite(qb.make_contiguous());
@@ -574,21 +572,20 @@ mod tests {
     fn finds_the_first_difference_beyond_the_tolerance_and_the_largest() {
         let a = rows(&[(0, 1.0), (10, 2.0), (20, -4.0), (30, 0.0)]);
         let b = rows(&[(0, 1.0), (10, 2.0 + 1e-15), (20, -4.5), (30, 0.0)]);
-        let d = compare(&a, &b, 0.0, None);
+        let d = compare(&a, &b, 0.0);
         assert_eq!(d.first.as_ref().unwrap().time, Some(10));
         assert_eq!(d.largest.as_ref().unwrap().time, Some(20));
         assert_eq!(d.largest.as_ref().unwrap().abs(), 0.5);
         assert!(!d.same());
         // Relative to the series' scale 4: 1e-15 passes 1e-3, 0.5 does not.
-        let d = compare(&a, &b, 1e-3, None);
+        let d = compare(&a, &b, 1e-3);
         assert_eq!(d.first.as_ref().unwrap().time, Some(20));
-        assert!(!compare(&a, &b, 0.2, None).bit_identical());
-        assert!(compare(&a, &b, 0.2, None).same());
-        // Left out after `until`, and a missing row is a difference.
-        assert!(compare(&a, &b, 0.0, Some(5)).bit_identical());
+        assert!(!compare(&a, &b, 0.2).bit_identical());
+        assert!(compare(&a, &b, 0.2).same());
+        // A missing row is a difference.
         assert_eq!(time_text(Some(1_460_000_000)), "t = 1.46 s");
         assert_eq!(time_text(Some(3_000_000_000)), "t = 3 s");
         assert_eq!(time_text(Some(-5)), "t = -0.000000005 s");
-        assert_eq!(compare(&a, &b[..3], 0.0, Some(30)).unpaired, 1);
+        assert_eq!(compare(&a, &b[..3], 0.0).unpaired, 1);
     }
 }
