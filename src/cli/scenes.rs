@@ -12,7 +12,7 @@ use crate::scene::hair::run::HairConfig;
 use crate::scene::hair::{HairMethod, HeadMotion, Solver};
 use crate::scene::params::dedup_methods;
 use crate::scene::pendulum::run::{DEFAULT_THETA0_DEGREES, PendulumConfig};
-use crate::scene::rope::run::{Layout, RopeConfig};
+use crate::scene::rope::run::{RopeConfig, RopeLayout};
 
 /// `a.over(b)`: a's given values, b's for the rest.
 macro_rules! overlay {
@@ -176,7 +176,7 @@ pub struct RopeArgs {
 
     /// Where each method's rope is drawn: side-by-side or overlay
     #[arg(long, value_name = "LAYOUT")]
-    pub layout: Option<Layout>,
+    pub layout: Option<RopeLayout>,
 }
 
 #[derive(Args, Debug, Clone, Default, Serialize, Deserialize, PartialEq)]

@@ -17,21 +17,21 @@ use super::read::{Messages, each_message, unusable};
 /// One logged row of one component: its `sim_time` in ns (`None` for static data), every number
 /// it holds (floats widened to f64 exactly, integers converted), and every text.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Row {
+pub struct LoggedRow {
     pub time: Option<i64>,
     pub nums: Vec<f64>,
     pub texts: Vec<String>,
 }
 
 /// (entity path, component) → rows, in time order (rows at the same time in logging order).
-pub type Contents = BTreeMap<(String, String), Vec<Row>>;
+pub type Contents = BTreeMap<(String, String), Vec<LoggedRow>>;
 
 /// An (entity path, component) pair: one series.
 pub type Key = (String, String);
 
 /// One message's rows, grouped by series in logging order: every component of every entity of
 /// a recording chunk (not the properties, not the blueprint). `Err` says what is wrong.
-fn message_rows(msg: LogMsg) -> Result<Vec<(Key, Vec<Row>)>, String> {
+fn message_rows(msg: LogMsg) -> Result<Vec<(Key, Vec<LoggedRow>)>, String> {
     let LogMsg::ArrowMsg(store_id, arrow_msg) = msg else {
         return Ok(Vec::new());
     };
@@ -56,7 +56,7 @@ fn message_rows(msg: LogMsg) -> Result<Vec<(Key, Vec<Row>)>, String> {
             if list.is_null(i) {
                 continue;
             }
-            let mut row = Row {
+            let mut row = LoggedRow {
                 time: times.and_then(|t| t.get(i).copied()),
                 nums: Vec::new(),
                 texts: Vec::new(),
@@ -101,7 +101,7 @@ pub struct SeriesIndex {
     pub scale: f64,
 }
 
-fn largest_finite(rows: &[Row]) -> f64 {
+fn largest_finite(rows: &[LoggedRow]) -> f64 {
     rows.iter()
         .flat_map(|r| &r.nums)
         .filter(|v| v.is_finite())
@@ -114,7 +114,7 @@ pub fn index_series(path: &Path) -> anyhow::Result<BTreeMap<Key, SeriesIndex>> {
     each_message(path, |msg| {
         for (key, rows) in message_rows(msg)? {
             let entry = index.entry(key).or_default();
-            let (timed, statics): (Vec<Row>, Vec<Row>) =
+            let (timed, statics): (Vec<LoggedRow>, Vec<LoggedRow>) =
                 rows.into_iter().partition(|r| r.time.is_some());
             entry.timed += timed.len();
             entry.statics += statics.len();
@@ -148,11 +148,11 @@ pub struct Streamed {
 
 /// One series being compared: rows waiting for their partner on the other side.
 struct Lane {
-    qa: VecDeque<Row>,
-    qb: VecDeque<Row>,
+    qa: VecDeque<LoggedRow>,
+    qb: VecDeque<LoggedRow>,
     pairing: Pairing,
-    statics_a: Vec<Row>,
-    statics_b: Vec<Row>,
+    statics_a: Vec<LoggedRow>,
+    statics_b: Vec<LoggedRow>,
     /// B's timed rows taken so far, and how many may be (A's count, when capped).
     taken_b: usize,
     cap_b: Option<usize>,
@@ -167,7 +167,7 @@ pub fn compare_files(
     a: &Path,
     b: &Path,
     spec: &StreamSpec,
-    on_pair: &mut dyn FnMut(&Key, &Row, &Row) -> anyhow::Result<()>,
+    on_pair: &mut dyn FnMut(&Key, &LoggedRow, &LoggedRow) -> anyhow::Result<()>,
 ) -> anyhow::Result<Streamed> {
     let rename = |key: Key| -> Key {
         match &spec.rename_b {
@@ -323,9 +323,9 @@ impl Pairing {
     /// other side has passed has no partner. Rows are in time order on each side.
     fn merge(
         &mut self,
-        qa: &mut VecDeque<Row>,
-        qb: &mut VecDeque<Row>,
-        on_pair: &mut dyn FnMut(&Row, &Row) -> anyhow::Result<()>,
+        qa: &mut VecDeque<LoggedRow>,
+        qb: &mut VecDeque<LoggedRow>,
+        on_pair: &mut dyn FnMut(&LoggedRow, &LoggedRow) -> anyhow::Result<()>,
     ) -> anyhow::Result<()> {
         while let (Some(ra), Some(rb)) = (qa.front(), qb.front()) {
             if ra.time != rb.time {
@@ -345,7 +345,7 @@ impl Pairing {
         Ok(())
     }
 
-    fn pair(&mut self, ra: &Row, rb: &Row) {
+    fn pair(&mut self, ra: &LoggedRow, rb: &LoggedRow) {
         let out = &mut self.out;
         out.paired += 1;
         if (ra.texts != rb.texts || ra.nums.len() != rb.nums.len()) && out.first_other.is_none() {
@@ -519,9 +519,9 @@ impl SeriesDiff {
 
 /// Compares two series row by row, pairing rows by time. A value differs when |b − a| exceeds
 /// `tolerance` × the series' scale (with tolerance 0: when its bits differ).
-pub fn compare(a: &[Row], b: &[Row], tolerance: f64) -> SeriesDiff {
-    let mut qa: VecDeque<Row> = a.iter().cloned().collect();
-    let mut qb: VecDeque<Row> = b.iter().cloned().collect();
+pub fn compare(a: &[LoggedRow], b: &[LoggedRow], tolerance: f64) -> SeriesDiff {
+    let mut qa: VecDeque<LoggedRow> = a.iter().cloned().collect();
+    let mut qb: VecDeque<LoggedRow> = b.iter().cloned().collect();
     let mut scale = largest_finite(qa.make_contiguous());
     if scale == 0.0 {
         scale = largest_finite(qb.make_contiguous());
@@ -557,10 +557,10 @@ pub fn time_text(t: Option<i64>) -> String {
 mod tests {
     use super::*;
 
-    fn rows(values: &[(i64, f64)]) -> Vec<Row> {
+    fn rows(values: &[(i64, f64)]) -> Vec<LoggedRow> {
         values
             .iter()
-            .map(|&(t, v)| Row {
+            .map(|&(t, v)| LoggedRow {
                 time: Some(t),
                 nums: vec![v],
                 texts: vec![],

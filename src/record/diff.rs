@@ -7,7 +7,7 @@ use std::path::Path;
 use rerun::TimeColumn;
 use rerun::blueprint::{Blueprint, TextDocumentView};
 
-use super::compare::{Key, Row};
+use super::compare::{Key, LoggedRow};
 use super::{Destinations, Recording};
 
 /// Rows held per series before they are sent: the writer's memory does not grow with the file.
@@ -34,7 +34,7 @@ impl DiffWriter {
     }
 
     /// One pair of rows at the same time.
-    pub fn pair(&mut self, key: &Key, a: &Row, b: &Row) -> anyhow::Result<()> {
+    pub fn pair(&mut self, key: &Key, a: &LoggedRow, b: &LoggedRow) -> anyhow::Result<()> {
         let Some(time) = a.time else {
             return Ok(());
         };

@@ -18,7 +18,7 @@ use crate::report::rope::cost_per_step;
 use crate::report::table::trim_number;
 use crate::scene::harness::{Event, Frame};
 use crate::scene::rope::node;
-use crate::scene::rope::run::{ENERGY_GAIN_BOUND, Layout, RopeConfig, RopeLane, RopeScene};
+use crate::scene::rope::run::{ENERGY_GAIN_BOUND, RopeConfig, RopeLane, RopeLayout, RopeScene};
 
 /// The plotted quantities: entity name and plot title (with units).
 pub const PLOTS: [(&str, &str); 3] = [
@@ -60,8 +60,8 @@ pub fn blueprint(timings: bool, framing: Framing, props: &mut ViewProperties) ->
 fn slot_offsets(c: &RopeConfig) -> Vec<[f64; 3]> {
     let span = rope_span(c);
     match c.layout {
-        Layout::Overlay => vec![[0.0; 3]; c.methods.len()],
-        Layout::SideBySide => slot_cells(c.methods.len())
+        RopeLayout::Overlay => vec![[0.0; 3]; c.methods.len()],
+        RopeLayout::SideBySide => slot_cells(c.methods.len())
             .into_iter()
             .map(|(col, row)| [2.3 * span * col as f64, 0.0, 1.6 * span * row as f64])
             .collect(),

@@ -13,9 +13,9 @@ use rerun::sink::{LogSink, SinkFlushError};
 use crate::output::Partial;
 
 /// The encoder, or the first error met.
-pub struct Shared(Mutex<State>);
+pub struct Shared(Mutex<SinkState>);
 
-enum State {
+enum SinkState {
     Writing(Box<Encoder<Partial>>),
     Failed(String),
     Done,
@@ -29,45 +29,45 @@ impl Shared {
             EncodingOptions::PROTOBUF_COMPRESSED,
             partial,
         )?;
-        Ok(Shared(Mutex::new(State::Writing(Box::new(encoder)))))
+        Ok(Shared(Mutex::new(SinkState::Writing(Box::new(encoder)))))
     }
 
-    fn state(&self) -> std::sync::MutexGuard<'_, State> {
+    fn state(&self) -> std::sync::MutexGuard<'_, SinkState> {
         self.0.lock().unwrap_or_else(|e| e.into_inner())
     }
 
     /// Runs `f` on the encoder; on an error keeps it, drops the hidden file and stops the run.
     fn with<T>(&self, f: impl FnOnce(&mut Encoder<Partial>) -> Result<T, EncodeError>) {
         let mut state = self.state();
-        let State::Writing(encoder) = &mut *state else {
+        let SinkState::Writing(encoder) = &mut *state else {
             return;
         };
         if let Err(e) = f(encoder) {
-            *state = State::Failed(fail(std::mem::replace(&mut *state, State::Done), &e));
+            *state = SinkState::Failed(fail(std::mem::replace(&mut *state, SinkState::Done), &e));
             crate::interrupt::stop();
         }
     }
 
     /// Writes the footer and puts the file in place, or reports the first write error.
     pub fn finish(&self) -> anyhow::Result<()> {
-        let state = std::mem::replace(&mut *self.state(), State::Done);
+        let state = std::mem::replace(&mut *self.state(), SinkState::Done);
         match state {
-            State::Writing(mut encoder) => {
+            SinkState::Writing(mut encoder) => {
                 if let Err(e) = encoder.finish() {
-                    return Err(anyhow::anyhow!(fail(State::Writing(encoder), &e)));
+                    return Err(anyhow::anyhow!(fail(SinkState::Writing(encoder), &e)));
                 }
                 let partial = (*encoder).into_inner()?;
                 partial.commit()
             }
-            State::Failed(message) => Err(anyhow::anyhow!(message)),
-            State::Done => Ok(()),
+            SinkState::Failed(message) => Err(anyhow::anyhow!(message)),
+            SinkState::Done => Ok(()),
         }
     }
 }
 
 /// The message for `e`, naming the file; the hidden file is removed with the encoder.
-fn fail(state: State, e: &EncodeError) -> String {
-    let State::Writing(encoder) = state else {
+fn fail(state: SinkState, e: &EncodeError) -> String {
+    let SinkState::Writing(encoder) = state else {
         return e.to_string();
     };
     let Ok(partial) = (*encoder).into_inner() else {
@@ -94,7 +94,7 @@ impl LogSink for EncodedSink {
     fn flush_blocking(&self, _timeout: std::time::Duration) -> Result<(), SinkFlushError> {
         self.0.with(|e| e.flush_blocking());
         match &*self.0.state() {
-            State::Failed(message) => Err(SinkFlushError::failed(message.clone())),
+            SinkState::Failed(message) => Err(SinkFlushError::failed(message.clone())),
             _ => Ok(()),
         }
     }

@@ -3,7 +3,7 @@
 //! A strand is a chain of dependent square roots and divisions, so one strand at a time is
 //! latency-bound; eight strands in the eight f64 lanes of an AVX-512 register (two AVX2 ones)
 //! make every operation one vector instruction (two), and the chains of different strands
-//! overlap. These methods keep their state in lane form for good (`State::Lanes` in the parent
+//! overlap. These methods keep their state in lane form for good (`HairState::Lanes` in the parent
 //! module): chunks of [`LANES`] strands, node-major within a chunk, one [`V3`] (x, y, z each an
 //! [`F8`] of eight strands) per node, so [`StepContext::step_lanes`] steps each chunk in place,
 //! with nothing copied in or out. Readers go through `Hair::node`, `Hair::strand` and
@@ -70,7 +70,7 @@ impl LaneScratch {
 }
 
 /// What a chunk measured, per lane.
-struct LaneStats {
+struct ChunkStats {
     stretch: F8,
     depth2: F8,
     kinetic: F8,
@@ -126,7 +126,7 @@ impl Measure {
     }
 
     #[inline(always)]
-    fn finish(self) -> LaneStats {
+    fn finish(self) -> ChunkStats {
         // |ℓ - ℓ0|/ℓ0 as `StepContext::measure` computes it per segment falls and then rises
         // with ℓ² (the square root and every rounding are monotone), so its largest value is at
         // the shortest or the longest segment: two square roots per strand, the same bits.
@@ -134,7 +134,7 @@ impl Measure {
         let stretch = F8::ZERO
             .max(stretch_of(self.longest2))
             .max(stretch_of(self.shortest2));
-        LaneStats {
+        ChunkStats {
             stretch,
             depth2: self.depth2,
             kinetic: self.kinetic,
@@ -162,7 +162,7 @@ pub(super) fn in_lanes(params: &super::HairParams, method: HairMethod) -> bool {
 impl StepContext<'_> {
     /// Steps a group of strands in place, [`LANES`] at a time, and measures the result (on the
     /// last inner step). `x` holds the group's chunks in lane form (`nodes` lane vectors per
-    /// chunk, see `State::Lanes`), `prev` verlet's previous positions, `v` ftl's velocities (the
+    /// chunk, see `HairState::Lanes`), `prev` verlet's previous positions, `v` ftl's velocities (the
     /// other one empty).
     pub(super) fn step_lanes(
         &self,
@@ -235,7 +235,7 @@ impl StepContext<'_> {
         s: &mut LaneScratch,
         inputs: &LaneInputs,
         ftl: bool,
-    ) -> Option<LaneStats> {
+    ) -> Option<ChunkStats> {
         match isa() {
             #[cfg(target_arch = "x86_64")]
             // SAFETY: the processor has AVX-512F (`isa` checked it).
@@ -257,7 +257,7 @@ impl StepContext<'_> {
         s: &mut LaneScratch,
         inputs: &LaneInputs,
         ftl: bool,
-    ) -> Option<LaneStats> {
+    ) -> Option<ChunkStats> {
         self.kernel(x, p, v, s, inputs, ftl)
     }
 
@@ -271,7 +271,7 @@ impl StepContext<'_> {
         s: &mut LaneScratch,
         inputs: &LaneInputs,
         ftl: bool,
-    ) -> Option<LaneStats> {
+    ) -> Option<ChunkStats> {
         self.kernel(x, p, v, s, inputs, ftl)
     }
 
@@ -287,7 +287,7 @@ impl StepContext<'_> {
         s: &mut LaneScratch,
         inputs: &LaneInputs,
         ftl: bool,
-    ) -> Option<LaneStats> {
+    ) -> Option<ChunkStats> {
         let n = x.len();
         let dt = F8::splat(self.dt);
         let keep = F8::splat(self.keep);

@@ -13,7 +13,7 @@
 //!
 //! Layout is structure-of-arrays: positions, previous positions and velocities are separate
 //! arrays, and a method keeps only the arrays it needs (verlet: positions and previous
-//! positions; ftl: positions and velocities; the springs all three). Two layouts (`State`):
+//! positions; ftl: positions and velocities; the springs all three). Two layouts (`HairState`):
 //! - lane form, for `verlet` with the direct solver and `ftl`, which step eight strands at once
 //!   in the lanes of a vector register ([`lanes`]): chunks of eight strands, node-major within a
 //!   chunk (node k of strand s in lane s % 8 of element (s / 8)·nodes + k), stepped in place;
@@ -344,7 +344,7 @@ pub struct Hair {
     roots: Vec<DVec3>,
     /// Positions and what the method keeps besides, in the method's layout: read them through
     /// [`Hair::node`], [`Hair::strand`] or [`Hair::positions`].
-    state: State,
+    state: HairState,
     /// Time of the current state [s].
     pub time: f64,
     /// The last step's length [s] (0 before the first step).
@@ -357,7 +357,7 @@ pub struct Hair {
 
 /// A method's state in its layout (module docs).
 #[derive(Clone, Debug)]
-enum State {
+enum HairState {
     /// Strand-major `DVec3` (gauss-seidel verlet and the spring methods): node k of strand s at
     /// s·nodes + k. `prev` holds the positions at the start of the last step, `vel` the
     /// velocities (spring methods; empty for verlet).
@@ -405,7 +405,7 @@ impl Hair {
                 })
                 .collect();
             let ftl = method == HairMethod::Ftl;
-            State::Lanes {
+            HairState::Lanes {
                 // ftl needs no previous positions (its step keeps them in scratch): a third less
                 // memory traffic per frame.
                 prev: if ftl {
@@ -427,7 +427,7 @@ impl Hair {
                     pos.push(start(s, k));
                 }
             }
-            State::Strands {
+            HairState::Strands {
                 prev: pos.clone(),
                 vel: if method == HairMethod::Verlet {
                     Vec::new()
@@ -465,8 +465,8 @@ impl Hair {
     pub fn node(&self, s: usize, k: usize) -> DVec3 {
         let n = self.params.nodes;
         match &self.state {
-            State::Strands { pos, .. } => pos[s * n + k],
-            State::Lanes { x, .. } => x[(s / LANES) * n + k].lane(s % LANES),
+            HairState::Strands { pos, .. } => pos[s * n + k],
+            HairState::Lanes { x, .. } => x[(s / LANES) * n + k].lane(s % LANES),
         }
     }
 
@@ -529,7 +529,7 @@ impl Hair {
                 last: j + 1 == inner,
             };
             match &mut self.state {
-                State::Lanes { x, prev, vel } => {
+                HairState::Lanes { x, prev, vel } => {
                     // A group's chunks, `nodes` lane vectors each.
                     let gl = GROUP / LANES * n;
                     let ftl = self.method == HairMethod::Ftl;
@@ -548,7 +548,7 @@ impl Hair {
                             })
                         });
                 }
-                State::Strands { pos, prev, vel } if self.method == HairMethod::Verlet => {
+                HairState::Strands { pos, prev, vel } if self.method == HairMethod::Verlet => {
                     pos.par_chunks_mut(g)
                         .zip(prev.par_chunks_mut(g))
                         .zip(self.roots.par_chunks(GROUP))
@@ -558,7 +558,7 @@ impl Hair {
                         });
                     debug_assert!(vel.is_empty());
                 }
-                State::Strands { pos, prev, vel } => {
+                HairState::Strands { pos, prev, vel } => {
                     pos.par_chunks_mut(g)
                         .zip(prev.par_chunks_mut(g))
                         .zip(vel.par_chunks_mut(g))

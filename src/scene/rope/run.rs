@@ -44,7 +44,7 @@ pub fn energy_scale(rope: &Rope, x0: &[f64], v0: &[f64]) -> f64 {
 /// Where each method's rope is drawn (a presentation choice; it does not change the numbers).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
-pub enum Layout {
+pub enum RopeLayout {
     /// Each method in its own slot, rows of four.
     #[default]
     SideBySide,
@@ -52,17 +52,17 @@ pub enum Layout {
     Overlay,
 }
 
-impl Layout {
-    pub const ALL: [(&'static str, Layout); 2] = [
-        ("side-by-side", Layout::SideBySide),
-        ("overlay", Layout::Overlay),
+impl RopeLayout {
+    pub const ALL: [(&'static str, RopeLayout); 2] = [
+        ("side-by-side", RopeLayout::SideBySide),
+        ("overlay", RopeLayout::Overlay),
     ];
 }
 
-impl std::str::FromStr for Layout {
+impl std::str::FromStr for RopeLayout {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, String> {
-        crate::scene::choice(s, &Layout::ALL)
+        crate::scene::choice(s, &RopeLayout::ALL)
     }
 }
 
@@ -79,7 +79,7 @@ pub struct RopeConfig {
     /// Plot every Nth step (thinned further beyond MAX_PLOT_POINTS).
     pub plot_every: u64,
     /// How the recording lays the methods out.
-    pub layout: Layout,
+    pub layout: RopeLayout,
     pub methods: Vec<Method>,
     pub options: MethodOptions,
 }
@@ -92,7 +92,7 @@ impl Default for RopeConfig {
             duration: 10.0,
             fps: 30.0,
             plot_every: 5,
-            layout: Layout::default(),
+            layout: RopeLayout::default(),
             methods: Method::DEFAULT.to_vec(),
             options: MethodOptions::default(),
         }
