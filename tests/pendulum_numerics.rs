@@ -501,3 +501,32 @@ fn fine_step_reference_error_estimate_bounds_the_true_error() {
     }
     assert!(failed.is_empty(), "{failed:#?}");
 }
+
+/// The convergence study's own reference for starts with ω0 ≠ 0 (the scene's fine-step
+/// reference): over the same whole runs, the error it states bounds its true error against
+/// 32-digit mpmath and is within 100× of it (or 1e-14 rad).
+#[test]
+fn the_studys_reference_states_its_error_honestly() {
+    use physlab::study::{Problem, reference};
+    let mut failed = Vec::new();
+    for r in whole_runs().into_iter().filter(|r| r.params.omega0 != 0.0) {
+        // Sampled every r.every, as a study with dt0 = r.every / 10 and 6 levels would be.
+        let finest = r.every / 10.0 / 32.0;
+        let (states, estimate) =
+            reference(&Problem::Pendulum(r.params), r.every, r.theta.len(), finest).unwrap();
+        let worst = states
+            .iter()
+            .zip(&r.theta)
+            .map(|(s, th)| (s[0] - th).abs())
+            .fold(0.0, f64::max);
+        let line = format!(
+            "{}°, {} rad/s: true {worst:.2e}, estimate {estimate:.2e}",
+            r.degrees, r.params.omega0
+        );
+        println!("{line}");
+        if worst > estimate || estimate > 100.0 * worst.max(1e-14) {
+            failed.push(line);
+        }
+    }
+    assert!(failed.is_empty(), "{failed:#?}");
+}

@@ -386,6 +386,10 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
                 format!(
                     "the exact elliptic solution (θ to {reference_error:.0e} rad over this run: measured against mpmath over whole runs)"
                 )
+            } else if matches!(&problem, Problem::Pendulum(_)) {
+                format!(
+                    "the fine-step reference (compensated RK4, as the pendulum scene runs it), its own error estimated at {reference_error:.1e} rad (Richardson; measured against mpmath over whole runs)"
+                )
             } else {
                 format!(
                     "RK4 at dt/8 of the finest step, its own error estimated at {reference_error:.1e} (Richardson)"

@@ -187,7 +187,12 @@ impl FineStepReference {
 
     /// A reference sampled every `dt`, stepped with RK4 at dt / substeps and dt / (2 substeps).
     pub fn new(p: &PendulumParams, dt: f64) -> Self {
-        let substeps = Self::substeps(p, dt) as u64;
+        Self::with_substeps(p, dt, Self::substeps(p, dt) as u64)
+    }
+
+    /// As [`FineStepReference::new`], with `substeps` coarse steps per sample (at least 1).
+    pub fn with_substeps(p: &PendulumParams, dt: f64, substeps: u64) -> Self {
+        let substeps = substeps.max(1);
         let h = dt / substeps as f64;
         FineStepReference {
             coarse: CompensatedRk4::new(p, h),
