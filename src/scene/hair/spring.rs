@@ -9,10 +9,10 @@
 //!   ([`super::HairParams::spring_step_limit`]);
 //! - backward Euler: the rope's block-tridiagonal Newton solve, shared through
 //!   [`crate::scene::rope::implicit::Chain`], one strand at a time. Three things make it hold
-//!   length (measured before: stretch 1.4–7.3): Newton to tolerance rather than the linearised
+//!   length: Newton to tolerance rather than the linearised
 //!   step (a segment turns by O(1) rad in a 60 Hz frame, far outside the linearisation); a
 //!   backtracking line search on the incremental potential ([`Chain::merit`]), without which
-//!   Newton from the start of the step overshoots (stretch 2–4 even at 50 steps); and the head
+//!   Newton from the start of the step overshoots; and the head
 //!   contact as a penalty inside the solve ([`Chain::node_stiffness`]): pushed out only after
 //!   the solve, a node the solve had left deep inside moved alone and crushed its segment to
 //!   3% of its length.
