@@ -498,6 +498,16 @@ fn hostile_values_of_every_class_are_refused_by_name_or_run_clean() {
         (&["hair", "--damping", "1e9"], "--damping 1e9"),
         (&["hair", "--stiffness", "1e300"], "--stiffness 1e300"),
         (
+            &[
+                "hair",
+                "--methods",
+                "semi-implicit-euler",
+                "--segment-length",
+                "1e-5",
+            ],
+            "the springs' default --stiffness here is k/m = 4.552e14",
+        ),
+        (
             &["hair", "--spring-damping", "1e300"],
             "--spring-damping 1e300",
         ),

@@ -136,7 +136,7 @@ fn check_keys(text: &str) -> Result<(), String> {
             "hair",
             known(
                 toml::Value::try_from(HairArgs::defaults()),
-                &["dt", "log_strands"],
+                &["dt", "log_strands", "stiffness"],
             ),
         ),
     ];

@@ -236,7 +236,9 @@ pub struct HairArgs {
     pub iterations: Option<u32>,
 
     /// Spring methods (semi-implicit-euler, implicit-euler): segment stiffness per unit node mass
-    /// k/m [1/s²]. semi-implicit-euler takes inner steps h with h²·4k/m + 2h·4kd/m < 4
+    /// k/m [1/s²]. semi-implicit-euler takes inner steps h with h²·4k/m + 2h·4kd/m < 4 [default:
+    /// the springs' wave speed ℓ0·√(k/m) at 100 × the speed the head and the pull of gravity and
+    /// wind give a strand (the summary says it), at least 4e8: the stated 1e-2 stretch bound]
     #[arg(long, value_name = "1/S²", allow_negative_numbers = true)]
     pub stiffness: Option<f64>,
 
@@ -469,7 +471,8 @@ impl HairArgs {
             damping: Some(p.damping),
             solver: Some(p.solver),
             iterations: Some(p.iterations),
-            stiffness: Some(p.stiffness),
+            // Follows the other parameters (HairParams::default_stiffness).
+            stiffness: None,
             spring_damping: Some(p.spring_damping),
             substeps: Some(c.substeps),
             // Said by --substeps and --rate; a default here would contradict a given --substeps.
@@ -499,9 +502,9 @@ impl HairArgs {
         set(&mut p.damping, self.damping);
         set(&mut p.solver, self.solver);
         set(&mut p.iterations, self.iterations);
-        set(&mut p.stiffness, self.stiffness);
         set(&mut p.spring_damping, self.spring_damping);
         set(&mut p.margin, self.margin);
+        p.stiffness = self.stiffness.unwrap_or_else(|| p.default_stiffness());
         set(&mut c.substeps, self.substeps);
         set(&mut c.rate, self.rate);
         set(&mut c.fps, self.fps);

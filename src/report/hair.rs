@@ -1,8 +1,8 @@
 //! The hair run's summary table.
 
 use crate::report::table::{Table, plural, sig, trim_number};
-use crate::scene::hair::run::{HairLane, HairScene};
-use crate::scene::hair::{HairMethod, Solver};
+use crate::scene::hair::run::{HairConfig, HairLane, HairScene};
+use crate::scene::hair::{HairMethod, SPRING_STRETCH_BOUND, SPRING_WAVE_SPEEDS, Solver};
 use crate::scene::harness::{Run, divergence_cell};
 
 pub fn summary_text(scene: &HairScene, run: &Run<HairLane>) -> String {
@@ -10,7 +10,7 @@ pub fn summary_text(scene: &HairScene, run: &Run<HairLane>) -> String {
     let p = &c.params;
     let mut out = format!(
         "hair: {} strands × {} nodes, segment {} m, head radius {} m (head motion {}), wind {:?} m/s² ± {}%, damping {} 1/s\n\
-         verlet solver {}, {} iterations; springs k/m = {:.3e} 1/s², kd/m = {} 1/s (semi-implicit-euler: {} inner steps per substep); \
+         verlet solver {}, {} iterations; {}\
          {} per frame at {} Hz (dt = {:.3e} s), {} frames to t = {} s\n\
          collision pushes nodes to R(1 + {}); invariants: penetration of non-root nodes into R(1 + margin), \
          root distance from its anchor, |ℓ - ℓ0|/ℓ0; KE = kinetic energy per unit mass of hair, ½|Δx/dt|² \
@@ -25,9 +25,11 @@ pub fn summary_text(scene: &HairScene, run: &Run<HairLane>) -> String {
         p.damping,
         p.solver.name(),
         p.iterations,
-        p.stiffness,
-        p.spring_damping,
-        (c.step_dt() / p.spring_step_limit()).ceil().max(1.0),
+        if c.methods.iter().any(|m| m.is_spring()) {
+            springs(c)
+        } else {
+            String::new()
+        },
         plural(c.substeps, "substep"),
         c.rate,
         c.step_dt(),
@@ -175,4 +177,31 @@ pub fn trade_csv(rows: &[crate::study::hair::HairRow]) -> String {
         );
     }
     csv
+}
+
+/// The springs' stiffness and damping, semi-implicit-euler's inner steps, and the springs' wave
+/// speed against the strands' speed scale, which says whether the stretch bound is stated.
+fn springs(c: &HairConfig) -> String {
+    let p = &c.params;
+    let wave = p.segment_length * p.stiffness.sqrt();
+    let v = p.speed_scale();
+    let ratio = wave / v;
+    let bound = if ratio >= SPRING_WAVE_SPEEDS * (1.0 - 1e-9) {
+        format!("the stretch bound {SPRING_STRETCH_BOUND:e} is stated from {SPRING_WAVE_SPEEDS} ×")
+    } else {
+        format!(
+            "below the {SPRING_WAVE_SPEEDS} × at which the stretch bound {SPRING_STRETCH_BOUND:e} \
+             is stated; the stretch grows about as 1/(wave speed)"
+        )
+    };
+    format!(
+        "springs k/m = {:.3e} 1/s², kd/m = {} 1/s (semi-implicit-euler: {} inner steps per \
+         substep), wave speed ℓ0·√(k/m) = {} m/s = {} × the strands' speed scale {} m/s ({bound}); ",
+        p.stiffness,
+        p.spring_damping,
+        (c.step_dt() / p.spring_step_limit()).ceil().max(1.0),
+        sig(wave, 3),
+        sig(ratio, 3),
+        sig(v, 3)
+    )
 }

@@ -66,7 +66,7 @@ impl HairMethod {
     ];
 
     /// The methods a run takes by default. The spring methods are chosen by --methods:
-    /// semi-implicit-euler takes ~410 inner steps a frame at the default stiffness (a default run
+    /// semi-implicit-euler takes ~500 inner steps a frame at the default stiffness (a default run
     /// would take seconds more per 200 strands), and implicit-euler up to 40 Newton steps per
     /// frame, each a block-tridiagonal solve per strand.
     pub const DEFAULT: [HairMethod; 2] = [HairMethod::Verlet, HairMethod::Ftl];
@@ -189,8 +189,20 @@ pub const FTL_CORRECTION: f64 = 0.9;
 pub const IMPLICIT_NEWTON_CAP: u32 = 40;
 
 /// The spring methods' stated bound on the relative stretch |ℓ - ℓ0|/ℓ0 at the default
-/// stiffness (tested at the default scene, 64 nodes, strong gusty wind and the shake).
+/// stiffness ([`HairParams::default_stiffness`]), for every head motion, size and wind.
 pub const SPRING_STRETCH_BOUND: f64 = 1e-2;
+
+/// The least default spring stiffness per unit node mass k/m [1/s²]: at the default segment
+/// (0.015 m) a wave speed of 300 m/s, 410 inner steps per 60 Hz frame for semi-implicit-euler.
+pub const SPRING_STIFFNESS_FLOOR: f64 = 4e8;
+
+/// How many times the scene's speed scale ([`HairParams::speed_scale`]) the springs' wave speed
+/// ℓ0·√(k/m) is at the default stiffness. A strand that is jerked, or that snaps taut, at
+/// relative speed v strains its springs by about v/c (an elastic bar struck at speed v carries
+/// the strain v/c), so the stretch is bounded by a fixed ratio of speed to wave speed; at this
+/// ratio the largest stretch over the tested grid of head motions, sizes, strand lengths and
+/// winds stays below [`SPRING_STRETCH_BOUND`].
+pub const SPRING_WAVE_SPEEDS: f64 = 100.0;
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct HairParams {
@@ -239,11 +251,9 @@ impl Default for HairParams {
             damping: 1.0,
             solver: Solver::Direct,
             iterations: 2,
-            // Chosen by measurement (tests/hair_length.rs, 40 strands, symplectic Euler, largest
-            // stretch over default / 64 nodes / wind 0,30,0 gust 1 / shake): 1e8 reaches
-            // 2.8e-2 (64 nodes), 2e8 9.3e-3 (64 nodes, too near the 1e-2 bound), 4e8 7.1e-3
-            // (shake) at 410 inner steps per 60 Hz frame.
-            stiffness: 4e8,
+            // The floor; a run from the command line or a scene file takes default_stiffness(),
+            // which follows the other parameters.
+            stiffness: SPRING_STIFFNESS_FLOOR,
             spring_damping: 2e3,
             margin: 1e-3,
             cap_angle: 0.6 * std::f64::consts::PI,
@@ -284,6 +294,40 @@ impl HairParams {
             t,
             slow: (2.0 * std::f64::consts::PI * 0.23 * t).sin(),
         }
+    }
+
+    /// The speed scale [m/s] at which the scene moves a strand relative to its root: the head's
+    /// peak speed at a strand's reach (centre speed + angular speed · (R + L), L the strand's
+    /// length, over one period of the motion, sampled every millisecond) plus the speed of a
+    /// fall over R + L under gravity and the strongest gust.
+    pub fn speed_scale(&self) -> f64 {
+        let reach = self.head_radius + self.nodes.saturating_sub(1) as f64 * self.segment_length;
+        let period = match self.motion {
+            HeadMotion::Still => 0.0,
+            HeadMotion::Tour => 4.0 * head::PULSE,
+            _ => head::PULSE,
+        };
+        let h = 1e-3;
+        let mut head_speed: f64 = 0.0;
+        for k in 0..(period / h).round() as u32 {
+            let t = k as f64 * h;
+            let (c0, q0) = head_pose(self.motion, t, self.head_radius);
+            let (c1, q1) = head_pose(self.motion, t + h, self.head_radius);
+            let turn = (q1 * q0.inverse()).angle_between(DQuat::IDENTITY);
+            head_speed = head_speed.max(((c1 - c0).length() + turn * reach) / h);
+        }
+        let pull = self.gravity.length() + self.wind.length() * (1.0 + self.gust);
+        head_speed + (2.0 * pull * reach).sqrt()
+    }
+
+    /// The stiffness a run takes when none is given: the springs' wave speed ℓ0·√(k/m) is
+    /// [`SPRING_WAVE_SPEEDS`] × [`Self::speed_scale`], and k/m at least
+    /// [`SPRING_STIFFNESS_FLOOR`].
+    pub fn default_stiffness(&self) -> f64 {
+        let wave_speed = SPRING_WAVE_SPEEDS * self.speed_scale();
+        (wave_speed / self.segment_length)
+            .powi(2)
+            .max(SPRING_STIFFNESS_FLOOR)
     }
 
     /// The longest step symplectic Euler takes on the springs: the highest mode (ω² = 4k/m,

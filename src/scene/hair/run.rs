@@ -41,6 +41,9 @@ impl Default for HairConfig {
     }
 }
 
+/// The stiffest springs allowed, k/m [1/s²].
+pub const MAX_STIFFNESS: f64 = 1e12;
+
 /// Node-steps × (iterations + 1) per method beyond which a hair run is refused.
 pub const MAX_HAIR_WORK: f64 = 1e12;
 
@@ -100,7 +103,25 @@ impl HairConfig {
             )));
         }
         params::at_least_one("--iterations", iterations.into())?;
-        params::within("--stiffness", p.stiffness, 1.0 / max, 1e12, "1/s²")?;
+        // The default stiffness follows the other parameters: it is refused only when a spring
+        // method would take it, and then by what it follows from.
+        let defaulted = p.stiffness == p.default_stiffness();
+        let springs = self.methods.iter().any(|m| m.is_spring());
+        if springs && defaulted && p.stiffness > MAX_STIFFNESS {
+            return Err(Invalid::Usage(format!(
+                "the springs' default --stiffness here is k/m = {:.3e} 1/s² (a wave speed \
+                 ℓ0·√(k/m) of {} × the strands' speed scale {:.3} m/s over --segment-length {} m), \
+                 beyond the {MAX_STIFFNESS:e} allowed: give --stiffness (the 1e-2 stretch bound is \
+                 then not stated) or a longer --segment-length",
+                p.stiffness,
+                super::SPRING_WAVE_SPEEDS,
+                p.speed_scale(),
+                params::shown(p.segment_length)
+            )));
+        }
+        if springs || !defaulted {
+            params::within("--stiffness", p.stiffness, 1.0 / max, MAX_STIFFNESS, "1/s²")?;
+        }
         params::within("--spring-damping", p.spring_damping, 0.0, max, "1/s")?;
         params::at_least_one("--substeps", substeps.into())?;
         params::positive("--rate", self.rate, "Hz")?;
