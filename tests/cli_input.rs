@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::{physlab, scratch_dir};
+use common::{peak_memory, physlab, scratch_dir};
 
 /// Runs each case and checks its exit code 2 and message fragment.
 fn refused(cases: &[(Vec<&str>, String)]) {
@@ -254,28 +254,6 @@ fn counts_are_bounded_and_negative_counts_named() {
         "-q",
     ]);
     assert_eq!(code, 0, "{stderr}");
-}
-
-/// Peak resident memory [B] of one `physlab` run, from the kernel's account of that child
-/// (reaped by `wait4`, which `Child::wait` cannot ask for the usage).
-#[allow(clippy::zombie_processes)]
-fn peak_memory(args: &[&str]) -> f64 {
-    let child = std::process::Command::new(env!("CARGO_BIN_EXE_physlab"))
-        .args(args)
-        .stdout(std::process::Stdio::null())
-        .stderr(std::process::Stdio::null())
-        .spawn()
-        .unwrap();
-    let mut status = 0;
-    // SAFETY: a zeroed rusage is valid; wait4 fills it for this child only.
-    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
-    let pid = unsafe { libc::wait4(child.id() as i32, &mut status, 0, &mut usage) };
-    assert_eq!(pid, child.id() as i32);
-    assert!(
-        libc::WIFEXITED(status) && libc::WEXITSTATUS(status) == 0,
-        "{args:?}"
-    );
-    usage.ru_maxrss as f64 * 1024.0
 }
 
 /// The rope's memory estimate (what the memory guard refuses on and what a run says up front)

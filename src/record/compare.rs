@@ -5,7 +5,8 @@
 use std::collections::{BTreeMap, VecDeque};
 use std::path::Path;
 
-use rerun::external::arrow::array::{Array, AsArray as _};
+use rerun::external::arrow::array::{Array, AsArray as _, ListArray};
+use rerun::external::arrow::buffer::ScalarBuffer;
 use rerun::external::arrow::datatypes::{
     DataType, Float32Type, Float64Type, Int8Type, Int16Type, Int32Type, Int64Type, UInt8Type,
     UInt16Type, UInt32Type, UInt64Type,
@@ -16,7 +17,7 @@ use super::read::{Messages, each_message, unusable};
 
 /// One logged row of one component: its `sim_time` in ns (`None` for static data), every number
 /// it holds (floats widened to f64 exactly, integers converted), and every text.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct LoggedRow {
     pub time: Option<i64>,
     pub nums: Vec<f64>,
@@ -29,9 +30,99 @@ pub type Contents = BTreeMap<(String, String), Vec<LoggedRow>>;
 /// An (entity path, component) pair: one series.
 pub type Key = (String, String);
 
-/// One message's rows, grouped by series in logging order: every component of every entity of
-/// a recording chunk (not the properties, not the blueprint). `Err` says what is wrong.
-fn message_rows(msg: LogMsg) -> Result<Vec<(Key, Vec<LoggedRow>)>, String> {
+/// One component's rows in one chunk, as the chunk holds them: its list array and `sim_time`
+/// column are shared with the decoded chunk, not copied, and a row is flattened only when it is
+/// read ([`SeriesRows::row`]). Null rows are skipped.
+#[derive(Clone)]
+struct SeriesRows {
+    list: ListArray,
+    /// `None` for static data.
+    times: Option<ScalarBuffer<i64>>,
+    /// The next row to take, and the end of the rows (the chunk's row count).
+    next: usize,
+    end: usize,
+}
+
+impl SeriesRows {
+    fn new(list: ListArray, times: Option<ScalarBuffer<i64>>, end: usize) -> Self {
+        let mut rows = SeriesRows {
+            end: end.min(list.len()),
+            list,
+            times,
+            next: 0,
+        };
+        rows.skip_nulls();
+        rows
+    }
+
+    fn skip_nulls(&mut self) {
+        while self.next < self.end && self.list.is_null(self.next) {
+            self.next += 1;
+        }
+    }
+
+    fn is_empty(&self) -> bool {
+        self.next >= self.end
+    }
+
+    /// The rows left.
+    fn len(&self) -> usize {
+        (self.next..self.end)
+            .filter(|&i| !self.list.is_null(i))
+            .count()
+    }
+
+    /// Keeps at most `n` of the rows left.
+    fn truncate(&mut self, n: usize) {
+        let mut kept = 0;
+        let mut i = self.next;
+        while i < self.end && kept < n {
+            if !self.list.is_null(i) {
+                kept += 1;
+            }
+            i += 1;
+        }
+        self.end = i;
+    }
+
+    fn time(&self) -> Option<i64> {
+        self.times.as_ref().and_then(|t| t.get(self.next).copied())
+    }
+
+    /// The next row, written into `out` (its buffers reused).
+    fn row(&self, out: &mut LoggedRow) {
+        out.time = self.time();
+        out.nums.clear();
+        out.texts.clear();
+        flatten(
+            self.list.value(self.next).as_ref(),
+            &mut out.nums,
+            &mut out.texts,
+        );
+    }
+
+    fn advance(&mut self) {
+        self.next += 1;
+        self.skip_nulls();
+    }
+
+    /// Every row left, each its own [`LoggedRow`].
+    fn into_rows(mut self) -> Vec<LoggedRow> {
+        let mut out = Vec::new();
+        while !self.is_empty() {
+            let mut row = LoggedRow::default();
+            self.row(&mut row);
+            out.push(row);
+            self.advance();
+        }
+        out
+    }
+}
+
+/// One message's series in logging order: every component of every entity of a recording
+/// chunk (not the properties, not the blueprint), sharing the chunk's arrays. `Err` says what is
+/// wrong.
+fn message_series(msg: LogMsg) -> Result<Vec<(Key, SeriesRows)>, String> {
     let LogMsg::ArrowMsg(store_id, arrow_msg) = msg else {
         return Ok(Vec::new());
     };
@@ -45,25 +136,16 @@ fn message_rows(msg: LogMsg) -> Result<Vec<(Key, Vec<LoggedRow>)>, String> {
         return Ok(Vec::new());
     }
     let sim_time = rerun::TimelineName::from("sim_time");
-    let times = chunk.timelines().get(&sim_time).map(|c| c.times_raw());
+    let times = chunk
+        .timelines()
+        .get(&sim_time)
+        .map(|c| c.times_buffer().clone());
     let mut out = Vec::new();
     for descriptor in chunk.component_descriptors() {
         let Some(list) = chunk.components().get_array(descriptor.component) else {
             continue;
         };
-        let mut rows = Vec::new();
-        for i in 0..chunk.num_rows().min(list.len()) {
-            if list.is_null(i) {
-                continue;
-            }
-            let mut row = LoggedRow {
-                time: times.and_then(|t| t.get(i).copied()),
-                nums: Vec::new(),
-                texts: Vec::new(),
-            };
-            flatten(list.value(i).as_ref(), &mut row.nums, &mut row.texts);
-            rows.push(row);
-        }
+        let rows = SeriesRows::new(list.clone(), times.clone(), chunk.num_rows());
         out.push((
             (entity.clone(), descriptor.component.as_str().to_string()),
             rows,
@@ -79,8 +161,8 @@ fn message_rows(msg: LogMsg) -> Result<Vec<(Key, Vec<LoggedRow>)>, String> {
 pub fn read_contents(path: &Path) -> anyhow::Result<Contents> {
     let mut contents = Contents::new();
     each_message(path, |msg| {
-        for (key, rows) in message_rows(msg)? {
-            contents.entry(key).or_default().extend(rows);
+        for (key, rows) in message_series(msg)? {
+            contents.entry(key).or_default().extend(rows.into_rows());
         }
         Ok(())
     })?;
@@ -97,28 +179,33 @@ pub struct SeriesIndex {
     /// Rows on `sim_time`, and static rows.
     pub timed: usize,
     pub statics: usize,
-    /// The largest finite |value| of the timed rows: the scale tolerances are relative to.
+    /// The largest finite |value| of the timed rows, and of the static ones: the scales
+    /// tolerances are relative to.
     pub scale: f64,
+    pub static_scale: f64,
 }
 
-fn largest_finite(rows: &[LoggedRow]) -> f64 {
-    rows.iter()
-        .flat_map(|r| &r.nums)
-        .filter(|v| v.is_finite())
-        .fold(0.0f64, |m, v| m.max(v.abs()))
-}
-
-/// Every series of a recording with its row counts and scale, read message by message.
+/// Every series of a recording with its row counts and scale, read message by message, a row
+/// at a time.
 pub fn index_series(path: &Path) -> anyhow::Result<BTreeMap<Key, SeriesIndex>> {
     let mut index: BTreeMap<Key, SeriesIndex> = BTreeMap::new();
+    let mut row = LoggedRow::default();
     each_message(path, |msg| {
-        for (key, rows) in message_rows(msg)? {
+        for (key, mut rows) in message_series(msg)? {
             let entry = index.entry(key).or_default();
-            let (timed, statics): (Vec<LoggedRow>, Vec<LoggedRow>) =
-                rows.into_iter().partition(|r| r.time.is_some());
-            entry.timed += timed.len();
-            entry.statics += statics.len();
-            entry.scale = entry.scale.max(largest_finite(&timed));
+            let (count, scale) = if rows.times.is_some() {
+                (&mut entry.timed, &mut entry.scale)
+            } else {
+                (&mut entry.statics, &mut entry.static_scale)
+            };
+            while !rows.is_empty() {
+                rows.row(&mut row);
+                *count += 1;
+                for v in row.nums.iter().filter(|v| v.is_finite()) {
+                    *scale = scale.max(v.abs());
+                }
+                rows.advance();
+            }
         }
         Ok(())
     })?;
@@ -146,17 +233,80 @@ pub struct Streamed {
     pub statics: BTreeMap<Key, SeriesDiff>,
 }
 
-/// One series being compared: rows waiting for their partner on the other side.
-struct Lane {
-    qa: VecDeque<LoggedRow>,
-    qb: VecDeque<LoggedRow>,
+/// One kind of rows of one series (timed or static) being compared: the rows waiting for their
+/// partner on the other side, as blocks of the chunks they came in.
+struct Queues {
+    qa: VecDeque<SeriesRows>,
+    qb: VecDeque<SeriesRows>,
     pairing: Pairing,
-    statics_a: Vec<LoggedRow>,
-    statics_b: Vec<LoggedRow>,
+    /// Whether both files have such rows: if not, every row is unpaired and none waits.
+    shared: bool,
+}
+
+impl Queues {
+    fn new(tolerance: f64, scale: f64, rows_a: usize, rows_b: usize) -> Self {
+        Queues {
+            qa: VecDeque::new(),
+            qb: VecDeque::new(),
+            pairing: Pairing::new(tolerance, scale),
+            shared: rows_a > 0 && rows_b > 0,
+        }
+    }
+
+    /// Takes one side's rows: counted, queued while they wait for a partner, and paired as far
+    /// as both sides go (timed pairs handed to `on_pair`). Returns the rows the queues hold
+    /// now, minus before, per side.
+    fn take(
+        &mut self,
+        from_a: bool,
+        rows: SeriesRows,
+        scratch: &mut Scratch,
+        on_pair: &mut dyn FnMut(&LoggedRow, &LoggedRow) -> anyhow::Result<()>,
+    ) -> anyhow::Result<(isize, isize)> {
+        let n = rows.len();
+        let out = &mut self.pairing.out;
+        if from_a {
+            out.rows_a += n;
+        } else {
+            out.rows_b += n;
+        }
+        if !self.shared {
+            out.unpaired += n;
+            return Ok((0, 0));
+        }
+        let before = (queued_rows(&self.qa), queued_rows(&self.qb));
+        if n > 0 {
+            if from_a { &mut self.qa } else { &mut self.qb }.push_back(rows);
+        }
+        self.pairing
+            .merge(&mut self.qa, &mut self.qb, scratch, on_pair)?;
+        // A drained queue gives its room back: hundreds of series each keeping a queue's room
+        // would hold more than the rows ever waiting at once.
+        for queue in [&mut self.qa, &mut self.qb] {
+            if queue.is_empty() {
+                *queue = VecDeque::new();
+            }
+        }
+        Ok((
+            queued_rows(&self.qa) as isize - before.0 as isize,
+            queued_rows(&self.qb) as isize - before.1 as isize,
+        ))
+    }
+
+    /// The comparison, with the rows still waiting counted as unpaired.
+    fn finish(mut self) -> SeriesDiff {
+        self.pairing.out.unpaired += queued_rows(&self.qa) + queued_rows(&self.qb);
+        self.pairing.out
+    }
+}
+
+/// One series being compared.
+struct Lane {
+    timed: Queues,
+    statics: Queues,
     /// B's timed rows taken so far, and how many may be (A's count, when capped).
     taken_b: usize,
     cap_b: Option<usize>,
-    shared: bool,
 }
 
 /// Compares two recordings series by series while reading them in step, so that memory holds
@@ -194,21 +344,28 @@ pub fn compare_files(
             continue;
         }
         let (ia, ib) = (index_a.get(key), index_b.get(key));
-        let scale = match ia.map_or(0.0, |i| i.scale) {
-            0.0 => ib.map_or(0.0, |i| i.scale),
+        let scale = |of: fn(&SeriesIndex) -> f64| match ia.map_or(0.0, of) {
+            0.0 => ib.map_or(0.0, of),
             s => s,
         };
+        let rows = |i: Option<&SeriesIndex>, of: fn(&SeriesIndex) -> usize| i.map_or(0, of);
         lanes.insert(
             key.clone(),
             Lane {
-                qa: VecDeque::new(),
-                qb: VecDeque::new(),
-                pairing: Pairing::new(spec.tolerance, scale),
-                statics_a: Vec::new(),
-                statics_b: Vec::new(),
+                timed: Queues::new(
+                    spec.tolerance,
+                    scale(|i| i.scale),
+                    rows(ia, |i| i.timed),
+                    rows(ib, |i| i.timed),
+                ),
+                statics: Queues::new(
+                    spec.tolerance,
+                    scale(|i| i.static_scale),
+                    rows(ia, |i| i.statics),
+                    rows(ib, |i| i.statics),
+                ),
                 taken_b: 0,
                 cap_b: spec.cap_b.then(|| ia.map_or(0, |i| i.timed)),
-                shared: ia.is_some_and(|i| i.timed > 0) && ib.is_some_and(|i| i.timed > 0),
             },
         );
     }
@@ -216,6 +373,7 @@ pub fn compare_files(
     let (mut done_a, mut done_b) = (false, false);
     // Rows waiting in the queues, per side: read from the side that is behind.
     let (mut queued_a, mut queued_b) = (0usize, 0usize);
+    let mut scratch = Scratch::default();
     while !(done_a && done_b) {
         let from_a = !done_a && (done_b || queued_a <= queued_b);
         let (messages, done) = if from_a {
@@ -228,55 +386,28 @@ pub fn compare_files(
             continue;
         };
         let series = messages
-            .guarded(|| message_rows(msg))?
+            .guarded(|| message_series(msg))?
             .map_err(|e| unusable(if from_a { a } else { b }, e))?;
-        for (key, rows) in series {
+        for (key, mut rows) in series {
             let key = if from_a { key } else { rename(key) };
             let Some(lane) = lanes.get_mut(&key) else {
                 continue; // skipped
             };
-            for row in rows {
-                match (row.time.is_some(), from_a) {
-                    (false, true) => lane.statics_a.push(row),
-                    (false, false) => lane.statics_b.push(row),
-                    (true, true) => {
-                        lane.pairing.out.rows_a += 1;
-                        if lane.shared {
-                            lane.qa.push_back(row);
-                            queued_a += 1;
-                        } else {
-                            lane.pairing.out.unpaired += 1;
+            let (queues, pairs): (_, &mut dyn FnMut(&LoggedRow, &LoggedRow) -> _) =
+                if rows.times.is_none() {
+                    (&mut lane.statics, &mut |_, _| Ok(()))
+                } else {
+                    if !from_a {
+                        if let Some(cap) = lane.cap_b {
+                            rows.truncate(cap.saturating_sub(lane.taken_b));
                         }
+                        lane.taken_b += rows.len();
                     }
-                    (true, false) => {
-                        if lane.cap_b.is_some_and(|cap| lane.taken_b >= cap) {
-                            continue;
-                        }
-                        lane.taken_b += 1;
-                        lane.pairing.out.rows_b += 1;
-                        if lane.shared {
-                            lane.qb.push_back(row);
-                            queued_b += 1;
-                        } else {
-                            lane.pairing.out.unpaired += 1;
-                        }
-                    }
-                }
-            }
-            let (na, nb) = (lane.qa.len(), lane.qb.len());
-            lane.pairing
-                .merge(&mut lane.qa, &mut lane.qb, &mut |ra, rb| {
-                    on_pair(&key, ra, rb)
-                })?;
-            queued_a -= na - lane.qa.len();
-            queued_b -= nb - lane.qb.len();
-            // A drained queue gives its room back: kept, a chunk's worth of rows per series
-            // (hundreds of series) would hold more than the rows ever waiting at once.
-            for queue in [&mut lane.qa, &mut lane.qb] {
-                if queue.is_empty() && queue.capacity() > 64 {
-                    *queue = VecDeque::new();
-                }
-            }
+                    (&mut lane.timed, &mut |ra, rb| on_pair(&key, ra, rb))
+                };
+            let (da, db) = queues.take(from_a, rows, &mut scratch, pairs)?;
+            queued_a = queued_a.saturating_add_signed(da);
+            queued_b = queued_b.saturating_add_signed(db);
         }
     }
     let mut out = Streamed {
@@ -284,16 +415,13 @@ pub fn compare_files(
         index_b,
         ..Streamed::default()
     };
-    for (key, mut lane) in lanes {
-        lane.pairing.out.unpaired += lane.qa.len() + lane.qb.len();
-        if !lane.statics_a.is_empty() || !lane.statics_b.is_empty() {
-            out.statics.insert(
-                key.clone(),
-                compare(&lane.statics_a, &lane.statics_b, spec.tolerance),
-            );
+    for (key, lane) in lanes {
+        let (timed, statics) = (lane.timed.finish(), lane.statics.finish());
+        if statics.rows_a > 0 || statics.rows_b > 0 {
+            out.statics.insert(key.clone(), statics);
         }
-        if lane.pairing.out.rows_a > 0 || lane.pairing.out.rows_b > 0 {
-            out.timed.insert(key, lane.pairing.out);
+        if timed.rows_a > 0 || timed.rows_b > 0 {
+            out.timed.insert(key, timed);
         }
     }
     Ok(out)
@@ -305,6 +433,62 @@ struct Pairing {
     out: SeriesDiff,
     tolerance: f64,
     bound: f64,
+}
+
+/// The two rows being paired, their buffers reused from pair to pair and series to series.
+#[derive(Default)]
+struct Scratch {
+    a: LoggedRow,
+    b: LoggedRow,
+}
+
+/// One side's rows waiting to be paired, in time order.
+trait Pending {
+    /// The next row's time (`Some(None)` for a static row), `None` when no row is left.
+    fn next_time(&self) -> Option<Option<i64>>;
+    /// The next row, written into `out`.
+    fn read(&self, out: &mut LoggedRow);
+    fn advance(&mut self);
+}
+
+/// A series' queue: blocks of a chunk's rows.
+impl Pending for VecDeque<SeriesRows> {
+    fn next_time(&self) -> Option<Option<i64>> {
+        self.front().map(SeriesRows::time)
+    }
+    fn read(&self, out: &mut LoggedRow) {
+        if let Some(rows) = self.front() {
+            rows.row(out);
+        }
+    }
+    fn advance(&mut self) {
+        if let Some(rows) = self.front_mut() {
+            rows.advance();
+            if rows.is_empty() {
+                self.pop_front();
+            }
+        }
+    }
+}
+
+/// Rows already read, each its own [`LoggedRow`].
+impl Pending for &[LoggedRow] {
+    fn next_time(&self) -> Option<Option<i64>> {
+        self.first().map(|r| r.time)
+    }
+    fn read(&self, out: &mut LoggedRow) {
+        if let Some(row) = self.first() {
+            out.clone_from(row);
+        }
+    }
+    fn advance(&mut self) {
+        *self = self.get(1..).unwrap_or_default();
+    }
+}
+
+/// The rows waiting in a queue.
+fn queued_rows(queue: &VecDeque<SeriesRows>) -> usize {
+    queue.iter().map(SeriesRows::len).sum()
 }
 
 impl Pairing {
@@ -319,28 +503,32 @@ impl Pairing {
         }
     }
 
-    /// Pairs the queues' rows by time from the front, as far as both go: a row whose time the
-    /// other side has passed has no partner. Rows are in time order on each side.
+    /// Pairs the two sides' rows by time from the front, as far as both go: a row whose time
+    /// the other side has passed has no partner. Rows are in time order on each side. Each row
+    /// is read into one reused buffer per side.
     fn merge(
         &mut self,
-        qa: &mut VecDeque<LoggedRow>,
-        qb: &mut VecDeque<LoggedRow>,
+        qa: &mut impl Pending,
+        qb: &mut impl Pending,
+        scratch: &mut Scratch,
         on_pair: &mut dyn FnMut(&LoggedRow, &LoggedRow) -> anyhow::Result<()>,
     ) -> anyhow::Result<()> {
-        while let (Some(ra), Some(rb)) = (qa.front(), qb.front()) {
-            if ra.time != rb.time {
+        while let (Some(ta), Some(tb)) = (qa.next_time(), qb.next_time()) {
+            if ta == tb {
+                qa.read(&mut scratch.a);
+                qb.read(&mut scratch.b);
+                self.pair(&scratch.a, &scratch.b);
+                on_pair(&scratch.a, &scratch.b)?;
+                qa.advance();
+                qb.advance();
+            } else {
                 self.out.unpaired += 1;
-                if ra.time < rb.time {
-                    qa.pop_front();
+                if ta < tb {
+                    qa.advance();
                 } else {
-                    qb.pop_front();
+                    qb.advance();
                 }
-                continue;
             }
-            self.pair(ra, rb);
-            on_pair(ra, rb)?;
-            qa.pop_front();
-            qb.pop_front();
         }
         Ok(())
     }
@@ -520,16 +708,26 @@ impl SeriesDiff {
 /// Compares two series row by row, pairing rows by time. A value differs when |b − a| exceeds
 /// `tolerance` × the series' scale (with tolerance 0: when its bits differ).
 pub fn compare(a: &[LoggedRow], b: &[LoggedRow], tolerance: f64) -> SeriesDiff {
-    let mut qa: VecDeque<LoggedRow> = a.iter().cloned().collect();
-    let mut qb: VecDeque<LoggedRow> = b.iter().cloned().collect();
-    let mut scale = largest_finite(qa.make_contiguous());
+    let largest_finite = |rows: &[LoggedRow]| {
+        rows.iter()
+            .flat_map(|r| &r.nums)
+            .filter(|v| v.is_finite())
+            .fold(0.0f64, |m, v| m.max(v.abs()))
+    };
+    let mut scale = largest_finite(a);
     if scale == 0.0 {
-        scale = largest_finite(qb.make_contiguous());
+        scale = largest_finite(b);
     }
     let mut pairing = Pairing::new(tolerance, scale);
-    pairing.out.rows_a = qa.len();
-    pairing.out.rows_b = qb.len();
-    let merged = pairing.merge(&mut qa, &mut qb, &mut |_, _| Ok(()));
+    pairing.out.rows_a = a.len();
+    pairing.out.rows_b = b.len();
+    let (mut qa, mut qb) = (a, b);
+    let merged = pairing.merge(
+        &mut qa,
+        &mut qb,
+        &mut Scratch::default(),
+        &mut |_, _| Ok(()),
+    );
     debug_assert!(merged.is_ok(), "pairing without a callback cannot fail");
     pairing.out.unpaired += qa.len() + qb.len();
     pairing.out

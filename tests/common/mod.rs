@@ -175,3 +175,25 @@ pub fn drawn_rows(path: &Path, prefix: &str) -> Vec<(String, Vec<[f32; 3]>)> {
     rows.retain(|r| !r.1.is_empty());
     rows
 }
+
+/// Peak resident memory [B] of one `physlab` run, from the kernel's account of that child
+/// (reaped by `wait4`, which `Child::wait` cannot ask for the usage).
+#[allow(clippy::zombie_processes, dead_code)]
+pub fn peak_memory(args: &[&str]) -> f64 {
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_physlab"))
+        .args(args)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut status = 0;
+    // SAFETY: a zeroed rusage is valid; wait4 fills it for this child only.
+    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+    let pid = unsafe { libc::wait4(child.id() as i32, &mut status, 0, &mut usage) };
+    assert_eq!(pid, child.id() as i32);
+    assert!(
+        libc::WIFEXITED(status) && libc::WEXITSTATUS(status) == 0,
+        "{args:?}"
+    );
+    usage.ru_maxrss as f64 * 1024.0
+}
