@@ -5,6 +5,8 @@
 //! single-scene command is `all` with one scene. Only the summaries go to stdout; the progress
 //! bar goes to stderr.
 
+mod compared;
+mod diff;
 mod file;
 mod inspect;
 mod progress;
@@ -58,7 +60,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         ),
         Command::All(c) => simulate(all_plan(&c)?, &c.run, &Output::Record, &Replay::default()),
         Command::Reproduce(args) => reproduce::reproduce_command(&args),
-        Command::Diff(args) => reproduce::diff_command(&args),
+        Command::Diff(args) => diff::diff_command(&args),
         Command::Study(a) => study::study(&a),
     }
 }

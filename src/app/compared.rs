@@ -1,0 +1,240 @@
+//! What `reproduce` and `diff` share: reading a recording's provenance, checking `-o` and the
+//! tolerance, and reporting series differences entity by entity.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use super::Error;
+use crate::record::compare::{SeriesDiff, time_text};
+use crate::record::inspect::{RecordingInfo, read_recording};
+
+/// Entities whose values depend on the wall clock, so that no re-run can match them: the
+/// --timings plots, and with --timings the summaries (which then hold wall times, ns/step).
+pub(super) fn wall_clock(entity: &str, timings: bool) -> bool {
+    entity.contains("/plots/frame_cost/") || (timings && entity.ends_with("/summary"))
+}
+
+pub(super) fn tolerance(t: Option<f64>) -> Result<f64, Error> {
+    match t {
+        None => Ok(0.0),
+        Some(t) if t.is_finite() && (0.0..1.0).contains(&t) => Ok(t),
+        Some(t) => Err(Error::Usage(format!(
+            "--tolerance {t}: must be a fraction in [0, 1), e.g. 1e-12"
+        ))),
+    }
+}
+
+/// A complete recording: one without its footer was cut off while being written (the process
+/// killed, the file truncated), and its last chunks are lost.
+pub(super) fn complete_recording(path: &Path) -> anyhow::Result<RecordingInfo> {
+    let info = read_recording(path)?;
+    if !info.has_footer {
+        return Err(Error::Usage(format!(
+            "{}: truncated: {}, so its last data are lost; `physlab inspect` shows what it holds",
+            path.display(),
+            info.why_no_footer
+        ))
+        .into());
+    }
+    Ok(info)
+}
+
+/// A complete recording made by physlab (`diff` and `reproduce` compare nothing else).
+pub(super) fn physlab_made(path: &Path) -> anyhow::Result<RecordingInfo> {
+    let info = complete_recording(path)?;
+    if !info.application_id.starts_with("physlab") {
+        return Err(Error::Usage(format!(
+            "{}: a recording of another application ({:?}), not of physlab",
+            path.display(),
+            info.application_id
+        ))
+        .into());
+    }
+    Ok(info)
+}
+
+/// A physlab recording of simulated scenes, with what is needed to run it again.
+pub(super) fn physlab_recording(path: &Path) -> anyhow::Result<RecordingInfo> {
+    let info = physlab_made(path)?;
+    if !info.properties.contains_key("config") {
+        return Err(Error::Usage(format!(
+            "{}: holds no physlab configuration (recorded by a physlab older than its provenance)",
+            path.display()
+        ))
+        .into());
+    }
+    Ok(info)
+}
+
+pub(super) fn version_line(info: &RecordingInfo) -> String {
+    let p = |k: &str| {
+        info.properties
+            .get(k)
+            .map(String::as_str)
+            .unwrap_or("(not recorded)")
+    };
+    format!(
+        "physlab {} (commit {}), Rerun SDK {}",
+        p("physlab_version"),
+        p("git_commit"),
+        p("rerun_sdk_version")
+    )
+}
+
+/// Checks `-o` before any work (`crate::output`): never one of the inputs.
+pub(super) fn check_output(
+    output: Option<&PathBuf>,
+    dash: crate::output::Dash,
+    inputs: &[&Path],
+) -> anyhow::Result<Option<crate::output::Output>> {
+    let Some(path) = output else {
+        return Ok(None);
+    };
+    let out = crate::output::check("-o", path, dash)?;
+    let inputs: Vec<(&str, &Path)> = inputs
+        .iter()
+        .map(|p| ("the recording being compared", *p))
+        .collect();
+    crate::output::distinct(&[&out], &inputs)?;
+    Ok(Some(out))
+}
+
+/// One line per entity of the comparison of its components.
+pub(super) struct EntityReport {
+    pub(super) entity: String,
+    /// Components compared, their diffs.
+    pub(super) diffs: Vec<(String, SeriesDiff)>,
+}
+
+impl EntityReport {
+    pub(super) fn same(&self) -> bool {
+        self.diffs.iter().all(|d| d.1.same())
+    }
+    pub(super) fn bit_identical(&self) -> bool {
+        self.diffs.iter().all(|d| d.1.bit_identical())
+    }
+    /// The component whose first difference comes first.
+    pub(super) fn first(&self) -> Option<&(String, SeriesDiff)> {
+        self.diffs
+            .iter()
+            .filter(|d| d.1.first_time().is_some() || !d.1.same())
+            .min_by_key(|d| d.1.first_time().flatten().unwrap_or(i64::MAX))
+    }
+    pub(super) fn largest(&self) -> Option<(&str, &crate::record::compare::Difference, f64)> {
+        self.diffs
+            .iter()
+            .filter_map(|(c, d)| d.largest.as_ref().map(|l| (c.as_str(), l, d.scale)))
+            .max_by(|x, y| x.1.abs().total_cmp(&y.1.abs()))
+    }
+    pub(super) fn rows(&self) -> usize {
+        self.diffs.iter().map(|d| d.1.rows_a).max().unwrap_or(0)
+    }
+
+    /// `first at t = …: A x, B y; largest |Δ| …` with the given names for A and B.
+    pub(super) fn describe(&self, a: &str, b: &str) -> String {
+        let mut out = String::new();
+        if let Some((component, d)) = self.first() {
+            match (&d.first, &d.first_other) {
+                (Some(v), other)
+                    if other
+                        .as_ref()
+                        .is_none_or(|o| o.0.is_none_or(|t| v.time.is_some_and(|vt| vt <= t))) =>
+                {
+                    let _ = write!(
+                        out,
+                        "first differs at {} ({component}): {a} {:e}, {b} {:e}",
+                        time_text(v.time),
+                        v.a,
+                        v.b
+                    );
+                }
+                (_, Some((t, what))) => {
+                    let _ = write!(
+                        out,
+                        "first differs at {} ({component}): {what}",
+                        time_text(*t)
+                    );
+                }
+                _ => {
+                    let _ = write!(
+                        out,
+                        "{component}: {} rows in {a}, {} in {b}, {} without a partner at the same time",
+                        d.rows_a, d.rows_b, d.unpaired
+                    );
+                }
+            }
+        }
+        if let Some((component, l, scale)) = self.largest()
+            && l.abs() != 0.0
+        {
+            let _ = write!(
+                out,
+                "{}largest |Δ| = {:.3e} at {} ({component}: {a} {:e}, {b} {:e}; {:.2e} of the series' largest magnitude)",
+                if out.is_empty() { "" } else { "; " },
+                l.abs(),
+                time_text(l.time),
+                l.a,
+                l.b,
+                if scale > 0.0 {
+                    l.abs() / scale
+                } else {
+                    f64::INFINITY
+                }
+            );
+        }
+        out
+    }
+}
+
+/// Groups per-component comparisons by entity.
+pub(super) fn by_entity(diffs: Vec<((String, String), SeriesDiff)>) -> Vec<EntityReport> {
+    let mut out: Vec<EntityReport> = Vec::new();
+    for ((entity, component), d) in diffs {
+        match out.last_mut() {
+            Some(r) if r.entity == entity => r.diffs.push((component, d)),
+            _ => out.push(EntityReport {
+                entity,
+                diffs: vec![(component, d)],
+            }),
+        }
+    }
+    out
+}
+
+/// Each table's keys, flattened: `pendulum.dt` → its value in TOML.
+pub(super) fn config_keys(info: &RecordingInfo) -> BTreeMap<String, String> {
+    let mut out = BTreeMap::new();
+    let Some(text) = info.properties.get("config") else {
+        return out;
+    };
+    let Ok(table) = text.parse::<toml::Table>() else {
+        return out;
+    };
+    pub(super) fn walk(prefix: &str, v: &toml::Value, out: &mut BTreeMap<String, String>) {
+        match v {
+            toml::Value::Table(t) => {
+                for (k, v) in t {
+                    let key = if prefix.is_empty() {
+                        k.clone()
+                    } else {
+                        format!("{prefix}.{k}")
+                    };
+                    walk(&key, v, out);
+                }
+            }
+            other => {
+                out.insert(prefix.to_string(), other.to_string());
+            }
+        }
+    }
+    walk("", &toml::Value::Table(table), &mut out);
+    out
+}
+
+/// The one method of a recording that ran a single method (besides references).
+pub(super) fn single_method(info: &RecordingInfo) -> Option<String> {
+    let methods = info.properties.get("methods")?;
+    let list: Vec<&str> = methods.split(',').filter(|m| !m.is_empty()).collect();
+    (list.len() == 1).then(|| list[0].to_string())
+}
