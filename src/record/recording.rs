@@ -1,0 +1,232 @@
+//! Where a recording goes (a file, a viewer, standard output) and the recording stream that
+//! writes it safely: chunked the same way on every run, renamed into place only when complete.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::Context as _;
+
+use super::{Layout, sink};
+
+/// Where a recording goes: a file (written beside its target and renamed when complete), a
+/// running viewer, a viewer started for it, or any combination.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Destinations {
+    pub file: Option<PathBuf>,
+    /// A viewer's gRPC proxy URL, e.g. rerun+http://127.0.0.1:9876/proxy.
+    pub connect: Option<String>,
+    /// Start `rerun` from PATH and stream to it.
+    pub spawn: bool,
+    /// Write the recording to standard output (`-o -`), e.g. piped into `rerun -`.
+    pub stdout: bool,
+}
+
+impl Destinations {
+    /// `-o PATH`, where `-` means standard output.
+    pub fn output(path: &Path) -> Self {
+        if path.as_os_str() == "-" {
+            Destinations {
+                stdout: true,
+                ..Default::default()
+            }
+        } else {
+            Destinations {
+                file: Some(path.to_path_buf()),
+                ..Default::default()
+            }
+        }
+    }
+
+    /// The recording as a checked output (`crate::output`): a file or standard output.
+    pub fn written(&self) -> anyhow::Result<Option<crate::output::Output>> {
+        use crate::output::{Dash, check};
+        match (&self.file, self.stdout) {
+            (Some(path), _) => check("-o", path, Dash::Binary).map(Some),
+            (None, true) => check("-o", Path::new("-"), Dash::Binary).map(Some),
+            (None, false) => Ok(None),
+        }
+    }
+}
+
+/// Checks the destinations before anything is simulated: the file can be written
+/// (`crate::output::check`), the viewer URL parses, `rerun` is on PATH for --spawn.
+pub fn check_destinations(d: &Destinations) -> anyhow::Result<()> {
+    d.written()?;
+    if let Some(url) = &d.connect {
+        parse_proxy_url(url)?;
+    }
+    if d.spawn && find_on_path("rerun").is_none() {
+        anyhow::bail!(
+            "--spawn: no `rerun` executable on PATH; install the viewer with `pip install rerun-sdk==0.36.3`, \
+             or open the file later"
+        );
+    }
+    Ok(())
+}
+
+fn parse_proxy_url(url: &str) -> anyhow::Result<rerun::external::re_uri::ProxyUri> {
+    url.parse().map_err(|e| {
+        crate::error::Error::Usage(format!(
+            "--connect {url}: not a viewer URL ({e}); expected e.g. rerun+http://127.0.0.1:9876/proxy"
+        ))
+        .into()
+    })
+}
+
+/// Whether something accepts connections at the viewer's address (within a second).
+fn viewer_listens(uri: &rerun::external::re_uri::ProxyUri) -> bool {
+    use std::net::ToSocketAddrs as _;
+    let origin = &uri.origin;
+    let Ok(addrs) = (origin.host.to_string(), origin.port).to_socket_addrs() else {
+        return false;
+    };
+    addrs.into_iter().any(|a| {
+        std::net::TcpStream::connect_timeout(&a, std::time::Duration::from_secs(1)).is_ok()
+    })
+}
+
+/// The first executable called `name` on PATH.
+pub fn find_on_path(name: &str) -> Option<PathBuf> {
+    let path = std::env::var_os("PATH")?;
+    std::env::split_paths(&path)
+        .map(|dir| dir.join(name))
+        .find(|p| {
+            use std::os::unix::fs::PermissionsExt as _;
+            p.metadata()
+                .map(|m| m.is_file() && m.permissions().mode() & 0o111 != 0)
+                .unwrap_or(false)
+        })
+}
+
+/// How rows logged one at a time become chunks: per entity, a chunk every 1024 rows (or
+/// [`CHUNK_BYTES`], see below), never on a clock, so the chunks depend only on what was logged
+/// (Rerun's default 200 ms clock cuts identical runs differently). The rows still pending when a
+/// run ends are turned into chunks then, on Rerun's batcher thread, one row at a time: 1024 rows
+/// per entity keeps that under a few tenths of a second, so a Ctrl-C is answered within 1 s
+/// (4096, the size `rerun rrd optimize` compacts to, took over a second for the pendulum).
+///
+/// Rerun's byte count of pending rows varies between identical runs (two `physlab all` runs cut
+/// hair's strands after 11 and after 10 rows), so the batcher counts rows only, and the scene
+/// recorder flushes after every [`CHUNK_BYTES`] of its largest 3D entity (hair strands, rope
+/// nodes), counted by itself.
+pub const BATCHING: rerun::log::ChunkBatcherConfig = rerun::log::ChunkBatcherConfig {
+    flush_tick: std::time::Duration::MAX,
+    flush_num_bytes: u64::MAX,
+    flush_num_rows: 1024,
+    ..rerun::log::ChunkBatcherConfig::DEFAULT
+};
+
+/// The chunk size `rerun rrd optimize` compacts to (`ChunkStoreConfig::DEFAULT`: 384 KiB).
+pub const CHUNK_BYTES: usize = 12 * 8 * 4096;
+
+/// A recording being written. A file goes through `crate::output` (a hidden file beside its
+/// target, renamed into place when complete); [`Recording::commit`] finalises it (footer
+/// written, fsynced) and renames it into place, and dropping it uncommitted removes the hidden
+/// file, so a failed run never leaves a partial file or touches an earlier recording. A write
+/// error (a full disk) stops the run at its next check, as a signal would, and `commit` reports it.
+pub struct Recording {
+    rec: Option<rerun::RecordingStream>,
+    file: Option<std::sync::Arc<sink::Shared>>,
+    /// Where the file goes, for the size reported.
+    target: Option<PathBuf>,
+}
+
+impl Recording {
+    /// Starts a recording with `blueprint` as its active layout, under its own application id
+    /// (`physlab-pendulum`, `physlab-all`, `physlab-study`...: the viewer keys blueprints by
+    /// application id, so one scene's layout never applies to another's recording).
+    ///
+    /// No wall-clock data: the `log_time` timeline and the start-time property are off, and
+    /// chunks are cut by [`BATCHING`] (rows and bytes per entity), not by the batcher's 200 ms
+    /// clock, so two runs of the same inputs write the same chunks (row ids, recording id and
+    /// chunk ids, which Rerun draws from the clock and at random, aside). Streaming to a viewer
+    /// (--connect, --spawn) keeps Rerun's clock-driven batching, so the viewer sees data live.
+    pub fn create(
+        d: &Destinations,
+        application_id: &'static str,
+        recording_name: &str,
+        layout: impl Into<Layout>,
+    ) -> anyhow::Result<Self> {
+        let layout = layout.into();
+        check_destinations(d)?;
+        let mut sinks: Vec<Box<dyn rerun::sink::LogSink>> = Vec::new();
+        let mut file = None;
+        let mut target = None;
+        if let Some(output) = d.written()? {
+            let shared = std::sync::Arc::new(sink::Shared::new(output.create()?)?);
+            sinks.push(Box::new(sink::EncodedSink(shared.clone())));
+            file = Some(shared);
+            target = output.target;
+        }
+        if d.spawn {
+            rerun::spawn(&rerun::SpawnOptions::default())
+                .context("--spawn: cannot start the Rerun viewer")?;
+            let url = format!(
+                "rerun+http://127.0.0.1:{}/proxy",
+                rerun::DEFAULT_SERVER_PORT
+            );
+            sinks.push(Box::new(rerun::sink::GrpcSink::new(parse_proxy_url(&url)?)));
+        }
+        if let Some(url) = &d.connect {
+            let uri = parse_proxy_url(url)?;
+            if viewer_listens(&uri) {
+                sinks.push(Box::new(rerun::sink::GrpcSink::new(uri)));
+            } else if d.file.is_some() {
+                // A missing viewer must not cost the user the recording.
+                eprintln!(
+                    "warning: --connect {url}: no viewer answers there; writing the file only"
+                );
+            } else {
+                anyhow::bail!(
+                    "--connect {url}: no viewer answers there, and --no-save leaves nothing to write \
+                     (start `rerun`, or drop --no-save)"
+                );
+            }
+        }
+        let mut builder = rerun::RecordingStreamBuilder::new(application_id)
+            .enabled(true) // the recording is the product: ignore RERUN=off
+            .send_properties(false);
+        if d.connect.is_none() && !d.spawn {
+            builder = builder.batcher_config(BATCHING);
+        } // A live viewer needs data as it comes: Rerun's clock-driven default then.
+        let rec = builder
+            .set_sinks(sinks)
+            .context("cannot start the recording")?;
+        layout.send(&rec, application_id)?;
+        rec.set_log_time_enabled(false);
+        rec.send_recording_name(recording_name)?;
+        Ok(Recording {
+            rec: Some(rec),
+            file,
+            target,
+        })
+    }
+
+    pub fn stream(&self) -> &rerun::RecordingStream {
+        self.rec.as_ref().expect("stream is present until commit")
+    }
+
+    /// Flushes, writes the footer, fsyncs and renames the file into place. Returns the file's
+    /// size.
+    pub fn commit(mut self) -> anyhow::Result<Option<u64>> {
+        let rec = self.rec.take().expect("commit once");
+        let flushed = rec.flush_blocking();
+        // Dropping the last handle hands every message still batched to the sinks.
+        drop(rec);
+        let Some(file) = self.file.take() else {
+            flushed.context("cannot flush the recording")?;
+            return Ok(None);
+        };
+        file.finish()?;
+        Ok(match &self.target {
+            Some(target) => Some(std::fs::metadata(target)?.len()),
+            None => None,
+        })
+    }
+}
+
+impl Drop for Recording {
+    fn drop(&mut self) {
+        // Uncommitted: the stream is dropped first, then the hidden file with `file`.
+        drop(self.rec.take());
+    }
+}
