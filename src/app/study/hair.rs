@@ -1,0 +1,93 @@
+//! `physlab study hair`: the hair trade, stretch against cost per frame.
+
+use std::fmt::Write as _;
+
+use super::outputs::{check_outputs, report_recording};
+use crate::cli::StudyArgs;
+
+/// `physlab study hair`: the hair scene's configurations (`study::hair::configurations`) at its
+/// defaults (200 strands, tour), over `--duration` (default 4 s).
+pub(super) fn hair_study(a: &StudyArgs) -> anyhow::Result<()> {
+    use crate::scene::hair::run::HairConfig;
+    let duration = a.duration.unwrap_or(4.0);
+    let base = HairConfig {
+        duration,
+        ..HairConfig::default()
+    };
+    base.validate()?;
+    let outputs = check_outputs(a, &[])?;
+    let configs = crate::study::hair::configurations(&base);
+    let rows = crate::study::hair::hair_trade(&configs);
+    // Ctrl-C or SIGTERM: only the configurations that ran to the end are shown, written and
+    // compared; with none, nothing is.
+    let interrupted = crate::interrupt::requested();
+    let complete = !rows.is_empty();
+    let stopped = || -> anyhow::Error {
+        crate::error::Error::Interrupted(format!(
+            "interrupted: {} of {} configurations complete{}",
+            rows.len(),
+            configs.len(),
+            if complete {
+                "; the tables above (and any --csv and -o files) hold the complete ones"
+            } else {
+                "; nothing was written"
+            }
+        ))
+        .into()
+    };
+    if !complete {
+        return Err(stopped());
+    }
+    let mut out = String::new();
+    writeln!(
+        out,
+        "hair trade: {} strands × {} nodes, tour over {duration} s at {} Hz; max stretch = largest |ℓ - ℓ0|/ℓ0 over \
+         every frame; ms/frame = wall time of the step per simulation frame on {} threads (measured, not \
+         deterministic)\n",
+        base.params.strands,
+        base.params.nodes,
+        base.rate,
+        rayon::current_num_threads()
+    )?;
+    out.push_str(&crate::report::hair::trade_table(&rows));
+    writeln!(
+        out,
+        "\ncheapest configuration within each stretch target:\n"
+    )?;
+    out.push_str(&crate::report::hair::trade_cheapest_table(
+        &rows,
+        &[1e-2, 1e-3, 1e-6],
+    ));
+    // With `-o -` or `--csv -` standard output carries the file: the tables go to stderr.
+    let to_stdout = outputs.to_stdout();
+    if to_stdout {
+        eprint!("{out}");
+    } else {
+        print!("{out}");
+    }
+    if let Some(csv_out) = &outputs.csv {
+        csv_out.write(crate::report::hair::trade_csv(&rows).as_bytes())?;
+        if !csv_out.is_stdout() {
+            eprintln!("wrote {}", csv_out.given.display());
+        }
+    }
+    if let Some(path) = &a.output {
+        let d = crate::record::Destinations::output(path);
+        // Provenance: the study's base scene (every configuration varies the solver settings of
+        // this one) and the command line.
+        let config = format!(
+            "# the scene of `{}`\n[hair]\nduration = {duration:?}\n",
+            crate::record::command_line()
+        );
+        let methods: Vec<&str> = crate::scene::hair::HairMethod::ALL
+            .iter()
+            .map(|m| m.name())
+            .collect();
+        let bytes = crate::record::study::record_study(&d, "hair", &[], &out, (&config, &methods))?;
+        report_recording(path, bytes, to_stdout);
+    }
+    if interrupted {
+        return Err(stopped());
+    }
+    Ok(())
+}

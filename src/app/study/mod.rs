@@ -1,0 +1,253 @@
+//! `physlab study`: resolves the study's scene, runs the measurement, prints markdown tables,
+//! and writes the CSV and recording when asked.
+
+use std::fmt::Write as _;
+
+use super::Error;
+use super::SceneFile;
+use crate::cli::{StudyArgs, StudyKind};
+use crate::report::study as report;
+use crate::study::{Limit, Problem, error_floor, stability, sweep};
+
+mod hair;
+mod outputs;
+mod setup;
+
+use hair::hair_study;
+use outputs::{check_outputs, interrupted_error, report_recording};
+use setup::{refuse_unused, setup};
+
+pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
+    refuse_unused(a)?;
+    if a.kind == StudyKind::Hair {
+        return hair_study(a);
+    }
+    let (problem, sw, steps, scene_file) = setup(a)?;
+    let stems: Vec<String> = match a.kind {
+        StudyKind::Convergence => vec!["convergence", "convergence-damped"],
+        StudyKind::WorkPrecision => vec!["work-precision"],
+        _ => vec!["stability"],
+    }
+    .into_iter()
+    .map(|s| format!("{}-{s}", problem.name()))
+    .collect();
+    let outputs = check_outputs(a, &stems)?;
+    let mut out = String::new();
+    let csv;
+    let mut diagrams: Vec<crate::diagram::Diagram> = Vec::new();
+    // Runs (or methods' limits) complete: after Ctrl-C or SIGTERM only those are shown.
+    let done;
+    match a.kind {
+        StudyKind::Convergence | StudyKind::WorkPrecision => {
+            let (rows, reference_error) = sweep(&problem, &sw);
+            done = rows.len();
+            let exact = matches!(&problem, Problem::Pendulum(p)
+                if crate::scene::pendulum::reference::ExactPendulum::new(p).is_some());
+            let reference = if exact {
+                format!(
+                    "the exact elliptic solution (θ to {reference_error:.0e} rad over this run: measured against mpmath over whole runs)"
+                )
+            } else if matches!(&problem, Problem::Pendulum(_)) {
+                format!(
+                    "the fine-step reference (compensated RK4, as the pendulum scene runs it), its own error estimated at {reference_error:.1e} rad (Richardson; measured against mpmath over whole runs)"
+                )
+            } else {
+                format!(
+                    "RK4 at dt/8 of the finest step, its own error estimated at {reference_error:.1e} (Richardson)"
+                )
+            };
+            writeln!(
+                out,
+                "{} {}: error = largest deviation of the positions from {reference}, sampled every {} s over {} s; \
+                 fits leave out errors below {:.0e} (the reference's floor)\n",
+                problem.name(),
+                if a.kind == StudyKind::Convergence {
+                    "convergence"
+                } else {
+                    "work-precision"
+                },
+                sw.dt0 * crate::study::SAMPLE_EVERY as f64,
+                sw.duration,
+                error_floor(reference_error)
+            )?;
+            if a.kind == StudyKind::Convergence {
+                out.push_str(&report::orders_table(
+                    &rows,
+                    error_floor(reference_error),
+                    problem.velocity_dependent(),
+                ));
+                let stalled = report::stalled_note(&rows, error_floor(reference_error));
+                if !stalled.is_empty() {
+                    eprint!("{stalled}");
+                    out.push('\n');
+                    out.push_str(&stalled);
+                }
+                diagrams.push(crate::diagram::convergence(
+                    problem.name(),
+                    &rows,
+                    error_floor(reference_error),
+                    problem.velocity_dependent(),
+                ));
+                out.push('\n');
+                if let Problem::Rope(p) = &problem
+                    && !crate::interrupt::requested()
+                    && p.spring_damping == 0.0
+                    && p.air_drag == 0.0
+                {
+                    // Velocity-dependent forces change what some methods' orders are: show the
+                    // same rope with the scene's damping beside the undamped one.
+                    let scene = crate::scene::rope::RopeParams::default();
+                    let damped = Problem::Rope(crate::scene::rope::RopeParams {
+                        spring_damping: scene.spring_damping,
+                        air_drag: scene.air_drag,
+                        ..p.clone()
+                    });
+                    let (damped_rows, damped_error) = sweep(&damped, &sw);
+                    // A stop during the damped sweep leaves it out: only complete tables are shown.
+                    if !crate::interrupt::requested() {
+                        writeln!(
+                            out,
+                            "the same rope with the scene's spring damping {} N·s/m and air drag {} N·s/m \
+                         (velocity-dependent forces):\n",
+                            scene.spring_damping, scene.air_drag
+                        )?;
+                        out.push_str(&report::orders_table(
+                            &damped_rows,
+                            error_floor(damped_error),
+                            true,
+                        ));
+                        diagrams.push(crate::diagram::convergence(
+                            problem.name(),
+                            &damped_rows,
+                            error_floor(damped_error),
+                            true,
+                        ));
+                        out.push('\n');
+                    }
+                }
+            }
+            if rows.iter().any(|r| r.rtol.is_some()) {
+                writeln!(
+                    out,
+                    "tolerance proportionality of the adaptive methods (slope 1: the error follows rtol; \
+                     errors below {:.0e} left out):\n",
+                    error_floor(reference_error)
+                )?;
+                out.push_str(&report::proportionality_table(
+                    &rows,
+                    error_floor(reference_error),
+                ));
+                out.push('\n');
+            }
+            out.push_str(&report::rows_table(&rows));
+            if a.kind == StudyKind::WorkPrecision {
+                // A target is only claimed where the reference resolves it: 10× its accuracy.
+                let (targets, unresolved): (Vec<f64>, Vec<f64>) = [1e-3, 1e-6, 1e-9, 1e-12]
+                    .into_iter()
+                    .partition(|&t| t >= 10.0 * reference_error);
+                writeln!(
+                    out,
+                    "\ncheapest run reaching each error (from the rows above){}:\n",
+                    if unresolved.is_empty() {
+                        String::new()
+                    } else {
+                        format!(
+                            "; {} left out: below 10× the reference's accuracy {reference_error:.1e}",
+                            unresolved
+                                .iter()
+                                .map(|t| format!("{t:.0e}"))
+                                .collect::<Vec<_>>()
+                                .join(", ")
+                        )
+                    }
+                )?;
+                out.push_str(&report::cheapest_table(&rows, &targets));
+                diagrams.push(crate::diagram::work_precision(
+                    problem.name(),
+                    &rows,
+                    error_floor(reference_error),
+                    &format!("wall times: median of {}; machine-dependent.", sw.repeats),
+                ));
+            }
+            csv = report::rows_csv(&rows);
+        }
+        StudyKind::Stability => {
+            let limits: Vec<Limit> = stability(&problem, &sw.methods, steps);
+            done = limits.len();
+            writeln!(
+                out,
+                "{} stability: largest dt whose run stays within 10⁴ of its start for {steps} steps (bisection), on the \
+                 linearised problem ({}); theory = limit h / ω with ω = {:.6} rad/s\n",
+                problem.name(),
+                match problem {
+                    Problem::Pendulum(_) => "1e-8 rad amplitude, ω = sqrt(g/L)",
+                    Problem::Rope(_) =>
+                        "straight, weightless, undamped chain pinned at node 0, ω = its highest mode",
+                },
+                problem.omega()
+            )?;
+            out.push_str(&report::stability_table(&limits));
+            csv = report::limits_csv(&limits);
+            diagrams.push(crate::diagram::stability(
+                problem.name(),
+                &limits,
+                problem.omega(),
+            ));
+        }
+        StudyKind::Hair => unreachable!("hair_study runs it"),
+    }
+    // Ctrl-C or SIGTERM: what is complete is shown and written, then the study ends with 130.
+    let interrupted = crate::interrupt::requested();
+    let complete = done > 0;
+    if !complete {
+        // Stopped before a single run was complete: no table to show.
+        out.clear();
+        diagrams.clear();
+    }
+    // With `-o -` or `--csv -` standard output carries the file: the tables go to stderr.
+    let to_stdout = outputs.to_stdout();
+    if to_stdout {
+        eprint!("{out}");
+    } else {
+        print!("{out}");
+    }
+    if let Some(csv_out) = &outputs.csv
+        && complete
+    {
+        csv_out.write(csv.as_bytes())?;
+        if !csv_out.is_stdout() {
+            eprintln!("wrote {}", csv_out.given.display());
+        }
+    }
+    let mut images: Vec<(String, Vec<u8>)> = Vec::new();
+    if let Some(dir) = outputs.plots.as_ref().filter(|_| complete) {
+        for d in &diagrams {
+            let w = d.write(dir)?;
+            eprintln!("wrote {} and {}", w.svg.display(), w.png.display());
+            images.push((d.title.clone(), w.png_bytes));
+        }
+    }
+    if let Some(path) = &a.output
+        && complete
+    {
+        let d = crate::record::Destinations::output(path);
+        let config = format!(
+            "# the scene of `{}`\n{}",
+            crate::record::command_line(),
+            scene_file.to_toml()?
+        );
+        let methods: Vec<&str> = sw.methods.iter().map(|m| m.name()).collect();
+        let bytes = crate::record::study::record_study(
+            &d,
+            problem.name(),
+            &images,
+            &out,
+            (&config, &methods),
+        )?;
+        report_recording(path, bytes, to_stdout);
+    }
+    if interrupted {
+        return Err(interrupted_error(a, &sw, done, complete));
+    }
+    Ok(())
+}

@@ -1,0 +1,143 @@
+//! A study's outputs: checked before any work, reported when written, and what a stopped
+//! study says.
+
+use super::Error;
+use crate::cli::{StudyArgs, StudyKind};
+use crate::study::Sweep;
+
+/// Where the study's recording went; on stderr when standard output carries a file.
+pub(super) fn report_recording(path: &std::path::Path, bytes: Option<u64>, to_stdout: bool) {
+    let line = match bytes {
+        Some(bytes) => format!(
+            "\nrecording: {} ({:.2} MB)",
+            path.display(),
+            bytes as f64 / 1e6
+        ),
+        None => "\nrecording written to standard output".into(),
+    };
+    if to_stdout {
+        eprintln!("{line}");
+    } else {
+        println!("{line}");
+    }
+}
+
+/// What an interrupted study says: how many of its planned runs (or methods' limits) were
+/// complete, and whether anything was written.
+pub(super) fn interrupted_error(
+    a: &StudyArgs,
+    sw: &Sweep,
+    done: usize,
+    complete: bool,
+) -> anyhow::Error {
+    let planned: usize = match a.kind {
+        StudyKind::Stability => sw.methods.len(),
+        _ => sw
+            .methods
+            .iter()
+            .map(|m| {
+                if m.info().family == crate::integrate::Family::Adaptive {
+                    sw.rtols.len()
+                } else {
+                    sw.levels as usize
+                }
+            })
+            .sum(),
+    };
+    let kept = if complete {
+        "; the tables above (and any --csv and -o files) hold the complete ones"
+    } else {
+        "; nothing was written"
+    };
+    crate::error::Error::Interrupted(format!(
+        "interrupted: {done} of {planned} {} complete{kept}",
+        if a.kind == StudyKind::Stability {
+            "methods' limits"
+        } else {
+            "runs"
+        }
+    ))
+    .into()
+}
+
+/// A study's outputs, checked before it runs (`crate::output`): the CSV, the recording, and
+/// the diagrams' folder (--plots, else beside the recording or the CSV) with the files the
+/// diagrams `stems` will be written to; no two of them one file, none the scene file read.
+pub(super) struct Outputs {
+    pub(super) csv: Option<crate::output::Output>,
+    pub(super) recording: Option<crate::output::Output>,
+    pub(super) plots: Option<std::path::PathBuf>,
+}
+
+impl Outputs {
+    pub(super) fn to_stdout(&self) -> bool {
+        [&self.csv, &self.recording]
+            .into_iter()
+            .flatten()
+            .any(|o| o.is_stdout())
+    }
+}
+
+pub(super) fn check_outputs(a: &StudyArgs, stems: &[String]) -> anyhow::Result<Outputs> {
+    use crate::output::{Dash, check, distinct};
+    use std::path::{Path, PathBuf};
+    let csv = a
+        .csv
+        .as_deref()
+        .map(|p| check("--csv", p, Dash::Text))
+        .transpose()?;
+    let recording = match &a.output {
+        Some(path) => crate::record::Destinations::output(path).written()?,
+        None => None,
+    };
+    let beside = |o: &crate::output::Output| {
+        o.target.as_ref().map(|t| match t.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+            _ => PathBuf::from("."),
+        })
+    };
+    if a.plots.as_deref() == Some(Path::new("-")) {
+        return Err(Error::Usage(
+            "--plots -: standard output is not a folder; --plots names the folder of the diagrams"
+                .into(),
+        )
+        .into());
+    }
+    let plots = a
+        .plots
+        .clone()
+        .or_else(|| recording.as_ref().and_then(beside))
+        .or_else(|| csv.as_ref().and_then(beside))
+        .filter(|_| !stems.is_empty());
+    let mut diagrams = Vec::new();
+    if let Some(dir) = &plots {
+        if dir.exists() && !dir.is_dir() {
+            anyhow::bail!(
+                "--plots {}: is not a folder; --plots names the folder the diagrams go to",
+                dir.display()
+            );
+        }
+        let no_dash = Dash::Refused("is not a folder");
+        for stem in stems {
+            for file in crate::diagram::Diagram::files(stem, dir) {
+                diagrams.push(check("--plots", &file, no_dash)?);
+            }
+        }
+    }
+    let all: Vec<&crate::output::Output> = csv
+        .iter()
+        .chain(recording.iter())
+        .chain(diagrams.iter())
+        .collect();
+    let inputs: Vec<(&str, &Path)> = a
+        .config
+        .iter()
+        .map(|p| ("the scene file read (--config)", p.as_path()))
+        .collect();
+    distinct(&all, &inputs)?;
+    Ok(Outputs {
+        csv,
+        recording,
+        plots,
+    })
+}

@@ -1,0 +1,354 @@
+//! A study's problem resolved from its flags and scene file, with the flags each study kind
+//! uses (the others refused) and a warning when it will run long.
+
+use super::Error;
+use super::SceneFile;
+use crate::cli::{PendulumArgs, RopeArgs, RopeBody, StudyArgs, StudyKind, StudyScene};
+use crate::integrate::{Method, MethodOptions};
+use crate::scene::params::{MAX_NODE_STEPS, MAX_STEPS, shown};
+use crate::study::{Problem, Sweep};
+
+/// Steps a whole study may take (every method, level and repeat, and the reference): ten
+/// times what one scene's method may, about as long as a scene running ten methods.
+pub(super) const STUDY_MAX_STEPS: f64 = 10.0 * MAX_STEPS;
+
+/// Wall time of one node-step (one coordinate triple stepped once) in the estimate a long study
+/// is warned with [s]: RK4 on the rope, the common case, measured at 10,000–100,000 nodes on a
+/// 2-core x86-64 machine, rounded up; implicit methods cost more, the pendulum less.
+pub(super) const SECONDS_PER_NODE_STEP: f64 = 60e-9;
+
+/// Estimated wall time beyond which a study says, before it starts, how long it will take [s].
+pub(super) const LONG_STUDY_SECONDS: f64 = 60.0;
+
+/// Warns on stderr, before the work starts, when a study of `node_steps` will take minutes.
+pub(super) fn warn_if_long(node_steps: f64) {
+    let seconds = node_steps * SECONDS_PER_NODE_STEP;
+    if seconds > LONG_STUDY_SECONDS {
+        eprintln!(
+            "warning: this study is {node_steps:.1e} node-steps, roughly {:.0} minutes at ~{:.0} ns each (more with implicit methods); Ctrl-C stops it and keeps the complete rows",
+            (seconds / 60.0).ceil(),
+            SECONDS_PER_NODE_STEP * 1e9
+        );
+    }
+}
+
+/// The study's problem and sweep from its flags, over the scene file, over the scene defaults
+/// (for the rope's convergence and cost: a softer, undamped rope, so that explicit methods
+/// converge and the theory's orders apply).
+/// Also returns the study's scene as a scene file (its problem, dt, duration and methods), the
+/// provenance of its recording.
+pub(super) fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), Error> {
+    let file = match &a.config {
+        Some(path) => SceneFile::load(path)?,
+        None => SceneFile::default(),
+    };
+    let stability_study = a.kind == StudyKind::Stability;
+    let levels = a.levels.unwrap_or(crate::study::DEFAULT_LEVELS);
+    if !(2..=20).contains(&levels) {
+        return Err(Error::Usage(format!(
+            "--levels {levels}: must be between 2 and 20"
+        )));
+    }
+    let repeats = a.repeats.unwrap_or(crate::study::DEFAULT_REPEATS);
+    if !(1..=100).contains(&repeats) {
+        return Err(Error::Usage(format!(
+            "--repeats {repeats}: must be between 1 and 100"
+        )));
+    }
+    let steps = a.steps.unwrap_or(crate::study::DEFAULT_STABILITY_STEPS);
+    if !(10..=10_000_000).contains(&steps) {
+        return Err(Error::Usage(format!(
+            "--steps {steps}: must be between 10 and 10000000"
+        )));
+    }
+    let rtols = a.rtol.clone().unwrap_or_else(crate::study::default_rtols);
+    if let Some(bad) = rtols
+        .iter()
+        .find(|r| !(r.is_finite() && (1e-14..=0.1).contains(*r)))
+    {
+        return Err(Error::Usage(format!(
+            "--rtol {}: must be between 1e-14 and 0.1",
+            shown(*bad)
+        )));
+    }
+    // Flags of the other scene would be silently ignored: refuse them.
+    let (pendulum_flags, rope_flags) = (
+        [
+            ("--theta0", a.pendulum.theta0.is_some()),
+            ("--omega0", a.pendulum.omega0.is_some()),
+        ],
+        [
+            ("--nodes", a.rope.nodes.is_some()),
+            ("--stiffness", a.rope.stiffness.is_some()),
+            ("--mass", a.rope.mass.is_some()),
+            ("--spring-damping", a.rope.spring_damping.is_some()),
+            ("--air-drag", a.rope.air_drag.is_some()),
+        ],
+    );
+    let scene = a.scene.unwrap_or(StudyScene::Pendulum);
+    let foreign = match scene {
+        StudyScene::Pendulum => rope_flags.iter().find(|f| f.1).map(|f| (f.0, "rope")),
+        StudyScene::Rope => pendulum_flags
+            .iter()
+            .find(|f| f.1)
+            .map(|f| (f.0, "pendulum")),
+    };
+    if let Some((flag, scene)) = foreign {
+        return Err(Error::Usage(format!(
+            "{flag} is a {scene} parameter; add --scene {scene}, or drop it"
+        )));
+    }
+    // The scene file's schedule and methods apply too: its dt is the coarsest step.
+    let (file_dt, file_duration, file_methods) = match scene {
+        StudyScene::Pendulum => file.pendulum.as_ref().map_or((None, None, None), |t| {
+            (t.step.dt, t.step.duration, t.step.methods.clone())
+        }),
+        StudyScene::Rope => file.rope.as_ref().map_or((None, None, None), |t| {
+            (t.step.dt, t.step.duration, t.step.methods.clone())
+        }),
+    };
+    let methods = a
+        .methods
+        .clone()
+        .or(file_methods)
+        .unwrap_or_else(|| Method::ALL.to_vec());
+    if methods.is_empty() {
+        let origin = match &a.config {
+            Some(path) if a.methods.is_none() => format!(
+                "--config {}: [{}] methods = []",
+                path.display(),
+                if scene == StudyScene::Rope {
+                    "rope"
+                } else {
+                    "pendulum"
+                }
+            ),
+            _ => "--methods []".into(),
+        };
+        return Err(Error::Usage(format!(
+            "{origin}: must name at least one method (any of: {})",
+            Method::names().collect::<Vec<_>>().join(", ")
+        )));
+    }
+    // Tolerances only an adaptive method takes: without one they would be ignored.
+    if a.rtol.is_some()
+        && !methods
+            .iter()
+            .any(|m| m.info().family == crate::integrate::Family::Adaptive)
+    {
+        return Err(Error::Usage(format!(
+            "--rtol: no adaptive method among --methods ({}) takes a tolerance; add one or drop --rtol",
+            methods
+                .iter()
+                .map(|m| m.name())
+                .collect::<Vec<_>>()
+                .join(",")
+        )));
+    }
+    let mut effective = SceneFile::default();
+    let problem = match scene {
+        StudyScene::Pendulum => {
+            let flags = PendulumArgs {
+                initial: a.pendulum.clone(),
+                ..PendulumArgs::default()
+            };
+            let args = flags.over(file.pendulum.unwrap_or_default());
+            effective.pendulum = Some(args.clone().over(PendulumArgs::defaults()));
+            Problem::Pendulum(crate::app::pendulum_config(&args)?.params)
+        }
+        StudyScene::Rope => {
+            let study = crate::study::study_rope(stability_study);
+            let study_defaults = RopeArgs {
+                body: RopeBody {
+                    stiffness: Some(study.stiffness),
+                    spring_damping: Some(study.spring_damping),
+                    air_drag: Some(study.air_drag),
+                    ..RopeBody::default()
+                },
+                ..RopeArgs::default()
+            };
+            let flags = RopeArgs {
+                body: a.rope.clone(),
+                ..RopeArgs::default()
+            };
+            let args = flags
+                .over(file.rope.unwrap_or_default())
+                .over(study_defaults);
+            effective.rope = Some(args.clone().effective());
+            Problem::Rope(crate::app::rope_config(&args)?.params)
+        }
+    };
+    let (default_dt, default_duration) = crate::study::default_schedule(&problem);
+    let (dt0, duration) = (
+        a.dt.or(file_dt).unwrap_or(default_dt),
+        a.duration.or(file_duration).unwrap_or(default_duration),
+    );
+    crate::scene::params::positive("--dt", dt0, "s")?;
+    crate::scene::params::positive("--duration", duration, "s")?;
+    // Errors are compared every SAMPLE_EVERY coarsest steps; fewer than one sample fits nothing.
+    let longest = duration / crate::study::SAMPLE_EVERY as f64;
+    if dt0 > longest {
+        return Err(Error::Usage(format!(
+            "--dt {}: must not exceed --duration / {} = {} s (errors are sampled every {} \
+             coarsest steps)",
+            shown(dt0),
+            crate::study::SAMPLE_EVERY,
+            shown(longest),
+            crate::study::SAMPLE_EVERY
+        )));
+    }
+    // The finest level's steps, and the reference's (8× finer, stored at every sample), must
+    // fit in time and memory.
+    let finest = dt0 / 2f64.powi(levels as i32 - 1);
+    let reference_steps = 8.0 * duration / finest;
+    let schedule = format!(
+        "--dt {} with --levels {levels} over --duration {} s",
+        shown(dt0),
+        shown(duration)
+    );
+    if reference_steps > MAX_STEPS {
+        return Err(Error::Usage(format!(
+            "{schedule} needs {reference_steps:.2e} reference steps; at most {MAX_STEPS:.0e} are allowed \
+             (raise --dt or lower --levels)"
+        )));
+    }
+    // Work per step (coordinates stepped) and memory, for every phase, up front.
+    let (work_per_step, dim) = match &problem {
+        Problem::Pendulum(_) => (1.0, 1.0),
+        Problem::Rope(p) => (p.nodes as f64, 3.0 * p.nodes as f64),
+    };
+    let nodes = match &problem {
+        Problem::Pendulum(_) => String::new(),
+        Problem::Rope(p) => format!(" × --nodes {}", p.nodes),
+    };
+    let fixed = methods
+        .iter()
+        .filter(|m| m.info().family != crate::integrate::Family::Adaptive)
+        .count() as f64;
+    let work = match a.kind {
+        StudyKind::Convergence | StudyKind::WorkPrecision => {
+            // The reference (fine and coarse runs, for its error estimate), and every fixed-step
+            // method over dt0, dt0/2, ... dt0/2^(levels-1), each `repeats` times (the damped
+            // rope's second sweep doubles it).
+            let sweeps = if a.kind == StudyKind::Convergence && matches!(problem, Problem::Rope(_))
+            {
+                2.0
+            } else {
+                1.0
+            };
+            let steps = sweeps
+                * (1.5 * reference_steps
+                    + fixed * repeats as f64 * (duration / dt0) * (2f64.powi(levels as i32) - 1.0));
+            let work = steps * work_per_step;
+            if steps > STUDY_MAX_STEPS || work > MAX_NODE_STEPS {
+                return Err(Error::Usage(format!(
+                    "{schedule}, --repeats {repeats}{nodes} and {fixed} fixed-step methods is {steps:.2e} steps \
+                     ({work:.2e} node-steps) in all; at most {STUDY_MAX_STEPS:.0e} steps and {MAX_NODE_STEPS:.0e} \
+                     node-steps are allowed (raise --dt, lower --levels or --repeats, or choose fewer --methods)"
+                )));
+            }
+            // The reference is kept at every sample, twice (fine and coarse).
+            let samples = duration / (crate::study::SAMPLE_EVERY as f64 * dt0);
+            crate::scene::params::memory(
+                &format!("the reference for {schedule}{nodes}"),
+                2.0 * samples * dim * 8.0,
+                "raise --dt or shorten --duration",
+            )?;
+            work
+        }
+        StudyKind::Stability => {
+            // Each method: one trial at the bracket's low end and 40 bisections, of up to
+            // --steps steps each.
+            let runs = 41.0 * methods.len() as f64;
+            let work = runs * steps as f64 * work_per_step;
+            if work > MAX_NODE_STEPS {
+                return Err(Error::Usage(format!(
+                    "--steps {steps}{nodes} over {} methods × 41 bisection trials is {work:.2e} node-steps; at most \
+                     {MAX_NODE_STEPS:.0e} are allowed (lower --steps or choose fewer --methods)",
+                    methods.len()
+                )));
+            }
+            work
+        }
+        StudyKind::Hair => unreachable!("the hair study has its own setup (hair_study)"),
+    };
+    warn_if_long(work);
+    let sweep = Sweep {
+        dt0,
+        levels,
+        duration,
+        methods,
+        options: MethodOptions::default(),
+        repeats,
+        rtols,
+    };
+    // The schedule and methods the sweep starts from, in the scene's table.
+    if let Some(t) = effective.pendulum.as_mut() {
+        let s = &mut t.step;
+        (s.dt, s.duration, s.methods) = (Some(dt0), Some(duration), Some(sweep.methods.clone()));
+    }
+    if let Some(t) = effective.rope.as_mut() {
+        let s = &mut t.step;
+        (s.dt, s.duration, s.methods) = (Some(dt0), Some(duration), Some(sweep.methods.clone()));
+    }
+    Ok((problem, sweep, steps, effective))
+}
+
+/// The study kinds, as `physlab study KIND` spells them.
+pub(super) fn kind_name(kind: StudyKind) -> &'static str {
+    match kind {
+        StudyKind::Convergence => "convergence",
+        StudyKind::WorkPrecision => "work-precision",
+        StudyKind::Stability => "stability",
+        StudyKind::Hair => "hair",
+    }
+}
+
+/// Every flag of `physlab study` that only some kinds use, whether it was given, and the kinds
+/// that use it (`-o`, `--csv` and `-q` serve every kind). Stability measures the linearised
+/// problem (θ0 = 1e-8 rad at rest, an undamped rope) for `--steps` steps, so it takes no start,
+/// damping or schedule; the hair study runs the hair scene's defaults over `--duration` and
+/// draws no diagram.
+pub(super) fn flag_uses(a: &StudyArgs) -> [(&'static str, bool, &'static [StudyKind]); 17] {
+    use StudyKind::{Convergence as C, Hair as H, Stability as S, WorkPrecision as W};
+    const SWEEP: &[StudyKind] = &[C, W];
+    const MEASURED: &[StudyKind] = &[C, W, S];
+    [
+        ("--scene", a.scene.is_some(), MEASURED),
+        ("--config", a.config.is_some(), MEASURED),
+        ("--theta0", a.pendulum.theta0.is_some(), SWEEP),
+        ("--omega0", a.pendulum.omega0.is_some(), SWEEP),
+        ("--nodes", a.rope.nodes.is_some(), MEASURED),
+        ("--mass", a.rope.mass.is_some(), MEASURED),
+        ("--stiffness", a.rope.stiffness.is_some(), MEASURED),
+        ("--spring-damping", a.rope.spring_damping.is_some(), SWEEP),
+        ("--air-drag", a.rope.air_drag.is_some(), SWEEP),
+        ("--duration", a.duration.is_some(), &[C, W, H]),
+        ("--dt", a.dt.is_some(), SWEEP),
+        ("--levels", a.levels.is_some(), SWEEP),
+        ("--methods", a.methods.is_some(), MEASURED),
+        ("--rtol", a.rtol.is_some(), SWEEP),
+        ("--repeats", a.repeats.is_some(), SWEEP),
+        ("--steps", a.steps.is_some(), &[S]),
+        ("--plots", a.plots.is_some(), MEASURED),
+    ]
+}
+
+/// Refuses a flag the study kind would ignore, naming the flag, the kind and the kinds that
+/// take it.
+pub(super) fn refuse_unused(a: &StudyArgs) -> Result<(), Error> {
+    for (flag, given, kinds) in flag_uses(a) {
+        if given && !kinds.contains(&a.kind) {
+            let takers: Vec<String> = kinds
+                .iter()
+                .map(|&k| format!("`study {}`", kind_name(k)))
+                .collect();
+            return Err(Error::Usage(format!(
+                "{flag}: `study {}` does not use it (it is for {}); drop it",
+                kind_name(a.kind),
+                takers.join(", ")
+            )));
+        }
+    }
+    Ok(())
+}
