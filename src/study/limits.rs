@@ -1,0 +1,226 @@
+//! Stability limits: each method's largest stable step on the linearised problem, found by
+//! bisection and set against theory.
+
+use super::{Problem, stop, stop_stride};
+use crate::integrate::{
+    Integrator, Method, MethodOptions, SecondOrderSystem, Stability, yoshida_weights,
+};
+use crate::scene::pendulum::{Pendulum, PendulumParams};
+use crate::scene::rope::{Rope, RopeParams};
+
+/// One scene set up for a study: its system, start and the rate that sets its stability.
+
+/// One method's measured stability limit next to theory, in dt.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Limit {
+    pub scene: &'static str,
+    pub method: Method,
+    /// Largest dt found stable; for unconditionally stable methods, the largest tried.
+    pub measured_dt: Option<f64>,
+    /// Theory's largest stable dt: limit/ω; infinite when unconditional, `None` when there is
+    /// none (unstable for every dt) or the step is adaptive.
+    pub theory_dt: Option<f64>,
+    pub note: String,
+}
+
+/// The linearised problem stability theory speaks of: the pendulum at 1e-8 rad (so that even
+/// 10⁴-fold growth stays where sin θ = θ; a larger swing saturates and hides instability), the
+/// rope straight, weightless and undamped, displaced along itself by ±1e-6 of its rest length so
+/// that every mode, the highest included, is excited.
+fn linearised(problem: &Problem) -> (Problem, (Vec<f64>, Vec<f64>)) {
+    match problem {
+        Problem::Pendulum(p) => {
+            let q = PendulumParams {
+                theta0: 1e-8,
+                omega0: 0.0,
+                ..*p
+            };
+            (Problem::Pendulum(q), (vec![q.theta0], vec![0.0]))
+        }
+        Problem::Rope(p) => {
+            let q = RopeParams {
+                gravity: glam::DVec3::ZERO,
+                spring_damping: 0.0,
+                air_drag: 0.0,
+                pinned: vec![0],
+                ..p.clone()
+            };
+            let mut x = q.initial_positions();
+            let axis = (q.end - q.start).normalize();
+            let l0 = q.rest_length();
+            for i in 1..q.nodes {
+                let s = if i % 2 == 0 { 1e-6 } else { -1e-6 } * l0;
+                for c in 0..3 {
+                    x[3 * i + c] += s * axis[c];
+                }
+            }
+            let v = vec![0.0; x.len()];
+            (Problem::Rope(q), (x, v))
+        }
+    }
+}
+
+/// Whether `method` at `dt` keeps the linearised problem's displacement within 10⁴ of its start
+/// over `steps` steps.
+fn bounded(
+    problem: &Problem,
+    start: &(Vec<f64>, Vec<f64>),
+    method: Method,
+    dt: f64,
+    steps: u64,
+) -> bool {
+    fn run<S: SecondOrderSystem>(
+        sys: &S,
+        start: &(Vec<f64>, Vec<f64>),
+        rest: &[f64],
+        method: Method,
+        dt: f64,
+        steps: u64,
+    ) -> bool {
+        let size = |x: &[f64]| {
+            x.iter()
+                .zip(rest)
+                .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
+        };
+        let initial = size(&start.0);
+        let stride = stop_stride(start.0.len());
+        let mut it = Integrator::new(
+            method,
+            sys,
+            &start.0,
+            &start.1,
+            dt,
+            MethodOptions::default(),
+        );
+        for k in 0..steps {
+            it.step(sys);
+            let s = size(it.position());
+            // NaN compares false: a non-finite state counts as unbounded.
+            if s.is_nan() || s > 1e4 * initial {
+                return false;
+            }
+            // Stopped: the answer is dropped by `stability`, so any will do.
+            if k % stride == stride - 1 && stop() {
+                return false;
+            }
+        }
+        true
+    }
+    match problem {
+        Problem::Pendulum(p) => run(&Pendulum::new(p), start, &[0.0], method, dt, steps),
+        Problem::Rope(p) => run(
+            &Rope::new(p.clone()),
+            start,
+            &p.initial_positions(),
+            method,
+            dt,
+            steps,
+        ),
+    }
+}
+
+/// Largest stable dt by bisection (geometric, 40 halvings of the bracket), for every method.
+/// A run is stable when its displacement stays within 10⁴ of the start over `steps` steps.
+/// After a stop request, the limits of the methods complete so far.
+pub fn stability(problem: &Problem, methods: &[Method], steps: u64) -> Vec<Limit> {
+    let (lin, start) = linearised(problem);
+    let w = lin.omega();
+    let mut limits = Vec::new();
+    for &m in methods {
+        if stop() {
+            break;
+        }
+        let limit = {
+            let theory = match m.info().stability {
+                Stability::Below(h) => Some(h / w),
+                Stability::Always => Some(f64::INFINITY),
+                Stability::Never | Stability::Adaptive => None,
+            };
+            let mut note = String::new();
+            let measured = match m.info().stability {
+                Stability::Adaptive => {
+                    note.push_str("adaptive: error control chooses the substeps");
+                    None
+                }
+                Stability::Always => {
+                    let tried = 1000.0 * 2.0 / w;
+                    if bounded(&lin, &start, m, tried, steps) {
+                        note.push_str("stable at 1000 × 2/ω, the largest tried");
+                        Some(tried)
+                    } else {
+                        note.push_str("unstable at 1000 × 2/ω");
+                        None
+                    }
+                }
+                _ => {
+                    let (mut lo, mut hi) = (1e-4 * 2.0 / w, 10.0 * 2.0 / w);
+                    if !bounded(&lin, &start, m, lo, steps) {
+                        note.push_str("unstable even at 1e-4 × 2/ω");
+                        None
+                    } else {
+                        for _ in 0..40 {
+                            if stop() {
+                                break;
+                            }
+                            let mid = (lo * hi).sqrt();
+                            if bounded(&lin, &start, m, mid, steps) {
+                                lo = mid;
+                            } else {
+                                hi = mid;
+                            }
+                        }
+                        if m.info().stability == Stability::Never {
+                            note.push_str(&format!(
+                                "no true limit: growth is slow below this, and the value shrinks as the run ({steps} steps) lengthens"
+                            ));
+                        }
+                        Some(lo)
+                    }
+                }
+            };
+            Limit {
+                scene: problem.name(),
+                method: m,
+                measured_dt: measured,
+                theory_dt: theory,
+                note,
+            }
+        };
+        // A bisection cut short by a stop has no limit to show.
+        if !stop() {
+            limits.push(limit);
+        }
+    }
+    limits
+}
+
+/// Yoshida's stability limit on the oscillator from theory: the h at which the trace of the
+/// composition's one-step matrix reaches 2 in magnitude, found by bisection on the matrix product.
+pub fn yoshida4_limit() -> f64 {
+    let (w1, w0) = yoshida_weights();
+    let drifts = [0.5 * w1, 0.5 * (w0 + w1), 0.5 * (w0 + w1), 0.5 * w1];
+    let kicks = [w1, w0, w1];
+    let trace = |h: f64| {
+        // Columns: the images of (1, 0) and (0, 1) under x'' = -x.
+        let mut m = [[1.0, 0.0], [0.0, 1.0]];
+        for (stage, d) in drifts.iter().enumerate() {
+            for col in &mut m {
+                col[0] += d * h * col[1];
+                if let Some(k) = kicks.get(stage) {
+                    col[1] -= k * h * col[0];
+                }
+            }
+        }
+        m[0][0] + m[1][1]
+    };
+    let (mut lo, mut hi) = (1.0, 2.0);
+    for _ in 0..80 {
+        let mid = 0.5 * (lo + hi);
+        if trace(mid).abs() <= 2.0 {
+            lo = mid
+        } else {
+            hi = mid
+        }
+    }
+    lo
+}
