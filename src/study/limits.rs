@@ -8,8 +8,6 @@ use crate::integrate::{
 use crate::scene::pendulum::{Pendulum, PendulumParams};
 use crate::scene::rope::{Rope, RopeParams};
 
-/// One scene set up for a study: its system, start and the rate that sets its stability.
-
 /// One method's measured stability limit next to theory, in dt.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Limit {

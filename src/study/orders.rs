@@ -4,8 +4,6 @@
 use super::Row;
 use crate::integrate::Method;
 
-/// One scene set up for a study: its system, start and the rate that sets its stability.
-
 /// The fitted order of one method's rows: the least-squares slope of log error against log dt
 /// over the non-diverged rows, with the smallest and largest order between neighbours.
 #[derive(Clone, Debug, PartialEq)]
