@@ -1,0 +1,378 @@
+//! The three diagrams: work-precision, convergence and stability, each from a study's rows.
+
+use super::{
+    BACKGROUND, Content, Diagram, FAINT, FONT, GRID, INK, LEGEND_WIDTH, PANEL, Panel, Res, Ticks,
+    decade_label, decades, draw_legend, draw_panel, label_of, marker,
+};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use crate::integrate::Method;
+use crate::study::{Limit, Row};
+
+pub(super) fn methods_of(rows: &[Row]) -> Vec<Method> {
+    let mut ms: Vec<Method> = Vec::new();
+    for r in rows {
+        if !ms.contains(&r.method) {
+            ms.push(r.method);
+        }
+    }
+    ms
+}
+
+/// What the error is, with its unit, for a scene.
+pub(super) fn error_desc(scene: &str) -> &'static str {
+    match scene {
+        "pendulum" => "error: max |θ − θref| [rad]",
+        _ => "error: max |x − xref| over nodes [m]",
+    }
+}
+
+/// Runs of one method that produced an error, in the order of their setting (dt or rtol).
+pub(super) fn runs(rows: &[Row], m: Method) -> Vec<&Row> {
+    rows.iter()
+        .filter(|r| r.method == m && r.error.is_some_and(|e| e > 0.0))
+        .collect()
+}
+
+/// Work-precision: error against median wall time (left) and against force evaluations
+/// (right); `floor` is the reference's error floor, drawn as a dashed line.
+pub fn work_precision(scene: &str, rows: &[Row], floor: f64, note: &str) -> Diagram {
+    Diagram {
+        stem: format!("{scene}-work-precision"),
+        title: format!("{scene} work-precision"),
+        size: (1600, 820),
+        content: Content::WorkPrecision {
+            scene: scene.to_string(),
+            rows: rows.to_vec(),
+            floor,
+            note: note.to_string(),
+        },
+    }
+}
+
+/// A work-precision panel: title, x axis description, and the cost it plots.
+type Axis = (&'static str, &'static str, fn(&Row) -> f64);
+
+pub(super) fn work_precision_on<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    scene: &str,
+    rows: &[Row],
+    floor: f64,
+    note: &str,
+) -> Res
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&BACKGROUND)?;
+    let (body, legend) = root.split_horizontally(root.dim_in_pixel().0 - LEGEND_WIDTH);
+    let methods = methods_of(rows);
+    let errors = || rows.iter().filter_map(|r| r.error);
+    let y = decades(errors().chain([floor]));
+    let panels = body.split_evenly((1, 2));
+    let axes: [Axis; 2] = [
+        (
+            "error against median wall time",
+            "median wall time [s]",
+            |r| r.wall_seconds,
+        ),
+        (
+            "error against force evaluations",
+            "force evaluations",
+            |r| r.evals as f64,
+        ),
+    ];
+    for (area, (title, x_desc, cost)) in panels.iter().zip(axes) {
+        let x = decades(rows.iter().filter(|r| r.error.is_some()).map(cost));
+        let series = methods
+            .iter()
+            .map(|&m| {
+                (
+                    m,
+                    runs(rows, m)
+                        .iter()
+                        .map(|r| (cost(r), r.error.unwrap_or(0.0)))
+                        .collect(),
+                )
+            })
+            .collect();
+        let (x0, x1) = (10f64.powf(x.start), 10f64.powf(x.end));
+        draw_panel(
+            &area.margin(6, 6, 6, 6),
+            &Panel {
+                title: &format!("{scene}: {title}"),
+                x_desc,
+                y_desc: error_desc(scene),
+                x,
+                y: y.clone(),
+                series,
+                guides: vec![(vec![(x1, floor), (x0, floor)], "reference floor".into())],
+            },
+        )?;
+    }
+    draw_legend(
+        &legend,
+        &methods,
+        &[
+            format!("{scene}: lower left is better."),
+            format!("dashed: the reference's error floor {floor:.0e}."),
+            note.to_string(),
+        ],
+    )
+}
+
+/// Convergence: error against dt for the fixed-step methods, with dashed reference slopes for
+/// each theoretical order present; `floor` is the reference's error floor.
+pub fn convergence(scene: &str, rows: &[Row], floor: f64, velocity_dependent: bool) -> Diagram {
+    Diagram {
+        stem: format!(
+            "{scene}-convergence{}",
+            if velocity_dependent { "-damped" } else { "" }
+        ),
+        title: format!("{scene} convergence"),
+        size: (1300, 860),
+        content: Content::Convergence {
+            scene: scene.to_string(),
+            rows: rows.iter().filter(|r| r.rtol.is_none()).cloned().collect(),
+            floor,
+            velocity_dependent,
+        },
+    }
+}
+
+pub(super) fn order_of(m: Method, velocity_dependent: bool) -> u32 {
+    let info = m.info();
+    if velocity_dependent {
+        info.order_velocity_dependent
+    } else {
+        info.order
+    }
+}
+
+pub(super) fn convergence_on<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    scene: &str,
+    rows: &[Row],
+    floor: f64,
+    velocity_dependent: bool,
+) -> Res
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&BACKGROUND)?;
+    let (body, legend) = root.split_horizontally(root.dim_in_pixel().0 - LEGEND_WIDTH);
+    let methods = methods_of(rows);
+    let x = decades(rows.iter().map(|r| r.dt));
+    let y = decades(rows.iter().filter_map(|r| r.error).chain([floor]));
+    let series = methods
+        .iter()
+        .map(|&m| {
+            (
+                m,
+                runs(rows, m)
+                    .iter()
+                    .map(|r| (r.dt, r.error.unwrap_or(0.0)))
+                    .collect(),
+            )
+        })
+        .collect();
+    // One reference slope per theoretical order, parallel to and below that order's lowest
+    // curve, over the same steps (from the coarsest dt down to the finest, or to the bottom).
+    let dt_max = rows.iter().map(|r| r.dt).fold(0.0, f64::max);
+    let dt_min = rows.iter().map(|r| r.dt).fold(f64::INFINITY, f64::min);
+    let mut orders: Vec<u32> = methods
+        .iter()
+        .map(|&m| order_of(m, velocity_dependent))
+        .collect();
+    orders.sort_unstable();
+    orders.dedup();
+    let (x_lo, x_hi, y_lo) = (10f64.powf(x.start), 10f64.powf(x.end), 10f64.powf(y.start));
+    let mut guides: Vec<(Vec<(f64, f64)>, String)> =
+        vec![(vec![(x_hi, floor), (x_lo, floor)], "reference floor".into())];
+    for &p in &orders {
+        let lowest = rows
+            .iter()
+            .filter(|r| r.dt == dt_max && order_of(r.method, velocity_dependent) == p)
+            .filter_map(|r| r.error)
+            .filter(|e| *e > floor)
+            .fold(f64::INFINITY, f64::min);
+        if !lowest.is_finite() {
+            continue;
+        }
+        let anchor = lowest / 4.0;
+        let bottom = dt_max * (y_lo / anchor).powf(1.0 / f64::from(p));
+        let end = bottom.max(dt_min);
+        guides.push((
+            vec![
+                (dt_max, anchor),
+                (end, anchor * (end / dt_max).powi(p as i32)),
+            ],
+            format!("∝ dt{}", superscript(p)),
+        ));
+    }
+    draw_panel(
+        &body.margin(6, 6, 6, 6),
+        &Panel {
+            title: &format!(
+                "{scene}{}: error against step size, fixed-step methods",
+                if velocity_dependent {
+                    ", damped (velocity-dependent forces)"
+                } else {
+                    ""
+                }
+            ),
+            x_desc: "dt [s]",
+            y_desc: error_desc(scene),
+            x,
+            y,
+            series,
+            guides,
+        },
+    )?;
+    draw_legend(
+        &legend,
+        &methods,
+        &[
+            "dashed slopes: dtᵖ for each theoretical order p, a quarter below that order's lowest curve."
+                .to_string(),
+            format!("flat dashed: the reference's error floor {floor:.0e}."),
+            "adaptive methods choose their own steps: see work-precision.".to_string(),
+        ],
+    )
+}
+
+pub(super) fn superscript(p: u32) -> String {
+    decade_label(p as i32).trim_start_matches("10").to_string()
+}
+
+/// Stability: per method, the measured largest stable dt (the method's marker) against theory
+/// (a cross), on a log dt axis; unconditional and absent limits said in words.
+pub fn stability(scene: &str, limits: &[Limit], omega: f64) -> Diagram {
+    let limits: Vec<LimitRow> = limits
+        .iter()
+        .map(|l| (l.method, l.measured_dt, l.theory_dt))
+        .collect();
+    let height = 180 + 44 * limits.len() as u32;
+    Diagram {
+        stem: format!("{scene}-stability"),
+        title: format!("{scene} stability"),
+        size: (1300, height.max(500)),
+        content: Content::Stability {
+            scene: scene.to_string(),
+            limits,
+            omega,
+        },
+    }
+}
+
+pub(super) type LimitRow = (Method, Option<f64>, Option<f64>);
+
+pub(super) fn stability_on<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    scene: &str,
+    limits: &[LimitRow],
+    omega: f64,
+) -> Res
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&BACKGROUND)?;
+    let (body, legend) = root.split_horizontally(root.dim_in_pixel().0 - LEGEND_WIDTH);
+    let finite = limits
+        .iter()
+        .flat_map(|(_, m, t)| [*m, *t])
+        .flatten()
+        .filter(|v| v.is_finite());
+    let x = decades(finite);
+    let n = limits.len();
+    let names: Vec<String> = limits.iter().map(|l| l.0.name().to_string()).collect();
+    body.fill(&PANEL)?;
+    let mut chart = ChartBuilder::on(&body.margin(6, 6, 6, 6))
+        .caption(
+            format!("{scene}: largest stable dt, measured against theory (ω = {omega:.4} rad/s)"),
+            (FONT, 24).into_font().color(&INK),
+        )
+        .margin(14)
+        .x_label_area_size(56)
+        .y_label_area_size(190)
+        .build_cartesian_2d(
+            Ticks::decades(x.clone()),
+            Ticks {
+                range: -0.5..n as f64 - 0.5,
+                bold: (0..n).map(|i| i as f64).collect(),
+                light: Vec::new(),
+            },
+        )?;
+    let name_of = |v: &f64| {
+        let i = v.round();
+        if (0.0..n as f64).contains(&i) {
+            names[n - 1 - i as usize].clone()
+        } else {
+            String::new()
+        }
+    };
+    chart
+        .configure_mesh()
+        .bold_line_style(GRID.stroke_width(1))
+        .light_line_style(FAINT.stroke_width(1))
+        .axis_style(INK.stroke_width(1))
+        .x_label_formatter(&label_of)
+        .y_label_formatter(&name_of)
+        .x_desc("dt [s]")
+        .label_style((FONT, 18).into_font().color(&INK))
+        .axis_desc_style((FONT, 19).into_font().color(&INK))
+        .draw()?;
+    let words = (FONT, 16).into_font().color(&RGBColor(200, 200, 200));
+    for (i, (m, measured, theory)) in limits.iter().enumerate() {
+        let yv = (n - 1 - i) as f64;
+        let said = match theory {
+            Some(t) if t.is_finite() => {
+                chart.draw_series(std::iter::once(Cross::new(
+                    (t.log10(), yv),
+                    9,
+                    INK.stroke_width(2),
+                )))?;
+                None
+            }
+            Some(_) => Some("theory: stable at every dt (marker: the largest tried)"),
+            None if m.info().stability == crate::integrate::Stability::Adaptive => {
+                Some("adaptive: error control chooses the steps")
+            }
+            None => Some("theory: unstable at every dt (marker: growth stays below 10⁴)"),
+        };
+        if let Some(d) = measured {
+            chart.draw_series(std::iter::once(
+                EmptyElement::at((d.log10(), yv)) + marker(*m, 7.0),
+            ))?;
+        }
+        if let Some(text) = said {
+            // Beside the dot, on the side with room; at the left edge when there is no dot.
+            let at = match measured {
+                Some(d) if d.log10() > (x.start + x.end) / 2.0 => d.log10() - 0.12,
+                Some(d) => d.log10() + 0.12,
+                None => x.start + 0.05,
+            };
+            let style = if measured.is_some_and(|d| d.log10() > (x.start + x.end) / 2.0) {
+                words.clone().pos(plotters::style::text_anchor::Pos::new(
+                    plotters::style::text_anchor::HPos::Right,
+                    plotters::style::text_anchor::VPos::Center,
+                ))
+            } else {
+                words.clone().pos(plotters::style::text_anchor::Pos::new(
+                    plotters::style::text_anchor::HPos::Left,
+                    plotters::style::text_anchor::VPos::Center,
+                ))
+            };
+            chart.draw_series(std::iter::once(Text::new(text, (at, yv), style)))?;
+        }
+    }
+    draw_legend(
+        &legend,
+        &limits.iter().map(|l| l.0).collect::<Vec<_>>(),
+        &[
+            "marker: measured largest stable dt (bisection; for unconditionally stable methods the largest tried)."
+                .to_string(),
+            "cross: theory, limit h / ω on the linearised problem.".to_string(),
+        ],
+    )
+}

@@ -1,0 +1,131 @@
+//! One log-log panel with its series, and the legend in its own column.
+
+use super::{FAINT, FONT, GRID, INK, PANEL, Res, Ticks, color, label_of, marker};
+use std::ops::Range;
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use crate::integrate::Method;
+
+/// One log-log panel: decades on both axes, the given series (x, y in linear units; points
+/// outside (0, ∞) dropped), plus extra dashed lines with labels.
+pub(super) struct Panel<'a> {
+    pub(super) title: &'a str,
+    pub(super) x_desc: &'a str,
+    pub(super) y_desc: &'a str,
+    pub(super) x: Range<f64>,
+    pub(super) y: Range<f64>,
+    pub(super) series: Vec<(Method, Vec<(f64, f64)>)>,
+    /// Dashed grey guides: points (linear units) and a label at the last point.
+    pub(super) guides: Vec<(Vec<(f64, f64)>, String)>,
+}
+
+pub(super) fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel) -> Res
+where
+    DB::ErrorType: 'static,
+{
+    area.fill(&PANEL)?;
+    let mut chart = ChartBuilder::on(area)
+        .caption(p.title, (FONT, 24).into_font().color(&INK))
+        .margin(14)
+        .x_label_area_size(56)
+        .y_label_area_size(78)
+        .build_cartesian_2d(Ticks::decades(p.x.clone()), Ticks::decades(p.y.clone()))?;
+    chart
+        .configure_mesh()
+        .bold_line_style(GRID.stroke_width(1))
+        .light_line_style(FAINT.stroke_width(1))
+        .axis_style(INK.stroke_width(1))
+        .x_label_formatter(&label_of)
+        .y_label_formatter(&label_of)
+        .x_desc(p.x_desc)
+        .y_desc(p.y_desc)
+        .label_style((FONT, 18).into_font().color(&INK))
+        .axis_desc_style((FONT, 19).into_font().color(&INK))
+        .draw()?;
+    let log = |(x, y): (f64, f64)| (x > 0.0 && y > 0.0).then(|| (x.log10(), y.log10()));
+    for (pts, label) in &p.guides {
+        let l: Vec<(f64, f64)> = pts.iter().copied().filter_map(log).collect();
+        if l.len() < 2 {
+            continue;
+        }
+        chart.draw_series(DashedLineSeries::new(
+            l.clone(),
+            6,
+            5,
+            RGBColor(170, 170, 170).stroke_width(1),
+        ))?;
+        // The label sits above the line's last point, on the side away from the plot's edge.
+        let end = l[l.len() - 1];
+        let h = if end.0 < l[0].0 && end.0 > p.x.start + 0.3 {
+            plotters::style::text_anchor::HPos::Right
+        } else {
+            plotters::style::text_anchor::HPos::Left
+        };
+        chart.draw_series(std::iter::once(Text::new(
+            label.clone(),
+            end,
+            (FONT, 17).into_font().color(&RGBColor(190, 190, 190)).pos(
+                plotters::style::text_anchor::Pos::new(
+                    h,
+                    plotters::style::text_anchor::VPos::Bottom,
+                ),
+            ),
+        )))?;
+    }
+    for (m, pts) in &p.series {
+        let l: Vec<(f64, f64)> = pts.iter().copied().filter_map(log).collect();
+        chart.draw_series(LineSeries::new(l.clone(), color(*m).stroke_width(2)))?;
+        chart.draw_series(l.iter().map(|&q| EmptyElement::at(q) + marker(*m, 4.5)))?;
+    }
+    Ok(())
+}
+
+/// The legend column: one swatch and name per method, and notes below.
+pub(super) fn draw_legend<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    methods: &[Method],
+    notes: &[String],
+) -> Res
+where
+    DB::ErrorType: 'static,
+{
+    let font = (FONT, 19).into_font().color(&INK);
+    let mut y = 70;
+    for &m in methods {
+        area.draw(&PathElement::new(
+            vec![(14, y + 10), (48, y + 10)],
+            color(m).stroke_width(3),
+        ))?;
+        area.draw(&(EmptyElement::at((31, y + 10)) + marker(m, 5.5)))?;
+        area.draw(&Text::new(m.name(), (58, y), font.clone()))?;
+        y += 30;
+    }
+    y += 16;
+    let small = (FONT, 15).into_font().color(&RGBColor(180, 180, 180));
+    for n in notes {
+        for line in wrap(n, 28) {
+            area.draw(&Text::new(line, (14, y), small.clone()))?;
+            y += 20;
+        }
+        y += 8;
+    }
+    Ok(())
+}
+
+pub(super) fn wrap(text: &str, width: usize) -> Vec<String> {
+    let mut lines = vec![String::new()];
+    for word in text.split_whitespace() {
+        let last = lines.last_mut().expect("one line");
+        if !last.is_empty() && last.chars().count() + 1 + word.chars().count() > width {
+            lines.push(word.to_string());
+        } else {
+            if !last.is_empty() {
+                last.push(' ');
+            }
+            last.push_str(word);
+        }
+    }
+    lines
+}
