@@ -11,6 +11,7 @@ pub mod inspect;
 pub mod pendulum;
 pub mod read;
 pub mod rope;
+mod rows;
 pub mod scene;
 pub mod study;
 
