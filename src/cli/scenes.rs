@@ -228,10 +228,9 @@ pub struct HairArgs {
     pub solver: Option<Solver>,
 
     /// Newton steps (verlet with --solver direct) or Gauss–Seidel sweeps (verlet with --solver
-    /// gauss-seidel) per step; ftl needs one pass, implicit-euler iterates to tolerance (≤ 40). Default 2: two Newton steps
-    /// measure the tensions better than one (the exact finish then moves nodes by less: mean
-    /// worst residual 1.7e-2 ℓ0 at the default tour, 0.15 under shake); with gauss-seidel, 2
-    /// sweeps (raise it: see `physlab study hair`)
+    /// gauss-seidel) per step; ftl needs one pass, implicit-euler iterates to tolerance (≤ 40).
+    /// Default 2: two Newton steps measure the tensions better than one, so the exact finish
+    /// moves nodes less; with gauss-seidel, 2 sweeps (raise it: see `physlab study hair`)
     #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub iterations: Option<u32>,
 

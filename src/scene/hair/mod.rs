@@ -60,9 +60,9 @@ pub const FTL_CORRECTION: f64 = 0.9;
 
 /// Newton steps implicit-euler takes at most per step (it stops earlier at the rope's
 /// `NEWTON_TOL`), each with a backtracking line search on the step's incremental potential.
-/// Measured (tests/hair_length.rs scenes, 40 strands, largest stretch over the four): 1.04e-2
-/// with 20, 7.4e-3 with 40, 6.7e-3 with 80 (at 2.5× the cost of 40); the linearised step (1–2)
-/// stretches by O(1). Not every step reaches the tolerance within the cap (cost grows with it).
+/// Fewer steps leave the stiff springs visibly stretched (one or two, the linearised step,
+/// stretch them by O(1)); more cost in proportion and gain little. Not every step reaches the
+/// tolerance within the cap; the summary counts those that miss it.
 pub const IMPLICIT_NEWTON_CAP: u32 = 40;
 
 /// What one strand group measured on the state at the end of a step.
