@@ -131,6 +131,116 @@ fn tolerances_without_an_adaptive_method_and_empty_method_lists_are_refused() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// Which methods read each method-specific scene flag, written from what each method does (not
+/// read from the code): only verlet has a damping factor; only the error-controlled pairs take a
+/// tolerance; only implicit Euler solves with Newton; of the hair methods only verlet has a
+/// constraint solver with iterations, and only the spring methods have springs. Given without a
+/// method that reads it, each flag is refused; with one, the run goes ahead. A scene file's key is
+/// not refused (files state every parameter): the same value from a file runs.
+#[test]
+fn every_scene_flag_a_method_reads_is_refused_without_that_method() {
+    let hair_run = ["--strands", "2", "--duration", "0.05"];
+    let cases: [(&str, &str, &str, &str, &str); 10] = [
+        (
+            "pendulum",
+            "--verlet-damping",
+            "0.1",
+            "rk4,dopri5",
+            "verlet",
+        ),
+        ("pendulum", "--rtol", "1e-6", "rk4,verlet", "vern9"),
+        ("rope", "--verlet-damping", "0.1", "rk4", "verlet"),
+        ("rope", "--rtol", "1e-6", "implicit-euler", "dop853"),
+        (
+            "rope",
+            "--newton-iterations",
+            "3",
+            "rk4,verlet",
+            "implicit-euler",
+        ),
+        (
+            "hair",
+            "--solver",
+            "gauss-seidel",
+            "ftl,semi-implicit-euler",
+            "verlet",
+        ),
+        ("hair", "--iterations", "3", "ftl,implicit-euler", "verlet"),
+        (
+            "hair",
+            "--stiffness",
+            "1e9",
+            "verlet,ftl",
+            "semi-implicit-euler",
+        ),
+        ("hair", "--stiffness", "1e9", "verlet", "implicit-euler"),
+        ("hair", "--spring-damping", "10", "ftl", "implicit-euler"),
+    ];
+    let dir = scratch_dir("cli-input-method-flags");
+    let mut refusals = Vec::new();
+    for (scene, flag, value, without, with) in cases {
+        let mut args = vec![scene, "--methods", without, flag, value, "--no-record"];
+        if scene == "hair" {
+            args.extend(hair_run);
+        }
+        refusals.push((args, format!("{flag}: only ")));
+        let mut run = vec![scene, "--methods", with, flag, value, "--no-record", "-q"];
+        run.extend(if scene == "hair" {
+            &hair_run[..]
+        } else {
+            &["--duration", "0.5"][..]
+        });
+        let (code, _, stderr) = physlab(&run);
+        assert_eq!(code, 0, "{run:?}: {stderr}");
+        // The same value in a scene file, beside methods that do not read it, runs.
+        let key = flag.trim_start_matches("--").replace('-', "_");
+        let quoted = if value.parse::<f64>().is_ok() {
+            value.to_string()
+        } else {
+            format!("\"{value}\"")
+        };
+        let path = dir.join(format!("{scene}-{key}.toml"));
+        std::fs::write(&path, format!("[{scene}]\n{key} = {quoted}\n")).unwrap();
+        let mut from_file = vec![
+            scene,
+            "--methods",
+            without,
+            "--config",
+            path.to_str().unwrap(),
+        ];
+        from_file.extend(["--no-record", "-q"]);
+        from_file.extend(if scene == "hair" {
+            &hair_run[..]
+        } else {
+            &["--duration", "0.5"][..]
+        });
+        let (code, _, stderr) = physlab(&from_file);
+        assert_eq!(code, 0, "{from_file:?}: {stderr}");
+    }
+    refused(&refusals);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Flags that set only what a recording draws are refused with --no-record, for every scene and
+/// for `all`.
+#[test]
+fn drawing_flags_are_refused_when_nothing_is_recorded() {
+    let mut cases = Vec::new();
+    for scene in ["pendulum", "rope", "all"] {
+        for flag in ["--fps", "--plot-every"] {
+            cases.push((
+                vec![scene, flag, "3", "--no-record"],
+                format!("--no-record with {flag}: {flag} sets what the recording draws"),
+            ));
+        }
+    }
+    cases.push((
+        vec!["hair", "--fps", "3", "--no-record"],
+        "--no-record with --fps".to_string(),
+    ));
+    refused(&cases);
+}
+
 /// Angles beyond the stated number of turns (or not finite) are refused by their value; within
 /// it any angle is accepted and wrapped.
 #[test]

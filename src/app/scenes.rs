@@ -7,7 +7,7 @@ use super::progress::Progress;
 use super::{Ran, SceneFile, in_file, run_scene};
 use crate::cli::{HairArgs, PendulumArgs, RopeArgs, RunArgs, StepFlags};
 use crate::error::Error;
-use crate::integrate::Method;
+use crate::integrate::{EvalsPerStep, Method};
 use crate::record::{self, Framing, SceneViews};
 use crate::report;
 use crate::scene::hair::HairMethod;
@@ -180,9 +180,13 @@ impl Flags for PendulumArgs {
     ) -> Result<Box<dyn Resolved>, Error> {
         let from_file = file.pendulum.clone().unwrap_or_default();
         in_file(run, "pendulum", pendulum_config(&from_file))?;
+        let given = self.step.method_flags();
+        refuse_drawing_flags(run, &self.step.drawing_flags())?;
         let args = self.over(from_file);
+        let config = pendulum_config(&args)?;
+        refuse_unread(&given, &config.methods, &Method::ALL, Method::name)?;
         Ok(Box::new(Ready {
-            config: pendulum_config(&args)?,
+            config,
             effective: args.over(PendulumArgs::defaults()),
         }))
     }
@@ -199,9 +203,18 @@ impl Flags for RopeArgs {
     ) -> Result<Box<dyn Resolved>, Error> {
         let from_file = file.rope.clone().unwrap_or_default();
         in_file(run, "rope", rope_config(&from_file))?;
+        let mut given = self.step.method_flags();
+        given.push(MethodFlag {
+            flag: "--newton-iterations",
+            given: self.newton_iterations.is_some(),
+            reads: |m| m.info().implicit,
+        });
+        refuse_drawing_flags(run, &self.step.drawing_flags())?;
         let args = self.over(from_file);
+        let config = rope_config(&args)?;
+        refuse_unread(&given, &config.methods, &Method::ALL, Method::name)?;
         Ok(Box::new(Ready {
-            config: rope_config(&args)?,
+            config,
             effective: args.effective(),
         }))
     }
@@ -218,14 +231,120 @@ impl Flags for HairArgs {
     ) -> Result<Box<dyn Resolved>, Error> {
         let from_file = file.hair.clone().unwrap_or_default();
         in_file(run, "hair", hair_config(&from_file))?;
+        let given = self.method_flags();
+        refuse_drawing_flags(run, &[("--fps", self.fps.is_some())])?;
         let args = self.over(from_file);
         let config = hair_config(&args)?;
+        refuse_unread(&given, &config.methods, &HairMethod::ALL, HairMethod::name)?;
         // The file states the substeps --dt resolved to, so that it says one consistent thing.
         let effective = HairArgs {
             substeps: Some(config.substeps),
             ..args.over(HairArgs::defaults())
         };
         Ok(Box::new(Ready { config, effective }))
+    }
+}
+
+/// A flag that only some methods read.
+struct MethodFlag<M> {
+    flag: &'static str,
+    /// Given on the command line. A scene file's key is not refused: a file written by
+    /// `--config-out` or a recording states every parameter, whichever methods it names.
+    given: bool,
+    /// The methods that read it, as the message names them.
+    reads: fn(M) -> bool,
+}
+
+/// Refuses a flag given on the command line that none of the methods run would read (it would
+/// change nothing), naming the flag, the methods that read it and those that run.
+fn refuse_unread<M: Copy>(
+    flags: &[MethodFlag<M>],
+    methods: &[M],
+    all: &[M],
+    name: fn(M) -> &'static str,
+) -> Result<(), Error> {
+    let names = |ms: &mut dyn Iterator<Item = M>| ms.map(name).collect::<Vec<_>>().join(",");
+    for f in flags {
+        if f.given && !methods.iter().any(|&m| (f.reads)(m)) {
+            let readers: Vec<M> = all.iter().copied().filter(|&m| (f.reads)(m)).collect();
+            let (reads, add) = match readers.len() {
+                1 => ("reads", "add it"),
+                _ => ("read", "add one of them"),
+            };
+            return Err(Error::Usage(format!(
+                "{}: only {} {reads} it, and --methods is {}; {add} to --methods or drop {}",
+                f.flag,
+                names(&mut readers.into_iter()),
+                names(&mut methods.iter().copied()),
+                f.flag
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Refuses a flag that sets only what is drawn or plotted when --no-record records nothing.
+fn refuse_drawing_flags(run: &RunArgs, flags: &[(&str, bool)]) -> Result<(), Error> {
+    match flags.iter().find(|(_, given)| *given) {
+        Some((flag, _)) if run.no_record => Err(Error::Usage(format!(
+            "--no-record with {flag}: {flag} sets what the recording draws, and --no-record records nothing; drop one"
+        ))),
+        _ => Ok(()),
+    }
+}
+
+impl StepFlags {
+    /// The step flags that set only what is drawn or plotted.
+    fn drawing_flags(&self) -> [(&'static str, bool); 2] {
+        [
+            ("--fps", self.fps.is_some()),
+            ("--plot-every", self.plot_every.is_some()),
+        ]
+    }
+
+    /// The step flags only some registry methods read.
+    fn method_flags(&self) -> Vec<MethodFlag<Method>> {
+        vec![
+            MethodFlag {
+                flag: "--verlet-damping",
+                given: self.verlet_damping.is_some(),
+                reads: |m| m == Method::Verlet,
+            },
+            MethodFlag {
+                flag: "--rtol",
+                given: self.rtol.is_some(),
+                reads: |m| matches!(m.info().evals_per_step, EvalsPerStep::Adaptive(_)),
+            },
+        ]
+    }
+}
+
+impl HairArgs {
+    /// The hair flags only some hair methods read.
+    fn method_flags(&self) -> Vec<MethodFlag<HairMethod>> {
+        let verlet = |m| m == HairMethod::Verlet;
+        vec![
+            MethodFlag {
+                flag: "--solver",
+                given: self.solver.is_some(),
+                reads: verlet,
+            },
+            MethodFlag {
+                flag: "--iterations",
+                given: self.iterations.is_some(),
+                reads: verlet,
+            },
+            MethodFlag {
+                flag: "--stiffness",
+                given: self.stiffness.is_some(),
+                reads: HairMethod::is_spring,
+            },
+            MethodFlag {
+                flag: "--spring-damping",
+                given: self.spring_damping.is_some(),
+                reads: HairMethod::is_spring,
+            },
+        ]
     }
 }
 
