@@ -4,9 +4,9 @@
 use std::collections::{BTreeMap, VecDeque};
 use std::path::Path;
 
-use super::read::{Messages, unusable};
+use super::read::Messages;
 pub use super::rows::{Contents, Key, LoggedRow, SeriesIndex, index_series, read_contents};
-use super::rows::{SeriesRows, message_series};
+use super::rows::{RowView, SeriesRows, message_series};
 
 /// How two recordings are read against each other by [`compare_files`].
 pub struct StreamSpec<'a> {
@@ -56,8 +56,7 @@ impl Queues {
         &mut self,
         from_a: bool,
         rows: SeriesRows,
-        scratch: &mut Scratch,
-        on_pair: &mut dyn FnMut(&LoggedRow, &LoggedRow) -> anyhow::Result<()>,
+        on_pair: &mut Pairs,
     ) -> anyhow::Result<(isize, isize)> {
         let n = rows.len();
         let out = &mut self.pairing.out;
@@ -74,8 +73,7 @@ impl Queues {
         if n > 0 {
             if from_a { &mut self.qa } else { &mut self.qb }.push_back(rows);
         }
-        self.pairing
-            .merge(&mut self.qa, &mut self.qb, scratch, on_pair)?;
+        self.pairing.merge(&mut self.qa, &mut self.qb, on_pair)?;
         // A drained queue gives its room back: hundreds of series each keeping a queue's room
         // would hold more than the rows ever waiting at once.
         for queue in [&mut self.qa, &mut self.qb] {
@@ -113,7 +111,7 @@ pub fn compare_files(
     a: &Path,
     b: &Path,
     spec: &StreamSpec,
-    on_pair: &mut dyn FnMut(&Key, &LoggedRow, &LoggedRow) -> anyhow::Result<()>,
+    on_pair: &mut KeyedPairs,
 ) -> anyhow::Result<Streamed> {
     let rename = |key: Key| -> Key {
         match &spec.rename_b {
@@ -169,7 +167,6 @@ pub fn compare_files(
     let (mut done_a, mut done_b) = (false, false);
     // Rows waiting in the queues, per side: read from the side that is behind.
     let (mut queued_a, mut queued_b) = (0usize, 0usize);
-    let mut scratch = Scratch::default();
     while !(done_a && done_b) {
         let from_a = !done_a && (done_b || queued_a <= queued_b);
         let (messages, done) = if from_a {
@@ -177,31 +174,28 @@ pub fn compare_files(
         } else {
             (&mut mb, &mut done_b)
         };
-        let Some(msg) = messages.next_message()? else {
+        let Some(msg) = messages.next_chunk()? else {
             *done = true;
             continue;
         };
-        let series = messages
-            .guarded(|| message_series(msg))?
-            .map_err(|e| unusable(if from_a { a } else { b }, e))?;
+        let series = messages.guarded(|| message_series(msg))?;
         for (key, mut rows) in series {
             let key = if from_a { key } else { rename(key) };
             let Some(lane) = lanes.get_mut(&key) else {
                 continue; // skipped
             };
-            let (queues, pairs): (_, &mut dyn FnMut(&LoggedRow, &LoggedRow) -> _) =
-                if rows.times.is_none() {
-                    (&mut lane.statics, &mut |_, _| Ok(()))
-                } else {
-                    if !from_a {
-                        if let Some(cap) = lane.cap_b {
-                            rows.truncate(cap.saturating_sub(lane.taken_b));
-                        }
-                        lane.taken_b += rows.len();
+            let (queues, pairs): (_, &mut Pairs) = if rows.times.is_none() {
+                (&mut lane.statics, &mut |_, _| Ok(()))
+            } else {
+                if !from_a {
+                    if let Some(cap) = lane.cap_b {
+                        rows.truncate(cap.saturating_sub(lane.taken_b));
                     }
-                    (&mut lane.timed, &mut |ra, rb| on_pair(&key, ra, rb))
-                };
-            let (da, db) = queues.take(from_a, rows, &mut scratch, pairs)?;
+                    lane.taken_b += rows.len();
+                }
+                (&mut lane.timed, &mut |ra, rb| on_pair(&key, ra, rb))
+            };
+            let (da, db) = queues.take(from_a, rows, pairs)?;
             queued_a = queued_a.saturating_add_signed(da);
             queued_b = queued_b.saturating_add_signed(db);
         }
@@ -231,19 +225,71 @@ struct Pairing {
     bound: f64,
 }
 
-/// The two rows being paired, their buffers reused from pair to pair and series to series.
-#[derive(Default)]
-struct Scratch {
-    a: LoggedRow,
-    b: LoggedRow,
+/// What is done with each pair of rows at the same time.
+pub type Pairs<'a> = dyn FnMut(&dyn Row, &dyn Row) -> anyhow::Result<()> + 'a;
+/// The same, told the series.
+pub type KeyedPairs<'a> = dyn FnMut(&Key, &dyn Row, &dyn Row) -> anyhow::Result<()> + 'a;
+
+/// A row being paired: its time, its numbers in order, its texts.
+pub trait Row {
+    fn time(&self) -> Option<i64>;
+    /// How many numbers it holds.
+    fn count(&self) -> usize;
+    fn nums(&self) -> Box<dyn Iterator<Item = f64> + '_>;
+    fn texts(&self) -> &[String];
+}
+
+impl<R: Row + ?Sized> Row for &R {
+    fn time(&self) -> Option<i64> {
+        (**self).time()
+    }
+    fn count(&self) -> usize {
+        (**self).count()
+    }
+    fn nums(&self) -> Box<dyn Iterator<Item = f64> + '_> {
+        (**self).nums()
+    }
+    fn texts(&self) -> &[String] {
+        (**self).texts()
+    }
+}
+
+impl Row for LoggedRow {
+    fn time(&self) -> Option<i64> {
+        self.time
+    }
+    fn count(&self) -> usize {
+        self.nums.len()
+    }
+    fn nums(&self) -> Box<dyn Iterator<Item = f64> + '_> {
+        Box::new(self.nums.iter().copied())
+    }
+    fn texts(&self) -> &[String] {
+        &self.texts
+    }
+}
+
+impl Row for RowView {
+    fn time(&self) -> Option<i64> {
+        self.time
+    }
+    fn count(&self) -> usize {
+        RowView::len(self)
+    }
+    fn nums(&self) -> Box<dyn Iterator<Item = f64> + '_> {
+        Box::new(RowView::nums(self))
+    }
+    fn texts(&self) -> &[String] {
+        &self.texts
+    }
 }
 
 /// One side's rows waiting to be paired, in time order.
 trait Pending {
     /// The next row's time (`Some(None)` for a static row), `None` when no row is left.
     fn next_time(&self) -> Option<Option<i64>>;
-    /// The next row, written into `out`.
-    fn read(&self, out: &mut LoggedRow);
+    /// The next row, read in place.
+    fn row(&self) -> Option<Box<dyn Row + '_>>;
     fn advance(&mut self);
 }
 
@@ -252,10 +298,9 @@ impl Pending for VecDeque<SeriesRows> {
     fn next_time(&self) -> Option<Option<i64>> {
         self.front().map(SeriesRows::time)
     }
-    fn read(&self, out: &mut LoggedRow) {
-        if let Some(rows) = self.front() {
-            rows.row(out);
-        }
+    fn row(&self) -> Option<Box<dyn Row + '_>> {
+        self.front()
+            .map(|rows| Box::new(rows.view()) as Box<dyn Row>)
     }
     fn advance(&mut self) {
         if let Some(rows) = self.front_mut() {
@@ -272,10 +317,8 @@ impl Pending for &[LoggedRow] {
     fn next_time(&self) -> Option<Option<i64>> {
         self.first().map(|r| r.time)
     }
-    fn read(&self, out: &mut LoggedRow) {
-        if let Some(row) = self.first() {
-            out.clone_from(row);
-        }
+    fn row(&self) -> Option<Box<dyn Row + '_>> {
+        self.first().map(|row| Box::new(row) as Box<dyn Row>)
     }
     fn advance(&mut self) {
         *self = self.get(1..).unwrap_or_default();
@@ -301,20 +344,19 @@ impl Pairing {
 
     /// Pairs the two sides' rows by time from the front, as far as both go: a row whose time
     /// the other side has passed has no partner. Rows are in time order on each side. Each row
-    /// is read into one reused buffer per side.
+    /// is read in place.
     fn merge(
         &mut self,
         qa: &mut impl Pending,
         qb: &mut impl Pending,
-        scratch: &mut Scratch,
-        on_pair: &mut dyn FnMut(&LoggedRow, &LoggedRow) -> anyhow::Result<()>,
+        on_pair: &mut Pairs,
     ) -> anyhow::Result<()> {
         while let (Some(ta), Some(tb)) = (qa.next_time(), qb.next_time()) {
             if ta == tb {
-                qa.read(&mut scratch.a);
-                qb.read(&mut scratch.b);
-                self.pair(&scratch.a, &scratch.b);
-                on_pair(&scratch.a, &scratch.b)?;
+                if let (Some(ra), Some(rb)) = (qa.row(), qb.row()) {
+                    self.pair(ra.as_ref(), rb.as_ref());
+                    on_pair(ra.as_ref(), rb.as_ref())?;
+                }
                 qa.advance();
                 qb.advance();
             } else {
@@ -329,20 +371,25 @@ impl Pairing {
         Ok(())
     }
 
-    fn pair(&mut self, ra: &LoggedRow, rb: &LoggedRow) {
+    fn pair(&mut self, ra: &dyn Row, rb: &dyn Row) {
         let out = &mut self.out;
         out.paired += 1;
-        if (ra.texts != rb.texts || ra.nums.len() != rb.nums.len()) && out.first_other.is_none() {
-            let what = if ra.texts != rb.texts {
-                format!("text {:?} vs {:?}", ra.texts.join(" "), rb.texts.join(" "))
+        let (na, nb) = (ra.count(), rb.count());
+        if (ra.texts() != rb.texts() || na != nb) && out.first_other.is_none() {
+            let what = if ra.texts() != rb.texts() {
+                format!(
+                    "text {:?} vs {:?}",
+                    ra.texts().join(" "),
+                    rb.texts().join(" ")
+                )
             } else {
-                format!("{} values vs {}", ra.nums.len(), rb.nums.len())
+                format!("{na} values vs {nb}")
             };
-            out.first_other = Some((ra.time, what));
+            out.first_other = Some((ra.time(), what));
         }
-        for (&x, &y) in ra.nums.iter().zip(&rb.nums) {
+        for (x, y) in ra.nums().zip(rb.nums()) {
             let d = Difference {
-                time: ra.time,
+                time: ra.time(),
                 a: x,
                 b: y,
             };
@@ -447,12 +494,7 @@ pub fn compare(a: &[LoggedRow], b: &[LoggedRow], tolerance: f64) -> SeriesDiff {
     pairing.out.rows_a = a.len();
     pairing.out.rows_b = b.len();
     let (mut qa, mut qb) = (a, b);
-    let merged = pairing.merge(
-        &mut qa,
-        &mut qb,
-        &mut Scratch::default(),
-        &mut |_, _| Ok(()),
-    );
+    let merged = pairing.merge(&mut qa, &mut qb, &mut |_, _| Ok(()));
     debug_assert!(merged.is_ok(), "pairing without a callback cannot fail");
     pairing.out.unpaired += qa.len() + qb.len();
     pairing.out

@@ -7,7 +7,7 @@ use std::path::Path;
 use rerun::TimeColumn;
 use rerun::blueprint::{Blueprint, TextDocumentView};
 
-use super::compare::{Key, LoggedRow};
+use super::compare::{Key, Row};
 use super::{Destinations, Recording};
 
 /// Rows held per series before they are sent: the writer's memory does not grow with the file.
@@ -34,21 +34,19 @@ impl DiffWriter {
     }
 
     /// One pair of rows at the same time.
-    pub fn pair(&mut self, key: &Key, a: &LoggedRow, b: &LoggedRow) -> anyhow::Result<()> {
-        let Some(time) = a.time else {
+    pub fn pair(&mut self, key: &Key, a: &dyn Row, b: &dyn Row) -> anyhow::Result<()> {
+        let Some(time) = a.time() else {
             return Ok(());
         };
-        if a.nums.is_empty() || a.nums.len() != b.nums.len() {
+        let n = a.count();
+        if n == 0 || n != b.count() {
             return Ok(());
         }
-        let value = if a.nums.len() == 1 {
-            b.nums[0] - a.nums[0]
+        let mut differences = a.nums().zip(b.nums()).map(|(x, y)| y - x);
+        let value = if n == 1 {
+            differences.next().unwrap_or(0.0)
         } else {
-            a.nums
-                .iter()
-                .zip(&b.nums)
-                .map(|(x, y)| (y - x).abs())
-                .fold(0.0, f64::max)
+            differences.map(f64::abs).fold(0.0, f64::max)
         };
         let (times, values) = self.pending.entry(key.clone()).or_default();
         times.push(time);

@@ -1,36 +1,42 @@
-//! Rerun's file framing, checked before its decoder sees the bytes. The decoder trusts the
-//! lengths a file declares: it sizes a buffer from a message header's length and an LZ4 buffer
-//! from the `uncompressed_size` inside an Arrow message, so one corrupted length asks for up to
-//! 2⁶⁴ bytes and the process aborts (an allocation failure is not a panic that `catch_unwind`
-//! could turn into an error). [`Framed`] hands the decoder whole frames only after checking
-//! them: a message longer than what is left of the file ends the read there (it is where a
-//! file cut short ends too), an unknown message kind and an LZ4 size beyond what LZ4 can expand
-//! its input to are read errors naming the byte offset.
+//! Rerun's file framing, read and checked message by message. Every length a file declares is
+//! checked before anything is sized by it: one corrupted length would otherwise ask for up to
+//! 2⁶⁴ bytes and the process would abort (an allocation failure is not a panic that
+//! `catch_unwind` could turn into an error). [`Framed`] hands out whole messages only: a message
+//! longer than what is left of the file ends the read there (it is where a file cut short ends
+//! too), an unknown message kind is a read error naming the byte offset. An Arrow message's
+//! payload is checked where it is decompressed ([`arrow_ipc`]): an LZ4 size beyond what LZ4 can
+//! expand its input to, or an Arrow IPC body longer than what follows it, is refused.
 //!
 //! The layout (re_log_encoding 0.36): a 12-byte stream header (`RRF2`, version, options), then
 //! messages, each a 16-byte header (kind: u64 LE, 0 end, 1 store info, 2 Arrow, 3 blueprint
 //! activation; payload length: u64 LE) and its payload; after the end message a 32-byte stream
 //! footer; then possibly another stream.
 
-use std::cell::Cell;
-use std::io::{self, BufRead, Read};
-use std::rc::Rc;
+use std::io::{self, Read};
 
 /// The first four bytes of a stream header.
 const STREAM_MAGIC: &[u8; 4] = b"RRF2";
 const STREAM_HEADER_BYTES: u64 = 12;
 const MESSAGE_HEADER_BYTES: usize = 16;
 const STREAM_FOOTER_BYTES: u64 = 32;
-const KIND_END: u64 = 0;
-const KIND_ARROW: u64 = 2;
+pub const KIND_END: u64 = 0;
+pub const KIND_ARROW: u64 = 2;
 const KIND_LAST: u64 = 3;
+/// What is kept of an end message's payload: a protobuf key and a length.
+const FOOTER_HEAD_BYTES: u64 = 16;
 
-/// The field numbers of `rerun.log_msg.v1alpha1.ArrowMsg` that bound its decompression.
+/// The field numbers of `rerun.log_msg.v1alpha1.ArrowMsg` the readers use.
+const ARROW_STORE_ID_FIELD: u64 = 1;
 const ARROW_COMPRESSION_FIELD: u64 = 2;
+const ARROW_ENCODING_FIELD: u64 = 4;
 const ARROW_UNCOMPRESSED_SIZE_FIELD: u64 = 3;
 const ARROW_PAYLOAD_FIELD: u64 = 5;
 /// `rerun.common.v1alpha1.Compression::Lz4`; every other value is read as uncompressed.
 const COMPRESSION_LZ4: u64 = 2;
+/// `rerun.log_msg.v1alpha1.Encoding::ArrowIpc`, the only encoding Rerun writes.
+const ENCODING_ARROW_IPC: u64 = 1;
+/// `rerun.common.v1alpha1.StoreKind::Recording` (a blueprint is 2).
+const STORE_KIND_RECORDING: u64 = 1;
 
 /// LZ4's block format expands a byte to at most 255 (a run of 0xFF length bytes); the slack
 /// covers the literals and the last sequence.
@@ -46,7 +52,7 @@ enum Expect {
     Done,
 }
 
-/// A reader that serves a Rerun file to the decoder a checked frame at a time.
+/// A Rerun file read a checked message at a time.
 pub struct Framed<R> {
     inner: R,
     /// Bytes of the file not yet read from `inner`.
@@ -54,11 +60,22 @@ pub struct Framed<R> {
     /// File offset of the next byte read from `inner`.
     offset: u64,
     expect: Expect,
+    /// The frame just read; its capacity is reused for the next.
     frame: Vec<u8>,
-    served: usize,
-    /// Where the read ended early: a message declaring more bytes than the file has left
-    /// (shared, because the decoder owns this reader).
-    cut: Rc<Cell<Option<Cut>>>,
+    /// The message in `frame`: its kind, where its header starts in `frame`, and its header's
+    /// file offset.
+    message: Option<(u64, usize, u64)>,
+    /// Where the read ended early: a message declaring more bytes than the file has left.
+    cut: Option<Cut>,
+    has_footer: bool,
+}
+
+/// One message of the file: its kind, the file offset of its payload, and the payload (of an
+/// end message, only its first [`FOOTER_HEAD_BYTES`]).
+pub struct Message<'a> {
+    pub kind: u64,
+    pub at: u64,
+    pub payload: &'a [u8],
 }
 
 /// A message whose declared length runs past the end of the file.
@@ -79,14 +96,33 @@ impl<R: Read> Framed<R> {
             offset: 0,
             expect: Expect::StreamHeader,
             frame: Vec::new(),
-            served: 0,
-            cut: Rc::default(),
+            message: None,
+            cut: None,
+            has_footer: false,
         }
     }
 
+    /// Gives back the frame's memory (once its message is decoded, it is needed no more).
+    pub fn release(&mut self) {
+        self.frame = Vec::new();
+    }
+
     /// Where the read stopped short of the file's end, if a length ran past it.
-    pub fn cut_cell(&self) -> Rc<Cell<Option<Cut>>> {
-        Rc::clone(&self.cut)
+    pub fn cut(&self) -> Option<Cut> {
+        self.cut
+    }
+
+    /// The next message, `None` at the end of the file (or where a length ran past it).
+    pub fn next_message(&mut self) -> io::Result<Option<Message<'_>>> {
+        self.message = None;
+        while self.message.is_none() && self.expect != Expect::Done {
+            self.next_frame()?;
+        }
+        Ok(self.message.map(|(kind, start, at)| Message {
+            kind,
+            at: at + MESSAGE_HEADER_BYTES as u64,
+            payload: &self.frame[start + MESSAGE_HEADER_BYTES..],
+        }))
     }
 
     /// Reads up to `n` bytes (fewer only at the end of the file) onto the frame.
@@ -94,6 +130,8 @@ impl<R: Read> Framed<R> {
         let n = n.min(self.remaining);
         let start = self.frame.len();
         let n_usize = usize::try_from(n).map_err(|_| corrupt(self.offset, "a frame too large"))?;
+        // Exactly: the frame is as large as the largest message, not up to twice that.
+        self.frame.reserve_exact(n_usize);
         self.frame.resize(start + n_usize, 0);
         self.inner.read_exact(&mut self.frame[start..])?;
         self.remaining -= n;
@@ -101,10 +139,26 @@ impl<R: Read> Framed<R> {
         Ok(n_usize)
     }
 
+    /// Reads past `n` bytes of the file, holding none of them.
+    fn skip(&mut self, n: u64) -> io::Result<()> {
+        let skipped = io::copy(&mut (&mut self.inner).take(n), &mut io::sink())?;
+        if skipped != n {
+            return Err(io::ErrorKind::UnexpectedEof.into());
+        }
+        self.remaining -= n;
+        self.offset += n;
+        Ok(())
+    }
+
+    /// Whether an end message with a footer holding a manifest was read: the file was
+    /// finalised, not cut short.
+    pub fn has_footer(&self) -> bool {
+        self.has_footer
+    }
+
     /// Loads the next frame; an empty frame is the end.
     fn next_frame(&mut self) -> io::Result<()> {
         self.frame.clear();
-        self.served = 0;
         match self.expect {
             Expect::Done => {}
             Expect::StreamHeader => {
@@ -131,12 +185,12 @@ impl<R: Read> Framed<R> {
                 }
                 self.expect = Expect::StreamHeader;
             }
-            Expect::Message => self.next_message()?,
+            Expect::Message => self.read_message()?,
         }
         Ok(())
     }
 
-    fn next_message(&mut self) -> io::Result<()> {
+    fn read_message(&mut self) -> io::Result<()> {
         let at = self.offset;
         if self.remaining < MESSAGE_HEADER_BYTES as u64 {
             // Cut short inside a header: the decoder sees the file end after the last message.
@@ -177,54 +231,32 @@ impl<R: Read> Framed<R> {
             ));
         }
         if declared > self.remaining {
-            self.cut.set(Some(Cut {
+            self.cut = Some(Cut {
                 at,
                 declared,
                 left: self.remaining,
-            }));
-            // Serve what came before (a new stream's header), then nothing more.
-            self.frame.truncate(prefix);
+            });
             self.expect = Expect::Done;
             return Ok(());
         }
         self.frame.extend_from_slice(&header);
-        let payload_start = self.frame.len();
-        self.take(declared)?;
-        let checked = match kind {
-            KIND_ARROW => check_arrow_sizes(&self.frame[payload_start..]),
-            KIND_END => check_footer(&self.frame[payload_start..]),
-            _ => Ok(()),
-        };
-        checked.map_err(|why| corrupt(at + MESSAGE_HEADER_BYTES as u64, &why))?;
+        if kind == KIND_END {
+            // The footer lists every chunk of the file: it grows with the file, and only whether
+            // it starts with a manifest is needed, so the rest is skipped, not held.
+            let head = self.take(declared.min(FOOTER_HEAD_BYTES))?;
+            let payload = &self.frame[self.frame.len() - head..];
+            self.has_footer |= footer_starts_with_manifest(payload, declared);
+            self.skip(declared - head as u64)?;
+        } else {
+            self.take(declared)?;
+        }
+        self.message = Some((kind, prefix, at));
         self.expect = if kind == KIND_END {
             Expect::StreamFooter
         } else {
             Expect::Message
         };
         Ok(())
-    }
-}
-
-impl<R: Read> Read for Framed<R> {
-    fn read(&mut self, out: &mut [u8]) -> io::Result<usize> {
-        let available = self.fill_buf()?;
-        let n = available.len().min(out.len());
-        out[..n].copy_from_slice(&available[..n]);
-        self.consume(n);
-        Ok(n)
-    }
-}
-
-impl<R: Read> BufRead for Framed<R> {
-    fn fill_buf(&mut self) -> io::Result<&[u8]> {
-        while self.served == self.frame.len() && self.expect != Expect::Done {
-            self.next_frame()?;
-        }
-        Ok(&self.frame[self.served..])
-    }
-
-    fn consume(&mut self, n: usize) {
-        self.served = (self.served + n).min(self.frame.len());
     }
 }
 
@@ -275,74 +307,89 @@ fn proto_fields(message: &[u8]) -> Result<Vec<(u64, Value<'_>)>, String> {
     Ok(fields)
 }
 
-/// Checks an Arrow message (`rerun.log_msg.v1alpha1.ArrowMsg`: compression 2,
-/// uncompressed_size 3, payload 5) with [`check_compressed_ipc`].
-fn check_arrow_sizes(message: &[u8]) -> Result<(), String> {
-    check_dataframe(
-        message,
-        ARROW_COMPRESSION_FIELD,
-        ARROW_UNCOMPRESSED_SIZE_FIELD,
-        ARROW_PAYLOAD_FIELD,
-    )
+/// An Arrow message (`rerun.log_msg.v1alpha1.ArrowMsg`) as the readers use it.
+#[derive(Debug, PartialEq)]
+pub struct ArrowPayload {
+    /// Its store is a recording, not a blueprint.
+    pub recording: bool,
+    pub application_id: String,
+    /// Its Arrow IPC stream, decompressed.
+    pub ipc: Vec<u8>,
 }
 
-/// Checks the Arrow data in an end message, the file's footer (`RrdFooter`: manifests 1, each an
-/// `RrdManifest` whose data 4 is a `DataframePart`: payload 2, compression 3,
-/// uncompressed_size 4), which the readers decode for the footer's manifest. A footer that is no
-/// protobuf is left for the decoder to refuse: nothing in it is then sized.
-fn check_footer(message: &[u8]) -> Result<(), String> {
-    let Ok(footer) = proto_fields(message) else {
-        return Ok(());
-    };
-    for (field, manifest) in footer {
-        let (1, Value::Bytes(manifest)) = (field, manifest) else {
-            continue;
-        };
-        for (field, part) in proto_fields(manifest).unwrap_or_default() {
-            if let (4, Value::Bytes(part)) = (field, part) {
-                check_dataframe(part, 3, 4, 2)?;
-            }
-        }
-    }
-    Ok(())
-}
-
-/// Refuses Arrow data (a compression, a declared decompressed size and a payload, at the given
-/// field numbers) whose sizes its decoders would trust into a huge allocation: a decompressed
-/// size LZ4 could not produce from its payload, or an Arrow IPC message inside whose body runs
-/// past the bytes that follow it (Arrow sizes that buffer from the header before reading).
-/// Decompresses the payload as Rerun's decoder will.
-fn check_dataframe(
-    message: &[u8],
-    compression_field: u64,
-    uncompressed_field: u64,
-    payload_field: u64,
-) -> Result<(), String> {
-    let (mut compression, mut uncompressed, mut payload) = (0, 0, &[][..]);
+/// An Arrow message's store and its Arrow IPC stream, decompressed and checked: a decompressed
+/// size LZ4 could not produce from its payload, or an IPC message inside whose body runs past the
+/// bytes that follow it (Arrow sizes that buffer from the header before reading), is refused
+/// before anything is sized by it.
+pub fn arrow_ipc(message: &[u8]) -> Result<ArrowPayload, String> {
+    let (mut compression, mut uncompressed, mut encoding, mut payload) = (0, 0, 0, &[][..]);
+    let (mut recording, mut application_id) = (false, String::new());
     for (field, value) in proto_fields(message)? {
-        match value {
-            Value::Number(n) if field == compression_field => compression = n,
-            Value::Number(n) if field == uncompressed_field => uncompressed = n,
-            Value::Bytes(b) if field == payload_field => payload = b,
+        match (field, value) {
+            (ARROW_STORE_ID_FIELD, Value::Bytes(store)) => {
+                for (field, value) in proto_fields(store)? {
+                    match (field, value) {
+                        (1, Value::Number(kind)) => recording = kind == STORE_KIND_RECORDING,
+                        (3, Value::Bytes(app)) => {
+                            for (field, value) in proto_fields(app)? {
+                                if let (1, Value::Bytes(id)) = (field, value) {
+                                    application_id = String::from_utf8_lossy(id).into_owned();
+                                }
+                            }
+                        }
+                        _ => {}
+                    }
+                }
+            }
+            (ARROW_COMPRESSION_FIELD, Value::Number(n)) => compression = n,
+            (ARROW_UNCOMPRESSED_SIZE_FIELD, Value::Number(n)) => uncompressed = n,
+            (ARROW_ENCODING_FIELD, Value::Number(n)) => encoding = n,
+            (ARROW_PAYLOAD_FIELD, Value::Bytes(b)) => payload = b,
             _ => {}
         }
     }
-    if compression != COMPRESSION_LZ4 {
-        return check_ipc_stream(payload);
-    }
-    if uncompressed > lz4_max_expansion(payload.len() as u64) {
+    if encoding != ENCODING_ARROW_IPC {
         return Err(format!(
-            "an Arrow message declaring {uncompressed} bytes once decompressed from {}",
-            payload.len()
+            "an Arrow message in an unknown encoding {encoding}"
         ));
     }
-    // As Rerun's decoder does: a buffer of the declared size, what LZ4 leaves unwritten zero.
-    let mut ipc = vec![0; uncompressed as usize];
-    match lz4_flex::block::decompress_into(payload, &mut ipc) {
-        Ok(_) => check_ipc_stream(&ipc),
-        // The decoder fails on it the same way, without allocating more.
-        Err(_) => Ok(()),
-    }
+    let ipc = if compression == COMPRESSION_LZ4 {
+        if uncompressed > lz4_max_expansion(payload.len() as u64) {
+            return Err(format!(
+                "an Arrow message declaring {uncompressed} bytes once decompressed from {}",
+                payload.len()
+            ));
+        }
+        let mut ipc = vec![0; uncompressed as usize];
+        let written = lz4_flex::block::decompress_into(payload, &mut ipc)
+            .map_err(|e| format!("an Arrow message whose LZ4 data is corrupt ({e})"))?;
+        if written != ipc.len() {
+            return Err(format!(
+                "an Arrow message declaring {uncompressed} bytes once decompressed, where its \
+                 data gives {written}"
+            ));
+        }
+        ipc
+    } else {
+        payload.to_vec()
+    };
+    check_ipc_stream(&ipc)?;
+    Ok(ArrowPayload {
+        recording,
+        application_id,
+        ipc,
+    })
+}
+
+/// Whether an end message of `len` bytes, of which `head` is the start, holds the file's footer
+/// (`RrdFooter`) starting with a non-empty manifest (field 1) that fits in it.
+fn footer_starts_with_manifest(head: &[u8], len: u64) -> bool {
+    let mut rest = head;
+    let (Some(key), Some(manifest)) = (varint(&mut rest), varint(&mut rest)) else {
+        return false;
+    };
+    let used = (head.len() - rest.len()) as u64;
+    key == (1 << 3 | 2) && manifest > 0 && manifest <= len - used
 }
 
 /// Walks an Arrow IPC stream (messages of: an optional 0xFFFFFFFF continuation marker, an i32
@@ -439,16 +486,24 @@ mod tests {
         m
     }
 
-    fn read_all(bytes: &[u8]) -> (io::Result<Vec<u8>>, Option<Cut>) {
+    /// Each message's kind and payload.
+    type Read = Vec<(u64, Vec<u8>)>;
+
+    fn read_all(bytes: &[u8]) -> (io::Result<Read>, Option<Cut>) {
         let mut framed = Framed::new(bytes, bytes.len() as u64);
-        let cut = framed.cut_cell();
         let mut out = Vec::new();
-        let result = framed.read_to_end(&mut out).map(|_| out);
-        (result, cut.get())
+        let result = loop {
+            match framed.next_message() {
+                Ok(Some(m)) => out.push((m.kind, m.payload.to_vec())),
+                Ok(None) => break Ok(out),
+                Err(e) => break Err(e),
+            }
+        };
+        (result, framed.cut())
     }
 
     #[test]
-    fn whole_frames_pass_through_unchanged() {
+    fn messages_come_out_as_written_across_streams() {
         let mut file = header();
         file.extend(message(1, b"store", 5));
         file.extend(message(KIND_END, b"", 0));
@@ -458,7 +513,10 @@ mod tests {
         file.extend(header());
         file.extend(message(1, b"again", 5));
         let (read, cut) = read_all(&file);
-        assert_eq!(read.unwrap(), file);
+        let expected = [(1, &b"store"[..]), (KIND_END, b""), (1, b"again")];
+        let expected: Vec<(u64, Vec<u8>)> =
+            expected.iter().map(|(k, p)| (*k, p.to_vec())).collect();
+        assert_eq!(read.unwrap(), expected);
         assert_eq!(cut, None);
     }
 
@@ -469,7 +527,7 @@ mod tests {
         let good = file.len();
         file.extend(message(2, b"short", u64::MAX - 3));
         let (read, cut) = read_all(&file);
-        assert_eq!(read.unwrap(), &file[..good]);
+        assert_eq!(read.unwrap(), vec![(1, b"store".to_vec())]);
         assert_eq!(
             cut,
             Some(Cut {
@@ -491,30 +549,42 @@ mod tests {
         );
     }
 
-    #[test]
-    fn an_lz4_size_beyond_lz4s_expansion_is_refused() {
-        // field 2 (compression) = LZ4, field 3 (varint) = 2^40, field 5 (bytes) = 4 bytes.
-        let mut arrow = vec![2 << 3, 2, 3 << 3];
-        let mut v = 1u64 << 40;
+    fn varint_bytes(mut v: u64) -> Vec<u8> {
+        let mut out = Vec::new();
         while v >= 0x80 {
-            arrow.push((v as u8) | 0x80);
+            out.push((v as u8) | 0x80);
             v >>= 7;
         }
-        arrow.push(v as u8);
-        arrow.extend([(5 << 3) | 2, 4, 1, 2, 3, 4]);
-        assert!(check_arrow_sizes(&arrow).is_err());
-        // The same message declaring 1000 bytes is within LZ4's reach.
-        let ok = [2 << 3, 2, 3 << 3, 0xe8, 0x07, (5 << 3) | 2, 4, 1, 2, 3, 4];
-        assert_eq!(check_arrow_sizes(&ok), Ok(()));
-        let mut file = header();
-        let n = arrow.len() as u64;
-        file.extend(message(KIND_ARROW, &arrow, n));
-        let err = read_all(&file).0.unwrap_err();
-        assert!(err.to_string().contains("at byte 28"), "{err}");
+        out.push(v as u8);
+        out
     }
 
-    #[test]
-    fn an_arrow_body_longer_than_what_follows_is_refused() {
+    /// An `ArrowMsg` as Rerun writes it: store id (recording, application "app"), compression,
+    /// decompressed size, encoding and payload.
+    fn arrow_message(compression: u64, declared: u64, payload: &[u8]) -> Vec<u8> {
+        let bytes = |field: u64, b: &[u8]| {
+            let mut f = varint_bytes(field << 3 | 2);
+            f.extend(varint_bytes(b.len() as u64));
+            f.extend_from_slice(b);
+            f
+        };
+        let number = |field: u64, n: u64| {
+            let mut f = varint_bytes(field << 3);
+            f.extend(varint_bytes(n));
+            f
+        };
+        let mut store = number(1, STORE_KIND_RECORDING);
+        store.extend(bytes(2, b"rec"));
+        store.extend(bytes(3, &bytes(1, b"app")));
+        let mut m = bytes(ARROW_STORE_ID_FIELD, &store);
+        m.extend(number(ARROW_COMPRESSION_FIELD, compression));
+        m.extend(number(ARROW_UNCOMPRESSED_SIZE_FIELD, declared));
+        m.extend(number(ARROW_ENCODING_FIELD, ENCODING_ARROW_IPC));
+        m.extend(bytes(ARROW_PAYLOAD_FIELD, payload));
+        m
+    }
+
+    fn ipc_stream() -> Vec<u8> {
         use rerun::external::arrow::array::{Float64Array, RecordBatch};
         use rerun::external::arrow::ipc::writer::StreamWriter;
         let column = Float64Array::from(vec![1.0, 2.0, 3.0]);
@@ -524,6 +594,42 @@ mod tests {
         writer.write(&batch).unwrap();
         writer.finish().unwrap();
         drop(writer);
+        ipc
+    }
+
+    #[test]
+    fn an_arrow_message_gives_its_store_and_its_decompressed_stream() {
+        let ipc = ipc_stream();
+        let lz4 = lz4_flex::block::compress(&ipc);
+        for (compression, payload) in [(COMPRESSION_LZ4, &lz4), (0, &ipc)] {
+            let decoded = arrow_ipc(&arrow_message(compression, ipc.len() as u64, payload));
+            let expected = ArrowPayload {
+                recording: true,
+                application_id: "app".into(),
+                ipc: ipc.clone(),
+            };
+            assert_eq!(decoded, Ok(expected));
+        }
+    }
+
+    #[test]
+    fn an_lz4_size_beyond_lz4s_expansion_or_its_data_is_refused() {
+        let lz4 = lz4_flex::block::compress(&ipc_stream());
+        let n = ipc_stream().len() as u64;
+        let why = arrow_ipc(&arrow_message(COMPRESSION_LZ4, 1 << 40, &lz4)).unwrap_err();
+        assert!(
+            why.contains("declaring 1099511627776 bytes once decompressed from"),
+            "{why}"
+        );
+        // Within LZ4's reach but not what the data gives, either way.
+        for declared in [n + 1, n - 1] {
+            assert!(arrow_ipc(&arrow_message(COMPRESSION_LZ4, declared, &lz4)).is_err());
+        }
+    }
+
+    #[test]
+    fn an_arrow_body_longer_than_what_follows_is_refused() {
+        let ipc = ipc_stream();
         assert_eq!(check_ipc_stream(&ipc), Ok(()), "Arrow's own stream");
         // The second message (the batch): continuation, length, metadata, body.
         let schema_len = i32::from_le_bytes(ipc[4..8].try_into().unwrap()) as usize;
@@ -549,7 +655,7 @@ mod tests {
     }
 
     #[test]
-    fn a_real_footer_holds_the_arrow_data_that_is_checked() {
+    fn a_real_footer_has_a_manifest_and_a_cut_one_has_none() {
         let path = concat!(
             env!("CARGO_MANIFEST_DIR"),
             "/tests/data/rrd-corpus/pendulum.rrd"
@@ -584,7 +690,18 @@ mod tests {
             }
         }
         assert!(parts >= 1, "a manifest with its data");
-        assert_eq!(check_footer(end), Ok(()));
+        let n = end.len() as u64;
+        assert!(footer_starts_with_manifest(&end[..16], n));
+        // The same start in a message one byte shorter than its first manifest needs.
+        let mut rest = end;
+        let (_, manifest) = (varint(&mut rest), varint(&mut rest).unwrap());
+        let needed = (end.len() - rest.len()) as u64 + manifest;
+        assert!(footer_starts_with_manifest(&end[..16], needed));
+        assert!(
+            !footer_starts_with_manifest(&end[..16], needed - 1),
+            "a manifest cut short"
+        );
+        assert!(!footer_starts_with_manifest(b"", 0));
     }
 
     #[test]

@@ -1,12 +1,9 @@
-//! `physlab inspect`: what a recording holds and how it was made, read back with Rerun's own
-//! decoder.
+//! `physlab inspect`: what a recording holds and how it was made, read back chunk by chunk.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 
-use rerun::log::{Chunk, LogMsg};
-
-use super::read::each_message;
+use super::read::each_chunk;
 
 /// A warning or info line of a scene's event log.
 #[derive(Clone, Debug, PartialEq)]
@@ -59,18 +56,14 @@ pub fn read_recording(path: &Path) -> anyhow::Result<RecordingInfo> {
     let sim_time = rerun::TimelineName::from("sim_time");
     let text = rerun::TextLog::descriptor_text().component;
     let level = rerun::TextLog::descriptor_level().component;
-    let end = each_message(path, |msg| {
-        let LogMsg::ArrowMsg(store_id, arrow_msg) = msg else {
-            return Ok(());
-        };
-        if !store_id.is_recording() {
+    let end = each_chunk(path, |msg| {
+        if !msg.recording {
             return Ok(()); // the blueprint
         }
         if info.application_id.is_empty() {
-            info.application_id = store_id.application_id().to_string();
+            info.application_id = msg.application_id;
         }
-        let chunk = Chunk::from_arrow_msg(&arrow_msg)
-            .map_err(|e| format!("a chunk cannot be decoded: {e}"))?;
+        let chunk = msg.chunk;
         info.chunks += 1;
         let entity = chunk.entity_path().to_string();
         if entity.starts_with("/__properties") {

@@ -1,23 +1,27 @@
 //! Reading a recording that may be anything a user names: every reader (`inspect`, `diff`,
-//! `reproduce`) goes through [`each_message`]. What can be checked before Rerun's decoder sees
-//! the bytes is checked (a regular, non-empty file that starts with Rerun's header, its frames'
-//! lengths within the file: `framing.rs`); the decoder
-//! and what reads its chunks run under `catch_unwind`, because a corrupt Arrow buffer can make
-//! them panic rather than fail, and every message first looks at the stop flag, so that a long
-//! read ends within a message of Ctrl-C.
+//! `reproduce`) goes through [`Messages`]. What can be checked before Arrow sees the bytes is
+//! checked (a regular, non-empty file that starts with Rerun's header, its frames' lengths
+//! within the file, its Arrow sizes: `framing.rs`); the Arrow decoding and what reads its chunks
+//! run under `catch_unwind`, because a corrupt Arrow buffer can make them panic rather than fail,
+//! and every message first looks at the stop flag, so that a long read ends within a message of
+//! Ctrl-C.
+//!
+//! Each chunk is decoded without copying its arrays: they are slices of the one decompressed
+//! buffer of its message, so a reader holds about one chunk's bytes per chunk it keeps
+//! (Rerun's own decoder holds each message four times over while decoding it).
 
 use std::cell::Cell;
 use std::fs::File;
 use std::io::{BufReader, Read as _, Seek as _, SeekFrom};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
-use std::rc::Rc;
 use std::sync::Once;
 
-use rerun::external::re_log_encoding::{DecoderApp, DecoderIterator};
-use rerun::log::LogMsg;
+use rerun::external::arrow::buffer::Buffer;
+use rerun::external::arrow::ipc::reader::StreamDecoder;
+use rerun::log::Chunk;
 
-use super::framing::{Cut, Framed};
+use super::framing::{self, Cut, Framed};
 use crate::error::Error;
 
 /// The first bytes of every Rerun recording (the stream header's FourCC).
@@ -53,11 +57,18 @@ pub fn unusable(path: &Path, what: impl std::fmt::Display) -> anyhow::Error {
     Error::Usage(format!("{}: unusable file: {what}", path.display())).into()
 }
 
-/// An open recording, read message by message: two can be read in step (`diff`, `reproduce`).
+/// One chunk of a recording, with the store it was logged to.
+pub struct ChunkMessage {
+    /// Logged to the recording, not to its blueprint.
+    pub recording: bool,
+    pub application_id: String,
+    pub chunk: Chunk,
+}
+
+/// An open recording, read chunk by chunk: two can be read in step (`diff`, `reproduce`).
 pub struct Messages {
     path: PathBuf,
-    decoder: DecoderIterator<LogMsg, Framed<BufReader<File>>>,
-    cut: Rc<Cell<Option<Cut>>>,
+    framed: Framed<BufReader<File>>,
     seen_any: bool,
 }
 
@@ -89,54 +100,67 @@ impl Messages {
         }
         file.seek(SeekFrom::Start(0))
             .map_err(|e| unusable(path, format!("cannot read it: {e}")))?;
-        let framed = Framed::new(BufReader::new(file), meta.len());
-        let cut = framed.cut_cell();
         Ok(Messages {
             path: path.to_path_buf(),
-            decoder: DecoderApp::decode_lazy(framed),
-            cut,
+            framed: Framed::new(BufReader::new(file), meta.len()),
             seen_any: false,
         })
     }
 
-    /// The next message, `None` at the end. A corrupt or truncated message is a usage error
+    /// The next chunk, `None` at the end. A corrupt or truncated message is a usage error
     /// naming the file; a stop request an `Error::Interrupted`.
-    pub fn next_message(&mut self) -> anyhow::Result<Option<LogMsg>> {
+    pub fn next_chunk(&mut self) -> anyhow::Result<Option<ChunkMessage>> {
         let path = self.path.as_path();
-        if crate::interrupt::requested() {
-            return Err(Error::Interrupted(format!(
-                "interrupted while reading {}: nothing was compared or written",
-                path.display()
-            ))
-            .into());
+        loop {
+            if crate::interrupt::requested() {
+                return Err(Error::Interrupted(format!(
+                    "interrupted while reading {}: nothing was compared or written",
+                    path.display()
+                ))
+                .into());
+            }
+            let seen_any = self.seen_any;
+            let in_file = |e: &dyn std::fmt::Display| {
+                if seen_any {
+                    unusable(path, format!("the recording is corrupt or truncated: {e}"))
+                } else {
+                    unusable(path, format!("not a Rerun recording (.rrd): {e}"))
+                }
+            };
+            let message = self.framed.next_message().map_err(|e| in_file(&e))?;
+            let Some(message) = message else {
+                if !self.seen_any {
+                    return Err(unusable(
+                        path,
+                        "not a Rerun recording (.rrd): no messages could be decoded",
+                    ));
+                }
+                return Ok(None);
+            };
+            self.seen_any = true;
+            if message.kind != framing::KIND_ARROW {
+                continue; // the store's info, the blueprint's activation, the end of a stream
+            }
+            let at = message.at;
+            let whats_wrong = |why: String| in_file(&format!("{why} (the message at byte {at})"));
+            let arrow = framing::arrow_ipc(message.payload).map_err(whats_wrong)?;
+            // The compressed bytes are not held beside the chunk they decoded to.
+            self.framed.release();
+            let chunk = guarded(path, || decode_chunk(arrow.ipc))?.map_err(whats_wrong)?;
+            return Ok(Some(ChunkMessage {
+                recording: arrow.recording,
+                application_id: arrow.application_id,
+                chunk,
+            }));
         }
-        let Some(msg) = guarded(path, || self.decoder.next())? else {
-            if !self.seen_any {
-                return Err(unusable(
-                    path,
-                    "not a Rerun recording (.rrd): no messages could be decoded",
-                ));
-            }
-            return Ok(None);
-        };
-        let msg = msg.map_err(|e| {
-            if self.seen_any {
-                unusable(path, format!("the recording is corrupt or truncated: {e}"))
-            } else {
-                unusable(path, format!("not a Rerun recording (.rrd): {e}"))
-            }
-        })?;
-        self.seen_any = true;
-        Ok(Some(msg))
     }
 
-    /// What the read found at the end (call after `next_message` returned `None`).
-    pub fn end(&self) -> anyhow::Result<ReadEnd> {
-        let manifests = guarded(&self.path, || self.decoder.rrd_manifests())?;
-        Ok(ReadEnd {
-            has_footer: manifests.is_ok_and(|m| !m.is_empty()),
-            cut: self.cut.get(),
-        })
+    /// What the read found at the end (call after `next_chunk` returned `None`).
+    pub fn end(&self) -> ReadEnd {
+        ReadEnd {
+            has_footer: self.framed.has_footer(),
+            cut: self.framed.cut(),
+        }
     }
 
     /// Runs `f` on this file's contents, a panic in it reported as the file being unusable.
@@ -145,20 +169,35 @@ impl Messages {
     }
 }
 
-/// Decodes `path` message by message and hands each to `each` (whose `Err` is what is wrong with
+/// Decodes `path` chunk by chunk and hands each to `each` (whose `Err` is what is wrong with
 /// the file, in words). A missing, empty, non-regular, non-rrd, corrupt or truncated file is a
 /// usage error naming the file; a stop request an `Error::Interrupted`. Never panics on any bytes.
-pub fn each_message(
+pub fn each_chunk(
     path: &Path,
-    mut each: impl FnMut(LogMsg) -> Result<(), String>,
+    mut each: impl FnMut(ChunkMessage) -> Result<(), String>,
 ) -> anyhow::Result<ReadEnd> {
     let mut messages = Messages::open(path)?;
-    while let Some(msg) = messages.next_message()? {
+    while let Some(chunk) = messages.next_chunk()? {
         messages
-            .guarded(|| each(msg))?
+            .guarded(|| each(chunk))?
             .map_err(|e| unusable(path, e))?;
     }
-    messages.end()
+    Ok(messages.end())
+}
+
+/// A chunk from its Arrow IPC stream, its arrays slices of `ipc` (Arrow copies one only where
+/// it is misaligned). Migrates what older Rerun versions wrote, as Rerun's decoder does.
+fn decode_chunk(ipc: Vec<u8>) -> Result<Chunk, String> {
+    let mut buffer = Buffer::from_vec(ipc);
+    let mut decoder = StreamDecoder::new();
+    let mut batch = None;
+    while !buffer.is_empty() && batch.is_none() {
+        batch = decoder
+            .decode(&mut buffer)
+            .map_err(|e| format!("its Arrow data cannot be decoded ({e})"))?;
+    }
+    let batch = batch.ok_or("an Arrow message with no record batch")?;
+    Chunk::from_chunk_record_batch(&batch).map_err(|e| format!("a chunk cannot be decoded: {e}"))
 }
 
 thread_local! {

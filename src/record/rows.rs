@@ -1,19 +1,18 @@
 //! A recording's data read back value by value: every component of every entity on the
-//! `sim_time` timeline (static data has no time), with Rerun's own decoder, a chunk's rows held
-//! as the chunk holds them and flattened one at a time.
+//! `sim_time` timeline (static data has no time), a chunk's rows held as the chunk holds them
+//! and each row's values read in place from the chunk's arrays ([`RowView`]), never copied out.
 
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use rerun::external::arrow::array::{Array, AsArray as _, ListArray};
+use rerun::external::arrow::array::{Array, ArrayRef, AsArray as _, ListArray};
 use rerun::external::arrow::buffer::ScalarBuffer;
 use rerun::external::arrow::datatypes::{
     DataType, Float32Type, Float64Type, Int8Type, Int16Type, Int32Type, Int64Type, UInt8Type,
     UInt16Type, UInt32Type, UInt64Type,
 };
-use rerun::log::{Chunk, LogMsg};
 
-use super::read::each_message;
+use super::read::{ChunkMessage, each_chunk};
 
 /// One logged row of one component: its `sim_time` in ns (`None` for static data), every number
 /// it holds (floats widened to f64 exactly, integers converted), and every text.
@@ -31,8 +30,8 @@ pub type Contents = BTreeMap<(String, String), Vec<LoggedRow>>;
 pub type Key = (String, String);
 
 /// One component's rows in one chunk, as the chunk holds them: its list array and `sim_time`
-/// column are shared with the decoded chunk, not copied, and a row is flattened only when it is
-/// read ([`SeriesRows::row`]). Null rows are skipped.
+/// column are shared with the decoded chunk, not copied, and a row is read in place
+/// ([`SeriesRows::view`]). Null rows are skipped.
 #[derive(Clone)]
 pub(super) struct SeriesRows {
     pub(super) list: ListArray,
@@ -89,16 +88,9 @@ impl SeriesRows {
         self.times.as_ref().and_then(|t| t.get(self.next).copied())
     }
 
-    /// The next row, written into `out` (its buffers reused).
-    pub(super) fn row(&self, out: &mut LoggedRow) {
-        out.time = self.time();
-        out.nums.clear();
-        out.texts.clear();
-        flatten(
-            self.list.value(self.next).as_ref(),
-            &mut out.nums,
-            &mut out.texts,
-        );
+    /// The next row, its values in place in the chunk's arrays.
+    pub(super) fn view(&self) -> RowView {
+        RowView::new(self.time(), &self.list.value(self.next))
     }
 
     pub(super) fn advance(&mut self) {
@@ -110,9 +102,12 @@ impl SeriesRows {
     pub(super) fn into_rows(mut self) -> Vec<LoggedRow> {
         let mut out = Vec::new();
         while !self.is_empty() {
-            let mut row = LoggedRow::default();
-            self.row(&mut row);
-            out.push(row);
+            let view = self.view();
+            out.push(LoggedRow {
+                time: view.time,
+                nums: view.nums().collect(),
+                texts: view.texts,
+            });
             self.advance();
         }
         out
@@ -122,18 +117,14 @@ impl SeriesRows {
 /// One message's series in logging order: every component of every entity of a recording
 /// chunk (not the properties, not the blueprint), sharing the chunk's arrays. `Err` says what is
 /// wrong.
-pub(super) fn message_series(msg: LogMsg) -> Result<Vec<(Key, SeriesRows)>, String> {
-    let LogMsg::ArrowMsg(store_id, arrow_msg) = msg else {
-        return Ok(Vec::new());
-    };
-    if !store_id.is_recording() {
-        return Ok(Vec::new());
+pub(super) fn message_series(msg: ChunkMessage) -> Vec<(Key, SeriesRows)> {
+    if !msg.recording {
+        return Vec::new();
     }
-    let chunk =
-        Chunk::from_arrow_msg(&arrow_msg).map_err(|e| format!("a chunk cannot be decoded: {e}"))?;
+    let chunk = msg.chunk;
     let entity = chunk.entity_path().to_string();
     if entity.starts_with("/__properties") {
-        return Ok(Vec::new());
+        return Vec::new();
     }
     let sim_time = rerun::TimelineName::from("sim_time");
     let times = chunk
@@ -151,17 +142,17 @@ pub(super) fn message_series(msg: LogMsg) -> Result<Vec<(Key, SeriesRows)>, Stri
             rows,
         ));
     }
-    Ok(out)
+    out
 }
 
 /// Reads every component of every entity (not the properties, not the blueprint), the whole
 /// file into memory: for small recordings and tests; `diff` and `reproduce` stream instead
 /// ([`compare_files`]). An unusable file is a usage error naming it, a stop request
-/// `Error::Interrupted` (see [`each_message`]).
+/// `Error::Interrupted` (see [`each_chunk`]).
 pub fn read_contents(path: &Path) -> anyhow::Result<Contents> {
     let mut contents = Contents::new();
-    each_message(path, |msg| {
-        for (key, rows) in message_series(msg)? {
+    each_chunk(path, |msg| {
+        for (key, rows) in message_series(msg) {
             contents.entry(key).or_default().extend(rows.into_rows());
         }
         Ok(())
@@ -189,9 +180,8 @@ pub struct SeriesIndex {
 /// at a time.
 pub fn index_series(path: &Path) -> anyhow::Result<BTreeMap<Key, SeriesIndex>> {
     let mut index: BTreeMap<Key, SeriesIndex> = BTreeMap::new();
-    let mut row = LoggedRow::default();
-    each_message(path, |msg| {
-        for (key, mut rows) in message_series(msg)? {
+    each_chunk(path, |msg| {
+        for (key, mut rows) in message_series(msg) {
             let entry = index.entry(key).or_default();
             let (count, scale) = if rows.times.is_some() {
                 (&mut entry.timed, &mut entry.scale)
@@ -199,9 +189,8 @@ pub fn index_series(path: &Path) -> anyhow::Result<BTreeMap<Key, SeriesIndex>> {
                 (&mut entry.statics, &mut entry.static_scale)
             };
             while !rows.is_empty() {
-                rows.row(&mut row);
                 *count += 1;
-                for v in row.nums.iter().filter(|v| v.is_finite()) {
+                for v in rows.view().nums().filter(|v| v.is_finite()) {
                     *scale = scale.max(v.abs());
                 }
                 rows.advance();
@@ -212,22 +201,126 @@ pub fn index_series(path: &Path) -> anyhow::Result<BTreeMap<Key, SeriesIndex>> {
     Ok(index)
 }
 
-/// Every number and text an arrow array holds, depth first.
-pub(super) fn flatten(a: &dyn Array, nums: &mut Vec<f64>, texts: &mut Vec<String>) {
+/// One row's numbers as the arrays that hold them, read in place depth first (lists element by
+/// element, structs column by column; floats widened to f64 exactly, integers converted, a null
+/// read as NaN, a boolean as 0 or 1, a byte string byte by byte), and its texts.
+pub(super) struct RowView {
+    pub time: Option<i64>,
+    leaves: Vec<ArrayRef>,
+    pub texts: Vec<String>,
+}
+
+impl RowView {
+    pub(super) fn new(time: Option<i64>, row: &ArrayRef) -> Self {
+        let mut view = RowView {
+            time,
+            leaves: Vec::new(),
+            texts: Vec::new(),
+        };
+        view.add(row);
+        view
+    }
+
+    /// How many numbers the row holds.
+    pub(super) fn len(&self) -> usize {
+        self.leaves
+            .iter()
+            .map(|a| match a.data_type() {
+                DataType::Binary => {
+                    let b = a.as_binary::<i32>();
+                    (0..b.len()).map(|i| b.value(i).len()).sum()
+                }
+                _ => a.len(),
+            })
+            .sum()
+    }
+
+    /// The row's numbers in order.
+    pub(super) fn nums(&self) -> impl Iterator<Item = f64> + '_ {
+        self.leaves.iter().flat_map(|a| leaf_values(a.as_ref()))
+    }
+
+    /// Adds `a`'s numeric arrays as leaves (a list or fixed-size list without nulls as its
+    /// values array, which holds its elements in order), its texts as texts.
+    fn add(&mut self, a: &ArrayRef) {
+        match a.data_type() {
+            DataType::Null => {}
+            DataType::Float64
+            | DataType::Float32
+            | DataType::Int8
+            | DataType::Int16
+            | DataType::Int32
+            | DataType::Int64
+            | DataType::UInt8
+            | DataType::UInt16
+            | DataType::UInt32
+            | DataType::UInt64
+            | DataType::Boolean
+            | DataType::Binary => self.leaves.push(a.clone()),
+            DataType::Utf8 => {
+                let s = a.as_string::<i32>();
+                self.texts
+                    .extend((0..s.len()).map(|i| s.value(i).to_string()));
+            }
+            DataType::LargeUtf8 => {
+                let s = a.as_string::<i64>();
+                self.texts
+                    .extend((0..s.len()).map(|i| s.value(i).to_string()));
+            }
+            DataType::List(_) => {
+                let l = a.as_list::<i32>();
+                if l.null_count() == 0 {
+                    let o = l.value_offsets();
+                    let (start, end) = (o[0] as usize, o[l.len()] as usize);
+                    self.add(&l.values().slice(start, end - start));
+                } else {
+                    for i in (0..l.len()).filter(|&i| !l.is_null(i)) {
+                        self.add(&l.value(i));
+                    }
+                }
+            }
+            DataType::LargeList(_) => {
+                let l = a.as_list::<i64>();
+                for i in (0..l.len()).filter(|&i| !l.is_null(i)) {
+                    self.add(&l.value(i));
+                }
+            }
+            DataType::FixedSizeList(..) => {
+                let l = a.as_fixed_size_list();
+                if l.null_count() == 0 {
+                    let size = l.value_length() as usize;
+                    self.add(&l.values().slice(0, l.len() * size));
+                } else {
+                    for i in (0..l.len()).filter(|&i| !l.is_null(i)) {
+                        self.add(&l.value(i));
+                    }
+                }
+            }
+            DataType::Struct(_) => {
+                for column in a.as_struct().columns() {
+                    self.add(column);
+                }
+            }
+            _ => self.texts.push(format!("{a:?}")),
+        }
+    }
+}
+
+/// A leaf array's numbers in order.
+fn leaf_values(a: &dyn Array) -> Box<dyn Iterator<Item = f64> + '_> {
     macro_rules! numbers {
         ($t:ty) => {{
             let p = a.as_primitive::<$t>();
-            for i in 0..p.len() {
-                nums.push(if p.is_null(i) {
+            Box::new((0..p.len()).map(move |i| {
+                if p.is_null(i) {
                     f64::NAN
                 } else {
                     p.value(i) as f64
-                });
-            }
+                }
+            }))
         }};
     }
     match a.data_type() {
-        DataType::Null => {}
         DataType::Float64 => numbers!(Float64Type),
         DataType::Float32 => numbers!(Float32Type),
         DataType::Int8 => numbers!(Int8Type),
@@ -240,45 +333,12 @@ pub(super) fn flatten(a: &dyn Array, nums: &mut Vec<f64>, texts: &mut Vec<String
         DataType::UInt64 => numbers!(UInt64Type),
         DataType::Boolean => {
             let b = a.as_boolean();
-            nums.extend((0..b.len()).map(|i| f64::from(u8::from(b.value(i)))));
-        }
-        DataType::Utf8 => {
-            let s = a.as_string::<i32>();
-            texts.extend((0..s.len()).map(|i| s.value(i).to_string()));
-        }
-        DataType::LargeUtf8 => {
-            let s = a.as_string::<i64>();
-            texts.extend((0..s.len()).map(|i| s.value(i).to_string()));
-        }
-        DataType::List(_) => {
-            let l = a.as_list::<i32>();
-            for i in (0..l.len()).filter(|&i| !l.is_null(i)) {
-                flatten(l.value(i).as_ref(), nums, texts);
-            }
-        }
-        DataType::LargeList(_) => {
-            let l = a.as_list::<i64>();
-            for i in (0..l.len()).filter(|&i| !l.is_null(i)) {
-                flatten(l.value(i).as_ref(), nums, texts);
-            }
-        }
-        DataType::FixedSizeList(..) => {
-            let l = a.as_fixed_size_list();
-            for i in (0..l.len()).filter(|&i| !l.is_null(i)) {
-                flatten(l.value(i).as_ref(), nums, texts);
-            }
-        }
-        DataType::Struct(_) => {
-            for column in a.as_struct().columns() {
-                flatten(column.as_ref(), nums, texts);
-            }
+            Box::new((0..b.len()).map(|i| f64::from(u8::from(b.value(i)))))
         }
         DataType::Binary => {
             let b = a.as_binary::<i32>();
-            for i in 0..b.len() {
-                nums.extend(b.value(i).iter().map(|&x| f64::from(x)));
-            }
+            Box::new((0..b.len()).flat_map(move |i| b.value(i).iter().map(|&x| f64::from(x))))
         }
-        _ => texts.push(format!("{a:?}")),
+        _ => Box::new(std::iter::empty()),
     }
 }
