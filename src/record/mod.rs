@@ -3,6 +3,7 @@
 //! each scene's drawing, and reading recordings back. This module keeps the series styles and
 //! the slots scenes stand in.
 
+mod arrow_message;
 pub mod compare;
 pub mod diff;
 mod framing;

@@ -143,9 +143,10 @@ impl Messages {
             }
             let at = message.at;
             let whats_wrong = |why: String| in_file(&format!("{why} (the message at byte {at})"));
-            let arrow = framing::arrow_ipc(message.payload).map_err(whats_wrong)?;
-            // The compressed bytes are not held beside the chunk they decoded to.
-            self.framed.release();
+            let arrow = message
+                .arrow
+                .ok_or_else(|| "an Arrow message not read".to_string());
+            let arrow = arrow.and_then(|a| a).map_err(whats_wrong)?;
             let chunk = guarded(path, || decode_chunk(arrow.ipc))?.map_err(whats_wrong)?;
             return Ok(Some(ChunkMessage {
                 recording: arrow.recording,

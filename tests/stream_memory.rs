@@ -1,0 +1,154 @@
+//! What `diff` and `reproduce` hold while they compare two recordings, measured exactly: this
+//! test binary counts every heap allocation (its own global allocator) around the comparison
+//! they both stream with, `record::compare::compare_files`. One test only, so that nothing else
+//! allocates meanwhile.
+
+mod common;
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::path::Path;
+use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
+
+use common::{physlab, scratch_dir};
+use physlab::record::compare::{StreamSpec, compare_files};
+
+/// The system allocator, counting the bytes held now and their peak.
+struct Counting;
+
+static HELD: AtomicUsize = AtomicUsize::new(0);
+static PEAK: AtomicUsize = AtomicUsize::new(0);
+
+fn held(change: isize) {
+    let now = (HELD.load(Relaxed) as isize + change) as usize;
+    HELD.store(now, Relaxed);
+    PEAK.fetch_max(now, Relaxed);
+}
+
+// SAFETY: every call goes to `System` unchanged; only the counts are added.
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        held(layout.size() as isize);
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
+        held(layout.size() as isize);
+        unsafe { System.alloc_zeroed(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        held(-(layout.size() as isize));
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        held(new_size as isize - layout.size() as isize);
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static COUNTING: Counting = Counting;
+
+/// The most bytes the comparison of `path` with itself holds beyond what was held before it.
+fn comparison_peak(path: &Path) -> usize {
+    let before = HELD.load(Relaxed);
+    PEAK.store(before, Relaxed);
+    let spec = StreamSpec {
+        tolerance: 0.0,
+        skip: &|_: &str| false,
+        rename_b: None,
+        cap_b: false,
+    };
+    let streamed = compare_files(path, path, &spec, &mut |_, _, _| Ok(())).unwrap();
+    assert!(streamed.timed.values().all(|d| d.bit_identical()));
+    let peak = PEAK.load(Relaxed) - before;
+    drop(streamed);
+    peak
+}
+
+/// The largest Arrow chunk of a Rerun file, decompressed [B]: its frames (a 12-byte stream
+/// header, then 16-byte message headers: kind, length) read here independently of physlab's
+/// reader, and the `uncompressed_size` (field 3) of each Arrow message (kind 2).
+fn largest_chunk_bytes(path: &Path) -> u64 {
+    let bytes = std::fs::read(path).unwrap();
+    let varint = |b: &[u8], i: &mut usize| {
+        let mut v = 0u64;
+        for shift in (0..64).step_by(7) {
+            let c = b[*i];
+            *i += 1;
+            v |= u64::from(c & 0x7f) << shift;
+            if c < 0x80 {
+                break;
+            }
+        }
+        v
+    };
+    let (mut at, mut largest) = (12, 0);
+    while at + 16 <= bytes.len() {
+        let word = |i: usize| u64::from_le_bytes(bytes[i..i + 8].try_into().unwrap()) as usize;
+        let (kind, len) = (word(at), word(at + 8));
+        let payload = &bytes[at + 16..at + 16 + len];
+        if kind == 2 {
+            let mut i = 0;
+            while i < payload.len() {
+                let key = varint(payload, &mut i);
+                match key & 7 {
+                    0 => {
+                        let v = varint(payload, &mut i);
+                        if key >> 3 == 3 {
+                            largest = largest.max(v);
+                        }
+                    }
+                    2 => i += varint(payload, &mut i) as usize,
+                    1 => i += 8,
+                    _ => i += 4,
+                }
+            }
+        }
+        at += 16 + len;
+        if kind == 0 {
+            break; // the end message; the stream footer follows
+        }
+    }
+    largest
+}
+
+/// Comparing a recording with itself holds at most 2 × its largest chunk more than comparing a
+/// small one: one chunk per side, waiting for its partner, and never the file (12 MB, 31 MB).
+#[test]
+fn comparing_holds_two_chunks_not_the_file() {
+    let dir = scratch_dir("stream-memory");
+    let make = |name: &str, dt: &str, duration: &str| {
+        let path = dir.join(name);
+        let (code, _, err) = physlab(&[
+            "pendulum",
+            "-q",
+            "--dt",
+            dt,
+            "--plot-every",
+            "1",
+            "--duration",
+            duration,
+            "-o",
+            path.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{err}");
+        path
+    };
+    let small = make("small.rrd", "0.01", "1");
+    let small_peak = comparison_peak(&small);
+    for (name, duration) in [("large.rrd", "60"), ("larger.rrd", "150")] {
+        let large = make(name, "1e-4", duration);
+        let size = std::fs::metadata(&large).unwrap().len();
+        assert!(size > 10_000_000, "{size} B");
+        let chunk = largest_chunk_bytes(&large) as usize;
+        let growth = comparison_peak(&large).saturating_sub(small_peak);
+        eprintln!(
+            "{name}: {size} B, largest chunk {chunk} B, {growth} B over the small file's {small_peak} B: {:.2} ×",
+            growth as f64 / chunk as f64
+        );
+        assert!(
+            growth <= 2 * chunk,
+            "{name} ({size} B): {growth} B more than the small file's {small_peak} B, its largest chunk {chunk} B"
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
