@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use common::{peak_memory, physlab, scratch_dir};
+use common::{peak_memory, physlab, record_pendulum, scratch_dir};
 use physlab::cli::{Cli, Command as Sub, DiffArgs};
 use physlab::error::Error;
 use proptest::prelude::*;
@@ -297,11 +297,17 @@ fn interrupt(args: &[&str], after: Duration) -> (Option<i32>, String, Duration) 
 fn every_reading_phase_answers_ctrl_c_within_a_second() {
     let dir = scratch_dir("readers-interrupt");
     let big = large_recording(&dir);
-    // How long an uninterrupted diff takes: the signals must land well inside it.
-    let started = Instant::now();
-    let (code, _, err) = physlab(&["diff", s(&big), s(&big)]);
-    let whole = started.elapsed();
-    assert_eq!(code, 0, "{err}");
+    // How long an uninterrupted diff takes: the signals must land well inside it, so the
+    // faster of two runs (the machine's load varies).
+    let whole = (0..2)
+        .map(|_| {
+            let started = Instant::now();
+            let (code, _, err) = physlab(&["diff", s(&big), s(&big)]);
+            assert_eq!(code, 0, "{err}");
+            started.elapsed()
+        })
+        .min()
+        .unwrap();
     assert!(
         whole > Duration::from_millis(1500),
         "diff of the large file took only {whole:?}"
@@ -314,7 +320,7 @@ fn every_reading_phase_answers_ctrl_c_within_a_second() {
     assert_eq!(code, 0, "{err}");
     let cases: [(&[&str], Duration); 4] = [
         (&["diff", s(&big), s(&big)], whole.mul_f64(0.3)),
-        (&["diff", s(&big), s(&big)], whole.mul_f64(0.7)),
+        (&["diff", s(&big), s(&big)], whole.mul_f64(0.6)),
         (&["reproduce", s(&big)], reproducing.mul_f64(0.3)),
         (&["reproduce", s(&big)], reproducing.mul_f64(0.8)),
     ];
@@ -565,31 +571,10 @@ fn log_strands_is_recorded_and_reproduced() {
 #[test]
 fn reproduce_memory_does_not_grow_with_the_file() {
     let dir = scratch_dir("streamed-memory");
-    let (small, large) = (dir.join("small.rrd"), dir.join("large.rrd"));
-    let make = |path: &Path, dt: &str, duration: &str| {
-        let (code, _, err) = physlab(&[
-            "pendulum",
-            "-q",
-            "--dt",
-            dt,
-            "--plot-every",
-            "1",
-            "--duration",
-            duration,
-            "-o",
-            s(path),
-        ]);
-        assert_eq!(code, 0, "{err}");
-    };
-    make(&small, "0.01", "1");
-    make(&large, "1e-4", "60");
-    let size = |p: &Path| std::fs::metadata(p).unwrap().len() as f64;
-    assert!(
-        size(&large) > 10e6 && size(&small) < 1e6,
-        "{} and {} B",
-        size(&small),
-        size(&large)
-    );
+    let large = dir.join("large.rrd");
+    record_pendulum(&large, "1e-4", "60");
+    let size = std::fs::metadata(&large).unwrap().len();
+    assert!(size > 10_000_000, "{size} B");
     let run = peak_memory(&[
         "pendulum",
         "-q",

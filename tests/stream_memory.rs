@@ -9,7 +9,7 @@ use std::alloc::{GlobalAlloc, Layout, System};
 use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
 
-use common::{physlab, scratch_dir};
+use common::{record_pendulum, scratch_dir};
 use physlab::record::compare::{StreamSpec, compare_files};
 
 /// The system allocator, counting the bytes held now and their peak.
@@ -118,19 +118,7 @@ fn comparing_holds_two_chunks_not_the_file() {
     let dir = scratch_dir("stream-memory");
     let make = |name: &str, dt: &str, duration: &str| {
         let path = dir.join(name);
-        let (code, _, err) = physlab(&[
-            "pendulum",
-            "-q",
-            "--dt",
-            dt,
-            "--plot-every",
-            "1",
-            "--duration",
-            duration,
-            "-o",
-            path.to_str().unwrap(),
-        ]);
-        assert_eq!(code, 0, "{err}");
+        record_pendulum(&path, dt, duration);
         path
     };
     let small = make("small.rrd", "0.01", "1");

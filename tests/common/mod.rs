@@ -132,6 +132,23 @@ pub fn canonical_rows(path: &Path) -> Vec<String> {
     rows
 }
 
+/// Records the default pendulum at step `dt` over `duration`, every step plotted, to `path`.
+pub fn record_pendulum(path: &Path, dt: &str, duration: &str) {
+    let (code, _, err) = physlab(&[
+        "pendulum",
+        "-q",
+        "--dt",
+        dt,
+        "--plot-every",
+        "1",
+        "--duration",
+        duration,
+        "-o",
+        path.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+}
+
 /// Runs physlab with `args`; returns (exit code, stdout, stderr).
 pub fn physlab(args: &[&str]) -> (i32, String, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_physlab"))
