@@ -88,6 +88,17 @@ pub fn at_least_one(option: &str, value: u64) -> Result<(), Invalid> {
     }
 }
 
+/// A count within [lo, hi].
+pub fn count_within(option: &str, value: u64, lo: u64, hi: u64) -> Result<(), Invalid> {
+    if (lo..=hi).contains(&value) {
+        Ok(())
+    } else {
+        Err(Invalid::Usage(format!(
+            "{option} {value}: must be between {lo} and {hi}"
+        )))
+    }
+}
+
 pub fn rtol(rtol: f64) -> Result<(), Invalid> {
     if rtol.is_finite() && (1e-14..=0.1).contains(&rtol) {
         Ok(())

@@ -24,6 +24,7 @@ pub use orders::{
 use std::time::Instant;
 
 use crate::integrate::{Family, Integrator, Method, MethodOptions, SecondOrderSystem};
+use crate::scene::params::{self, Invalid};
 use crate::scene::pendulum::reference::{ExactPendulum, FineStepReference};
 use crate::scene::pendulum::{Pendulum, PendulumParams};
 use crate::scene::rope::{Rope, RopeParams};
@@ -311,6 +312,62 @@ pub struct Sweep {
     pub repeats: u32,
     /// The adaptive methods' tolerances (each runs with each, asked for the sample times).
     pub rtols: Vec<f64>,
+}
+
+impl Sweep {
+    /// The sweep's own numbers within their ranges, each named by the flag that sets it, and its
+    /// reference within the step limit.
+    pub fn validate(&self) -> Result<(), Invalid> {
+        params::count_within("--levels", self.levels.into(), 2, 20)?;
+        params::count_within("--repeats", self.repeats.into(), 1, 100)?;
+        for &rtol in &self.rtols {
+            params::rtol(rtol)?;
+        }
+        params::positive("--dt", self.dt0, "s")?;
+        params::positive("--duration", self.duration, "s")?;
+        // Errors are compared every SAMPLE_EVERY coarsest steps; fewer than one sample fits
+        // nothing.
+        let longest = self.duration / SAMPLE_EVERY as f64;
+        if self.dt0 > longest {
+            return Err(Invalid::Usage(format!(
+                "--dt {}: must not exceed --duration / {SAMPLE_EVERY} = {} s (errors are sampled \
+                 every {SAMPLE_EVERY} coarsest steps)",
+                params::shown(self.dt0),
+                params::shown(longest),
+            )));
+        }
+        let reference_steps = self.reference_steps();
+        if reference_steps > params::MAX_STEPS {
+            return Err(Invalid::Usage(format!(
+                "{} needs {reference_steps:.2e} reference steps; at most {:.0e} are allowed \
+                 (raise --dt or lower --levels)",
+                self.schedule(),
+                params::MAX_STEPS
+            )));
+        }
+        Ok(())
+    }
+
+    /// The reference's steps: 8× finer than the finest level.
+    pub fn reference_steps(&self) -> f64 {
+        let finest = self.dt0 / 2f64.powi(self.levels as i32 - 1);
+        8.0 * self.duration / finest
+    }
+
+    /// The schedule as its flags say it, for messages.
+    pub fn schedule(&self) -> String {
+        format!(
+            "--dt {} with --levels {} over --duration {} s",
+            params::shown(self.dt0),
+            self.levels,
+            params::shown(self.duration)
+        )
+    }
+}
+
+/// A stability study's steps per trial within their range.
+pub fn validate_stability_steps(steps: u64) -> Result<(), Invalid> {
+    params::count_within("--steps", steps, 10, 10_000_000)
 }
 
 /// Every (method, dt) of the sweep: fixed-step methods over the halved steps, the adaptive

@@ -5,7 +5,7 @@ use super::Error;
 use super::SceneFile;
 use crate::cli::{PendulumArgs, RopeArgs, RopeBody, StudyArgs, StudyKind, StudyScene};
 use crate::integrate::{Method, MethodOptions};
-use crate::scene::params::{MAX_NODE_STEPS, MAX_STEPS, shown};
+use crate::scene::params::{MAX_NODE_STEPS, MAX_STEPS};
 use crate::study::{Problem, Sweep};
 
 /// Steps a whole study may take (every method, level and repeat, and the reference): ten
@@ -43,34 +43,8 @@ pub(super) fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), E
         None => SceneFile::default(),
     };
     let stability_study = a.kind == StudyKind::Stability;
-    let levels = a.levels.unwrap_or(crate::study::DEFAULT_LEVELS);
-    if !(2..=20).contains(&levels) {
-        return Err(Error::Usage(format!(
-            "--levels {levels}: must be between 2 and 20"
-        )));
-    }
-    let repeats = a.repeats.unwrap_or(crate::study::DEFAULT_REPEATS);
-    if !(1..=100).contains(&repeats) {
-        return Err(Error::Usage(format!(
-            "--repeats {repeats}: must be between 1 and 100"
-        )));
-    }
     let steps = a.steps.unwrap_or(crate::study::DEFAULT_STABILITY_STEPS);
-    if !(10..=10_000_000).contains(&steps) {
-        return Err(Error::Usage(format!(
-            "--steps {steps}: must be between 10 and 10000000"
-        )));
-    }
-    let rtols = a.rtol.clone().unwrap_or_else(crate::study::default_rtols);
-    if let Some(bad) = rtols
-        .iter()
-        .find(|r| !(r.is_finite() && (1e-14..=0.1).contains(*r)))
-    {
-        return Err(Error::Usage(format!(
-            "--rtol {}: must be between 1e-14 and 0.1",
-            shown(*bad)
-        )));
-    }
+    crate::study::validate_stability_steps(steps)?;
     // Flags of the other scene would be silently ignored: refuse them.
     let (pendulum_flags, rope_flags) = (
         [
@@ -183,35 +157,19 @@ pub(super) fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), E
         a.dt.or(file_dt).unwrap_or(default_dt),
         a.duration.or(file_duration).unwrap_or(default_duration),
     );
-    crate::scene::params::positive("--dt", dt0, "s")?;
-    crate::scene::params::positive("--duration", duration, "s")?;
-    // Errors are compared every SAMPLE_EVERY coarsest steps; fewer than one sample fits nothing.
-    let longest = duration / crate::study::SAMPLE_EVERY as f64;
-    if dt0 > longest {
-        return Err(Error::Usage(format!(
-            "--dt {}: must not exceed --duration / {} = {} s (errors are sampled every {} \
-             coarsest steps)",
-            shown(dt0),
-            crate::study::SAMPLE_EVERY,
-            shown(longest),
-            crate::study::SAMPLE_EVERY
-        )));
-    }
-    // The finest level's steps, and the reference's (8× finer, stored at every sample), must
-    // fit in time and memory.
-    let finest = dt0 / 2f64.powi(levels as i32 - 1);
-    let reference_steps = 8.0 * duration / finest;
-    let schedule = format!(
-        "--dt {} with --levels {levels} over --duration {} s",
-        shown(dt0),
-        shown(duration)
-    );
-    if reference_steps > MAX_STEPS {
-        return Err(Error::Usage(format!(
-            "{schedule} needs {reference_steps:.2e} reference steps; at most {MAX_STEPS:.0e} are allowed \
-             (raise --dt or lower --levels)"
-        )));
-    }
+    let sweep = Sweep {
+        dt0,
+        levels: a.levels.unwrap_or(crate::study::DEFAULT_LEVELS),
+        duration,
+        methods,
+        options: MethodOptions::default(),
+        repeats: a.repeats.unwrap_or(crate::study::DEFAULT_REPEATS),
+        rtols: a.rtol.clone().unwrap_or_else(crate::study::default_rtols),
+    };
+    sweep.validate()?;
+    let (levels, repeats, methods) = (sweep.levels, sweep.repeats, &sweep.methods);
+    let reference_steps = sweep.reference_steps();
+    let schedule = sweep.schedule();
     // Work per step (coordinates stepped) and memory, for every phase, up front.
     let (work_per_step, dim) = match &problem {
         Problem::Pendulum(_) => (1.0, 1.0),
@@ -273,15 +231,6 @@ pub(super) fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), E
         StudyKind::Hair => unreachable!("the hair study has its own setup (hair_study)"),
     };
     warn_if_long(work);
-    let sweep = Sweep {
-        dt0,
-        levels,
-        duration,
-        methods,
-        options: MethodOptions::default(),
-        repeats,
-        rtols,
-    };
     // The schedule and methods the sweep starts from, in the scene's table.
     if let Some(t) = effective.pendulum.as_mut() {
         let s = &mut t.step;
