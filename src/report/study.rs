@@ -1,10 +1,87 @@
-//! The studies' tables and CSV: the fitted orders, every measured run, the cheapest run per
-//! target error, the stability limits against theory.
+//! The studies' text, tables and CSV: what each measures against what, the fitted orders, every
+//! measured run, the cheapest run per target error, the stability limits against theory.
 
 use std::fmt::Write as _;
 
 use crate::report::table::Table;
-use crate::study::{Limit, Row, cheapest, orders, proportionality};
+use crate::scene::pendulum::reference::ExactPendulum;
+use crate::scene::rope::RopeParams;
+use crate::study::{
+    Limit, Problem, Row, SAMPLE_EVERY, Sweep, cheapest, error_floor, orders, proportionality,
+};
+
+/// What a convergence or work-precision sweep (`kind`) measures, against which reference, and
+/// what its fits leave out.
+pub fn sweep_header(problem: &Problem, kind: &str, sweep: &Sweep, reference_error: f64) -> String {
+    let reference = match problem {
+        Problem::Pendulum(p) if ExactPendulum::new(p).is_some() => format!(
+            "the exact elliptic solution (θ to {reference_error:.0e} rad over this run: measured against mpmath over whole runs)"
+        ),
+        Problem::Pendulum(_) => format!(
+            "the fine-step reference (compensated RK4, as the pendulum scene runs it), its own error estimated at {reference_error:.1e} rad (Richardson; measured against mpmath over whole runs)"
+        ),
+        Problem::Rope(_) => format!(
+            "RK4 at dt/8 of the finest step, its own error estimated at {reference_error:.1e} (Richardson)"
+        ),
+    };
+    format!(
+        "{} {kind}: error = largest deviation of the positions from {reference}, sampled every {} s over {} s; \
+         fits leave out errors below {:.0e} (the reference's floor)\n\n",
+        problem.name(),
+        sweep.dt0 * SAMPLE_EVERY as f64,
+        sweep.duration,
+        error_floor(reference_error)
+    )
+}
+
+/// Introduces the damped rope's table beside the undamped one's.
+pub fn damped_header(scene: &RopeParams) -> String {
+    format!(
+        "the same rope with the scene's spring damping {} N·s/m and air drag {} N·s/m \
+         (velocity-dependent forces):\n\n",
+        scene.spring_damping, scene.air_drag
+    )
+}
+
+/// Introduces the adaptive methods' tolerance proportionality.
+pub fn proportionality_header(floor: f64) -> String {
+    format!(
+        "tolerance proportionality of the adaptive methods (slope 1: the error follows rtol; \
+         errors below {floor:.0e} left out):\n\n"
+    )
+}
+
+/// Introduces the cheapest runs, naming the targets left out as below the reference's reach.
+pub fn cheapest_header(unresolved: &[f64], reference_error: f64) -> String {
+    let left_out = if unresolved.is_empty() {
+        String::new()
+    } else {
+        format!(
+            "; {} left out: below 10× the reference's accuracy {reference_error:.1e}",
+            unresolved
+                .iter()
+                .map(|t| format!("{t:.0e}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        )
+    };
+    format!("\ncheapest run reaching each error (from the rows above){left_out}:\n\n")
+}
+
+/// What a stability study measures, on which linearised problem, against which theory.
+pub fn stability_header(problem: &Problem, steps: u64) -> String {
+    format!(
+        "{} stability: largest dt whose run stays within 10⁴ of its start for {steps} steps (bisection), on the \
+         linearised problem ({}); theory = limit h / ω with ω = {:.6} rad/s\n\n",
+        problem.name(),
+        match problem {
+            Problem::Pendulum(_) => "1e-8 rad amplitude, ω = sqrt(g/L)",
+            Problem::Rope(_) =>
+                "straight, weightless, undamped chain pinned at node 0, ω = its highest mode",
+        },
+        problem.omega()
+    )
+}
 
 fn sci(x: f64) -> String {
     format!("{x:.3e}")

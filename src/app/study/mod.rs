@@ -1,8 +1,6 @@
 //! `physlab study`: resolves the study's scene, runs the measurement, prints markdown tables,
 //! and writes the CSV and recording when asked.
 
-use std::fmt::Write as _;
-
 use super::Error;
 use super::SceneFile;
 use crate::cli::{StudyArgs, StudyKind};
@@ -41,35 +39,12 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
         StudyKind::Convergence | StudyKind::WorkPrecision => {
             let (rows, reference_error) = sweep(&problem, &sw);
             done = rows.len();
-            let exact = matches!(&problem, Problem::Pendulum(p)
-                if crate::scene::pendulum::reference::ExactPendulum::new(p).is_some());
-            let reference = if exact {
-                format!(
-                    "the exact elliptic solution (θ to {reference_error:.0e} rad over this run: measured against mpmath over whole runs)"
-                )
-            } else if matches!(&problem, Problem::Pendulum(_)) {
-                format!(
-                    "the fine-step reference (compensated RK4, as the pendulum scene runs it), its own error estimated at {reference_error:.1e} rad (Richardson; measured against mpmath over whole runs)"
-                )
+            let kind = if a.kind == StudyKind::Convergence {
+                "convergence"
             } else {
-                format!(
-                    "RK4 at dt/8 of the finest step, its own error estimated at {reference_error:.1e} (Richardson)"
-                )
+                "work-precision"
             };
-            writeln!(
-                out,
-                "{} {}: error = largest deviation of the positions from {reference}, sampled every {} s over {} s; \
-                 fits leave out errors below {:.0e} (the reference's floor)\n",
-                problem.name(),
-                if a.kind == StudyKind::Convergence {
-                    "convergence"
-                } else {
-                    "work-precision"
-                },
-                sw.dt0 * crate::study::SAMPLE_EVERY as f64,
-                sw.duration,
-                error_floor(reference_error)
-            )?;
+            out.push_str(&report::sweep_header(&problem, kind, &sw, reference_error));
             if a.kind == StudyKind::Convergence {
                 out.push_str(&report::orders_table(
                     &rows,
@@ -105,12 +80,7 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
                     let (damped_rows, damped_error) = sweep(&damped, &sw);
                     // A stop during the damped sweep leaves it out: only complete tables are shown.
                     if !crate::interrupt::requested() {
-                        writeln!(
-                            out,
-                            "the same rope with the scene's spring damping {} N·s/m and air drag {} N·s/m \
-                         (velocity-dependent forces):\n",
-                            scene.spring_damping, scene.air_drag
-                        )?;
+                        out.push_str(&report::damped_header(&scene));
                         out.push_str(&report::orders_table(
                             &damped_rows,
                             error_floor(damped_error),
@@ -127,12 +97,9 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
                 }
             }
             if rows.iter().any(|r| r.rtol.is_some()) {
-                writeln!(
-                    out,
-                    "tolerance proportionality of the adaptive methods (slope 1: the error follows rtol; \
-                     errors below {:.0e} left out):\n",
-                    error_floor(reference_error)
-                )?;
+                out.push_str(&report::proportionality_header(error_floor(
+                    reference_error,
+                )));
                 out.push_str(&report::proportionality_table(
                     &rows,
                     error_floor(reference_error),
@@ -145,22 +112,7 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
                 let (targets, unresolved): (Vec<f64>, Vec<f64>) = [1e-3, 1e-6, 1e-9, 1e-12]
                     .into_iter()
                     .partition(|&t| t >= 10.0 * reference_error);
-                writeln!(
-                    out,
-                    "\ncheapest run reaching each error (from the rows above){}:\n",
-                    if unresolved.is_empty() {
-                        String::new()
-                    } else {
-                        format!(
-                            "; {} left out: below 10× the reference's accuracy {reference_error:.1e}",
-                            unresolved
-                                .iter()
-                                .map(|t| format!("{t:.0e}"))
-                                .collect::<Vec<_>>()
-                                .join(", ")
-                        )
-                    }
-                )?;
+                out.push_str(&report::cheapest_header(&unresolved, reference_error));
                 out.push_str(&report::cheapest_table(&rows, &targets));
                 diagrams.push(crate::diagram::work_precision(
                     problem.name(),
@@ -174,18 +126,7 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
         StudyKind::Stability => {
             let limits: Vec<Limit> = stability(&problem, &sw.methods, steps);
             done = limits.len();
-            writeln!(
-                out,
-                "{} stability: largest dt whose run stays within 10⁴ of its start for {steps} steps (bisection), on the \
-                 linearised problem ({}); theory = limit h / ω with ω = {:.6} rad/s\n",
-                problem.name(),
-                match problem {
-                    Problem::Pendulum(_) => "1e-8 rad amplitude, ω = sqrt(g/L)",
-                    Problem::Rope(_) =>
-                        "straight, weightless, undamped chain pinned at node 0, ω = its highest mode",
-                },
-                problem.omega()
-            )?;
+            out.push_str(&report::stability_header(&problem, steps));
             out.push_str(&report::stability_table(&limits));
             csv = report::limits_csv(&limits);
             diagrams.push(crate::diagram::stability(
