@@ -9,6 +9,7 @@ pub mod diff;
 mod framing;
 pub mod hair;
 pub mod inspect;
+mod lz4;
 pub mod pendulum;
 pub mod read;
 pub mod rope;
