@@ -216,7 +216,7 @@ fn hair_swings_under_a_nod() {
         let mut peak: f64 = 0.0;
         for _ in 0..60 {
             hair.step(1.0 / 60.0);
-            peak = peak.max(hair.kinetic_energy());
+            peak = peak.max(hair.total_kinetic_energy());
         }
         assert!(peak > 1e-3, "{}: peak KE {peak:e}", m.name());
     }
@@ -298,7 +298,7 @@ fn print_settle() {
         for f in 0..1200 {
             hair.step(1.0 / 60.0);
             if f % 200 == 199 {
-                ke.push(hair.kinetic_energy());
+                ke.push(hair.total_kinetic_energy());
             }
         }
         println!("it {it}: {ke:.2?}");

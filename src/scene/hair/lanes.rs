@@ -40,7 +40,7 @@ use glam::DVec3;
 
 use super::direct::{newton_lanes, tension_solve_lanes};
 use super::simd::{F8, Isa, LANES, V3, all, any, isa};
-use super::{FTL_CORRECTION, GroupStats, HairMethod, StepContext};
+use super::{FTL_CORRECTION, HairMethod, HairStats, StepContext};
 
 /// Per-thread storage the kernel needs beside a chunk's state, grown to the strand's size once.
 #[derive(Default)]
@@ -171,14 +171,10 @@ impl StepContext<'_> {
         v: &mut [V3],
         roots: &[DVec3],
         s: &mut LaneScratch,
-    ) -> GroupStats {
+    ) -> HairStats {
         let n = self.params.nodes;
         let ftl = self.method == HairMethod::Ftl;
         s.fit(n);
-        let mut out = GroupStats {
-            finite: true,
-            ..GroupStats::default()
-        };
         let (mut stretch, mut depth2, mut kinetic) = (0.0f64, f64::INFINITY, 0.0f64);
         for (c, x) in x.chunks_exact_mut(n).enumerate() {
             let c0 = c * LANES;
@@ -211,18 +207,9 @@ impl StepContext<'_> {
             }
         }
         if !self.last {
-            return GroupStats::default();
+            return HairStats::default();
         }
-        let rc = self.collide_radius;
-        out.finite = kinetic.is_finite() && stretch.is_finite();
-        out.stretch = stretch;
-        out.kinetic = kinetic;
-        out.penetration = if depth2 < rc * rc {
-            rc - depth2.sqrt()
-        } else {
-            0.0
-        };
-        out
+        HairStats::of_group(stretch, depth2, kinetic, self.collide_radius)
     }
 
     /// The kernel compiled for the widest vector instructions the processor has (same bits on
@@ -518,7 +505,7 @@ mod tests {
                     .map(|d| d * (1.0 / l0))
                     .fold(0.0, f64::max);
                 assert_eq!(
-                    hair.stats().stretch.to_bits(),
+                    hair.stats().max_stretch.to_bits(),
                     per_segment.to_bits(),
                     "{}",
                     method.name()
@@ -556,7 +543,7 @@ mod tests {
                 .positions()
                 .iter()
                 .flat_map(|p| p.to_array())
-                .chain([s.stretch, s.penetration, s.kinetic])
+                .chain([s.max_stretch, s.max_penetration, s.kinetic_energy])
                 .map(f64::to_bits)
                 .collect();
             bits

@@ -65,17 +65,41 @@ pub const FTL_CORRECTION: f64 = 0.9;
 /// tolerance within the cap; the summary counts those that miss it.
 pub const IMPLICIT_NEWTON_CAP: u32 = 40;
 
-/// What one strand group measured on the state at the end of a step.
+/// What is measured on hair at the end of a step. A strand group's (measured by the step, on
+/// its way) holds ½ Σ |Δx/dt|² over the group's nodes in `kinetic_energy` and no root error;
+/// [`Hair::stats`] combines the groups into the hair's.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct GroupStats {
+pub struct HairStats {
     /// Largest |ℓ - ℓ0|/ℓ0.
-    pub stretch: f64,
+    pub max_stretch: f64,
     /// Deepest non-root node inside the collision sphere R(1 + margin) [m].
-    pub penetration: f64,
-    /// ½ Σ |Δx/dt|² over the group's nodes, in node order [J/kg].
-    pub kinetic: f64,
+    pub max_penetration: f64,
+    /// Largest distance of a root from its anchor [m].
+    pub max_root_error: f64,
+    /// Kinetic energy per unit mass of hair [J/kg]: ½ |Δx/dt|² averaged over every node (roots
+    /// included; nodes have equal mass), so it does not grow with the strand count.
+    pub kinetic_energy: f64,
     /// Whether every position is finite.
     pub finite: bool,
+}
+
+impl HairStats {
+    /// A strand group's, from its largest stretch, the smallest squared distance of a non-root
+    /// node from the head's centre, ½ Σ |Δx/dt|² over its nodes and the collision radius.
+    pub(super) fn of_group(stretch: f64, depth2: f64, kinetic: f64, collide_radius: f64) -> Self {
+        let rc = collide_radius;
+        HairStats {
+            max_stretch: stretch,
+            max_penetration: if depth2 < rc * rc {
+                rc - depth2.sqrt()
+            } else {
+                0.0
+            },
+            max_root_error: 0.0,
+            kinetic_energy: kinetic,
+            finite: kinetic.is_finite() && stretch.is_finite(),
+        }
+    }
 }
 
 /// One method's copy of the hair and its head.
@@ -95,7 +119,7 @@ pub struct Hair {
     pub head_center: DVec3,
     pub head_rotation: DQuat,
     /// Per group of strands, measured at the end of the last step.
-    group_stats: Vec<GroupStats>,
+    group_stats: Vec<HairStats>,
 }
 
 /// A method's state in its layout (module docs).
@@ -188,9 +212,9 @@ impl Hair {
             head_center: center,
             head_rotation: rotation,
             group_stats: vec![
-                GroupStats {
+                HairStats {
                     finite: true,
-                    ..GroupStats::default()
+                    ..HairStats::default()
                 };
                 groups
             ],
@@ -319,24 +343,23 @@ impl Hair {
         self.last_dt = dt;
     }
 
-    /// The invariants measured at the end of the last step: largest stretch, deepest
-    /// penetration (non-root nodes into R(1 + margin)), kinetic energy ½ Σ |Δx/dt|² per unit
-    /// node mass (summed group by group in a fixed order, so it does not depend on the thread
-    /// count), and whether every position is finite.
-    pub fn stats(&self) -> GroupStats {
-        let mut out = GroupStats {
+    /// The invariants at the end of the last step: what the step measured on its way (largest
+    /// stretch, deepest penetration of a non-root node into R(1 + margin), the kinetic energy,
+    /// whether every position is finite), plus the roots' distance from their anchors (one pass
+    /// over the strands, not the nodes).
+    pub fn stats(&self) -> HairStats {
+        let mut out = HairStats {
             finite: true,
-            ..GroupStats::default()
+            ..HairStats::default()
         };
         for g in &self.group_stats {
-            out.stretch = out.stretch.max(g.stretch);
-            out.penetration = out.penetration.max(g.penetration);
-            out.kinetic += g.kinetic;
+            out.max_stretch = out.max_stretch.max(g.max_stretch);
+            out.max_penetration = out.max_penetration.max(g.max_penetration);
             out.finite &= g.finite;
         }
-        if self.last_dt == 0.0 {
-            out.kinetic = 0.0;
-        }
+        out.kinetic_energy =
+            self.total_kinetic_energy() / (self.strands() * self.params.nodes) as f64;
+        out.max_root_error = self.max_root_error();
         out
     }
 
@@ -383,11 +406,17 @@ impl Hair {
             .reduce(|| 0.0, f64::max)
     }
 
-    /// Kinetic energy per unit node mass, ½ Σ |Δx/dt|² [J/kg], from how far each node actually
-    /// moved in the last step (the same for every method: DFTL's stored velocity carries its
-    /// damping correction and is not the nodes' motion), as the step measured it
-    /// ([`Hair::stats`]).
-    pub fn kinetic_energy(&self) -> f64 {
-        self.stats().kinetic
+    /// Kinetic energy per unit node mass, ½ Σ |Δx/dt|² over every node [J/kg], from how far
+    /// each node actually moved in the last step (the same for every method: DFTL's stored
+    /// velocity carries its damping correction and is not the nodes' motion), as the step
+    /// measured it, summed group by group in a fixed order (so it does not depend on the thread
+    /// count).
+    pub fn total_kinetic_energy(&self) -> f64 {
+        if self.last_dt == 0.0 {
+            return 0.0;
+        }
+        self.group_stats
+            .iter()
+            .fold(0.0, |sum, g| sum + g.kinetic_energy)
     }
 }

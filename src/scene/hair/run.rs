@@ -2,7 +2,7 @@
 //! frame (`substeps` steps per frame), with the invariants measured every frame. A tick of the
 //! harness is one simulation frame.
 
-use super::{Hair, HairMethod, HairParams};
+use super::{Hair, HairMethod, HairParams, HairStats};
 use crate::scene::harness::{Checked, Clock, Sampler, Scene, Schedule};
 use crate::scene::params::{self, Invalid};
 
@@ -234,35 +234,6 @@ pub fn substeps_for_dt(rate: f64, dt: f64, substeps: Option<u32>) -> Result<u32,
     }
 }
 
-/// What is measured on one lane after one simulation frame.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct HairStats {
-    pub max_stretch: f64,
-    /// Deepest non-root node inside R(1 + margin) [m].
-    pub max_penetration: f64,
-    pub max_root_error: f64,
-    /// Kinetic energy per unit mass of hair [J/kg]: ½ |Δx/dt|² averaged over every node
-    /// (roots included; nodes have equal mass), so it does not grow with the strand count.
-    pub kinetic_energy: f64,
-}
-
-/// A lane's invariants: what the last step measured on its way (fused, see [`Hair::stats`]),
-/// plus the roots' distance from their anchors (one pass over the strands, not the nodes).
-/// Also whether every position is finite.
-pub fn measure(hair: &Hair) -> (HairStats, bool) {
-    let s = hair.stats();
-    (
-        HairStats {
-            max_stretch: s.stretch,
-            max_penetration: s.penetration,
-            max_root_error: hair.max_root_error(),
-            // Hair::stats sums ½|Δx/dt|² over the nodes; per unit mass is the mean.
-            kinetic_energy: s.kinetic / (hair.strands() * hair.params.nodes) as f64,
-        },
-        s.finite,
-    )
-}
-
 /// The plotted quantities, in order.
 pub const QUANTITIES: [&str; 3] = ["max_stretch", "max_penetration", "specific_kinetic_energy"];
 
@@ -337,9 +308,9 @@ impl Scene for HairScene {
     }
 
     fn check(&self, lane: &mut HairLane, first: u64, _len: usize, out: &mut Sampler) -> Checked {
-        let (st, finite) = measure(&lane.hair);
-        if !finite || st.max_stretch > STRETCH_BOUND {
-            let why = if finite {
+        let st = lane.hair.stats();
+        if !st.finite || st.max_stretch > STRETCH_BOUND {
+            let why = if st.finite {
                 format!("stretch reached {:.3e}", st.max_stretch)
             } else {
                 "state not finite".into()

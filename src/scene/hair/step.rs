@@ -5,7 +5,7 @@ use std::cell::RefCell;
 
 use glam::{DQuat, DVec3};
 
-use super::{GroupStats, HairMethod, HairParams, WindField, lanes, spring};
+use super::{HairMethod, HairParams, HairStats, WindField, lanes, spring};
 
 /// Per-thread scratch of the solvers, made once per thread and grown when needed.
 #[derive(Default)]
@@ -56,7 +56,7 @@ impl StepContext<'_> {
         prev: &mut [DVec3],
         v: &mut [DVec3],
         roots: &[DVec3],
-    ) -> GroupStats {
+    ) -> HairStats {
         let n = self.params.nodes;
         match self.method {
             HairMethod::Verlet => {
@@ -92,17 +92,16 @@ impl StepContext<'_> {
         if self.last {
             self.measure(x, prev)
         } else {
-            GroupStats::default()
+            HairStats::default()
         }
     }
 
     /// The invariants of a group's new state (see [`Hair::stats`]).
-    pub(super) fn measure(&self, x: &[DVec3], prev: &[DVec3]) -> GroupStats {
+    pub(super) fn measure(&self, x: &[DVec3], prev: &[DVec3]) -> HairStats {
         let n = self.params.nodes;
         let l0 = self.params.segment_length;
         let inv_l0 = 1.0 / l0;
         let inv_dt = 1.0 / self.frame_dt;
-        let rc = self.collide_radius;
         let (mut stretch, mut depth2, mut kinetic) = (0.0f64, f64::INFINITY, 0.0f64);
         for (xs, ps) in x.chunks_exact(n).zip(prev.chunks_exact(n)) {
             kinetic += 0.5 * ((xs[0] - ps[0]) * inv_dt).length_squared();
@@ -113,18 +112,7 @@ impl StepContext<'_> {
                 kinetic += 0.5 * ((xs[k] - ps[k]) * inv_dt).length_squared();
             }
         }
-        let finite = kinetic.is_finite() && stretch.is_finite();
-        let penetration = if depth2 < rc * rc {
-            rc - depth2.sqrt()
-        } else {
-            0.0
-        };
-        GroupStats {
-            stretch,
-            penetration,
-            kinetic,
-            finite,
-        }
+        HairStats::of_group(stretch, depth2, kinetic, self.collide_radius)
     }
 
     /// Where a root belongs at the end of the step.
