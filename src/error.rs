@@ -8,6 +8,14 @@ use std::fmt;
 pub enum Error {
     /// Bad input: a flag, a scene file, a recording that cannot be used. Exit 2.
     Usage(String),
+    /// One parameter out of its range, named as its flag, with its value as given and what is
+    /// allowed (`--nodes 1: must be between 2 and 10000`). Kept apart so that a value from a
+    /// scene file is named as that file's key ([`Error::in_file`]). Exit 2.
+    Param {
+        option: String,
+        value: String,
+        rule: String,
+    },
     /// Anything else that failed while running (an I/O error, a failed write). Exit 1.
     Runtime(anyhow::Error),
     /// `reproduce` or `diff` found a difference (beyond the tolerance). Exit 1.
@@ -21,7 +29,7 @@ pub enum Error {
 impl Error {
     pub fn exit_code(&self) -> u8 {
         match self {
-            Error::Usage(_) => 2,
+            Error::Usage(_) | Error::Param { .. } => 2,
             Error::Runtime(_) | Error::Differs(_) => 1,
             Error::Diverged(_) => 3,
             Error::Interrupted(_) => 130,
@@ -32,7 +40,7 @@ impl Error {
     /// outcomes a script asked about (a difference, a divergence, a stop) are stated as they are.
     pub fn report(&self) -> String {
         match self {
-            Error::Usage(_) | Error::Runtime(_) => format!("error: {self}"),
+            Error::Usage(_) | Error::Param { .. } | Error::Runtime(_) => format!("error: {self}"),
             _ => self.to_string(),
         }
     }
@@ -44,12 +52,55 @@ impl fmt::Display for Error {
             Error::Usage(m) | Error::Differs(m) | Error::Diverged(m) | Error::Interrupted(m) => {
                 f.write_str(m)
             }
+            Error::Param {
+                option,
+                value,
+                rule,
+            } => write!(f, "{option} {value}: {rule}"),
             Error::Runtime(e) => write!(f, "{e:#}"),
         }
     }
 }
 
 impl std::error::Error for Error {}
+
+impl Error {
+    /// A parameter refused as its flag names it.
+    pub fn param(option: &str, value: impl fmt::Display, rule: impl Into<String>) -> Self {
+        Error::Param {
+            option: option.into(),
+            value: value.to_string(),
+            rule: rule.into(),
+        }
+    }
+
+    /// This error of a value read from table `[table]` of scene file `file`: a parameter is
+    /// named by its key there (`[rope] nodes = 1`, with the key's line when `line` finds it),
+    /// anything else is said as it is, after the file and table.
+    pub fn in_file(
+        self,
+        file: &std::path::Path,
+        table: &str,
+        line: impl Fn(&str) -> Option<usize>,
+    ) -> Self {
+        let file = file.display();
+        match self {
+            Error::Param {
+                option,
+                value,
+                rule,
+            } => {
+                let key = option.trim_start_matches("--").replace('-', "_");
+                let at = line(&key).map_or(String::new(), |l| format!("line {l}: "));
+                Error::Usage(format!(
+                    "--config {file}: {at}[{table}] {key} = {value}: {rule}"
+                ))
+            }
+            Error::Usage(message) => Error::Usage(format!("--config {file}: [{table}]: {message}")),
+            other => other,
+        }
+    }
+}
 
 /// Any failure as physlab's error: one of its own as it is, anything else a runtime failure.
 impl From<anyhow::Error> for Error {

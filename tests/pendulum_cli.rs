@@ -8,7 +8,7 @@ mod common;
 use std::collections::BTreeMap;
 
 use clap::Parser as _;
-use physlab::app::pendulum_config;
+use physlab::app::config_from_flags;
 use physlab::cli::{Cli, Command as Sub};
 use physlab::scene::harness::{Observer, SeriesBatch, run};
 use physlab::scene::pendulum::run::PendulumScene;
@@ -113,7 +113,8 @@ fn pendulum_run_writes_a_complete_recording_whose_theta_equals_the_simulation() 
     else {
         unreachable!()
     };
-    let config = pendulum_config(&parsed.scene).unwrap();
+    let config: physlab::scene::pendulum::run::PendulumConfig =
+        config_from_flags(&parsed.scene, "pendulum").unwrap();
     let mut collected = ThetaCollector::default();
     let dt = config.dt;
     let summary = run(&mut PendulumScene::new(config), &mut collected).unwrap();

@@ -29,7 +29,7 @@ fn config(method: Method, theta0_deg: f64, dt: f64, duration: f64) -> PendulumCo
         fps: 1.0,
         plot_every: 1,
         methods: vec![method],
-        options: MethodOptions::default(),
+        ..PendulumConfig::default()
     }
 }
 

@@ -2,7 +2,7 @@
 //! stability limit no method produces a NaN or diverges.
 
 use glam::DVec3;
-use physlab::integrate::{Method, MethodOptions};
+use physlab::integrate::Method;
 use physlab::scene::hair::run::{HairConfig, HairScene};
 use physlab::scene::hair::{HairMethod, HairParams, HeadMotion};
 use physlab::scene::harness::{NoObserver, run};
@@ -35,7 +35,7 @@ proptest! {
         let dt = fraction * 2.0 / rate;
         let config = PendulumConfig {
             params: p, dt, duration: 300.0 * dt, fps: 1.0 / dt, plot_every: 1,
-            methods: Method::DEFAULT.to_vec(), options: MethodOptions::default(),
+            methods: Method::DEFAULT.to_vec(), ..PendulumConfig::default()
         };
         let summary = run(&mut PendulumScene::new(config), &mut NoObserver).unwrap();
         for (lane, stats) in summary.lanes.iter().zip(&summary.stats) {
@@ -86,7 +86,7 @@ proptest! {
             let dt = fraction * (1.0 - 2.0 * zeta) * limit.min(2.0) / ceiling;
             let config = RopeConfig {
                 params: params.clone(), dt, duration: 300.0 * dt, fps: 0.1 / dt, plot_every: 1,
-                layout: Default::default(), methods: vec![method], options: MethodOptions::default(),
+                methods: vec![method], ..RopeConfig::default()
             };
             let summary = run(&mut RopeScene::new(config), &mut NoObserver).unwrap();
             let stats = &summary.stats[0];

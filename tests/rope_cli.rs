@@ -6,7 +6,7 @@ mod common;
 
 use clap::Parser as _;
 use common::{assert_refused, decode, drawn_rows, physlab, scratch_dir};
-use physlab::app::rope_config;
+use physlab::app::config_from_flags;
 use physlab::cli::{Cli, Command as Sub};
 
 const METHODS: [&str; 7] = [
@@ -74,7 +74,7 @@ fn config(args: &[&str]) -> physlab::scene::rope::run::RopeConfig {
     let Sub::Rope(a) = Cli::parse_from(["physlab", "rope"].iter().chain(args)).command else {
         unreachable!()
     };
-    rope_config(&a.scene).unwrap()
+    config_from_flags(&a.scene, "rope").unwrap()
 }
 
 #[test]

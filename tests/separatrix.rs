@@ -3,7 +3,7 @@
 //! the exact radian doubles, two independent routes; `tests/data/separatrix_reference.py` wrote
 //! it), and no panic or hang for any finite release angle, on both reference paths.
 
-use physlab::integrate::{Method, MethodOptions};
+use physlab::integrate::Method;
 use physlab::scene::harness::{NoObserver, run};
 use physlab::scene::pendulum::PendulumParams;
 use physlab::scene::pendulum::reference::{ExactPendulum, exact_period};
@@ -181,7 +181,7 @@ fn scene_runs_at_any_release_angle() {
             fps: 1.0,
             plot_every: 1,
             methods: vec![Method::Rk4, Method::Dopri5],
-            options: MethodOptions::default(),
+            ..PendulumConfig::default()
         };
         let started = std::time::Instant::now();
         let mut scene = PendulumScene::new(config);

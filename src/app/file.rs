@@ -1,27 +1,22 @@
-//! Scene files (TOML): one table per scene, the same keys as the scene's flags.
+//! Scene files (TOML): one table per scene, whose keys are the scene configuration's own
+//! (`app::layers` reads a table into its configuration).
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-use serde::{Deserialize, Serialize};
-
-use crate::cli::{HairArgs, PendulumArgs, RopeArgs};
 use crate::error::Error;
 
-/// A scene file: a table per scene, each optional.
-#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
+/// A scene file: a table per scene, each optional, in the order they were read or set.
+#[derive(Clone, Debug, Default)]
 pub struct SceneFile {
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub pendulum: Option<PendulumArgs>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub rope: Option<RopeArgs>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub hair: Option<HairArgs>,
+    /// Where it was read from, and its text (for the lines errors name).
+    source: Option<(PathBuf, String)>,
+    tables: Vec<(String, toml::Table)>,
 }
 
 impl SceneFile {
-    /// Reads and parses `path`. Errors name the file, and the line and key at fault.
-    pub fn load(path: &Path) -> Result<Self, Error> {
+    /// Reads and parses `path`, whose tables must be among `scenes`. Errors name the file, and
+    /// the line and key at fault.
+    pub fn load(path: &Path, scenes: &[&str]) -> Result<Self, Error> {
         let text = read_capped(path)?;
         let text = String::from_utf8(text).map_err(|_| {
             Error::Usage(format!(
@@ -31,33 +26,99 @@ impl SceneFile {
         })?;
         if text.trim().is_empty() {
             return Err(Error::Usage(format!(
-                "--config {}: the file is empty; expected tables [pendulum], [rope] and/or [hair]",
-                path.display()
+                "--config {}: the file is empty; expected tables {}",
+                path.display(),
+                listed(scenes)
             )));
         }
-        Self::parse(&text).map_err(|e| Error::Usage(format!("--config {}: {e}", path.display())))
-    }
-
-    pub fn parse(text: &str) -> Result<Self, String> {
-        let file: SceneFile = toml::from_str(text).map_err(|e| {
-            // serde loses the place of a key of a flattened flag group (the error then points
-            // at its table's header) and reads a date as a map: see `refused_value`.
-            let placed = e
-                .span()
-                .map(|span| text[..span.start].matches('\n').count() + 1);
-            match refused_value(text) {
-                Some(refused) if refused.date || refused.line != placed => refused.message,
-                _ => e.to_string().trim_end().replace('\n', "\n  "),
-            }
-        })?;
-        check_keys(text)?;
-        check_method_lists(text)?;
+        let mut file = Self::parse(&text, scenes)
+            .map_err(|e| Error::Usage(format!("--config {}: {e}", path.display())))?;
+        file.source = Some((path.to_path_buf(), text));
         Ok(file)
     }
 
-    pub fn to_toml(&self) -> anyhow::Result<String> {
-        Ok(toml::to_string(self)?)
+    /// The tables of `text`, each one of `scenes`.
+    pub fn parse(text: &str, scenes: &[&str]) -> Result<Self, String> {
+        let file: toml::Table =
+            toml::from_str(text).map_err(|e| e.to_string().trim_end().replace('\n', "\n  "))?;
+        let mut tables = Vec::new();
+        for (name, value) in file {
+            match value {
+                toml::Value::Table(table) if scenes.contains(&name.as_str()) => {
+                    tables.push((name, table))
+                }
+                _ => {
+                    let line =
+                        line_of_table(text, &name).map_or(String::new(), |l| format!("line {l}: "));
+                    return Err(format!(
+                        "{line}`{name}` is not a scene table; expected {}",
+                        listed(scenes)
+                    ));
+                }
+            }
+        }
+        check_method_lists(text)?;
+        Ok(SceneFile {
+            source: None,
+            tables,
+        })
     }
+
+    /// Its table for `scene`, if it has one.
+    pub fn table(&self, scene: &str) -> Option<&toml::Table> {
+        self.tables.iter().find(|t| t.0 == scene).map(|t| &t.1)
+    }
+
+    /// Sets `scene`'s table (after those already set).
+    pub fn set(&mut self, scene: &str, table: toml::Table) {
+        self.tables.retain(|t| t.0 != scene);
+        self.tables.push((scene.to_string(), table));
+    }
+
+    /// The file it was read from.
+    pub fn path(&self) -> Option<&Path> {
+        self.source.as_ref().map(|s| s.0.as_path())
+    }
+
+    /// The 1-based line where `key` is set inside `[scene]`, if it can be found.
+    pub fn line_of(&self, scene: &str, key: &str) -> Option<usize> {
+        line_of_key(&self.source.as_ref()?.1, scene, key)
+    }
+
+    /// As TOML, its tables in order.
+    pub fn to_toml(&self) -> anyhow::Result<String> {
+        let mut text = String::new();
+        for (name, table) in &self.tables {
+            if !text.is_empty() {
+                text.push('\n');
+            }
+            let one = toml::Table::from_iter([(name.clone(), toml::Value::Table(table.clone()))]);
+            text.push_str(&toml::to_string(&one)?);
+        }
+        Ok(text)
+    }
+}
+
+/// `[pendulum], [rope] or [hair]`.
+fn listed(scenes: &[&str]) -> String {
+    let named: Vec<String> = scenes.iter().map(|s| format!("[{s}]")).collect();
+    match named.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("{} or {last}", rest.join(", ")),
+        _ => named.join(""),
+    }
+}
+
+/// The 1-based line of `name`'s table header or key at the top.
+fn line_of_table(text: &str, name: &str) -> Option<usize> {
+    text.lines()
+        .position(|line| {
+            let line = line.trim();
+            line.trim_matches(|c| c == '[' || c == ']').trim() == name
+                || line
+                    .strip_prefix(name)
+                    .is_some_and(|rest| rest.trim_start().starts_with('='))
+        })
+        .map(|i| i + 1)
 }
 
 /// A scene file is a few tables of numbers: a larger file is not one (and a path to an endless
@@ -107,101 +168,6 @@ fn read_capped(path: &Path) -> Result<Vec<u8>, Error> {
         )));
     }
     Ok(bytes)
-}
-
-/// Refuses keys a scene's table does not know (the tables flatten shared flag groups, which
-/// serde cannot combine with `deny_unknown_fields`), naming the line, the key and the known ones.
-fn check_keys(text: &str) -> Result<(), String> {
-    let Ok(file) = toml::from_str::<toml::Table>(text) else {
-        return Ok(()); // already refused by the typed parse
-    };
-    let known = |defaults: Result<toml::Value, toml::ser::Error>, extra: &[&str]| -> Vec<String> {
-        let mut keys: Vec<String> = match defaults {
-            Ok(toml::Value::Table(t)) => t.keys().cloned().collect(),
-            _ => Vec::new(),
-        };
-        keys.extend(extra.iter().map(|k| k.to_string()));
-        keys
-    };
-    let scenes = [
-        (
-            "pendulum",
-            known(toml::Value::try_from(PendulumArgs::defaults()), &[]),
-        ),
-        (
-            "rope",
-            known(toml::Value::try_from(RopeArgs::defaults()), &["preset"]),
-        ),
-        (
-            "hair",
-            known(
-                toml::Value::try_from(HairArgs::defaults()),
-                &["dt", "log_strands", "stiffness"],
-            ),
-        ),
-    ];
-    for (scene, keys) in &scenes {
-        let Some(toml::Value::Table(table)) = file.get(*scene) else {
-            continue;
-        };
-        if let Some(unknown) = table.keys().find(|k| !keys.contains(k)) {
-            let line =
-                line_of_key(text, scene, unknown).map_or(String::new(), |l| format!("line {l}: "));
-            return Err(format!(
-                "{line}unknown key `{unknown}` in [{scene}]; expected one of {}",
-                keys.join(", ")
-            ));
-        }
-    }
-    Ok(())
-}
-
-/// A value its key does not take.
-struct Refused {
-    /// Names the line, the table, the key and the value, and why.
-    message: String,
-    line: Option<usize>,
-    date: bool,
-}
-
-/// The first value of a well-formed file that its key does not take, found by reading each key
-/// alone, so that the error is placed at the key's own line.
-fn refused_value(text: &str) -> Option<Refused> {
-    let file: toml::Table = toml::from_str(text).ok()?;
-    let alone = |scene: &str, key: &str, value: toml::Value| {
-        let table = toml::Table::from_iter([(key.to_string(), value)]);
-        let file = toml::Table::from_iter([(scene.to_string(), toml::Value::Table(table))]);
-        toml::Value::Table(file).try_into::<SceneFile>().err()
-    };
-    for (scene, table) in &file {
-        let toml::Value::Table(table) = table else {
-            continue;
-        };
-        for (key, value) in table {
-            let Some(error) = alone(scene, key, value.clone()) else {
-                continue;
-            };
-            let line = line_of_key(text, scene, key);
-            let at = line.map_or(String::new(), |l| format!("line {l}: "));
-            // A date reads as a map to serde; as text its error names the type the key takes.
-            let why = match value {
-                toml::Value::Datetime(date) => {
-                    let as_text = alone(scene, key, toml::Value::String(date.to_string()))
-                        .map_or(String::new(), |e| {
-                            format!(" (read as text: {})", e.message())
-                        });
-                    format!("a TOML date-time is not a value of {key}{as_text}")
-                }
-                _ => error.message().to_string(),
-            };
-            return Some(Refused {
-                message: format!("{at}[{scene}] {key} = {value}: {why}"),
-                line,
-                date: matches!(value, toml::Value::Datetime(_)),
-            });
-        }
-    }
-    None
 }
 
 /// Refuses an empty `methods` list in any table, as `--methods ""` is refused: a run of no

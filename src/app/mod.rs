@@ -9,6 +9,7 @@ mod compared;
 mod diff;
 mod file;
 mod inspect;
+mod layers;
 mod progress;
 mod reproduce;
 mod scenes;
@@ -19,7 +20,6 @@ use std::time::Instant;
 
 use crate::error::Error;
 pub use file::{MAX_SCENE_FILE_BYTES, SceneFile};
-pub use scenes::{hair_config, pendulum_config, rope_config};
 
 use crate::cli::{AllArgs, Cli, Command, RunArgs};
 use crate::record::scene::{Draw, SceneRecorder};
@@ -173,10 +173,7 @@ struct Resolved {
 
 /// Layers each planned scene's flags over the scene file over its defaults and validates it.
 fn resolve(plan: Plan, run: &RunArgs) -> anyhow::Result<Resolved> {
-    let file = match &run.config {
-        Some(path) => SceneFile::load(path)?,
-        None => SceneFile::default(),
-    };
+    let file = load_scene_file(run.config.as_deref())?;
     let single = plan.len() == 1;
     let mut resolved = Resolved {
         scenes: Vec::new(),
@@ -185,7 +182,7 @@ fn resolve(plan: Plan, run: &RunArgs) -> anyhow::Result<Resolved> {
     for flags in plan {
         let name = flags.kind().name();
         if let Some(path) = &run.config
-            && !flags.kind().has_table(&file)
+            && file.table(name).is_none()
         {
             if single {
                 return Err(Error::Usage(format!(
@@ -200,26 +197,28 @@ fn resolve(plan: Plan, run: &RunArgs) -> anyhow::Result<Resolved> {
             );
         }
         let scene = flags.resolve(&file, run)?;
-        scene.effective(&mut resolved.file);
+        scene.effective(&mut resolved.file)?;
         resolved.scenes.push(scene);
     }
     Ok(resolved)
 }
 
-/// A scene file's values checked on their own, so that an error names the file, the table and
-/// the key (`nodes = 1` in [rope]) rather than a flag the user never typed.
-fn in_file<T>(run: &RunArgs, table: &str, checked: Result<T, Error>) -> Result<(), Error> {
-    match (&run.config, checked) {
-        (Some(path), Err(Error::Usage(message))) => {
-            // Messages start with the flag and its value: "--nodes 1: must be ...".
-            let (flag, rest) = message.split_once(' ').unwrap_or((&message, ""));
-            let key = flag.trim_start_matches("--").replace('-', "_");
-            Err(Error::Usage(format!(
-                "--config {}: [{table}] {key} = {rest}",
-                path.display()
-            )))
+/// A scene's configuration from its flags alone (over its defaults), settled and validated.
+pub fn config_from_flags<C: crate::scene::params::SceneConfig>(
+    flags: &(impl clap::Args + serde::Serialize),
+    scene: &'static str,
+) -> Result<C, Error> {
+    scenes::given(flags, scene, &SceneFile::default())?.resolve()
+}
+
+/// The scene file `--config` names (an empty one without it), its tables among the scenes'.
+fn load_scene_file(path: Option<&std::path::Path>) -> Result<SceneFile, Error> {
+    match path {
+        Some(path) => {
+            let names: Vec<&str> = SCENES.iter().map(|s| s.name()).collect();
+            SceneFile::load(path, &names)
         }
-        _ => Ok(()),
+        None => Ok(SceneFile::default()),
     }
 }
 
@@ -232,21 +231,8 @@ fn simulate(plan: Plan, run: &RunArgs, output: &Output, replay: &Replay) -> anyh
         Output::Record => None,
         Output::Hair { threads } => *threads,
     };
-    let log_strands = resolved.file.hair.as_ref().and_then(|h| h.log_strands);
     if let Some(n) = threads {
         crate::scene::params::threads(n)?;
-    }
-    if log_strands == Some(0) {
-        return Err(Error::Usage(
-            "--log-strands 0: must be at least 1 (--no-record draws nothing at all)".into(),
-        )
-        .into());
-    }
-    if no_record && log_strands.is_some() {
-        return Err(Error::Usage(
-            "--no-record with --log-strands: --no-record draws nothing".into(),
-        )
-        .into());
     }
     refuse_contradictions(run, no_record)?;
     if run.print_config {
@@ -314,7 +300,6 @@ fn simulate(plan: Plan, run: &RunArgs, output: &Output, replay: &Replay) -> anyh
         quiet: run.quiet,
         progress: &mut progress,
         pool: &pool,
-        log_strands,
         stop_after: None,
     };
     // Scenes run one after another; after an interruption the remaining ones are skipped.

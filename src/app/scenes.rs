@@ -3,8 +3,9 @@
 //! and laid out, and how it runs and reports. Everything that lists scenes iterates over
 //! [`SCENES`]; a new scene is one entry here.
 
+use super::layers::{Given, table_of};
 use super::progress::Progress;
-use super::{Ran, SceneFile, in_file, run_scene};
+use super::{Ran, SceneFile, run_scene};
 use crate::cli::{HairArgs, PendulumArgs, RopeArgs, RunArgs, StepFlags};
 use crate::error::Error;
 use crate::integrate::{EvalsPerStep, Method};
@@ -24,8 +25,6 @@ pub trait SceneKind: Sync {
     /// The recording's application id when it runs alone (the viewer keys layouts by it).
     fn application_id(&self) -> &'static str;
     fn views(&self) -> &'static SceneViews;
-    /// Whether `file` has a table for this scene.
-    fn has_table(&self, file: &SceneFile) -> bool;
     /// Its flags as `physlab all` sets them (none given: what `reproduce` runs under the
     /// recorded scene file).
     fn flags(&self, all: &AllFlags) -> Box<dyn Flags>;
@@ -75,7 +74,7 @@ pub trait Resolved: Send {
     /// Its methods' names, in the order they are shown.
     fn methods(&self) -> Vec<&'static str>;
     /// Sets its table in `file` to every effective value: the scene file that runs it again.
-    fn effective(&self, file: &mut SceneFile);
+    fn effective(&self, file: &mut SceneFile) -> Result<(), Error>;
     /// The memory its state takes [B] (0 when small by construction).
     fn memory_bytes(&self) -> f64 {
         0.0
@@ -95,8 +94,6 @@ pub struct RunContext<'a> {
     pub progress: &'a mut Progress,
     /// The worker threads (--threads) hair spreads its strands over.
     pub pool: &'a rayon::ThreadPool,
-    /// --log-strands: the hair strands drawn in 3D.
-    pub log_strands: Option<usize>,
     /// A replayed interruption: stop at the first block boundary past this tick.
     pub stop_after: Option<u64>,
 }
@@ -114,9 +111,6 @@ impl SceneKind for Pendulum {
     }
     fn views(&self) -> &'static SceneViews {
         &record::pendulum::VIEWS
-    }
-    fn has_table(&self, file: &SceneFile) -> bool {
-        file.pendulum.is_some()
     }
     fn flags(&self, all: &AllFlags) -> Box<dyn Flags> {
         Box::new(PendulumArgs {
@@ -136,9 +130,6 @@ impl SceneKind for Rope {
     fn views(&self) -> &'static SceneViews {
         &record::rope::VIEWS
     }
-    fn has_table(&self, file: &SceneFile) -> bool {
-        file.rope.is_some()
-    }
     fn flags(&self, all: &AllFlags) -> Box<dyn Flags> {
         Box::new(RopeArgs {
             step: all.step(),
@@ -156,9 +147,6 @@ impl SceneKind for Hair {
     }
     fn views(&self) -> &'static SceneViews {
         &record::hair::VIEWS
-    }
-    fn has_table(&self, file: &SceneFile) -> bool {
-        file.hair.is_some()
     }
     fn flags(&self, all: &AllFlags) -> Box<dyn Flags> {
         Box::new(HairArgs {
@@ -178,17 +166,15 @@ impl Flags for PendulumArgs {
         file: &SceneFile,
         run: &RunArgs,
     ) -> Result<Box<dyn Resolved>, Error> {
-        let from_file = file.pendulum.clone().unwrap_or_default();
-        in_file(run, "pendulum", pendulum_config(&from_file))?;
-        let given = self.step.method_flags();
         refuse_drawing_flags(run, &self.step.drawing_flags())?;
-        let args = self.over(from_file);
-        let config = pendulum_config(&args)?;
-        refuse_unread(&given, &config.methods, &Method::ALL, Method::name)?;
-        Ok(Box::new(Ready {
-            config,
-            effective: args.over(PendulumArgs::defaults()),
-        }))
+        let config: PendulumConfig = given(&*self, "pendulum", file)?.resolve()?;
+        refuse_unread(
+            &self.step.method_flags(),
+            &config.methods,
+            &Method::ALL,
+            Method::name,
+        )?;
+        Ok(Box::new(Ready(config)))
     }
 }
 
@@ -201,22 +187,16 @@ impl Flags for RopeArgs {
         file: &SceneFile,
         run: &RunArgs,
     ) -> Result<Box<dyn Resolved>, Error> {
-        let from_file = file.rope.clone().unwrap_or_default();
-        in_file(run, "rope", rope_config(&from_file))?;
-        let mut given = self.step.method_flags();
-        given.push(MethodFlag {
+        refuse_drawing_flags(run, &self.step.drawing_flags())?;
+        let config: RopeConfig = given(&*self, "rope", file)?.resolve()?;
+        let mut flags = self.step.method_flags();
+        flags.push(MethodFlag {
             flag: "--newton-iterations",
             given: self.newton_iterations.is_some(),
             reads: |m| m.info().implicit,
         });
-        refuse_drawing_flags(run, &self.step.drawing_flags())?;
-        let args = self.over(from_file);
-        let config = rope_config(&args)?;
-        refuse_unread(&given, &config.methods, &Method::ALL, Method::name)?;
-        Ok(Box::new(Ready {
-            config,
-            effective: args.effective(),
-        }))
+        refuse_unread(&flags, &config.methods, &Method::ALL, Method::name)?;
+        Ok(Box::new(Ready(config)))
     }
 }
 
@@ -229,20 +209,39 @@ impl Flags for HairArgs {
         file: &SceneFile,
         run: &RunArgs,
     ) -> Result<Box<dyn Resolved>, Error> {
-        let from_file = file.hair.clone().unwrap_or_default();
-        in_file(run, "hair", hair_config(&from_file))?;
-        let given = self.method_flags();
         refuse_drawing_flags(run, &[("--fps", self.fps.is_some())])?;
-        let args = self.over(from_file);
-        let config = hair_config(&args)?;
-        refuse_unread(&given, &config.methods, &HairMethod::ALL, HairMethod::name)?;
-        // The file states the substeps --dt resolved to, so that it says one consistent thing.
-        let effective = HairArgs {
-            substeps: Some(config.substeps),
-            ..args.over(HairArgs::defaults())
-        };
-        Ok(Box::new(Ready { config, effective }))
+        let config: HairConfig = given(&*self, "hair", file)?.resolve()?;
+        if run.no_record && config.log_strands.is_some() {
+            return Err(Error::Usage(
+                "--no-record with --log-strands: --no-record draws nothing".into(),
+            ));
+        }
+        refuse_unread(
+            &self.method_flags(),
+            &config.methods,
+            &HairMethod::ALL,
+            HairMethod::name,
+        )?;
+        Ok(Box::new(Ready(config)))
     }
+}
+
+/// What a scene's flags, the scene file and the scene's defaults give.
+pub fn given<'a, A: clap::Args + serde::Serialize>(
+    flags: &A,
+    scene: &'static str,
+    file: &'a SceneFile,
+) -> Result<Given<'a>, Error> {
+    Ok(Given {
+        scene,
+        defaults: toml::Table::new(),
+        file,
+        flags: table_of(flags)?,
+        keys: A::augment_args(clap::Command::new(scene))
+            .get_arguments()
+            .map(|a| a.get_id().to_string())
+            .collect(),
+    })
 }
 
 /// A flag that only some methods read.
@@ -348,54 +347,28 @@ impl HairArgs {
     }
 }
 
-/// The pendulum's parameters (missing ones at their defaults), validated.
-pub fn pendulum_config(args: &PendulumArgs) -> Result<PendulumConfig, Error> {
-    let config = args.config();
-    config.validate()?;
-    Ok(config)
-}
+/// A scene's validated configuration, ready to run.
+struct Ready<C>(C);
 
-/// The rope's parameters (missing ones from the preset, if any, or the defaults), validated.
-pub fn rope_config(args: &RopeArgs) -> Result<RopeConfig, Error> {
-    let config = args.clone().effective().config();
-    config.validate()?;
-    Ok(config)
-}
-
-/// The hair's parameters (missing ones at their defaults), validated.
-pub fn hair_config(args: &HairArgs) -> Result<HairConfig, Error> {
-    let mut config = args.config();
-    if let Some(dt) = args.dt {
-        config.substeps = crate::scene::hair::run::substeps_for_dt(config.rate, dt, args.substeps)?;
-    }
-    config.validate()?;
-    Ok(config)
-}
-
-/// A scene's validated configuration and the scene-file table that says it in full.
-struct Ready<C, A> {
-    config: C,
-    effective: A,
-}
-
-impl Resolved for Ready<PendulumConfig, PendulumArgs> {
+impl Resolved for Ready<PendulumConfig> {
     fn kind(&self) -> &'static dyn SceneKind {
         &Pendulum
     }
     fn framing(&self) -> Framing {
-        record::pendulum::framing(&self.config)
+        record::pendulum::framing(&self.0)
     }
     fn fps(&self) -> f64 {
-        self.config.fps
+        self.0.fps
     }
     fn methods(&self) -> Vec<&'static str> {
-        self.config.methods.iter().map(|m| m.name()).collect()
+        self.0.methods.iter().map(|m| m.name()).collect()
     }
-    fn effective(&self, file: &mut SceneFile) {
-        file.pendulum = Some(self.effective.clone());
+    fn effective(&self, file: &mut SceneFile) -> Result<(), Error> {
+        file.set(self.kind().name(), table_of(&self.0)?);
+        Ok(())
     }
     fn run(self: Box<Self>, ctx: &mut RunContext) -> anyhow::Result<Ran> {
-        let reference_steps = self.config.reference_steps();
+        let reference_steps = self.0.reference_steps();
         if reference_steps > 3e7 && !ctx.quiet {
             // Allowed, but not instant: say what the time goes to (~0.1 µs per RK4 step).
             eprintln!(
@@ -408,7 +381,7 @@ impl Resolved for Ready<PendulumConfig, PendulumArgs> {
             .clone()
             .map(|s| record::pendulum::recorder(s, ctx.timings).with_frame_rate(ctx.frame_rate));
         run_scene(
-            PendulumScene::new(self.config),
+            PendulumScene::new(self.0),
             recorder,
             report::pendulum::summary_text,
             ctx.progress,
@@ -417,24 +390,25 @@ impl Resolved for Ready<PendulumConfig, PendulumArgs> {
     }
 }
 
-impl Resolved for Ready<RopeConfig, RopeArgs> {
+impl Resolved for Ready<RopeConfig> {
     fn memory_bytes(&self) -> f64 {
-        self.config.memory_bytes()
+        self.0.memory_bytes()
     }
     fn kind(&self) -> &'static dyn SceneKind {
         &Rope
     }
     fn framing(&self) -> Framing {
-        record::rope::framing(&self.config)
+        record::rope::framing(&self.0)
     }
     fn fps(&self) -> f64 {
-        self.config.fps
+        self.0.fps
     }
     fn methods(&self) -> Vec<&'static str> {
-        self.config.methods.iter().map(|m| m.name()).collect()
+        self.0.methods.iter().map(|m| m.name()).collect()
     }
-    fn effective(&self, file: &mut SceneFile) {
-        file.rope = Some(self.effective.clone());
+    fn effective(&self, file: &mut SceneFile) -> Result<(), Error> {
+        file.set(self.kind().name(), table_of(&self.0)?);
+        Ok(())
     }
     fn run(self: Box<Self>, ctx: &mut RunContext) -> anyhow::Result<Ran> {
         let recorder = ctx
@@ -442,7 +416,7 @@ impl Resolved for Ready<RopeConfig, RopeArgs> {
             .clone()
             .map(|s| record::rope::recorder(s, ctx.timings).with_frame_rate(ctx.frame_rate));
         run_scene(
-            RopeScene::new(self.config),
+            RopeScene::new(self.0),
             recorder,
             report::rope::summary_text,
             ctx.progress,
@@ -451,28 +425,29 @@ impl Resolved for Ready<RopeConfig, RopeArgs> {
     }
 }
 
-impl Resolved for Ready<HairConfig, HairArgs> {
+impl Resolved for Ready<HairConfig> {
     fn memory_bytes(&self) -> f64 {
-        self.config.memory_bytes()
+        self.0.memory_bytes()
     }
     fn kind(&self) -> &'static dyn SceneKind {
         &Hair
     }
     fn framing(&self) -> Framing {
-        record::hair::framing(&self.config)
+        record::hair::framing(&self.0)
     }
     fn fps(&self) -> f64 {
-        self.config.fps
+        self.0.fps
     }
     fn methods(&self) -> Vec<&'static str> {
-        self.config.methods.iter().map(|m| m.name()).collect()
+        self.0.methods.iter().map(|m| m.name()).collect()
     }
-    fn effective(&self, file: &mut SceneFile) {
-        file.hair = Some(self.effective.clone());
+    fn effective(&self, file: &mut SceneFile) -> Result<(), Error> {
+        file.set(self.kind().name(), table_of(&self.0)?);
+        Ok(())
     }
     fn run(self: Box<Self>, ctx: &mut RunContext) -> anyhow::Result<Ran> {
         // Said before anything is written: how many strands are drawn, and the expected size.
-        let plan = record::hair::strand_plan(&self.config, ctx.log_strands);
+        let plan = record::hair::strand_plan(&self.0, self.0.log_strands);
         let recording = ctx.stream.is_some();
         if recording && !ctx.quiet {
             eprintln!(
@@ -483,9 +458,10 @@ impl Resolved for Ready<HairConfig, HairArgs> {
             );
         }
         let recorder = ctx.stream.clone().map(|s| {
-            record::hair::recorder(s, ctx.timings, ctx.log_strands).with_frame_rate(ctx.frame_rate)
+            record::hair::recorder(s, ctx.timings, self.0.log_strands)
+                .with_frame_rate(ctx.frame_rate)
         });
-        let (config, progress, stop_after) = (self.config, &mut *ctx.progress, ctx.stop_after);
+        let (config, progress, stop_after) = (self.0, &mut *ctx.progress, ctx.stop_after);
         // Hair spreads its strands over the pool (--threads); the results do not depend on it.
         let mut ran = ctx.pool.install(|| {
             run_scene(
@@ -507,5 +483,37 @@ impl Resolved for Ready<HairConfig, HairArgs> {
             ctx.pool.current_num_threads()
         );
         Ok(ran)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::params::SceneConfig;
+
+    /// The flags and the configuration name the same parameters: every key the configuration
+    /// writes is a flag, and every flag is such a key or one of the `optional` ones a
+    /// configuration writes only when given.
+    fn same_parameters<A, C>(scene: &'static str, optional: &[&str])
+    where
+        A: clap::Args + Default + serde::Serialize,
+        C: SceneConfig,
+    {
+        let flags = given(&A::default(), scene, &SceneFile::default())
+            .unwrap()
+            .keys;
+        let mut keys: Vec<String> = table_of(&C::default()).unwrap().keys().cloned().collect();
+        keys.extend(optional.iter().map(|k| k.to_string()));
+        let (mut flags, mut keys) = (flags, keys);
+        flags.sort();
+        keys.sort();
+        assert_eq!(flags, keys, "{scene}");
+    }
+
+    #[test]
+    fn every_flag_is_a_key_of_its_scenes_configuration_and_back() {
+        same_parameters::<PendulumArgs, PendulumConfig>("pendulum", &[]);
+        same_parameters::<RopeArgs, RopeConfig>("rope", &["preset"]);
+        same_parameters::<HairArgs, HairConfig>("hair", &["stiffness", "dt", "log_strands"]);
     }
 }

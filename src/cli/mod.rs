@@ -10,13 +10,13 @@ use std::path::PathBuf;
 use clap::{Args, CommandFactory as _, Parser, Subcommand};
 use serde::Serialize;
 
-pub use scenes::{
-    HairArgs, PendulumArgs, PendulumStart, RopeArgs, RopeBody, RopePreset, StepFlags,
-    games101_preset,
-};
+pub use scenes::{HairArgs, PendulumArgs, PendulumStart, RopeArgs, RopeBody, StepFlags};
 pub use vector::{Magnitude, Vector};
 
 use crate::integrate::Method;
+use crate::scene::hair::run::HairConfig;
+use crate::scene::pendulum::run::PendulumConfig;
+use crate::scene::rope::run::RopeConfig;
 
 #[derive(Parser, Debug)]
 #[command(
@@ -286,12 +286,12 @@ pub struct StudyArgs {
 pub fn command() -> clap::Command {
     Cli::command()
         .mut_subcommand("pendulum", |c| {
-            with_defaults(with_method_names(c), &PendulumArgs::defaults())
+            with_defaults(with_method_names(c), &PendulumConfig::default())
         })
         .mut_subcommand("rope", |c| {
-            with_defaults(with_method_names(c), &RopeArgs::defaults())
+            with_defaults(with_method_names(c), &RopeConfig::default())
         })
-        .mut_subcommand("hair", |c| with_defaults(c, &HairArgs::defaults()))
+        .mut_subcommand("hair", |c| with_defaults(c, &HairConfig::default()))
         .mut_subcommand("study", |c| {
             with_shown_defaults(with_method_names(c), &study_defaults())
         })
@@ -386,9 +386,8 @@ fn study_defaults() -> Vec<(String, String)> {
         study::default_schedule(&pendulum),
         study::default_schedule(&rope),
     );
-    let scene = |args: &PendulumArgs| toml::Value::try_from(args).ok();
-    let pendulum_file = scene(&PendulumArgs::defaults());
-    let rope_file = toml::Value::try_from(RopeArgs::defaults()).ok();
+    let pendulum_file = toml::Value::try_from(PendulumConfig::default()).ok();
+    let rope_file = toml::Value::try_from(RopeConfig::default()).ok();
     let value = |file: &Option<toml::Value>, key: &str| {
         file.as_ref()
             .and_then(|f| f.get(key))

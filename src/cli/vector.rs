@@ -4,7 +4,7 @@ use std::fmt;
 use std::str::FromStr;
 
 use glam::DVec3;
-use serde::{Deserialize, Deserializer, Serialize, Serializer};
+use serde::{Serialize, Serializer};
 
 /// A 3-vector given as "x,y,z" on the command line and as [x, y, z] in a scene file, z up in
 /// every scene. All three components are required: a two-component "x,y" was the rope's y-up
@@ -52,14 +52,6 @@ impl Serialize for Vector {
     }
 }
 
-impl<'de> Deserialize<'de> for Vector {
-    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        let c = Vec::<f64>::deserialize(d)?;
-        Vector::from_components(&c)
-            .ok_or_else(|| serde::de::Error::custom("expected [x, y, z] with finite numbers, z up"))
-    }
-}
-
 /// The pendulum's gravity: the magnitude g, given as a number (9.81) or as the vector the rope
 /// and hair take (0,0,-9.81 or [0, 0, -9.81] in a scene file), whose length is used. A plane
 /// pendulum swings about its pivot in the plane of gravity, so only |g| changes its motion; its
@@ -86,22 +78,5 @@ impl FromStr for Magnitude {
 impl Serialize for Magnitude {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         self.0.serialize(s)
-    }
-}
-
-impl<'de> Deserialize<'de> for Magnitude {
-    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        #[derive(Deserialize)]
-        #[serde(untagged)]
-        enum Given {
-            Scalar(f64),
-            Vector(Vector),
-        }
-        match Given::deserialize(d)
-            .map_err(|_| serde::de::Error::custom("expected g or [x, y, z] with finite numbers"))?
-        {
-            Given::Scalar(g) => Ok(Magnitude(g)),
-            Given::Vector(v) => Ok(Magnitude(v.0.length())),
-        }
     }
 }

@@ -55,7 +55,8 @@ pub trait SecondOrderSystem {
 }
 
 /// Per-method tuning that is not part of the scene.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
 pub struct MethodOptions {
     /// Verlet's damping factor d in `x1 = x0 + (1-d)(x0 - x_-1) + a dt²`; 0 = undamped.
     pub verlet_damping: f64,
@@ -63,7 +64,8 @@ pub struct MethodOptions {
     /// state's units).
     pub rtol: f64,
     /// The adaptive methods' largest step [s] (default ∞). With a huge rtol and `max_step` = dt it steps at
-    /// exactly dt, which is how its fixed-step order is measured.
+    /// exactly dt, which is how its fixed-step order is measured. Not a scene parameter.
+    #[serde(skip)]
     pub max_step: f64,
 }
 

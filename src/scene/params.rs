@@ -14,10 +14,11 @@ pub fn finite(option: &str, value: f64, unit: &str) -> Result<(), Invalid> {
     if value.is_finite() {
         Ok(())
     } else {
-        Err(Invalid::Usage(format!(
-            "{option} {}: must be a finite number [{unit}]",
-            shown(value)
-        )))
+        Err(Invalid::param(
+            option,
+            shown(value),
+            format!("must be a finite number [{unit}]"),
+        ))
     }
 }
 
@@ -25,10 +26,11 @@ pub fn positive(option: &str, value: f64, unit: &str) -> Result<(), Invalid> {
     if value.is_finite() && value > 0.0 {
         Ok(())
     } else {
-        Err(Invalid::Usage(format!(
-            "{option} {}: must be a finite number > 0 [{unit}]",
-            shown(value)
-        )))
+        Err(Invalid::param(
+            option,
+            shown(value),
+            format!("must be a finite number > 0 [{unit}]"),
+        ))
     }
 }
 
@@ -37,12 +39,11 @@ pub fn within(option: &str, value: f64, lo: f64, hi: f64, unit: &str) -> Result<
     if value.is_finite() && (lo..=hi).contains(&value) {
         Ok(())
     } else {
-        Err(Invalid::Usage(format!(
-            "{option} {}: must be between {} and {} [{unit}]",
+        Err(Invalid::param(
+            option,
             shown(value),
-            bound(lo),
-            bound(hi)
-        )))
+            format!("must be between {} and {} [{unit}]", bound(lo), bound(hi)),
+        ))
     }
 }
 
@@ -73,16 +74,17 @@ pub fn non_negative(option: &str, value: f64, unit: &str) -> Result<(), Invalid>
     if value.is_finite() && value >= 0.0 {
         Ok(())
     } else {
-        Err(Invalid::Usage(format!(
-            "{option} {}: must be a finite number ≥ 0 [{unit}]",
-            shown(value)
-        )))
+        Err(Invalid::param(
+            option,
+            shown(value),
+            format!("must be a finite number ≥ 0 [{unit}]"),
+        ))
     }
 }
 
 pub fn at_least_one(option: &str, value: u64) -> Result<(), Invalid> {
     if value == 0 {
-        Err(Invalid::Usage(format!("{option} 0: must be at least 1")))
+        Err(Invalid::param(option, 0, "must be at least 1"))
     } else {
         Ok(())
     }
@@ -93,9 +95,11 @@ pub fn count_within(option: &str, value: u64, lo: u64, hi: u64) -> Result<(), In
     if (lo..=hi).contains(&value) {
         Ok(())
     } else {
-        Err(Invalid::Usage(format!(
-            "{option} {value}: must be between {lo} and {hi}"
-        )))
+        Err(Invalid::param(
+            option,
+            value,
+            format!("must be between {lo} and {hi}"),
+        ))
     }
 }
 
@@ -103,10 +107,11 @@ pub fn rtol(rtol: f64) -> Result<(), Invalid> {
     if rtol.is_finite() && (1e-14..=0.1).contains(&rtol) {
         Ok(())
     } else {
-        Err(Invalid::Usage(format!(
-            "--rtol {}: must be between 1e-14 and 0.1",
-            shown(rtol)
-        )))
+        Err(Invalid::param(
+            "--rtol",
+            shown(rtol),
+            "must be between 1e-14 and 0.1",
+        ))
     }
 }
 
@@ -114,10 +119,11 @@ pub fn verlet_damping(d: f64) -> Result<(), Invalid> {
     if d.is_finite() && (0.0..1.0).contains(&d) {
         Ok(())
     } else {
-        Err(Invalid::Usage(format!(
-            "--verlet-damping {}: must be in [0, 1)",
-            shown(d)
-        )))
+        Err(Invalid::param(
+            "--verlet-damping",
+            shown(d),
+            "must be in [0, 1)",
+        ))
     }
 }
 
@@ -128,9 +134,11 @@ pub fn time(dt: f64, duration: f64, fps: f64, work_per_step: usize) -> Result<()
     positive("--duration", duration, "s")?;
     positive("--fps", fps, "Hz")?;
     if dt > duration {
-        return Err(Invalid::Usage(format!(
-            "--dt {dt}: must not exceed --duration {duration} s"
-        )));
+        return Err(Invalid::param(
+            "--dt",
+            dt,
+            format!("must not exceed --duration {duration} s"),
+        ));
     }
     let steps = duration / dt;
     if steps > MAX_STEPS {
@@ -211,10 +219,74 @@ pub fn threads(n: usize) -> Result<(), Invalid> {
 /// At least one method to run; `names` lists those allowed.
 pub fn some_methods<M>(methods: &[M], names: &str) -> Result<(), Invalid> {
     if methods.is_empty() {
-        Err(Invalid::Usage(format!(
-            "--methods []: must name at least one method (any of: {names})"
-        )))
+        Err(Invalid::param(
+            "--methods",
+            "[]",
+            format!("must name at least one method (any of: {names})"),
+        ))
     } else {
         Ok(())
     }
+}
+
+/// How a configuration reads and writes its settings (the scene file's schema is the
+/// configuration itself): a vector is `[x, y, z]` of finite numbers.
+pub mod vec3 {
+    use glam::DVec3;
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    pub fn serialize<S: Serializer>(v: &DVec3, s: S) -> Result<S::Ok, S::Error> {
+        v.to_array().serialize(s)
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<DVec3, D::Error> {
+        match Vec::<f64>::deserialize(d)?[..] {
+            [x, y, z] if x.is_finite() && y.is_finite() && z.is_finite() => Ok(DVec3::new(x, y, z)),
+            _ => Err(serde::de::Error::custom(
+                "expected [x, y, z] with finite numbers, z up",
+            )),
+        }
+    }
+}
+
+/// A magnitude written as a number or as a vector `[x, y, z]`, of which it is the length (the
+/// pendulum's gravity, which the other scenes take as a vector).
+pub mod magnitude {
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    pub fn serialize<S: Serializer>(x: &f64, s: S) -> Result<S::Ok, S::Error> {
+        x.serialize(s)
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+        #[derive(Deserialize)]
+        #[serde(untagged)]
+        enum Given {
+            Number(f64),
+            Vector(#[serde(with = "super::vec3")] glam::DVec3),
+        }
+        Given::deserialize(d)
+            .map(|g| match g {
+                Given::Number(x) => x,
+                Given::Vector(v) => v.length(),
+            })
+            .map_err(|_| serde::de::Error::custom("expected g or [x, y, z] with finite numbers"))
+    }
+}
+
+/// A scene's configuration as the scene file and the flags give it: its serialised form is its
+/// table in a scene file (every key a parameter, named as its flag), so values are layered as
+/// tables (defaults < preset < file < flags) and no list of fields is written anywhere else.
+pub trait SceneConfig: Clone + Default + serde::Serialize + serde::de::DeserializeOwned {
+    /// The configuration a preset it names starts from (the file and flags then override it).
+    fn preset_base(&self) -> Option<Self> {
+        None
+    }
+    /// Sets what follows from other values once every layer is read; `given` says whether a key
+    /// was given (by a preset, the file or a flag) rather than defaulted.
+    fn settle(&mut self, _given: &dyn Fn(&str) -> bool) -> Result<(), Invalid> {
+        Ok(())
+    }
+    /// Every value in range, or the first that is not, named by its flag.
+    fn validate(&self) -> Result<(), Invalid>;
 }

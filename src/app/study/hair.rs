@@ -1,5 +1,6 @@
 //! `physlab study hair`: the hair trade, stretch against cost per frame.
 
+use crate::scene::params::SceneConfig as _;
 use std::fmt::Write as _;
 
 use super::outputs::{check_outputs, report_recording};

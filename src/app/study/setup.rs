@@ -3,9 +3,14 @@
 
 use super::Error;
 use super::SceneFile;
-use crate::cli::{PendulumArgs, RopeArgs, RopeBody, StudyArgs, StudyKind, StudyScene};
+use crate::app::layers::table_of;
+use crate::app::load_scene_file;
+use crate::app::scenes::given;
+use crate::cli::{PendulumArgs, RopeArgs, StudyArgs, StudyKind, StudyScene};
 use crate::integrate::{Method, MethodOptions};
 use crate::scene::params::{MAX_NODE_STEPS, MAX_STEPS};
+use crate::scene::pendulum::run::PendulumConfig;
+use crate::scene::rope::run::RopeConfig;
 use crate::study::{Problem, Sweep};
 
 /// Steps a whole study may take (every method, level and repeat, and the reference): ten
@@ -38,10 +43,7 @@ pub(super) fn warn_if_long(node_steps: f64) {
 /// Also returns the study's scene as a scene file (its problem, dt, duration and methods), the
 /// provenance of its recording.
 pub(super) fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), Error> {
-    let file = match &a.config {
-        Some(path) => SceneFile::load(path)?,
-        None => SceneFile::default(),
-    };
+    let file = load_scene_file(a.config.as_deref())?;
     let stability_study = a.kind == StudyKind::Stability;
     let steps = a.steps.unwrap_or(crate::study::DEFAULT_STABILITY_STEPS);
     crate::study::validate_stability_steps(steps)?;
@@ -72,15 +74,43 @@ pub(super) fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), E
             "{flag} is a {scene} parameter; add --scene {scene}, or drop it"
         )));
     }
-    // The scene file's schedule and methods apply too: its dt is the coarsest step.
-    let (file_dt, file_duration, file_methods) = match scene {
-        StudyScene::Pendulum => file.pendulum.as_ref().map_or((None, None, None), |t| {
-            (t.step.dt, t.step.duration, t.step.methods.clone())
-        }),
-        StudyScene::Rope => file.rope.as_ref().map_or((None, None, None), |t| {
-            (t.step.dt, t.step.duration, t.step.methods.clone())
-        }),
+    // The scene's configuration: the study's flags over the scene file over the scene's
+    // defaults (the rope's replaced by the study's own, see above).
+    let mut effective = SceneFile::default();
+    let (problem, table) = match scene {
+        StudyScene::Pendulum => {
+            let mut layers = given(&PendulumArgs::default(), "pendulum", &file)?;
+            layers.flags = table_of(&a.pendulum)?;
+            let config: PendulumConfig = layers.resolve()?;
+            (Problem::Pendulum(config.params), table_of(&config)?)
+        }
+        StudyScene::Rope => {
+            let study = crate::study::study_rope(stability_study);
+            let mut layers = given(&RopeArgs::default(), "rope", &file)?;
+            layers.defaults = toml::Table::from_iter([
+                ("stiffness".to_string(), study.stiffness.into()),
+                ("spring_damping".to_string(), study.spring_damping.into()),
+                ("air_drag".to_string(), study.air_drag.into()),
+            ]);
+            layers.flags = table_of(&a.rope)?;
+            let config: RopeConfig = layers.resolve()?;
+            let table = table_of(&config)?;
+            (Problem::Rope(config.params), table)
+        }
     };
+    // The scene file's schedule and methods apply too: its dt is the coarsest step.
+    let scene_name = match scene {
+        StudyScene::Pendulum => "pendulum",
+        StudyScene::Rope => "rope",
+    };
+    let from_file = |key: &str| {
+        file.table(scene_name)
+            .is_some_and(|t| t.contains_key(key))
+            .then(|| table[key].clone())
+    };
+    let file_dt = from_file("dt").and_then(|v| v.as_float());
+    let file_duration = from_file("duration").and_then(|v| v.as_float());
+    let file_methods: Option<Vec<Method>> = from_file("methods").and_then(|v| v.try_into().ok());
     let methods = a
         .methods
         .clone()
@@ -119,39 +149,6 @@ pub(super) fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), E
                 .join(",")
         )));
     }
-    let mut effective = SceneFile::default();
-    let problem = match scene {
-        StudyScene::Pendulum => {
-            let flags = PendulumArgs {
-                initial: a.pendulum.clone(),
-                ..PendulumArgs::default()
-            };
-            let args = flags.over(file.pendulum.unwrap_or_default());
-            effective.pendulum = Some(args.clone().over(PendulumArgs::defaults()));
-            Problem::Pendulum(crate::app::pendulum_config(&args)?.params)
-        }
-        StudyScene::Rope => {
-            let study = crate::study::study_rope(stability_study);
-            let study_defaults = RopeArgs {
-                body: RopeBody {
-                    stiffness: Some(study.stiffness),
-                    spring_damping: Some(study.spring_damping),
-                    air_drag: Some(study.air_drag),
-                    ..RopeBody::default()
-                },
-                ..RopeArgs::default()
-            };
-            let flags = RopeArgs {
-                body: a.rope.clone(),
-                ..RopeArgs::default()
-            };
-            let args = flags
-                .over(file.rope.unwrap_or_default())
-                .over(study_defaults);
-            effective.rope = Some(args.clone().effective());
-            Problem::Rope(crate::app::rope_config(&args)?.params)
-        }
-    };
     let (default_dt, default_duration) = crate::study::default_schedule(&problem);
     let (dt0, duration) = (
         a.dt.or(file_dt).unwrap_or(default_dt),
@@ -232,14 +229,12 @@ pub(super) fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), E
     };
     warn_if_long(work);
     // The schedule and methods the sweep starts from, in the scene's table.
-    if let Some(t) = effective.pendulum.as_mut() {
-        let s = &mut t.step;
-        (s.dt, s.duration, s.methods) = (Some(dt0), Some(duration), Some(sweep.methods.clone()));
-    }
-    if let Some(t) = effective.rope.as_mut() {
-        let s = &mut t.step;
-        (s.dt, s.duration, s.methods) = (Some(dt0), Some(duration), Some(sweep.methods.clone()));
-    }
+    let mut table = table;
+    table.insert("dt".into(), dt0.into());
+    table.insert("duration".into(), duration.into());
+    let methods = toml::Value::try_from(&sweep.methods).map_err(|e| Error::Runtime(e.into()))?;
+    table.insert("methods".into(), methods);
+    effective.set(scene_name, table);
     Ok((problem, sweep, steps, effective))
 }
 

@@ -22,17 +22,21 @@ pub const SPRING_STIFFNESS_FLOOR: f64 = 4e8;
 /// winds stays below [`SPRING_STRETCH_BOUND`].
 pub const SPRING_WAVE_SPEEDS: f64 = 100.0;
 
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
 pub struct HairParams {
     pub head_radius: f64,
+    #[serde(rename = "head_motion")]
     pub motion: HeadMotion,
     pub strands: usize,
     /// Nodes per strand, the root included.
     pub nodes: usize,
     pub segment_length: f64,
     /// Gravitational acceleration [m/s²], z up.
+    #[serde(with = "crate::scene::params::vec3")]
     pub gravity: DVec3,
     /// Wind as an acceleration on every node [m/s²].
+    #[serde(with = "crate::scene::params::vec3")]
     pub wind: DVec3,
     /// Gust strength as a fraction of the wind (0 = steady).
     pub gust: f64,
@@ -44,7 +48,9 @@ pub struct HairParams {
     /// Newton steps (verlet with the direct solver) or Gauss–Seidel sweeps (verlet with
     /// gauss-seidel) per step; implicit-euler iterates to tolerance ([`IMPLICIT_NEWTON_CAP`]).
     pub iterations: u32,
-    /// Spring methods: stiffness per unit node mass k/m [1/s²] of every segment.
+    /// Spring methods: stiffness per unit node mass k/m [1/s²] of every segment (given as
+    /// `HairConfig::stiffness`, or following the scene).
+    #[serde(skip)]
     pub stiffness: f64,
     /// Spring methods: damping per unit node mass kd/m [1/s] on the relative velocity along
     /// every segment.
@@ -52,6 +58,7 @@ pub struct HairParams {
     /// Collision margin as a fraction of the head radius: nodes are pushed to R (1 + margin).
     pub margin: f64,
     /// Roots cover the cap of the head above this polar angle from the crown [rad].
+    #[serde(skip)]
     pub cap_angle: f64,
 }
 

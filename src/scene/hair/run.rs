@@ -15,9 +15,16 @@ use crate::scene::params::{self, Invalid};
 /// hair. The summary and the recording state it.
 pub const STRETCH_BOUND: f64 = 10.0;
 
-#[derive(Clone, Debug, PartialEq)]
+/// Everything a hair run needs; its serialised form is the scene file's `[hair]` table.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
 pub struct HairConfig {
+    #[serde(flatten)]
     pub params: HairParams,
+    /// The springs' stiffness k/m as given [1/s²]; when not given, `params.stiffness` follows
+    /// the scene (`HairParams::default_stiffness`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stiffness: Option<f64>,
     /// Simulation frames per simulated second (60 Hz: a display's frame rate).
     pub rate: f64,
     /// Steps per simulation frame.
@@ -26,17 +33,27 @@ pub struct HairConfig {
     pub fps: f64,
     pub duration: f64,
     pub methods: Vec<HairMethod>,
+    /// The step as given [s], which sets `substeps` to 1/(rate·dt).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dt: Option<f64>,
+    /// Strands drawn in 3D (what the recording draws, not what is simulated; sized to the run
+    /// when not given).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub log_strands: Option<usize>,
 }
 
 impl Default for HairConfig {
     fn default() -> Self {
         HairConfig {
             params: HairParams::default(),
+            stiffness: None,
             rate: 60.0,
             substeps: 1,
             fps: 30.0,
             duration: 8.0,
             methods: HairMethod::DEFAULT.to_vec(),
+            dt: None,
+            log_strands: None,
         }
     }
 }
@@ -47,9 +64,19 @@ pub const MAX_STIFFNESS: f64 = 1e12;
 /// Node-steps × (iterations + 1) per method beyond which a hair run is refused.
 pub const MAX_HAIR_WORK: f64 = 1e12;
 
-impl HairConfig {
-    /// Every value in range, or the first that is not, named by its flag.
-    pub fn validate(&self) -> Result<(), Invalid> {
+impl params::SceneConfig for HairConfig {
+    fn settle(&mut self, given: &dyn Fn(&str) -> bool) -> Result<(), Invalid> {
+        let p = &mut self.params;
+        p.stiffness = self.stiffness.unwrap_or_else(|| p.default_stiffness());
+        if let Some(dt) = self.dt {
+            let substeps = given("substeps").then_some(self.substeps);
+            self.substeps = substeps_for_dt(self.rate, dt, substeps)?;
+        }
+        self.methods = params::dedup_methods(&self.methods);
+        Ok(())
+    }
+
+    fn validate(&self) -> Result<(), Invalid> {
         let p = &self.params;
         let (strands, nodes, iterations, substeps) =
             (p.strands, p.nodes, p.iterations, self.substeps);
@@ -62,14 +89,18 @@ impl HairConfig {
                 .join(", "),
         )?;
         if !(1..=1_000_000).contains(&strands) {
-            return Err(Invalid::Usage(format!(
-                "--strands {strands}: must be between 1 and 1000000"
-            )));
+            return Err(Invalid::param(
+                "--strands",
+                strands,
+                "must be between 1 and 1000000",
+            ));
         }
         if !(2..=10_000).contains(&nodes) {
-            return Err(Invalid::Usage(format!(
-                "--nodes {nodes}: must be between 2 and 10000"
-            )));
+            return Err(Invalid::param(
+                "--nodes",
+                nodes,
+                "must be between 2 and 10000",
+            ));
         }
         // The same physical ranges as the pendulum's and the rope's magnitudes.
         let max = params::MAX_MAGNITUDE;
@@ -77,12 +108,16 @@ impl HairConfig {
         params::within("--head-radius", p.head_radius, 1.0 / max, max, "m")?;
         for (option, v) in [("--gravity", p.gravity), ("--wind", p.wind)] {
             if !(v.is_finite() && v.abs().max_element() <= max) {
-                return Err(Invalid::Usage(format!(
-                    "{option} {},{},{}: every component must be a finite number within ±{max:e} [m/s²]",
-                    params::shown(v.x),
-                    params::shown(v.y),
-                    params::shown(v.z)
-                )));
+                return Err(Invalid::param(
+                    option,
+                    format!(
+                        "{},{},{}",
+                        params::shown(v.x),
+                        params::shown(v.y),
+                        params::shown(v.z)
+                    ),
+                    format!("every component must be a finite number within ±{max:e} [m/s²]"),
+                ));
             }
         }
         params::non_negative("--gust", p.gust, "fraction")?;
@@ -97,10 +132,11 @@ impl HairConfig {
         }
         params::within("--damping", p.damping, 0.0, max, "1/s")?;
         if !(p.margin.is_finite() && (0.0..0.5).contains(&p.margin)) {
-            return Err(Invalid::Usage(format!(
-                "--margin {}: must be in [0, 0.5) head radii",
-                p.margin
-            )));
+            return Err(Invalid::param(
+                "--margin",
+                p.margin,
+                "must be in [0, 0.5) head radii",
+            ));
         }
         params::at_least_one("--iterations", iterations.into())?;
         // The default stiffness follows the other parameters: it is refused only when a spring
@@ -124,6 +160,13 @@ impl HairConfig {
         }
         params::within("--spring-damping", p.spring_damping, 0.0, max, "1/s")?;
         params::at_least_one("--substeps", substeps.into())?;
+        if self.log_strands == Some(0) {
+            return Err(Invalid::param(
+                "--log-strands",
+                0,
+                "must be at least 1 (--no-record draws nothing at all)",
+            ));
+        }
         params::positive("--rate", self.rate, "Hz")?;
         params::positive("--duration", self.duration, "s")?;
         let frames = self.duration * self.rate;
@@ -170,7 +213,9 @@ impl HairConfig {
             "use fewer --strands or --nodes",
         )
     }
+}
 
+impl HairConfig {
     /// The memory the run's state takes [B]: per node and method, position, previous position
     /// and velocity (3 × 24 B).
     pub fn memory_bytes(&self) -> f64 {
@@ -213,13 +258,16 @@ pub fn substeps_for_dt(rate: f64, dt: f64, substeps: Option<u32>) -> Result<u32,
         } else {
             format!("{} or {}", step(below), step(below + 1.0))
         };
-        return Err(Invalid::Usage(format!(
-            "--dt {}: a hair step is 1/(rate·substeps), and at --rate {} this is {} substeps per \
-             frame, not a whole number; nearest allowed: --dt {nearest}",
+        return Err(Invalid::param(
+            "--dt",
             params::shown(dt),
-            params::shown(rate),
-            params::shown(n)
-        )));
+            format!(
+                "a hair step is 1/(rate·substeps), and at --rate {} this is {} substeps per frame, \
+                 not a whole number; nearest allowed: --dt {nearest}",
+                params::shown(rate),
+                params::shown(n)
+            ),
+        ));
     }
     let whole = whole as u32;
     match substeps {

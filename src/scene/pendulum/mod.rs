@@ -15,18 +15,22 @@ pub const NEWTON_TOL: f64 = 1e-12;
 pub const NEWTON_MAX_ITERATIONS: u32 = 50;
 
 /// Physical parameters of the pendulum and its initial state.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
 pub struct PendulumParams {
     /// g [m/s²]
+    #[serde(with = "crate::scene::params::magnitude")]
     pub gravity: f64,
     /// L [m]
     pub length: f64,
-    /// θ(0) [rad], measured from straight down
+    /// θ(0) [rad], measured from straight down (given in degrees: `PendulumConfig::theta0`)
+    #[serde(skip)]
     pub theta0: f64,
     /// What θ0 lost to rounding when it was converted from degrees [rad]: θ0 + theta0_low is the
     /// angle typed to about 1e-32 rad. Only the closed form reads it, for π - |θ0| near the top,
     /// where that rounding would otherwise be all the digits of the complement; 0 when θ0 was
     /// given in radians, and always within half an ulp of θ0, so a stale value is harmless.
+    #[serde(skip)]
     pub theta0_low: f64,
     /// ω(0) = θ'(0) [rad/s]
     pub omega0: f64,

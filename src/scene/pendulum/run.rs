@@ -16,10 +16,16 @@ pub const DIVERGENCE_ENERGY_FACTOR: f64 = 10.0;
 /// Steps taken per method between switches; large enough that the clock reads cost nothing.
 const BLOCK_STEPS: usize = 4096;
 
-/// Everything a pendulum run needs, resolved and validated.
-#[derive(Clone, Debug, PartialEq)]
+/// Everything a pendulum run needs; its serialised form is the scene file's `[pendulum]` table.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
 pub struct PendulumConfig {
+    #[serde(flatten)]
     pub params: PendulumParams,
+    /// θ0 as given [degrees], taken into (-180°, 180°] as `params.theta0` (in radians, with
+    /// what the conversion rounds off) when the configuration settles.
+    #[serde(rename = "theta0")]
+    pub theta0_degrees: f64,
     /// Step [s].
     pub dt: f64,
     /// Simulated time [s]; the run takes round(duration / dt) steps.
@@ -30,6 +36,7 @@ pub struct PendulumConfig {
     pub plot_every: u64,
     /// Methods in the order they are shown.
     pub methods: Vec<Method>,
+    #[serde(flatten)]
     pub options: MethodOptions,
 }
 
@@ -37,6 +44,7 @@ impl Default for PendulumConfig {
     fn default() -> Self {
         PendulumConfig {
             params: PendulumParams::default(),
+            theta0_degrees: DEFAULT_THETA0_DEGREES,
             dt: 0.01,
             duration: 20.0,
             fps: 30.0,
@@ -50,9 +58,17 @@ impl Default for PendulumConfig {
 /// θ0 by default [degrees]; the one place this default is written.
 pub const DEFAULT_THETA0_DEGREES: f64 = 60.0;
 
-impl PendulumConfig {
-    /// Every value in range, or the first that is not, named by its flag.
-    pub fn validate(&self) -> Result<(), Invalid> {
+impl params::SceneConfig for PendulumConfig {
+    fn settle(&mut self, given: &dyn Fn(&str) -> bool) -> Result<(), Invalid> {
+        if given("theta0") {
+            (self.params.theta0, self.params.theta0_low) =
+                super::theta0_from_degrees(self.theta0_degrees);
+        }
+        self.methods = params::dedup_methods(&self.methods);
+        Ok(())
+    }
+
+    fn validate(&self) -> Result<(), Invalid> {
         let p = &self.params;
         let max = params::MAX_MAGNITUDE;
         params::some_methods(
@@ -67,24 +83,31 @@ impl PendulumConfig {
             let typed: f64 = format!("{:.11e}", p.theta0.to_degrees())
                 .parse()
                 .unwrap_or(f64::NAN);
-            return Err(Invalid::Usage(format!(
-                "--theta0 {}: must be a finite angle within ±{turns} turns (±{}°) [degrees]",
+            return Err(Invalid::param(
+                "--theta0",
                 params::shown(typed),
-                turns * 360.0
-            )));
+                format!(
+                    "must be a finite angle within ±{turns} turns (±{}°) [degrees]",
+                    turns * 360.0
+                ),
+            ));
         }
         params::within("--omega0", p.omega0, -max, max, "rad/s")?;
         params::time(self.dt, self.duration, self.fps, 1)?;
         self.reference_guard()?;
         params::verlet_damping(self.options.verlet_damping)?;
         if self.plot_every == 0 {
-            return Err(Invalid::Usage(
-                "--plot-every 0: must be at least 1 (plot every Nth step)".into(),
+            return Err(Invalid::param(
+                "--plot-every",
+                0,
+                "must be at least 1 (plot every Nth step)",
             ));
         }
         params::rtol(self.options.rtol)
     }
+}
 
+impl PendulumConfig {
     pub fn schedule(&self) -> Schedule {
         Schedule::fixed_step(self.dt, self.duration, self.fps, self.plot_every)
     }

@@ -16,13 +16,16 @@ use crate::integrate::{ImplicitSolve, Integrator, SecondOrderSystem};
 use implicit::Workspace;
 
 /// Physical parameters and initial layout of the rope.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
 pub struct RopeParams {
     /// Number of point masses, ≥ 2.
     pub nodes: usize,
     /// First node's position [m].
+    #[serde(with = "crate::scene::params::vec3")]
     pub start: DVec3,
     /// Last node's position [m]; the others are spaced evenly in between.
+    #[serde(with = "crate::scene::params::vec3")]
     pub end: DVec3,
     /// Mass of each node [kg].
     pub mass: f64,
@@ -33,6 +36,7 @@ pub struct RopeParams {
     /// Air drag ka: force -ka v on every node [N·s/m].
     pub air_drag: f64,
     /// Gravitational acceleration [m/s²], z up.
+    #[serde(with = "crate::scene::params::vec3")]
     pub gravity: DVec3,
     /// Indices of nodes held fixed.
     pub pinned: Vec<usize>,

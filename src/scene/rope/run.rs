@@ -67,8 +67,14 @@ impl std::str::FromStr for RopeLayout {
 }
 
 /// Everything a rope run needs, resolved and validated.
-#[derive(Clone, Debug, PartialEq)]
+/// Everything a rope run needs; its serialised form is the scene file's `[rope]` table.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
 pub struct RopeConfig {
+    /// The known setup the other values start from, if one was named.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub preset: Option<RopePreset>,
+    #[serde(flatten)]
     pub params: RopeParams,
     /// Step [s].
     pub dt: f64,
@@ -81,12 +87,14 @@ pub struct RopeConfig {
     /// How the recording lays the methods out.
     pub layout: RopeLayout,
     pub methods: Vec<Method>,
+    #[serde(flatten)]
     pub options: MethodOptions,
 }
 
 impl Default for RopeConfig {
     fn default() -> Self {
         RopeConfig {
+            preset: None,
             params: RopeParams::default(),
             dt: 1e-3,
             duration: 10.0,
@@ -102,25 +110,88 @@ impl Default for RopeConfig {
 /// Nodes beyond which a rope is refused (~1 kB per node per method including the implicit solver).
 pub const MAX_NODES: usize = 10_000_000;
 
-impl RopeConfig {
-    /// Every value in range, or the first that is not, named by its flag.
-    pub fn validate(&self) -> Result<(), Invalid> {
+/// Parameter sets that reproduce a known setup; values given with a preset override it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum RopePreset {
+    /// GAMES101 assignment 8: 16 nodes from (0,0,200) to (-400,0,200), mass 1, ks 100, no
+    /// spring damping or drag, gravity (0,0,-1) (the assignment's 2D x,y is x,z here), dt = 1/64
+    /// with 64 steps per frame, node 0 pinned, Verlet damping 0.00005, 20 time units.
+    Games101,
+}
+
+impl RopePreset {
+    pub const ALL: [(&'static str, RopePreset); 1] = [("games101", RopePreset::Games101)];
+
+    /// The configuration the preset starts from.
+    pub fn config(self) -> RopeConfig {
+        match self {
+            RopePreset::Games101 => RopeConfig {
+                preset: Some(self),
+                params: RopeParams {
+                    nodes: 16,
+                    mass: 1.0,
+                    stiffness: 100.0,
+                    spring_damping: 0.0,
+                    air_drag: 0.0,
+                    start: glam::DVec3::new(0.0, 0.0, 200.0),
+                    end: glam::DVec3::new(-400.0, 0.0, 200.0),
+                    gravity: glam::DVec3::new(0.0, 0.0, -1.0),
+                    pinned: vec![0],
+                    ..RopeParams::default()
+                },
+                dt: 1.0 / 64.0,
+                fps: 1.0, // one frame per time unit = 64 steps per frame
+                duration: 20.0,
+                plot_every: 1,
+                options: MethodOptions {
+                    verlet_damping: 0.00005,
+                    ..MethodOptions::default()
+                },
+                ..RopeConfig::default()
+            },
+        }
+    }
+}
+
+impl std::str::FromStr for RopePreset {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        crate::scene::choice(s, &RopePreset::ALL)
+    }
+}
+
+impl params::SceneConfig for RopeConfig {
+    fn preset_base(&self) -> Option<Self> {
+        self.preset.map(RopePreset::config)
+    }
+
+    fn settle(&mut self, _given: &dyn Fn(&str) -> bool) -> Result<(), Invalid> {
+        self.params.pinned.sort_unstable();
+        self.params.pinned.dedup();
+        self.methods = params::dedup_methods(&self.methods);
+        Ok(())
+    }
+
+    fn validate(&self) -> Result<(), Invalid> {
         let p = &self.params;
         params::some_methods(
             &self.methods,
             &Method::names().collect::<Vec<_>>().join(", "),
         )?;
         if !(2..=MAX_NODES).contains(&p.nodes) {
-            return Err(Invalid::Usage(format!(
-                "--nodes {}: must be between 2 and {MAX_NODES}",
-                p.nodes
-            )));
+            return Err(Invalid::param(
+                "--nodes",
+                p.nodes,
+                format!("must be between 2 and {MAX_NODES}"),
+            ));
         }
         if (p.end - p.start).length() == 0.0 {
-            return Err(Invalid::Usage(format!(
-                "--end {},{},{}: must differ from --start (the spacing is the springs' rest length)",
-                p.end.x, p.end.y, p.end.z
-            )));
+            return Err(Invalid::param(
+                "--end",
+                format!("{},{},{}", p.end.x, p.end.y, p.end.z),
+                "must differ from --start (the spacing is the springs' rest length)",
+            ));
         }
         let max = params::MAX_MAGNITUDE;
         for (option, v) in [
@@ -129,10 +200,11 @@ impl RopeConfig {
             ("--gravity", p.gravity),
         ] {
             if !(v.is_finite() && v.abs().max_element() <= max) {
-                return Err(Invalid::Usage(format!(
-                    "{option} {},{},{}: every component must be a finite number within ±{max:e}",
-                    v.x, v.y, v.z
-                )));
+                return Err(Invalid::param(
+                    option,
+                    format!("{},{},{}", v.x, v.y, v.z),
+                    format!("every component must be a finite number within ±{max:e}"),
+                ));
             }
         }
         params::within("--mass", p.mass, 1.0 / max, max, "kg")?;
@@ -141,10 +213,14 @@ impl RopeConfig {
         params::within("--spring-damping", p.spring_damping, 0.0, max, "N·s/m")?;
         params::within("--air-drag", p.air_drag, 0.0, max, "N·s/m")?;
         if let Some(&bad) = p.pinned.iter().find(|&&i| i >= p.nodes) {
-            return Err(Invalid::Usage(format!(
-                "--pinned {bad}: node index out of range; the rope has nodes 0..={}",
-                p.nodes - 1
-            )));
+            return Err(Invalid::param(
+                "--pinned",
+                bad,
+                format!(
+                    "node index out of range; the rope has nodes 0..={}",
+                    p.nodes - 1
+                ),
+            ));
         }
         params::at_least_one("--newton-iterations", p.newton_iterations.into())?;
         params::time(self.dt, self.duration, self.fps, p.nodes)?;
@@ -155,13 +231,17 @@ impl RopeConfig {
         )?;
         params::verlet_damping(self.options.verlet_damping)?;
         if self.plot_every == 0 {
-            return Err(Invalid::Usage(
-                "--plot-every 0: must be at least 1 (plot every Nth step)".into(),
+            return Err(Invalid::param(
+                "--plot-every",
+                0,
+                "must be at least 1 (plot every Nth step)",
             ));
         }
         params::rtol(self.options.rtol)
     }
+}
 
+impl RopeConfig {
     pub fn schedule(&self) -> Schedule {
         Schedule::fixed_step(self.dt, self.duration, self.fps, self.plot_every)
     }
