@@ -40,25 +40,15 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             Ok(())
         }
         Command::Inspect(args) => inspect::inspect_command(&args),
-        Command::Pendulum(c) => simulate(
-            vec![Box::new(c.scene)],
-            &c.run,
-            &Output::Record,
-            &Replay::default(),
-        ),
-        Command::Rope(c) => simulate(
-            vec![Box::new(c.scene)],
-            &c.run,
-            &Output::Record,
-            &Replay::default(),
-        ),
+        Command::Pendulum(c) => simulate(vec![Box::new(c.scene)], &c.run, None, &Replay::default()),
+        Command::Rope(c) => simulate(vec![Box::new(c.scene)], &c.run, None, &Replay::default()),
         Command::Hair(c) => simulate(
             vec![Box::new(c.scene)],
             &c.run,
-            &Output::Hair { threads: c.threads },
+            c.threads,
             &Replay::default(),
         ),
-        Command::All(c) => simulate(all_plan(&c)?, &c.run, &Output::Record, &Replay::default()),
+        Command::All(c) => simulate(all_plan(&c)?, &c.run, None, &Replay::default()),
         Command::Reproduce(args) => reproduce::reproduce_command(&args),
         Command::Diff(args) => diff::diff_command(&args),
         Command::Study(a) => study::study(&a),
@@ -134,14 +124,6 @@ fn hair_names() -> String {
         .join(", ")
 }
 
-/// What happens to the run's output besides the summary.
-enum Output {
-    /// Record as the run options say.
-    Record,
-    /// Hair's worker threads (--log-strands is part of the scene: recorded, reproduced).
-    Hair { threads: Option<usize> },
-}
-
 /// A re-run of a recording (`physlab reproduce`): where the recorded run stopped each scene.
 #[derive(Default)]
 struct Replay {
@@ -166,7 +148,7 @@ impl Replay {
 
 /// The plan's scenes, layered and validated, and the scene file that reproduces them.
 struct Resolved {
-    scenes: Vec<Box<dyn scenes::Resolved>>,
+    scenes: Vec<Box<dyn scenes::ReadyScene>>,
     /// The effective parameters of every scene run, as a scene file.
     file: SceneFile,
 }
@@ -222,15 +204,17 @@ fn load_scene_file(path: Option<&std::path::Path>) -> Result<SceneFile, Error> {
     }
 }
 
-/// The one pipeline of every simulating command.
-fn simulate(plan: Plan, run: &RunArgs, output: &Output, replay: &Replay) -> anyhow::Result<()> {
+/// The one pipeline of every simulating command. `threads`: hair's worker threads (`physlab
+/// hair --threads`), which change no result and so are neither recorded nor reproduced.
+fn simulate(
+    plan: Plan,
+    run: &RunArgs,
+    threads: Option<usize>,
+    replay: &Replay,
+) -> anyhow::Result<()> {
     let resolved = resolve(plan, run)?;
     let text = resolved.file.to_toml()?;
     let no_record = run.no_record;
-    let threads = match output {
-        Output::Record => None,
-        Output::Hair { threads } => *threads,
-    };
     if let Some(n) = threads {
         crate::scene::params::threads(n)?;
     }

@@ -9,7 +9,7 @@ use super::compared::{
     by_entity, check_output, physlab_recording, tolerance, version_line, wall_clock,
 };
 use super::scenes::{AllFlags, SCENES};
-use super::{Error, Output, Plan, Replay, simulate};
+use super::{Error, Plan, Replay, simulate};
 use crate::cli::{ReproduceArgs, RunArgs};
 use crate::record::compare::{StreamSpec, compare_files};
 
@@ -189,8 +189,7 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
         .map(|s| s.flags(&AllFlags::default()))
         .collect();
     let started = Instant::now();
-    simulate(plan, &run, &Output::Record, &replay)
-        .map_err(|e| rerun_failed(e, &args.file, &config.0))?;
+    simulate(plan, &run, None, &replay).map_err(|e| rerun_failed(e, &args.file, &config.0))?;
     println!("  re-ran in {:.1} s", started.elapsed().as_secs_f64());
     if args.output.is_some() {
         println!("  wrote the re-run to {}", output.display());

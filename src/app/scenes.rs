@@ -13,11 +13,12 @@ use crate::record::{self, Framing, SceneViews};
 use crate::report;
 use crate::scene::hair::HairMethod;
 use crate::scene::hair::run::{HairConfig, HairScene};
+use crate::scene::params::SceneConfig;
 use crate::scene::pendulum::run::{PendulumConfig, PendulumScene};
 use crate::scene::rope::run::{RopeConfig, RopeScene};
 
 /// Every scene, in the order `physlab all` runs them.
-pub static SCENES: [&dyn SceneKind; 3] = [&Pendulum, &Rope, &Hair];
+pub static SCENES: [&dyn SceneKind; 3] = [&PendulumKind, &RopeKind, &HairKind];
 
 /// A scene as the commands know it before any parameter is given.
 pub trait SceneKind: Sync {
@@ -61,11 +62,11 @@ pub trait Flags {
         self: Box<Self>,
         file: &SceneFile,
         run: &RunArgs,
-    ) -> Result<Box<dyn Resolved>, Error>;
+    ) -> Result<Box<dyn ReadyScene>, Error>;
 }
 
 /// A scene with its validated configuration, ready to run.
-pub trait Resolved: Send {
+pub trait ReadyScene: Send {
     fn kind(&self) -> &'static dyn SceneKind;
     /// The box its 3D view frames.
     fn framing(&self) -> Framing;
@@ -98,11 +99,11 @@ pub struct RunContext<'a> {
     pub stop_after: Option<u64>,
 }
 
-struct Pendulum;
-struct Rope;
-struct Hair;
+struct PendulumKind;
+struct RopeKind;
+struct HairKind;
 
-impl SceneKind for Pendulum {
+impl SceneKind for PendulumKind {
     fn name(&self) -> &'static str {
         "pendulum"
     }
@@ -120,7 +121,7 @@ impl SceneKind for Pendulum {
     }
 }
 
-impl SceneKind for Rope {
+impl SceneKind for RopeKind {
     fn name(&self) -> &'static str {
         "rope"
     }
@@ -138,7 +139,7 @@ impl SceneKind for Rope {
     }
 }
 
-impl SceneKind for Hair {
+impl SceneKind for HairKind {
     fn name(&self) -> &'static str {
         "hair"
     }
@@ -159,13 +160,13 @@ impl SceneKind for Hair {
 
 impl Flags for PendulumArgs {
     fn kind(&self) -> &'static dyn SceneKind {
-        &Pendulum
+        &PendulumKind
     }
     fn resolve(
         self: Box<Self>,
         file: &SceneFile,
         run: &RunArgs,
-    ) -> Result<Box<dyn Resolved>, Error> {
+    ) -> Result<Box<dyn ReadyScene>, Error> {
         refuse_drawing_flags(run, &self.step.drawing_flags())?;
         let config: PendulumConfig = given(&*self, "pendulum", file)?.resolve()?;
         refuse_unread(
@@ -180,13 +181,13 @@ impl Flags for PendulumArgs {
 
 impl Flags for RopeArgs {
     fn kind(&self) -> &'static dyn SceneKind {
-        &Rope
+        &RopeKind
     }
     fn resolve(
         self: Box<Self>,
         file: &SceneFile,
         run: &RunArgs,
-    ) -> Result<Box<dyn Resolved>, Error> {
+    ) -> Result<Box<dyn ReadyScene>, Error> {
         refuse_drawing_flags(run, &self.step.drawing_flags())?;
         let config: RopeConfig = given(&*self, "rope", file)?.resolve()?;
         let mut flags = self.step.method_flags();
@@ -202,13 +203,13 @@ impl Flags for RopeArgs {
 
 impl Flags for HairArgs {
     fn kind(&self) -> &'static dyn SceneKind {
-        &Hair
+        &HairKind
     }
     fn resolve(
         self: Box<Self>,
         file: &SceneFile,
         run: &RunArgs,
-    ) -> Result<Box<dyn Resolved>, Error> {
+    ) -> Result<Box<dyn ReadyScene>, Error> {
         refuse_drawing_flags(run, &[("--fps", self.fps.is_some())])?;
         let config: HairConfig = given(&*self, "hair", file)?.resolve()?;
         if run.no_record && config.log_strands.is_some() {
@@ -350,25 +351,56 @@ impl HairArgs {
 /// A scene's validated configuration, ready to run.
 struct Ready<C>(C);
 
-impl Resolved for Ready<PendulumConfig> {
+/// What the commands need of a scene's configuration besides its layering.
+trait Runs: SceneConfig + Send {
+    const KIND: &'static dyn SceneKind;
+    fn framing(&self) -> Framing;
+    fn fps(&self) -> f64;
+    fn methods(&self) -> Vec<&'static str>;
+    fn memory_bytes(&self) -> f64 {
+        0.0
+    }
+    fn run(self, ctx: &mut RunContext) -> anyhow::Result<Ran>;
+}
+
+impl<C: Runs> ReadyScene for Ready<C> {
     fn kind(&self) -> &'static dyn SceneKind {
-        &Pendulum
+        C::KIND
     }
     fn framing(&self) -> Framing {
-        record::pendulum::framing(&self.0)
+        self.0.framing()
     }
     fn fps(&self) -> f64 {
-        self.0.fps
+        self.0.fps()
     }
     fn methods(&self) -> Vec<&'static str> {
-        self.0.methods.iter().map(|m| m.name()).collect()
+        self.0.methods()
     }
     fn effective(&self, file: &mut SceneFile) -> Result<(), Error> {
-        file.set(self.kind().name(), table_of(&self.0)?);
+        file.set(C::KIND.name(), table_of(&self.0)?);
         Ok(())
     }
+    fn memory_bytes(&self) -> f64 {
+        self.0.memory_bytes()
+    }
     fn run(self: Box<Self>, ctx: &mut RunContext) -> anyhow::Result<Ran> {
-        let reference_steps = self.0.reference_steps();
+        self.0.run(ctx)
+    }
+}
+
+impl Runs for PendulumConfig {
+    const KIND: &'static dyn SceneKind = &PendulumKind;
+    fn framing(&self) -> Framing {
+        record::pendulum::framing(self)
+    }
+    fn fps(&self) -> f64 {
+        self.fps
+    }
+    fn methods(&self) -> Vec<&'static str> {
+        self.methods.iter().map(|m| m.name()).collect()
+    }
+    fn run(self, ctx: &mut RunContext) -> anyhow::Result<Ran> {
+        let reference_steps = self.reference_steps();
         if reference_steps > 3e7 && !ctx.quiet {
             // Allowed, but not instant: say what the time goes to (~0.1 µs per RK4 step).
             eprintln!(
@@ -381,7 +413,7 @@ impl Resolved for Ready<PendulumConfig> {
             .clone()
             .map(|s| record::pendulum::recorder(s, ctx.timings).with_frame_rate(ctx.frame_rate));
         run_scene(
-            PendulumScene::new(self.0),
+            PendulumScene::new(self),
             recorder,
             report::pendulum::summary_text,
             ctx.progress,
@@ -390,33 +422,27 @@ impl Resolved for Ready<PendulumConfig> {
     }
 }
 
-impl Resolved for Ready<RopeConfig> {
-    fn memory_bytes(&self) -> f64 {
-        self.0.memory_bytes()
-    }
-    fn kind(&self) -> &'static dyn SceneKind {
-        &Rope
-    }
+impl Runs for RopeConfig {
+    const KIND: &'static dyn SceneKind = &RopeKind;
     fn framing(&self) -> Framing {
-        record::rope::framing(&self.0)
+        record::rope::framing(self)
     }
     fn fps(&self) -> f64 {
-        self.0.fps
+        self.fps
     }
     fn methods(&self) -> Vec<&'static str> {
-        self.0.methods.iter().map(|m| m.name()).collect()
+        self.methods.iter().map(|m| m.name()).collect()
     }
-    fn effective(&self, file: &mut SceneFile) -> Result<(), Error> {
-        file.set(self.kind().name(), table_of(&self.0)?);
-        Ok(())
+    fn memory_bytes(&self) -> f64 {
+        RopeConfig::memory_bytes(self)
     }
-    fn run(self: Box<Self>, ctx: &mut RunContext) -> anyhow::Result<Ran> {
+    fn run(self, ctx: &mut RunContext) -> anyhow::Result<Ran> {
         let recorder = ctx
             .stream
             .clone()
             .map(|s| record::rope::recorder(s, ctx.timings).with_frame_rate(ctx.frame_rate));
         run_scene(
-            RopeScene::new(self.0),
+            RopeScene::new(self),
             recorder,
             report::rope::summary_text,
             ctx.progress,
@@ -425,29 +451,23 @@ impl Resolved for Ready<RopeConfig> {
     }
 }
 
-impl Resolved for Ready<HairConfig> {
-    fn memory_bytes(&self) -> f64 {
-        self.0.memory_bytes()
-    }
-    fn kind(&self) -> &'static dyn SceneKind {
-        &Hair
-    }
+impl Runs for HairConfig {
+    const KIND: &'static dyn SceneKind = &HairKind;
     fn framing(&self) -> Framing {
-        record::hair::framing(&self.0)
+        record::hair::framing(self)
     }
     fn fps(&self) -> f64 {
-        self.0.fps
+        self.fps
     }
     fn methods(&self) -> Vec<&'static str> {
-        self.0.methods.iter().map(|m| m.name()).collect()
+        self.methods.iter().map(|m| m.name()).collect()
     }
-    fn effective(&self, file: &mut SceneFile) -> Result<(), Error> {
-        file.set(self.kind().name(), table_of(&self.0)?);
-        Ok(())
+    fn memory_bytes(&self) -> f64 {
+        HairConfig::memory_bytes(self)
     }
-    fn run(self: Box<Self>, ctx: &mut RunContext) -> anyhow::Result<Ran> {
+    fn run(self, ctx: &mut RunContext) -> anyhow::Result<Ran> {
         // Said before anything is written: how many strands are drawn, and the expected size.
-        let plan = record::hair::strand_plan(&self.0, self.0.log_strands);
+        let plan = record::hair::strand_plan(&self, self.log_strands);
         let recording = ctx.stream.is_some();
         if recording && !ctx.quiet {
             eprintln!(
@@ -458,10 +478,9 @@ impl Resolved for Ready<HairConfig> {
             );
         }
         let recorder = ctx.stream.clone().map(|s| {
-            record::hair::recorder(s, ctx.timings, self.0.log_strands)
-                .with_frame_rate(ctx.frame_rate)
+            record::hair::recorder(s, ctx.timings, self.log_strands).with_frame_rate(ctx.frame_rate)
         });
-        let (config, progress, stop_after) = (self.0, &mut *ctx.progress, ctx.stop_after);
+        let (config, progress, stop_after) = (self, &mut *ctx.progress, ctx.stop_after);
         // Hair spreads its strands over the pool (--threads); the results do not depend on it.
         let mut ran = ctx.pool.install(|| {
             run_scene(

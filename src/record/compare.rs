@@ -95,7 +95,7 @@ impl Queues {
 }
 
 /// One series being compared.
-struct Lane {
+struct ComparedSeries {
     timed: Queues,
     statics: Queues,
     /// B's timed rows taken so far, and how many may be (A's count, when capped).
@@ -132,7 +132,7 @@ pub fn compare_files(
         .into_iter()
         .map(|(k, v)| (rename(k), v))
         .collect();
-    let mut lanes: BTreeMap<Key, Lane> = BTreeMap::new();
+    let mut lanes: BTreeMap<Key, ComparedSeries> = BTreeMap::new();
     for key in index_a.keys().chain(index_b.keys()) {
         if (spec.skip)(&key.0) || lanes.contains_key(key) {
             continue;
@@ -145,7 +145,7 @@ pub fn compare_files(
         let rows = |i: Option<&SeriesIndex>, of: fn(&SeriesIndex) -> usize| i.map_or(0, of);
         lanes.insert(
             key.clone(),
-            Lane {
+            ComparedSeries {
                 timed: Queues::new(
                     spec.tolerance,
                     scale(|i| i.scale),
@@ -226,12 +226,13 @@ struct Pairing {
 }
 
 /// What is done with each pair of rows at the same time.
-pub type Pairs<'a> = dyn FnMut(&dyn Row, &dyn Row) -> anyhow::Result<()> + 'a;
+pub type Pairs<'a> = dyn FnMut(&dyn PairedRow, &dyn PairedRow) -> anyhow::Result<()> + 'a;
 /// The same, told the series.
-pub type KeyedPairs<'a> = dyn FnMut(&Key, &dyn Row, &dyn Row) -> anyhow::Result<()> + 'a;
+pub type KeyedPairs<'a> =
+    dyn FnMut(&Key, &dyn PairedRow, &dyn PairedRow) -> anyhow::Result<()> + 'a;
 
 /// A row being paired: its time, its numbers in order, its texts.
-pub trait Row {
+pub trait PairedRow {
     fn time(&self) -> Option<i64>;
     /// How many numbers it holds.
     fn count(&self) -> usize;
@@ -239,7 +240,7 @@ pub trait Row {
     fn texts(&self) -> &[String];
 }
 
-impl<R: Row + ?Sized> Row for &R {
+impl<R: PairedRow + ?Sized> PairedRow for &R {
     fn time(&self) -> Option<i64> {
         (**self).time()
     }
@@ -254,7 +255,7 @@ impl<R: Row + ?Sized> Row for &R {
     }
 }
 
-impl Row for LoggedRow {
+impl PairedRow for LoggedRow {
     fn time(&self) -> Option<i64> {
         self.time
     }
@@ -269,7 +270,7 @@ impl Row for LoggedRow {
     }
 }
 
-impl Row for RowView {
+impl PairedRow for RowView {
     fn time(&self) -> Option<i64> {
         self.time
     }
@@ -289,7 +290,7 @@ trait Pending {
     /// The next row's time (`Some(None)` for a static row), `None` when no row is left.
     fn next_time(&self) -> Option<Option<i64>>;
     /// The next row, read in place.
-    fn row(&self) -> Option<Box<dyn Row + '_>>;
+    fn row(&self) -> Option<Box<dyn PairedRow + '_>>;
     fn advance(&mut self);
 }
 
@@ -298,9 +299,9 @@ impl Pending for VecDeque<SeriesRows> {
     fn next_time(&self) -> Option<Option<i64>> {
         self.front().map(SeriesRows::time)
     }
-    fn row(&self) -> Option<Box<dyn Row + '_>> {
+    fn row(&self) -> Option<Box<dyn PairedRow + '_>> {
         self.front()
-            .map(|rows| Box::new(rows.view()) as Box<dyn Row>)
+            .map(|rows| Box::new(rows.view()) as Box<dyn PairedRow>)
     }
     fn advance(&mut self) {
         if let Some(rows) = self.front_mut() {
@@ -317,8 +318,8 @@ impl Pending for &[LoggedRow] {
     fn next_time(&self) -> Option<Option<i64>> {
         self.first().map(|r| r.time)
     }
-    fn row(&self) -> Option<Box<dyn Row + '_>> {
-        self.first().map(|row| Box::new(row) as Box<dyn Row>)
+    fn row(&self) -> Option<Box<dyn PairedRow + '_>> {
+        self.first().map(|row| Box::new(row) as Box<dyn PairedRow>)
     }
     fn advance(&mut self) {
         *self = self.get(1..).unwrap_or_default();
@@ -371,7 +372,7 @@ impl Pairing {
         Ok(())
     }
 
-    fn pair(&mut self, ra: &dyn Row, rb: &dyn Row) {
+    fn pair(&mut self, ra: &dyn PairedRow, rb: &dyn PairedRow) {
         let out = &mut self.out;
         out.paired += 1;
         let (na, nb) = (ra.count(), rb.count());

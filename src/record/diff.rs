@@ -7,7 +7,7 @@ use std::path::Path;
 use rerun::TimeColumn;
 use rerun::blueprint::{Blueprint, TextDocumentView};
 
-use super::compare::{Key, Row};
+use super::compare::{Key, PairedRow};
 use super::{Destinations, Recording};
 
 /// Rows held per series before they are sent: the writer's memory does not grow with the file.
@@ -34,7 +34,7 @@ impl DiffWriter {
     }
 
     /// One pair of rows at the same time.
-    pub fn pair(&mut self, key: &Key, a: &dyn Row, b: &dyn Row) -> anyhow::Result<()> {
+    pub fn pair(&mut self, key: &Key, a: &dyn PairedRow, b: &dyn PairedRow) -> anyhow::Result<()> {
         let Some(time) = a.time() else {
             return Ok(());
         };

@@ -115,6 +115,22 @@ pub fn rtol(rtol: f64) -> Result<(), Invalid> {
     }
 }
 
+/// The plotting stride and the methods' options of a scene on a fixed step grid.
+pub fn plot_and_options(
+    plot_every: u64,
+    options: &crate::integrate::MethodOptions,
+) -> Result<(), Invalid> {
+    verlet_damping(options.verlet_damping)?;
+    if plot_every == 0 {
+        return Err(Invalid::param(
+            "--plot-every",
+            0,
+            "must be at least 1 (plot every Nth step)",
+        ));
+    }
+    rtol(options.rtol)
+}
+
 pub fn verlet_damping(d: f64) -> Result<(), Invalid> {
     if d.is_finite() && (0.0..1.0).contains(&d) {
         Ok(())
@@ -261,14 +277,14 @@ pub mod magnitude {
     pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
         #[derive(Deserialize)]
         #[serde(untagged)]
-        enum Given {
+        enum Written {
             Number(f64),
             Vector(#[serde(with = "super::vec3")] glam::DVec3),
         }
-        Given::deserialize(d)
+        Written::deserialize(d)
             .map(|g| match g {
-                Given::Number(x) => x,
-                Given::Vector(v) => v.length(),
+                Written::Number(x) => x,
+                Written::Vector(v) => v.length(),
             })
             .map_err(|_| serde::de::Error::custom("expected g or [x, y, z] with finite numbers"))
     }

@@ -378,26 +378,26 @@ mod tests {
         traced: bool,
     }
 
-    struct Lane {
+    struct CounterLane {
         at: u64,
         bad: Option<u64>,
     }
 
     impl Scene for Counter {
-        type Lane = Lane;
+        type Lane = CounterLane;
         fn name(&self) -> &'static str {
             "counter"
         }
         fn schedule(&self) -> Schedule {
             self.schedule
         }
-        fn lanes(&self) -> Vec<(&'static str, Lane)> {
-            vec![("a", Lane { at: 0, bad: None })]
+        fn lanes(&self) -> Vec<(&'static str, CounterLane)> {
+            vec![("a", CounterLane { at: 0, bad: None })]
         }
-        fn quantities(&self, _: &Lane) -> &'static [&'static str] {
+        fn quantities(&self, _: &CounterLane) -> &'static [&'static str] {
             &["tick"]
         }
-        fn initial(&self, _: &Lane) -> Option<Vec<f64>> {
+        fn initial(&self, _: &CounterLane) -> Option<Vec<f64>> {
             Some(vec![0.0])
         }
         fn max_block(&self) -> u64 {
@@ -406,7 +406,7 @@ mod tests {
         fn traced(&self) -> bool {
             self.traced
         }
-        fn advance(&self, lane: &mut Lane, first: u64, len: usize) {
+        fn advance(&self, lane: &mut CounterLane, first: u64, len: usize) {
             for k in 0..len as u64 {
                 lane.at = first + k;
                 if lane.at == self.diverge_at {
@@ -415,7 +415,13 @@ mod tests {
                 }
             }
         }
-        fn check(&self, lane: &mut Lane, first: u64, len: usize, out: &mut Sampler) -> Checked {
+        fn check(
+            &self,
+            lane: &mut CounterLane,
+            first: u64,
+            len: usize,
+            out: &mut Sampler,
+        ) -> Checked {
             let ok = lane.bad.map_or(len, |k| k as usize);
             for k in 0..ok as u64 {
                 if out.wants(first + k) {
@@ -443,7 +449,7 @@ mod tests {
             self.rows.extend(&b.ticks);
             Ok(())
         }
-        fn frame(&mut self, _: &Counter, f: &Frame<Lane>) -> anyhow::Result<()> {
+        fn frame(&mut self, _: &Counter, f: &Frame<CounterLane>) -> anyhow::Result<()> {
             self.frames.push((f.tick, f.lanes[0].is_some()));
             Ok(())
         }

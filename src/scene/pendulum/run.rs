@@ -95,15 +95,7 @@ impl params::SceneConfig for PendulumConfig {
         params::within("--omega0", p.omega0, -max, max, "rad/s")?;
         params::time(self.dt, self.duration, self.fps, 1)?;
         self.reference_guard()?;
-        params::verlet_damping(self.options.verlet_damping)?;
-        if self.plot_every == 0 {
-            return Err(Invalid::param(
-                "--plot-every",
-                0,
-                "must be at least 1 (plot every Nth step)",
-            ));
-        }
-        params::rtol(self.options.rtol)
+        params::plot_and_options(self.plot_every, &self.options)
     }
 }
 

@@ -229,15 +229,7 @@ impl params::SceneConfig for RopeConfig {
             self.memory_bytes(),
             "use fewer --nodes or --methods",
         )?;
-        params::verlet_damping(self.options.verlet_damping)?;
-        if self.plot_every == 0 {
-            return Err(Invalid::param(
-                "--plot-every",
-                0,
-                "must be at least 1 (plot every Nth step)",
-            ));
-        }
-        params::rtol(self.options.rtol)
+        params::plot_and_options(self.plot_every, &self.options)
     }
 }
 
