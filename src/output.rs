@@ -47,6 +47,7 @@ impl Output {
             None => Ok(Partial {
                 named: self.named(),
                 sink: Sink::Stdout(std::io::stdout()),
+                written: Default::default(),
                 done: None,
             }),
             Some(target) => Partial::beside(self.named(), target, false),
@@ -324,11 +325,18 @@ enum Sink {
 pub struct Partial {
     named: String,
     sink: Sink,
+    /// Bytes written so far (read while the run goes on, for its size estimate).
+    written: std::sync::Arc<std::sync::atomic::AtomicU64>,
     /// The hidden file and the target, and the signal handler's slot for the hidden file.
     done: Option<(PathBuf, PathBuf, usize)>,
 }
 
 impl Partial {
+    /// The count of bytes written so far, which the writer keeps up to date.
+    pub fn written(&self) -> std::sync::Arc<std::sync::atomic::AtomicU64> {
+        self.written.clone()
+    }
+
     fn beside(named: String, target: &Path, extension: bool) -> anyhow::Result<Self> {
         let name = target.file_name().unwrap_or_default();
         let tmp =
@@ -349,6 +357,7 @@ impl Partial {
         Ok(Partial {
             named,
             sink: Sink::File(std::io::BufWriter::with_capacity(1 << 20, file)),
+            written: Default::default(),
             done: Some((tmp, target.to_path_buf(), slot)),
         })
     }
@@ -391,10 +400,13 @@ impl Partial {
 
 impl std::io::Write for Partial {
     fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
-        match &mut self.sink {
+        let n = match &mut self.sink {
             Sink::File(w) => w.write(buf),
             Sink::Stdout(w) => crate::interrupt::writing_stdout(|| w.write(buf)),
-        }
+        }?;
+        self.written
+            .fetch_add(n as u64, std::sync::atomic::Ordering::Relaxed);
+        Ok(n)
     }
     fn flush(&mut self) -> std::io::Result<()> {
         match &mut self.sink {

@@ -272,7 +272,7 @@ fn simulate(
         )?;
         Some(recording)
     };
-    let mut progress = Progress::new(run.quiet);
+    let mut progress = Progress::new(run.quiet, recording.as_ref().and_then(|r| r.written()));
     let mut summaries = Vec::new();
     let mut diverged = Vec::new();
     // One `frame` timeline for the whole recording: frame N at N / (the highest fps) s.

@@ -128,6 +128,8 @@ pub struct Recording {
     file: Option<std::sync::Arc<sink::Shared>>,
     /// Where the file goes, for the size reported.
     target: Option<PathBuf>,
+    /// Bytes written to the file so far.
+    written: Option<std::sync::Arc<std::sync::atomic::AtomicU64>>,
 }
 
 impl Recording {
@@ -151,8 +153,11 @@ impl Recording {
         let mut sinks: Vec<Box<dyn rerun::sink::LogSink>> = Vec::new();
         let mut file = None;
         let mut target = None;
+        let mut written = None;
         if let Some(output) = d.written()? {
-            let shared = std::sync::Arc::new(sink::Shared::new(output.create()?)?);
+            let partial = output.create()?;
+            written = Some(partial.written());
+            let shared = std::sync::Arc::new(sink::Shared::new(partial)?);
             sinks.push(Box::new(sink::EncodedSink(shared.clone())));
             file = Some(shared);
             target = output.target;
@@ -198,7 +203,13 @@ impl Recording {
             rec: Some(rec),
             file,
             target,
+            written,
         })
+    }
+
+    /// The count of bytes written to the recording's file so far (none when only streamed).
+    pub fn written(&self) -> Option<std::sync::Arc<std::sync::atomic::AtomicU64>> {
+        self.written.clone()
     }
 
     pub fn stream(&self) -> &rerun::RecordingStream {
