@@ -401,8 +401,12 @@ fn run_scene<S: Scene, D: Draw<S>>(
         stop_after,
     )?;
     let schedule = scene.schedule();
+    let mut text = summary(&scene, &run);
+    if let (Some(gap), Some(_)) = (schedule.gap_text(), &recorder) {
+        text.push_str(&format!("\n{gap}\n"));
+    }
     Ok(Ran {
-        summary: summary(&scene, &run),
+        summary: text,
         printed_only: String::new(),
         diverged: run.diverged(scene.name()),
         end: SceneEnd {

@@ -321,7 +321,7 @@ pub fn run_until<S: Scene>(
             observer.frame(scene, &view)?;
             cost.fill(Duration::ZERO);
             frames += 1;
-            k += 1;
+            k = schedule.drawn_from(k + 1);
             tick = schedule.frame_tick(k);
         }
         first = last + 1;
@@ -534,5 +534,61 @@ mod tests {
         assert_eq!(Schedule::fixed_step(0.01, 20.0, 30.0, 1).frames(), 601);
         // A step longer than a frame: every step is one, and the rate says so.
         assert_eq!(Schedule::fixed_step(0.1, 20.0, 30.0, 1).frame_rate(), 10.0);
+    }
+
+    /// A run longer than the frame budget draws the budget's frames at its two ends, each at the
+    /// tick a run without a budget would draw it at, and no other: checked against the frames
+    /// of the same run counted directly (k/fps rounded to the nearest tick), and through the run
+    /// loop.
+    #[test]
+    fn a_long_run_draws_its_frame_budget_at_its_two_ends_only() {
+        use super::schedule::MAX_FRAMES;
+
+        for (dt, duration, fps) in [(0.01, 1e4, 30.0), (1e-3, 500.0, 30.0), (0.01, 2e3, 7.0)] {
+            let s = Schedule::fixed_step(dt, duration, fps, 1);
+            let tpf = 1.0 / (fps * dt);
+            let uniform: Vec<u64> = (0..)
+                .map(|k| (k as f64 * tpf).round() as u64)
+                .take_while(|&t| t <= s.total)
+                .collect();
+            let half = (MAX_FRAMES / 2) as usize;
+            let expected: Vec<u64> = uniform[..half]
+                .iter()
+                .chain(&uniform[uniform.len() - half..])
+                .copied()
+                .collect();
+            assert_eq!(s.frames(), MAX_FRAMES, "dt {dt} duration {duration}");
+            let mut drawn = Vec::new();
+            let mut k = s.next_frame(0);
+            while s.frame_tick(k) <= s.total {
+                drawn.push(s.frame_tick(k));
+                k = s.drawn_from(k + 1);
+            }
+            assert_eq!(drawn, expected, "dt {dt} duration {duration}");
+            // A tick between the two ends belongs to the last frame drawn before it.
+            let between = (expected[half - 1] + expected[half]) / 2;
+            assert_eq!(s.frame_tick(s.frame_at(between)), expected[half - 1]);
+            assert_eq!(s.frame_tick(s.next_frame(between)), expected[half]);
+            assert!(s.gap_text().unwrap().contains("6000 of the"));
+
+            let mut scene = Counter {
+                schedule: Schedule {
+                    plot_stride: s.total,
+                    ..s
+                },
+                diverge_at: u64::MAX,
+                traced: false,
+            };
+            let mut seen = Collect::default();
+            run(&mut scene, &mut seen).unwrap();
+            let ticks: Vec<u64> = seen.frames.iter().map(|f| f.0).collect();
+            assert_eq!(ticks, expected, "through the run loop");
+        }
+        // Within the budget every frame is drawn and nothing is said.
+        assert_eq!(Schedule::fixed_step(0.01, 199.0, 30.0, 1).gap(), None);
+        assert_eq!(
+            Schedule::fixed_step(0.01, 200.0, 30.0, 1).frames(),
+            MAX_FRAMES
+        );
     }
 }

@@ -4,6 +4,12 @@
 /// Series are thinned evenly so that no plot holds more than this many points per lane.
 pub const MAX_PLOT_POINTS: u64 = 10_000;
 
+/// 3D frames a run draws at most. A longer run draws the first and the last half of this many
+/// (the motion as it starts and as it ends, at the frame rate asked for) and none between, so
+/// that its 3D part does not grow with its length; the plots and every check still cover every
+/// step.
+pub const MAX_FRAMES: u64 = 6000;
+
 /// How a tick maps to simulated time.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Clock {
@@ -78,6 +84,30 @@ impl Schedule {
 
     /// The last 3D frame at or before `tick`.
     pub fn frame_at(&self, tick: u64) -> u64 {
+        let k = self.uniform_frame_at(tick);
+        match self.gap() {
+            Some((a, b)) if (a..=b).contains(&k) => a - 1,
+            _ => k,
+        }
+    }
+
+    /// The frames a run of more than [`MAX_FRAMES`] does not draw, first and last: frame k comes
+    /// at the same tick whether drawn or not, so that `frame` numbers one moment in every scene.
+    pub fn gap(&self) -> Option<(u64, u64)> {
+        let all = self.uniform_frame_at(self.total) + 1;
+        (all > MAX_FRAMES).then(|| (MAX_FRAMES / 2, all - MAX_FRAMES / 2 - 1))
+    }
+
+    /// The first frame drawn from frame `k` on.
+    pub fn drawn_from(&self, k: u64) -> u64 {
+        match self.gap() {
+            Some((a, b)) if (a..=b).contains(&k) => b + 1,
+            _ => k,
+        }
+    }
+
+    /// The last frame at or before `tick`, drawn or not.
+    fn uniform_frame_at(&self, tick: u64) -> u64 {
         let mut k = (tick as f64 / self.ticks_per_frame()) as u64;
         while k > 0 && self.frame_tick(k) > tick {
             k -= 1;
@@ -88,14 +118,22 @@ impl Schedule {
         k
     }
 
-    /// The first 3D frame at or after `tick`.
+    /// The first 3D frame drawn at or after `tick`.
     pub fn next_frame(&self, tick: u64) -> u64 {
-        let k = self.frame_at(tick);
-        if self.frame_tick(k) == tick { k } else { k + 1 }
+        let k = self.uniform_frame_at(tick);
+        self.drawn_from(if self.frame_tick(k) == tick { k } else { k + 1 })
     }
 
     /// When the 3D frames come, in words (the recordings' `about` panels).
     pub fn frames_text(&self) -> String {
+        let all = self.uniform_text();
+        match self.gap_text() {
+            Some(gap) => format!("{all}; {gap}"),
+            None => all,
+        }
+    }
+
+    fn uniform_text(&self) -> String {
         let (unit, per) = match self.clock {
             Clock::Step(_) => ("step", "steps"),
             Clock::Rate(_) => ("simulation frame", "simulation frames"),
@@ -124,9 +162,24 @@ impl Schedule {
         }
     }
 
-    /// 3D frames in the run, frame 0 (tick 0) included.
+    /// 3D frames drawn in the run, frame 0 (tick 0) included.
     pub fn frames(&self) -> u64 {
-        self.frame_at(self.total) + 1
+        let all = self.uniform_frame_at(self.total) + 1;
+        all - self.gap().map_or(0, |(a, b)| b - a + 1)
+    }
+
+    /// Which 3D frames a run beyond [`MAX_FRAMES`] draws, in words (none when it draws all).
+    pub fn gap_text(&self) -> Option<String> {
+        let (a, b) = self.gap()?;
+        let all = self.uniform_frame_at(self.total) + 1;
+        Some(format!(
+            "3D drawn over t ≤ {} s and t ≥ {} s only: {} of the {all} frames at the rate asked \
+             for (at most {MAX_FRAMES} are drawn); the 3D view holds still between, while the \
+             plots and every check cover every step",
+            crate::scene::params::shown(self.time(self.frame_tick(a - 1))),
+            crate::scene::params::shown(self.time(self.frame_tick(b + 1))),
+            self.frames()
+        ))
     }
 
     /// Whether the series are sampled at `tick`.
