@@ -389,7 +389,12 @@ fn run_scene<S: Scene, D: Draw<S>>(
     progress: &mut Progress,
     stop_after: Option<u64>,
 ) -> anyhow::Result<Ran> {
-    progress.stage(scene.name(), scene.schedule().end_time());
+    let schedule = scene.schedule();
+    let gap = schedule.gap().map(|(a, b)| {
+        let at = |k| schedule.time(schedule.frame_tick(k));
+        (at(a - 1), at(b + 1))
+    });
+    progress.stage(scene.name(), schedule.end_time(), gap);
     let mut quiet = NoObserver;
     let inner: &mut dyn Observer<S> = match &mut recorder {
         Some(r) => r,

@@ -17,16 +17,60 @@ pub struct Progress {
     quiet: bool,
     /// The recording's bytes written so far, when it is written to a file.
     written: Option<Arc<AtomicU64>>,
-    /// Bytes written when the current stage started.
-    stage_bytes: u64,
-    /// Whether the current stage's notice was considered already.
-    noticed: bool,
     started: Instant,
     bar: Option<ProgressBar>,
     label: String,
+    /// When the bar was last moved.
+    shown: Instant,
+    /// Whether the current stage's notice was considered already.
+    noticed: bool,
+    pace: Pace,
+}
+
+/// How a stage's wall time and recording grow, measured as it goes. A stage that draws every 3D
+/// frame grows evenly with its simulated time. A long one draws its frames at its two ends only
+/// ([`crate::scene::harness::Schedule::gap`]): its first window (dense frames, short blocks of
+/// steps) costs more per simulated second than its gap, and its last window costs what its first
+/// did, so its pace is taken from each part. Its size is bounded by the frame budget and is not
+/// estimated: the bytes written lag what was logged by the time Rerun holds chunks back, which
+/// over a gap's first second misleads by far.
+struct Pace {
+    started: Instant,
+    /// Bytes written when the stage started.
+    bytes0: u64,
+    /// Simulated time at the end.
     end: f64,
-    /// When the current stage started, for the remaining-time estimate.
-    stage_started: Instant,
+    /// The simulated times the gap starts and ends at, if there is one.
+    gap: Option<(f64, f64)>,
+    /// Wall time of the first window, once it is over [s].
+    window: Option<f64>,
+}
+
+impl Pace {
+    /// The whole stage's wall time [s] and, for an even stage, its bytes, from `t` reached with
+    /// `bytes` written so far; none before there is a pace to go by.
+    fn estimate(&mut self, t: f64, bytes: u64) -> Option<(f64, Option<f64>)> {
+        let elapsed = self.started.elapsed().as_secs_f64();
+        let done = t / self.end;
+        let Some((t1, t2)) = self.gap else {
+            let bytes = bytes.saturating_sub(self.bytes0) as f64;
+            return (done > 0.0).then(|| (elapsed / done, Some(bytes / done)));
+        };
+        if t <= t1 {
+            return None;
+        }
+        let window = *self.window.get_or_insert(elapsed);
+        if t <= t2 {
+            // A second into the gap: its first blocks also wait for the window's chunks.
+            if elapsed - window < 1.0 {
+                return None;
+            }
+            let gap = (elapsed - window) / (t - t1) * (t2 - t1);
+            Some((2.0 * window + gap, None))
+        } else {
+            Some((elapsed + window * (self.end - t) / (self.end - t2), None))
+        }
+    }
 }
 
 impl Progress {
@@ -35,22 +79,32 @@ impl Progress {
             enabled: !quiet && std::io::stderr().is_terminal(),
             quiet,
             written,
-            stage_bytes: 0,
-            noticed: false,
             started: Instant::now(),
             bar: None,
             label: String::new(),
-            end: 1.0,
-            stage_started: Instant::now(),
+            shown: Instant::now(),
+            noticed: false,
+            pace: Pace {
+                started: Instant::now(),
+                bytes0: 0,
+                end: 1.0,
+                gap: None,
+                window: None,
+            },
         }
     }
 
-    /// Starts a new stage: `label` runs to simulated time `end` [s].
-    pub fn stage(&mut self, label: &str, end: f64) {
+    /// Starts a new stage: `label` runs to simulated time `end` [s], drawing no 3D frame between
+    /// the simulated times `gap` gives.
+    pub fn stage(&mut self, label: &str, end: f64, gap: Option<(f64, f64)>) {
         self.label = label.to_string();
-        self.end = end.max(1e-12);
-        self.stage_started = Instant::now();
-        self.stage_bytes = self.bytes();
+        self.pace = Pace {
+            started: Instant::now(),
+            bytes0: self.bytes(),
+            end: end.max(1e-12),
+            gap,
+            window: None,
+        };
         self.noticed = false;
         if let Some(bar) = &self.bar {
             bar.set_prefix(self.label.clone());
@@ -66,18 +120,25 @@ impl Progress {
 
     /// Simulated time reached.
     pub fn at(&mut self, t: f64) {
-        let elapsed = self.stage_started.elapsed();
+        let elapsed = self.pace.started.elapsed();
         if !self.noticed && !self.quiet && elapsed >= NOTICE_AFTER {
-            self.noticed = true;
-            let written = self
-                .written
-                .as_ref()
-                .map(|_| (self.bytes() - self.stage_bytes) as f64);
-            let done = (t / self.end).clamp(0.0, 1.0);
-            if let Some(notice) = long_run_notice(&self.label, elapsed, done, written) {
-                match &self.bar {
-                    Some(bar) => bar.println(notice),
-                    None => eprintln!("{notice}"),
+            let done = t / self.pace.end;
+            if let Some((seconds, bytes)) = self.pace.estimate(t, self.bytes()) {
+                self.noticed = true;
+                let bytes = bytes.filter(|_| self.written.is_some());
+                let how = match self.pace.gap {
+                    None => "its pace so far, extrapolated",
+                    Some(_) => {
+                        "the pace of its first 3D window and of its gap so far, extrapolated, \
+                         its last window like its first; its recording is bounded by the 3D \
+                         frame budget"
+                    }
+                };
+                if let Some(notice) = long_run_notice(&self.label, done, seconds, bytes, how) {
+                    match &self.bar {
+                        Some(bar) => bar.println(notice),
+                        None => eprintln!("{notice}"),
+                    }
                 }
             }
         }
@@ -89,7 +150,7 @@ impl Progress {
             bar.set_style(
                 // indicatif's own {eta} reads 0 s here: the bar appears after a second with
                 // its position already far along, so its rate estimate starts out infinite.
-                // The estimate is ours: the stage's elapsed time scaled by what is left.
+                // The estimate is ours (`Pace`).
                 ProgressStyle::with_template(
                     "{prefix:>9} [{bar:40}] {percent:>3}% {elapsed} (eta {msg})",
                 )
@@ -99,10 +160,18 @@ impl Progress {
             bar.set_prefix(self.label.clone());
             self.bar = Some(bar);
         }
+        // At most 20 updates a second: `at` comes after every block of steps.
+        if self.shown.elapsed() < Duration::from_millis(50) {
+            return;
+        }
+        self.shown = Instant::now();
+        let left = self
+            .pace
+            .estimate(t, self.bytes())
+            .map(|(seconds, _)| seconds - elapsed.as_secs_f64());
         if let Some(bar) = &self.bar {
-            let done = (t / self.end).clamp(0.0, 1.0);
-            bar.set_position((1000.0 * done) as u64);
-            bar.set_message(eta_text(self.stage_started.elapsed(), done));
+            bar.set_position((1000.0 * (t / self.pace.end).clamp(0.0, 1.0)) as u64);
+            bar.set_message(left.map_or("?".into(), eta_text));
         }
     }
 
@@ -121,20 +190,18 @@ pub const LONG_SECONDS: f64 = 10.0;
 /// ...or its recording beyond this many bytes.
 pub const LARGE_BYTES: f64 = 100e6;
 
-/// What a scene that `elapsed` took to `done` (0–1) of its simulated time, writing `written`
-/// bytes meanwhile, will take in all at that pace, when that is long or large (the pace of a
-/// scene's steps and recording is steady: every step costs the same and 3D frames come evenly).
+/// The notice of a scene at `done` (0–1) of its simulated time that will take `seconds` in all
+/// and write `bytes` (estimated `how`), when that is long or large.
 fn long_run_notice(
     label: &str,
-    elapsed: Duration,
     done: f64,
-    written: Option<f64>,
+    seconds: f64,
+    bytes: Option<f64>,
+    how: &str,
 ) -> Option<String> {
-    if done <= 0.0 || done >= 1.0 {
+    if !(0.0..1.0).contains(&done) {
         return None;
     }
-    let seconds = elapsed.as_secs_f64() / done;
-    let bytes = written.map(|w| w / done);
     if seconds <= LONG_SECONDS && bytes.is_none_or(|b| b <= LARGE_BYTES) {
         return None;
     }
@@ -142,10 +209,9 @@ fn long_run_notice(
         format!(" and writes about {} to its recording", size_text(b))
     });
     Some(format!(
-        "{label}: this scene takes about {}{size} in all (its pace over the first {:.1} s, {:.2} % of \
-         its simulated time, extrapolated); Ctrl-C stops it and keeps what is recorded",
+        "{label}: this scene takes about {}{size} in all ({how}, at {:.2} % of its simulated \
+         time); Ctrl-C stops it and keeps what is recorded",
         duration_text(seconds),
-        elapsed.as_secs_f64(),
         100.0 * done
     ))
 }
@@ -169,13 +235,9 @@ fn size_text(bytes: f64) -> String {
     }
 }
 
-/// The remaining time when `done` (0–1) took `elapsed`, rounded for reading: "12s", "3m 05s",
-/// "?" before anything is done.
-fn eta_text(elapsed: Duration, done: f64) -> String {
-    if done <= 0.0 {
-        return "?".into();
-    }
-    let left = (elapsed.as_secs_f64() * (1.0 - done) / done).round() as u64;
+/// The remaining time [s] rounded for reading: "12s", "3m 05s".
+fn eta_text(left: f64) -> String {
+    let left = left.max(0.0).round() as u64;
     if left < 60 {
         format!("{left}s")
     } else {
@@ -203,6 +265,10 @@ impl<S: Scene, O: Observer<S> + ?Sized> Observer<S> for WithProgress<'_, O> {
     fn event(&mut self, scene: &S, event: &Event) -> anyhow::Result<()> {
         self.inner.event(scene, event)
     }
+    fn reached(&mut self, scene: &S, tick: u64) {
+        self.progress.at(scene.schedule().time(tick));
+        self.inner.reached(scene, tick);
+    }
     fn finish(&mut self, scene: &S, run: &Run<S::Lane>) -> anyhow::Result<()> {
         self.inner.finish(scene, run)
     }
@@ -214,35 +280,55 @@ mod tests {
 
     #[test]
     fn a_scene_is_said_long_or_large_from_its_pace_extrapolated() {
-        let second = Duration::from_secs(1);
-        // 1 % in a second: 100 s in all.
-        let long = long_run_notice("pendulum", second, 0.01, None).unwrap();
-        assert!(long.contains("about 1 min 40 s in all"), "{long}");
+        let how = "its pace so far";
+        let long = long_run_notice("pendulum", 0.01, 100.0, None, how).unwrap();
+        assert!(
+            long.contains("about 1 min 40 s in all (its pace so far"),
+            "{long}"
+        );
         assert!(!long.contains("writes"), "{long}");
-        // Half in a second: 2 s, 2 MB in all — neither long nor large.
-        assert_eq!(long_run_notice("rope", second, 0.5, Some(1e6)), None);
-        // Quick but large: 40 MB at 20 % is 200 MB.
-        let large = long_run_notice("hair", second, 0.2, Some(40e6)).unwrap();
+        assert_eq!(long_run_notice("rope", 0.5, 2.0, Some(2e6), how), None);
+        let large = long_run_notice("hair", 0.2, 5.0, Some(200e6), how).unwrap();
         assert!(
             large.contains("about 5 s and writes about 200 MB"),
             "{large}"
         );
-        // 10^8 steps at the pace of 0.004 %: hours and gigabytes.
-        let huge = long_run_notice("pendulum", second, 4e-5, Some(1.6e6)).unwrap();
+        let huge = long_run_notice("pendulum", 4e-5, 25000.0, Some(4e10), how).unwrap();
         assert!(
             huge.contains("6 h 56 min") && huge.contains("40.0 GB"),
             "{huge}"
         );
-        // Nothing to extrapolate from, or nothing left.
-        assert_eq!(long_run_notice("x", second, 0.0, None), None);
-        assert_eq!(long_run_notice("x", second, 1.0, None), None);
+        assert_eq!(long_run_notice("x", 1.0, 1e9, None, how), None);
+    }
+
+    /// A run with a gap: 1 s for its first window (to t = 100 of 10,000), then 1.5 s more for
+    /// 1,000 simulated seconds of gap, is 1 + 14.7 + 1 s in all; even pace otherwise.
+    #[test]
+    fn the_pace_of_a_long_run_is_taken_from_its_window_and_its_gap() {
+        let at = |ago: f64| Instant::now() - Duration::from_secs_f64(ago);
+        let mut pace = Pace {
+            started: at(1.0),
+            bytes0: 0,
+            end: 10_000.0,
+            gap: Some((100.0, 9_900.0)),
+            window: None,
+        };
+        assert_eq!(pace.estimate(50.0, 5_000_000), None, "in the first window");
+        assert_eq!(pace.estimate(100.5, 8_000_000), None, "just out of it");
+        pace.started = at(2.5);
+        let (seconds, bytes) = pace.estimate(1_100.0, 9_000_000).unwrap();
+        assert!((seconds - (2.0 + 14.7)).abs() < 0.02, "{seconds}");
+        assert_eq!(bytes, None, "bounded, not estimated");
+        let mut even = Pace { gap: None, ..pace };
+        even.started = at(2.0);
+        let (seconds, bytes) = even.estimate(1_000.0, 1_000_000).unwrap();
+        assert!((seconds - 20.0).abs() < 0.02 && bytes == Some(1e7));
     }
 
     #[test]
-    fn eta_scales_elapsed_by_what_is_left() {
-        assert_eq!(eta_text(Duration::from_secs(10), 0.25), "30s");
-        assert_eq!(eta_text(Duration::from_secs(100), 0.5), "1m 40s");
-        assert_eq!(eta_text(Duration::from_secs(3), 0.0), "?");
-        assert_eq!(eta_text(Duration::from_secs(3), 1.0), "0s");
+    fn eta_is_rounded_for_reading() {
+        assert_eq!(eta_text(30.4), "30s");
+        assert_eq!(eta_text(100.0), "1m 40s");
+        assert_eq!(eta_text(-1.0), "0s");
     }
 }

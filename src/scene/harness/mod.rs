@@ -132,6 +132,9 @@ pub trait Observer<S: Scene> {
     fn event(&mut self, _scene: &S, _event: &Event) -> anyhow::Result<()> {
         Ok(())
     }
+    /// Every lane has stepped up to `tick` (after each block, drawn or not: a long run's
+    /// progress between the frames it draws).
+    fn reached(&mut self, _scene: &S, _tick: u64) {}
     fn finish(&mut self, _scene: &S, _run: &Run<S::Lane>) -> anyhow::Result<()> {
         Ok(())
     }
@@ -324,6 +327,7 @@ pub fn run_until<S: Scene>(
             k = schedule.drawn_from(k + 1);
             tick = schedule.frame_tick(k);
         }
+        observer.reached(scene, last);
         first = last + 1;
     }
     for (i, batch) in batches.iter_mut().enumerate() {
