@@ -374,7 +374,9 @@ mod tests {
 
     /// Every width that divides `columns`.
     fn exact_widths(columns: u32) -> Vec<u32> {
-        (1..=columns).filter(|w| columns.is_multiple_of(*w)).collect()
+        (1..=columns)
+            .filter(|w| columns.is_multiple_of(*w))
+            .collect()
     }
 
     fn finite_range(points: &[Point]) -> (f64, f64) {

@@ -17,7 +17,7 @@
 //!
 //! # The time argument
 //! Step n stands for the time n·dt, the exact product of the step count and the double dt.
-//! [`reduce`] forms it without rounding as a double-double (two_prod by fma), subtracts q·T
+//! [`reduce`] forms it without rounding as a double-double (Dekker's exact product), subtracts q·T
 //! (q = ⌊n·dt / T⌋) also as an exact double-double, and rounds once: the phase is within about
 //! 2 ulp(T) of n·dt mod T whatever n is (for n < 2⁵³), so it adds no error that grows with the
 //! run. What does grow is the period's own rounding: T = 4K/ωn is a double, within a few ulps of
@@ -85,7 +85,21 @@ fn hermite(y: [f64; 4], z: [f64; 4], h: f64) -> [f64; 8] {
 }
 
 fn horner(c: &[f64; 8], s: f64) -> f64 {
-    c.iter().rev().fold(0.0, |acc, &k| acc.mul_add(s, k))
+    c.iter().rev().fold(0.0, |acc, &k| acc * s + k)
+}
+
+/// a·b = p + e exactly (Dekker's product by Veltkamp's splitting; no overflow for the step
+/// counts and times here). Not `mul_add`: without the FMA target feature that is a library call
+/// that costs more than the whole table look-up.
+fn two_product(a: f64, b: f64) -> (f64, f64) {
+    let split = |x: f64| {
+        let c = 134_217_729.0 * x; // 2^27 + 1
+        let high = c - (c - x);
+        (high, x - high)
+    };
+    let ((ah, al), (bh, bl)) = (split(a), split(b));
+    let p = a * b;
+    (p, ((ah * bh - p) + ah * bl + al * bh) + al * bl)
 }
 
 /// n·dt mod `period`, in [0, period] (period itself only by the final rounding), within about
@@ -93,13 +107,19 @@ fn horner(c: &[f64; 8], s: f64) -> f64 {
 /// the subtraction of the whole periods are carried exactly as double-doubles, one rounding at
 /// the end. Negative dt is not supported (time runs forward).
 pub fn reduce(n: u64, dt: f64, period: f64) -> f64 {
-    let x = n as f64;
-    let p = x * dt;
-    let e = x.mul_add(dt, -p);
-    let q = (p / period).floor();
-    let qh = q * period;
-    let ql = q.mul_add(period, -qh);
-    // p - qh is exact (Sterbenz: qh = 0, or p/2 ≤ qh ≤ p up to the division's rounding).
+    reduce_with_inverse(n, dt, period, 1.0 / period)
+}
+
+/// [`reduce`] with 1 / period given (a multiplication instead of a division per step; the
+/// quotient may then be one off, which the end corrects).
+fn reduce_with_inverse(n: u64, dt: f64, period: f64, inverse: f64) -> f64 {
+    let (p, e) = two_product(n as f64, dt);
+    // Truncation is floor here (p ≥ 0), and unlike `floor` needs no library call on x86-64's
+    // baseline; a q one off is corrected below.
+    let q = (p * inverse) as i64 as f64;
+    let (qh, ql) = two_product(q, period);
+    // p - qh is exact (Sterbenz: qh = 0, or qh within a factor 2 of p) except when q came out
+    // one too small at q = 1, where it rounds by at most ulp(T).
     let mut r = (p - qh) + (e - ql);
     if r < 0.0 {
         r += period;
@@ -134,6 +154,7 @@ fn closed_form_at_phase(exact: &ExactPendulum, tau: f64) -> (f64, f64) {
 #[derive(Clone, Debug)]
 pub struct PeriodicExact {
     period: f64,
+    inverse_period: f64,
     /// M / T, to find an interval.
     intervals_per_second: f64,
     /// Node times t_0 = 0 ..= t_M = T.
@@ -193,6 +214,7 @@ impl PeriodicExact {
         }
         let mut table = PeriodicExact {
             period,
+            inverse_period: 1.0 / period,
             intervals_per_second: intervals as f64 / period,
             nodes,
             inverse_widths,
@@ -231,7 +253,7 @@ impl PeriodicExact {
 
     /// (θ, ω) at step n of a run with step dt: at time n·dt exactly (see [`reduce`]).
     pub fn state_at_step(&self, n: u64, dt: f64) -> (f64, f64) {
-        self.at_phase(reduce(n, dt, self.period))
+        self.at_phase(reduce_with_inverse(n, dt, self.period, self.inverse_period))
     }
 
     /// The period T [s] tabulated (the closed form's, [`ExactPendulum::period`]).
@@ -389,6 +411,16 @@ mod tests {
             sum += table.state_at_step(black_box(n), dt).0;
         }
         let table_ns = per_step(t0);
+        let t0 = Instant::now();
+        for n in 0..steps {
+            sum += reduce(black_box(n), dt, table.period());
+        }
+        println!("reduce only {:.1}", per_step(t0));
+        let t0 = Instant::now();
+        for n in 0..steps {
+            sum += table.at_phase(black_box(n as f64 * 1e-7)).0;
+        }
+        println!("at_phase only {:.1}", per_step(t0));
         let t0 = Instant::now();
         for n in 0..steps {
             sum += exact.state(black_box(n) as f64 * dt).0;
