@@ -3,6 +3,7 @@
 
 pub mod hair;
 pub mod harness;
+pub mod m4;
 pub mod pendulum;
 pub mod rope;
 

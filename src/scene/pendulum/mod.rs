@@ -4,6 +4,7 @@
 //! E = ½ L² ω² + g L (1 - cos θ) [J/kg], so E ≥ 0 and E = 0 only at rest at the bottom.
 
 pub mod period;
+pub mod periodic;
 pub mod reference;
 pub mod run;
 
