@@ -1,15 +1,16 @@
-//! `physlab study` against theory.
+//! `physlab study` against theory: fitted orders, stability limits, the cheapest rows, floors,
+//! what it writes, and its schedule taken from a scene file.
 
-#[cfg(feature = "rerun")]
+#![cfg(feature = "rerun")]
+
 mod common;
 
+#[cfg(feature = "rerun")]
+use common::{decode, physlab, scratch_dir};
 use physlab::integrate::{Method, MethodOptions, Stability};
 use physlab::scene::pendulum::PendulumParams;
 use physlab::scene::rope::RopeParams;
 use physlab::study::{Problem, Row, Sweep, cheapest, error_floor, orders, stability, sweep};
-
-#[cfg(feature = "rerun")]
-use common::{decode, physlab, scratch_dir};
 
 fn pendulum() -> Problem {
     Problem::Pendulum(PendulumParams::default())
@@ -289,12 +290,6 @@ fn study_writes_csv_and_a_recording() {
     let (code, _, err) = physlab(&["reproduce", rrd.to_str().unwrap()]);
     assert_eq!(code, 2);
     assert!(err.contains("a study recording"), "{err}");
-    let (code, _, err) = physlab(&["study", "convergence", "--levels", "1"]);
-    assert_eq!(code, 2);
-    assert!(
-        err.contains("--levels 1: must be between 2 and 20"),
-        "{err}"
-    );
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -356,5 +351,86 @@ fn errors_at_their_floor_are_left_out_of_the_fitted_order() {
                 o.method
             );
         }
+    }
+}
+
+#[cfg(feature = "rerun")]
+mod scene_file {
+    //! The study takes its schedule and methods from the scene file.
+
+    use crate::common::{physlab, scratch_dir};
+
+    #[test]
+    fn the_study_takes_the_schedule_and_methods_from_the_scene_file() {
+        let dir = scratch_dir("edges-study-file");
+        let file = dir.join("s.toml");
+        std::fs::write(
+            &file,
+            "[pendulum]\ndt = 0.04\nduration = 6.4\nmethods = [\"rk4\", \"verlet\"]\n",
+        )
+        .unwrap();
+        let (code, stdout, stderr) = physlab(&[
+            "study",
+            "convergence",
+            "--levels",
+            "3",
+            "--config",
+            file.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{stderr}");
+        assert!(
+            stdout.contains("sampled every 0.64 s over 6.4 s"),
+            "{stdout}"
+        );
+        assert!(
+            stdout.contains("| rk4") && stdout.contains("| verlet"),
+            "{stdout}"
+        );
+        assert!(!stdout.contains("| midpoint"), "{stdout}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
+
+#[cfg(feature = "rerun")]
+mod hair {
+    //! `study hair` measures the trade between substeps and iterations.
+
+    use crate::common::{physlab, scratch_dir};
+
+    /// `physlab study hair`: every configuration measured, the CSV written with
+    /// one row each, the direct solver and ftl within 1e-6 and one Gauss–Seidel sweep not within
+    /// 1e-1 (the chain cannot carry a correction from tip to root in one sweep).
+    #[test]
+    fn study_hair_measures_the_trade() {
+        let dir = scratch_dir("study-hair");
+        let csv = dir.join("hair.csv");
+        let (code, stdout, stderr) = physlab(&[
+            "study",
+            "hair",
+            "--duration",
+            "0.25",
+            "--csv",
+            csv.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{stderr}");
+        assert!(stdout.contains("cheapest configuration"), "{stdout}");
+        let text = std::fs::read_to_string(&csv).unwrap();
+        let rows: Vec<Vec<&str>> = text
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').collect())
+            .collect();
+        assert_eq!(rows.len(), 28 + 4 + 4 + 6 + 1, "{text}");
+        let stretch = |method: &str, solver: &str, it: &str, sub: &str| -> f64 {
+            let r = rows
+                .iter()
+                .find(|r| r[0] == method && r[1] == solver && r[2] == it && r[3] == sub)
+                .unwrap();
+            r[5].parse().unwrap()
+        };
+        assert!(stretch("verlet", "direct", "2", "1") < 1e-6);
+        assert!(stretch("ftl", "", "1", "1") < 1e-6);
+        assert!(stretch("verlet", "gauss-seidel", "1", "1") > 1e-1);
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -442,7 +442,7 @@ pub(crate) mod tests {
                 // 0.007 h⁵ in x and 0.1 h⁵ in v here, as a separate evaluation of the composition gives).
                 Method::Yoshida4 => (h.cos(), -h.sin(), 0.2 * h.powi(5)),
                 // One fifth-order substep: local error h⁶/3600 in x, h⁷/5040 in v
-                // (tests/dopri5.rs checks those constants to 1%).
+                // (tests/integrators.rs checks those constants to 1%).
                 Method::Dopri5 => (h.cos(), -h.sin(), 1.01 * h.powi(6) / 3600.0),
                 // Error-controlled at rtol 1e-6, sampled by its dense output.
                 Method::Dop853 | Method::Vern9 => (h.cos(), -h.sin(), 1e-6),

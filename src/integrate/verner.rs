@@ -9,7 +9,7 @@
 //! independently of that crate: `integrate::order_conditions` evaluates all 719 + 486 rooted-tree
 //! conditions without rounding on these doubles (the ninth-order weights hold every condition of
 //! order ≤ 9 to < 4e-16, not those of order 10; the eighth-order ones every condition of order ≤ 8),
-//! the interpolant the conditions of order ≤ 8 at every θ, and `tests/adaptive.rs` measures the
+//! the interpolant the conditions of order ≤ 8 at every θ, and `tests/integrators.rs` measures the
 //! order and the period on the pendulum. (Not Julia's `Vern9`, which is Verner's earlier 2010
 //! table with c2 = 0.03462 and a 9th-order interpolant of 10 extra stages.)
 //!

@@ -11,7 +11,7 @@
 //! properties to that blueprint store (a stream built with the same store id), and sends the
 //! whole batch, activation last, through `RecordingStream::send_blueprint`. Verified by viewer
 //! screenshots (legends moved or hidden, 3D views opened on the eye) and by
-//! `tests/layout.rs`, which reads the properties back from a written recording.
+//! `tests/recording.rs`, which reads the properties back from a written recording.
 
 use rerun::blueprint::components::Corner2D;
 use rerun::blueprint::{Blueprint, BlueprintActivation, ContainerLike};

@@ -155,7 +155,7 @@ impl Draw<RopeScene> for RopeDraw {
         let floor = (p.start.z.min(p.end.z) - 1.05 * span) as f32;
         // The rope swings about its first pinned node, within one span of it. The floor reaches
         // half a span past that on each side and is shallower than the slots are wide; the view's
-        // eye frames [`framing`], and `tests/layout.rs` checks the floor stays in view.
+        // eye frames [`framing`], and `tests/recording.rs` checks the floor stays in view.
         let pin_x = p.start.x;
         let (x0, x1) = (
             (pin_x - 1.5 * span) as f32,

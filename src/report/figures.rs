@@ -1,7 +1,7 @@
 //! Every table of figures in README.md and docs/, produced from real runs of the library.
 //!
 //! Each figure is a markdown table between `<!-- figure: NAME -->` and `<!-- /figure -->` in a
-//! document. `cargo run --release --example figures` rewrites them all; `tests/figures.rs`
+//! document. `cargo run --release --example figures` rewrites them all; `tests/docs.rs`
 //! re-runs the deterministic ones (no wall-clock column) and fails when a document disagrees
 //! with the code, so no figure can go stale.
 

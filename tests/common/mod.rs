@@ -10,6 +10,25 @@ use rerun::external::arrow::array::Array as _;
 use rerun::external::re_log_encoding::DecoderApp;
 use rerun::log::{Chunk, LogMsg};
 
+/// A path as the `&str` a command line takes (the scratch paths are UTF-8).
+pub fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+/// A scene file that keeps every scene of `all` short, so a whole run takes seconds.
+pub const SMALL: &str = r#"
+[pendulum]
+duration = 4.0
+
+[rope]
+duration = 1.0
+nodes = 8
+
+[hair]
+strands = 40
+duration = 1.0
+"#;
+
 pub fn scratch_dir(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("physlab-test-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
@@ -147,6 +166,25 @@ pub fn record_pendulum(path: &Path, dt: &str, duration: &str) {
         path.to_str().unwrap(),
     ]);
     assert_eq!(code, 0, "{err}");
+}
+
+/// The hidden partial files (`.NAME.PID.partial`) in `dir`: what a write in progress leaves.
+pub fn partials(dir: &Path) -> Vec<String> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.contains(".partial"))
+        .collect()
+}
+
+/// Starts physlab with `args`, its standard output and error piped.
+pub fn spawn(args: &[&str]) -> std::process::Child {
+    Command::new(env!("CARGO_BIN_EXE_physlab"))
+        .args(args)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap()
 }
 
 /// Runs physlab with `args`; returns (exit code, stdout, stderr).

@@ -14,7 +14,7 @@ use crate::elliptic::{complete_k_m1, jacobi_m1};
 /// 1.3e-7 relative at 179.9999999°), and handed to [`complete_k_m1`] and [`jacobi_m1`]. The
 /// period and θ(t) then keep their full precision up to the last double below 180°.
 /// How well [`ExactPendulum::state`] gives θ [rad] within the first periods: measured against
-/// 100-digit mpmath values from 10° to 179.99999999999° (`tests/separatrix.rs`, worst 9.6e-15
+/// 100-digit mpmath values from 10° to 179.99999999999° (`tests/pendulum.rs`, worst 9.6e-15
 /// rad). Over a run it grows by [`EXACT_THETA_DRIFT`] per radian of ωn t
 /// ([`ExactPendulum::theta_accuracy`]).
 pub const EXACT_THETA_ACCURACY: f64 = 1e-14;
@@ -22,7 +22,7 @@ pub const EXACT_THETA_ACCURACY: f64 = 1e-14;
 /// How much the closed form's θ error grows per radian of ωn t [rad]: ωn is a rounded double
 /// (its relative error, up to 1.1e-16, becomes a phase error growing with t), and so are
 /// ωn t and its reduction by the period. Measured over whole runs against mpmath
-/// (`tests/pendulum_numerics.rs`, 10° to 179.999999°, 30–100 s): at most 5.5e-16 per radian
+/// (`tests/pendulum.rs`, 10° to 179.999999°, 30–100 s): at most 5.5e-16 per radian
 /// (120° over 30 s: 2.8e-14 rad in all; -150° over 100 s at ωn = 3.1/s: 1.0e-13).
 pub const EXACT_THETA_DRIFT: f64 = 1e-15;
 
@@ -157,7 +157,7 @@ impl CompensatedRk4 {
 /// estimates its error, reported with the run. Both runs keep their state as compensated sums
 /// ([`CompensatedRk4`]), so that what is left of their error is truncation, which the
 /// comparison sees; the estimate is checked against mpmath over whole runs with ω0 ≠ 0
-/// (`tests/pendulum_numerics.rs`).
+/// (`tests/pendulum.rs`).
 #[derive(Clone, Debug)]
 pub struct FineStepReference {
     fine: CompensatedRk4,
@@ -227,7 +227,7 @@ impl FineStepReference {
     /// between the runs / (2⁴ - 1) for a fourth-order method, taken twice (the largest
     /// difference and the largest error need not fall on the same sample, and the ratio is 2⁴
     /// only in the limit), plus 4 ulps of the largest |θ| for the state's own rounding. Measured
-    /// against mpmath over whole runs with ω0 ≠ 0 (`tests/pendulum_numerics.rs`): 1.9 to 5.8 times
+    /// against mpmath over whole runs with ω0 ≠ 0 (`tests/pendulum.rs`): 1.9 to 5.8 times
     /// the true error.
     pub fn error_estimate(&self) -> f64 {
         2.0 * self.max_difference / 15.0 + 4.0 * f64::EPSILON * self.max_theta
