@@ -57,6 +57,11 @@ pub fn shown(x: f64) -> String {
     }
 }
 
+/// A vector as given, x,y,z, each component as [`shown`].
+pub fn shown_vector(v: glam::DVec3) -> String {
+    format!("{},{},{}", shown(v.x), shown(v.y), shown(v.z))
+}
+
 /// A range's end as a person writes it: 0, 0.5, 1e6.
 fn bound(x: f64) -> String {
     if x == 0.0 || (1e-3..1e4).contains(&x.abs()) {

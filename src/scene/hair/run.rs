@@ -110,12 +110,7 @@ impl params::SceneConfig for HairConfig {
             if !(v.is_finite() && v.abs().max_element() <= max) {
                 return Err(Invalid::param(
                     option,
-                    format!(
-                        "{},{},{}",
-                        params::shown(v.x),
-                        params::shown(v.y),
-                        params::shown(v.z)
-                    ),
+                    params::shown_vector(v),
                     format!("every component must be a finite number within ±{max:e} [m/s²]"),
                 ));
             }

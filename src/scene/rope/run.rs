@@ -189,7 +189,7 @@ impl params::SceneConfig for RopeConfig {
         if (p.end - p.start).length() == 0.0 {
             return Err(Invalid::param(
                 "--end",
-                format!("{},{},{}", p.end.x, p.end.y, p.end.z),
+                params::shown_vector(p.end),
                 "must differ from --start (the spacing is the springs' rest length)",
             ));
         }
@@ -202,7 +202,7 @@ impl params::SceneConfig for RopeConfig {
             if !(v.is_finite() && v.abs().max_element() <= max) {
                 return Err(Invalid::param(
                     option,
-                    format!("{},{},{}", v.x, v.y, v.z),
+                    params::shown_vector(v),
                     format!("every component must be a finite number within ±{max:e}"),
                 ));
             }
