@@ -1007,19 +1007,18 @@ mod ctrl_c {
 
     use crate::common::{physlab, s, scratch_dir};
 
-    /// A recording large enough that reading it takes seconds (made once per test): about 40 MB,
-    /// whose diff takes about 2 s on a quiet 2-core machine with the file in the page cache (half
-    /// of it took 1.07 s, too short to signal inside).
+    /// A recording large enough that reading it takes seconds (made once per test): about 200
+    /// MB of hair strands, whose diff takes about 2 s on a quiet 2-core machine with the file in
+    /// the page cache (100 MB took 1.1 s, too short to signal inside). Hair, because a long
+    /// pendulum run draws at most 6000 3D frames and stays small.
     fn large_recording(dir: &Path) -> PathBuf {
         let big = dir.join("big.rrd");
         let (code, _, err) = physlab(&[
-            "pendulum",
-            "--duration",
-            "600",
-            "--dt",
-            "1e-4",
-            "--plot-every",
-            "1",
+            "hair",
+            "--strands",
+            "2000",
+            "--log-strands",
+            "2000",
             "-q",
             "-o",
             s(&big),
