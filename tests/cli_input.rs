@@ -272,6 +272,21 @@ const REFUSALS: &[(&[&str], i32, &[&str])] = &[
         &["--rtol 1e300: must be between 1e-14 and 0.1", "!00000000"],
     ),
     (
+        &["pendulum", "--dt", "1e300"],
+        2,
+        &["--dt 1e300: must not exceed --duration 20 s", "!00000000"],
+    ),
+    (
+        &["hair", "--margin", "1e300"],
+        2,
+        &["--margin 1e300: must be in [0, 0.5)", "!00000000"],
+    ),
+    (
+        &["rope", "--end", "1e300,0,0"],
+        2,
+        &["--end 1e300,0,0: every component must be", "!00000000"],
+    ),
+    (
         &["pendulum", "--methods", "dopri5", "--rtol", "5e-15"],
         2,
         &["--rtol 5e-15: must be between 1e-14 and 0.1", "!00000000"],

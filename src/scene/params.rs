@@ -157,8 +157,8 @@ pub fn time(dt: f64, duration: f64, fps: f64, work_per_step: usize) -> Result<()
     if dt > duration {
         return Err(Invalid::param(
             "--dt",
-            dt,
-            format!("must not exceed --duration {duration} s"),
+            shown(dt),
+            format!("must not exceed --duration {} s", shown(duration)),
         ));
     }
     let steps = duration / dt;
@@ -173,8 +173,10 @@ pub fn time(dt: f64, duration: f64, fps: f64, work_per_step: usize) -> Result<()
     let work = steps * work_per_step as f64;
     if work > MAX_NODE_STEPS {
         return Err(Invalid::Usage(format!(
-            "--duration {duration} / --dt {dt} × {work_per_step} nodes is {work:.2e} node-steps per method; \
-             at most {MAX_NODE_STEPS:.0e} are allowed (raise --dt, shorten --duration or use fewer --nodes)"
+            "--duration {} / --dt {} × {work_per_step} nodes is {work:.2e} node-steps per method; \
+             at most {MAX_NODE_STEPS:.0e} are allowed (raise --dt, shorten --duration or use fewer --nodes)",
+            shown(duration),
+            shown(dt)
         )));
     }
     Ok(())

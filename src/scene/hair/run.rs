@@ -129,7 +129,7 @@ impl params::SceneConfig for HairConfig {
         if !(p.margin.is_finite() && (0.0..0.5).contains(&p.margin)) {
             return Err(Invalid::param(
                 "--margin",
-                p.margin,
+                params::shown(p.margin),
                 "must be in [0, 0.5) head radii",
             ));
         }
