@@ -442,5 +442,32 @@ mod tests {
         let rk4_ns = per_step(t0);
         black_box((sum, it.position()[0]));
         println!("ns per step: table {table_ns:.1}, closed form {exact_ns:.1}, rk4 {rk4_ns:.1}");
+        // The build against the steps it takes to pay for itself, over the angles tested.
+        let probe = 1_000_000u64;
+        for d in DEGREES {
+            let p = start(d);
+            let build = Instant::now();
+            let table = PeriodicExact::new(&p).unwrap();
+            let build_ns = build.elapsed().as_secs_f64() * 1e9;
+            let exact = ExactPendulum::new(&p).unwrap();
+            let t0 = Instant::now();
+            for n in 0..probe {
+                sum += exact.state(black_box(n) as f64 * dt).0;
+            }
+            let exact_ns = t0.elapsed().as_secs_f64() * 1e9 / probe as f64;
+            let t0 = Instant::now();
+            for n in 0..probe {
+                sum += table.state_at_step(black_box(n), dt).0;
+            }
+            let table_ns = t0.elapsed().as_secs_f64() * 1e9 / probe as f64;
+            println!(
+                "{d:>8}°: build {:.1} ms ({} intervals), table {table_ns:.1} ns, closed form \
+                 {exact_ns:.1} ns, break-even {:.0} steps",
+                build_ns * 1e-6,
+                table.intervals(),
+                build_ns / (exact_ns - table_ns)
+            );
+        }
+        black_box(sum);
     }
 }

@@ -2,6 +2,7 @@
 //! and a converged fine-step solution for every other start, plus the exact period for any energy.
 
 use super::PendulumParams;
+use super::periodic::PeriodicExact;
 use crate::elliptic::{complete_k_m1, jacobi_m1};
 
 /// θ(t) = 2 atan2(k sn, dn)(K - ωn t | k²) (= 2 asin(k sn), written so that it keeps its
@@ -239,17 +240,30 @@ impl FineStepReference {
     }
 }
 
+/// Runs of more than this many steps evaluate the closed form from its verified table of one
+/// period ([`PeriodicExact`]), shorter ones call it directly (so default runs keep its values bit
+/// for bit): the table's build pays for itself within 10⁵ steps from 0.001° to 179.999°
+/// (`periodic.rs` `cost_per_step`), so 10⁶ leaves it a tenth of such a run at most.
+pub const TABULATE_ABOVE_STEPS: u64 = 1_000_000;
+
 /// The reference a run compares against.
 #[derive(Clone, Debug)]
 pub enum Reference {
     Exact(ExactPendulum),
+    /// The closed form evaluated from its table of one period.
+    Tabulated(ExactPendulum, Box<PeriodicExact>),
     FineStep(Box<FineStepReference>),
 }
 
 impl Reference {
-    /// The closed form where it applies, otherwise the fine-step solution sampled every `dt`.
-    pub fn for_start(p: &PendulumParams, dt: f64) -> Self {
+    /// The closed form where it applies (from its table for runs of more than
+    /// [`TABULATE_ABOVE_STEPS`] steps), otherwise the fine-step solution sampled every `dt`.
+    pub fn for_start(p: &PendulumParams, dt: f64, steps: u64) -> Self {
         match ExactPendulum::new(p) {
+            Some(e) if steps > TABULATE_ABOVE_STEPS => PeriodicExact::new(p)
+                .map_or(Reference::Exact(e), |t| {
+                    Reference::Tabulated(e, Box::new(t))
+                }),
             Some(e) => Reference::Exact(e),
             None => Reference::FineStep(Box::new(FineStepReference::new(p, dt))),
         }
@@ -258,7 +272,7 @@ impl Reference {
     /// Its lane name in tables and recordings: `exact` or `reference`.
     pub fn name(&self) -> &'static str {
         match self {
-            Reference::Exact(_) => "exact",
+            Reference::Exact(_) | Reference::Tabulated(..) => "exact",
             Reference::FineStep(_) => "reference",
         }
     }
@@ -267,6 +281,7 @@ impl Reference {
     pub fn state_at_step(&mut self, n: u64, dt: f64) -> (f64, f64) {
         match self {
             Reference::Exact(e) => e.state(n as f64 * dt),
+            Reference::Tabulated(_, table) => table.state_at_step(n, dt),
             Reference::FineStep(f) => {
                 debug_assert_eq!(n, f.step + 1, "fine-step reference is sampled in order");
                 f.advance()
@@ -277,17 +292,15 @@ impl Reference {
     /// One sentence on what the reference is, for the recording and the summary.
     pub fn describe(&self) -> String {
         match self {
-            Reference::Exact(e) => format!(
-                "exact: closed form θ(t) = 2 asin(k sn(K - ωn t, k²)), k = {:.12}, k' = cos(θ0/2) = {:.6e}, K = {:.15}, T = {} s",
-                e.k,
-                e.m1.sqrt(),
-                e.quarter,
-                // 13 significant digits at any scale (fixed point would print a 1e-13 s period
-                // as 0.000000000000).
-                match e.period() {
-                    t if (1e-3..1e6).contains(&t) => format!("{t:.12}"),
-                    t => format!("{t:.12e}"),
-                }
+            Reference::Exact(e) => closed_form_text(e),
+            Reference::Tabulated(e, table) => format!(
+                "{}; evaluated from a table of one period ({} Hermite pieces of degree 7, used beyond \
+                 {TABULATE_ABOVE_STEPS} steps), verified within {:.1e} rad in θ and {:.1e} rad/s in ω \
+                 of the closed form",
+                closed_form_text(e),
+                table.intervals(),
+                table.max_theta_error(),
+                table.max_omega_error()
             ),
             Reference::FineStep(f) => format!(
                 "reference: no closed form for this start (ω0 ≠ 0 or |θ0| ≥ 180°); RK4 at h = {:.3e} s, \
@@ -297,4 +310,20 @@ impl Reference {
             ),
         }
     }
+}
+
+/// The closed form and its constants, as [`Reference::describe`] states them.
+fn closed_form_text(e: &ExactPendulum) -> String {
+    format!(
+        "exact: closed form θ(t) = 2 asin(k sn(K - ωn t, k²)), k = {:.12}, k' = cos(θ0/2) = {:.6e}, K = {:.15}, T = {} s",
+        e.k,
+        e.m1.sqrt(),
+        e.quarter,
+        // 13 significant digits at any scale (fixed point would print a 1e-13 s period
+        // as 0.000000000000).
+        match e.period() {
+            t if (1e-3..1e6).contains(&t) => format!("{t:.12}"),
+            t => format!("{t:.12e}"),
+        }
+    )
 }

@@ -199,7 +199,7 @@ impl PendulumScene {
         let e0 = p.initial_energy();
         PendulumScene {
             system: Pendulum::new(&p),
-            reference: Reference::for_start(&p, config.dt),
+            reference: Reference::for_start(&p, config.dt, config.schedule().total),
             ref_theta: vec![0.0; BLOCK_STEPS],
             ref_omega: vec![0.0; BLOCK_STEPS],
             initial_energy: e0,
@@ -399,5 +399,92 @@ impl Scene for PendulumScene {
         lane.integrator
             .as_ref()
             .map_or(Counts::default(), Integrator::counts)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::periodic::PeriodicExact;
+    use super::super::reference::TABULATE_ABOVE_STEPS;
+    use super::*;
+
+    /// A run past the threshold takes the exact lane from the table: at every step of a stretch
+    /// at its start and one at its end, θ and ω agree with the closed form
+    /// ([`ExactPendulum::state`] at n·dt) within the table's verified error plus the closed
+    /// form's own stated accuracy at that time; up to the threshold the lane is the closed form
+    /// itself, bit for bit.
+    #[test]
+    fn a_long_run_takes_the_exact_lane_from_the_table_within_its_bound() {
+        let dt = 0.01;
+        for degrees in [60.0, 170.0, 179.9, -179.999] {
+            let mut config = PendulumConfig {
+                duration: 1e6,
+                methods: vec![Method::Verlet],
+                ..PendulumConfig::default()
+            };
+            (config.params.theta0, config.params.theta0_low) =
+                super::super::theta0_from_degrees(degrees);
+            let p = config.params;
+            let exact = ExactPendulum::new(&p).unwrap();
+            let table = PeriodicExact::new(&p).unwrap();
+            // A phase error that moves θ by δ moves ω by at most ωn cos(θ0/2) δ (|θ''|max over
+            // |ω|max); twice ωn covers that and the rest of the closed form's rounding.
+            let omega_per_theta = 2.0 * p.omega_n();
+            let mut worst = (0.0f64, 0.0f64);
+            for (duration, tabulated) in [(1e6, true), (TABULATE_ABOVE_STEPS as f64 * dt, false)] {
+                config.duration = duration;
+                let mut scene = PendulumScene::new(config.clone());
+                let total = scene.schedule().total;
+                assert_eq!(total > TABULATE_ABOVE_STEPS, tabulated);
+                assert_eq!(
+                    scene
+                        .reference_description()
+                        .contains("table of one period"),
+                    tabulated,
+                    "{}",
+                    scene.reference_description()
+                );
+                let (_, mut lane) = scene.lanes().swap_remove(0);
+                assert!(lane.method.is_none());
+                for first in [1, 200_001, total - 200_000 + 1] {
+                    if first > total {
+                        continue;
+                    }
+                    let mut block = first;
+                    while block < first + 200_000 {
+                        let len = BLOCK_STEPS.min((first + 200_000 - block) as usize);
+                        scene.prepare(block, len);
+                        scene.advance(&mut lane, block, len);
+                        for j in 0..len {
+                            let n = block + j as u64;
+                            let t = n as f64 * dt;
+                            let (th, w) = lane.state(j);
+                            let (eth, ew) = exact.state(t);
+                            if !tabulated {
+                                assert_eq!(
+                                    (th.to_bits(), w.to_bits()),
+                                    (eth.to_bits(), ew.to_bits())
+                                );
+                                continue;
+                            }
+                            let theta_bound = table.max_theta_error() + exact.theta_accuracy(t);
+                            let omega_bound =
+                                table.max_omega_error() + omega_per_theta * exact.theta_accuracy(t);
+                            worst.0 = worst.0.max((th - eth).abs() / theta_bound);
+                            worst.1 = worst.1.max((w - ew).abs() / omega_bound);
+                            assert!(
+                                (th - eth).abs() <= theta_bound && (w - ew).abs() <= omega_bound,
+                                "{degrees}° step {n}: ({th}, {w}) against ({eth}, {ew})"
+                            );
+                        }
+                        block += len as u64;
+                    }
+                }
+            }
+            println!(
+                "{degrees}°: worst θ at {:.2} of its bound, ω at {:.2}",
+                worst.0, worst.1
+            );
+        }
     }
 }
