@@ -407,6 +407,10 @@ fn run_scene<S: Scene, D: Draw<S>>(
     )?;
     let schedule = scene.schedule();
     let mut text = summary(&scene, &run);
+    if let (true, Some(_)) = (schedule.aggregates(), &recorder) {
+        let plots = schedule.series_text(&scene.windows());
+        text.push_str(&format!("\nplots: {plots}\n"));
+    }
     if let (Some(gap), Some(_)) = (schedule.gap_text(), &recorder) {
         text.push_str(&format!("\n{gap}\n"));
     }

@@ -9,7 +9,7 @@ use std::time::{Duration, Instant};
 
 use indicatif::{ProgressBar, ProgressStyle};
 
-use crate::scene::harness::{Event, Frame, Observer, Run, Scene, SeriesBatch};
+use crate::scene::harness::{Event, Frame, Observer, Run, Scene, SeriesBatch, WantedRows};
 
 /// Shows after one second; silent when quiet or when stderr is not a terminal.
 pub struct Progress {
@@ -254,6 +254,9 @@ pub struct WithProgress<'a, O: ?Sized> {
 impl<S: Scene, O: Observer<S> + ?Sized> Observer<S> for WithProgress<'_, O> {
     fn start(&mut self, scene: &S, lanes: &[(&'static str, &S::Lane)]) -> anyhow::Result<()> {
         self.inner.start(scene, lanes)
+    }
+    fn rows(&self) -> WantedRows {
+        self.inner.rows()
     }
     fn series(&mut self, scene: &S, lane: usize, batch: &SeriesBatch) -> anyhow::Result<()> {
         self.inner.series(scene, lane, batch)

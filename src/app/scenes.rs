@@ -210,7 +210,13 @@ impl Flags for HairArgs {
         file: &SceneFile,
         run: &RunArgs,
     ) -> Result<Box<dyn ReadyScene>, Error> {
-        refuse_drawing_flags(run, &[("--fps", self.fps.is_some())])?;
+        refuse_drawing_flags(
+            run,
+            &[
+                ("--fps", self.fps.is_some()),
+                ("--window", self.window.is_some()),
+            ],
+        )?;
         let config: HairConfig = given(&*self, "hair", file)?.resolve()?;
         if run.no_record && config.log_strands.is_some() {
             return Err(Error::Usage(
@@ -295,10 +301,11 @@ fn refuse_drawing_flags(run: &RunArgs, flags: &[(&str, bool)]) -> Result<(), Err
 
 impl StepFlags {
     /// The step flags that set only what is drawn or plotted.
-    fn drawing_flags(&self) -> [(&'static str, bool); 2] {
+    fn drawing_flags(&self) -> [(&'static str, bool); 3] {
         [
             ("--fps", self.fps.is_some()),
             ("--plot-every", self.plot_every.is_some()),
+            ("--window", self.window.is_some()),
         ]
     }
 

@@ -8,6 +8,7 @@ use serde::Serialize;
 use super::{Magnitude, Vector};
 use crate::integrate::Method;
 use crate::scene::hair::{HairMethod, HeadMotion, Solver};
+use crate::scene::harness::Window;
 use crate::scene::rope::run::{RopeLayout, RopePreset};
 
 /// The pendulum's start: the flags `physlab pendulum` and `physlab study` share.
@@ -63,9 +64,15 @@ pub struct StepFlags {
     #[arg(long, value_name = "HZ", allow_negative_numbers = true)]
     pub fps: Option<f64>,
 
-    /// Plot every Nth step (thinned further to at most 10,000 points per series)
+    /// Plot every Nth step (beyond 10,000 plotted steps the plots are aggregated: see --window)
     #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub plot_every: Option<u64>,
+
+    /// A stretch of simulated time whose every sampled step is kept when the run is long enough
+    /// that its plots are aggregated, FROM:TO in seconds (negative counts back from the end,
+    /// either may be empty); repeat for more. The first and last few seconds are always kept
+    #[arg(long, value_name = "FROM:TO", allow_hyphen_values = true)]
+    pub window: Option<Vec<Window>>,
 
     /// Methods to run, comma-separated (the names are listed from the registry by `cli::command`)
     #[arg(long, value_delimiter = ',', value_name = "LIST")]
@@ -233,6 +240,12 @@ pub struct HairArgs {
     /// How often the 3D state is logged [Hz of simulated time]; plots get every frame
     #[arg(long, value_name = "HZ", allow_negative_numbers = true)]
     pub fps: Option<f64>,
+
+    /// A stretch of simulated time whose every sampled step is kept when the run is long enough
+    /// that its plots are aggregated, FROM:TO in seconds (negative counts back from the end,
+    /// either may be empty); repeat for more. The first and last few seconds are always kept
+    #[arg(long, value_name = "FROM:TO", allow_hyphen_values = true)]
+    pub window: Option<Vec<Window>>,
 
     /// Simulated time [s] (one tour of the head takes 8 s)
     #[arg(long, value_name = "S", allow_negative_numbers = true)]

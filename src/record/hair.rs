@@ -291,8 +291,8 @@ fn about_text(c: &HairConfig, drawn: usize) -> String {
          {} strands × {} nodes (segment {} m) rooted on a head of radius {} m by a golden-angle spiral over the \
          cap; head motion `{}`; gravity {:?} m/s², wind {:?} m/s² with gusts ±{}%, damping {} 1/s; \
          verlet solver {}, {} iterations; spring stiffness k/m {:e} 1/s², damping kd/m {} 1/s; {} per frame at {} Hz; collision margin {} R.\n\n\
-         Each method has its own head copy (slots side by side). Plots are per simulation frame; the \
-         3D state {}, {} of the {} strands drawn (spread evenly over the head; every strand is \
+         Each method has its own head copy (slots side by side). Plots are per simulation frame: \
+         {}.\n\n3D state {}, {} of the {} strands drawn (spread evenly over the head; every strand is \
          simulated and measured, `--log-strands` sets how many are drawn).\n\n| method | update |\n|---|---|\n{}\n",
         p.strands,
         p.nodes,
@@ -310,6 +310,8 @@ fn about_text(c: &HairConfig, drawn: usize) -> String {
         crate::report::table::plural(c.substeps, "substep"),
         c.rate,
         p.margin,
+        c.schedule()
+            .series_text(&crate::scene::harness::Windows::with(&c.window)),
         c.schedule().frames_text(),
         drawn,
         p.strands,

@@ -18,7 +18,7 @@ use super::{
     Framing, ViewProperties, about_and_events, log_stage, method_color, plot_column, plots_shown,
     scene_blueprint, scene_view, slot_cells,
 };
-use crate::scene::harness::{Event, Frame, Run, Scene as _, SeriesBatch};
+use crate::scene::harness::{Event, Frame, Run, Scene as _, SeriesBatch, WHOLE};
 use crate::scene::pendulum::run::{PendulumConfig, PendulumLane, PendulumScene};
 
 /// The plotted quantities: entity name and plot title (with units).
@@ -116,8 +116,11 @@ pub struct PendulumDraw {
     /// Each lane's pivot [m]: a wall of slots in the x-z plane, above the viewer's ground grid.
     pivots: Vec<[f32; 3]>,
     length: f64,
-    /// Decimated (θ, ω) per lane for the phase portrait.
-    phase: Vec<Vec<[f32; 2]>>,
+    /// Decimated (θ, ω) per lane for the phase portrait: one strip per stretch whose every
+    /// sampled step is kept (the whole run, or an aggregated run's windows), and the tick of
+    /// each lane's last point.
+    phase: Vec<Vec<Vec<[f32; 2]>>>,
+    phase_last: Vec<Option<u64>>,
     phase_stride: u64,
     /// The reference as described at the start (a fine-step estimate grows during the run).
     reference_description: String,
@@ -132,6 +135,7 @@ pub fn recorder(rec: RecordingStream, timings: bool) -> SceneRecorder<PendulumDr
             pivots: Vec::new(),
             length: 1.0,
             phase: Vec::new(),
+            phase_last: Vec::new(),
             phase_stride: 1,
             reference_description: String::new(),
         },
@@ -164,9 +168,12 @@ impl Draw<PendulumScene> for PendulumDraw {
         self.pivots = slot_pivots(self.lanes.len(), c.params.length as f32);
         self.length = c.params.length;
         self.phase = vec![Vec::new(); self.lanes.len()];
+        self.phase_last = vec![None; self.lanes.len()];
         self.reference_description = scene.reference_description();
-        self.phase_stride =
-            (schedule.total / schedule.plot_stride / MAX_PHASE_POINTS as u64).max(1);
+        self.phase_stride = schedule.plot_stride
+            * schedule
+                .whole_rows(&scene.windows())
+                .div_ceil(MAX_PHASE_POINTS as u64);
 
         rec.log_static("pendulum", &rerun::ViewCoordinates::RIGHT_HAND_Z_UP())?;
         let l = c.params.length as f32;
@@ -244,11 +251,22 @@ impl Draw<PendulumScene> for PendulumDraw {
         Ok(())
     }
 
+    /// The phase portrait follows the rows of stretches kept whole: the rows an aggregated run
+    /// keeps for a column's extremes are far apart in time, and a curve through them would draw
+    /// chords across the orbit.
     fn series(&mut self, lane: usize, batch: &SeriesBatch) {
         let (theta, omega) = (&batch.columns[0], &batch.columns[1]);
         for (k, &tick) in batch.ticks.iter().enumerate() {
-            if tick.is_multiple_of(self.phase_stride) {
-                self.phase[lane].push([theta[k] as f32, omega[k] as f32]);
+            if batch.needed[k] != WHOLE || !tick.is_multiple_of(self.phase_stride) {
+                continue;
+            }
+            let strips = &mut self.phase[lane];
+            if self.phase_last[lane].is_none_or(|last| tick - last > self.phase_stride) {
+                strips.push(Vec::new());
+            }
+            self.phase_last[lane] = Some(tick);
+            if let Some(strip) = strips.last_mut() {
+                strip.push([theta[k] as f32, omega[k] as f32]);
             }
         }
     }
@@ -321,11 +339,14 @@ impl Draw<PendulumScene> for PendulumDraw {
         _run: &Run<PendulumLane>,
     ) -> anyhow::Result<()> {
         for (i, name) in self.lanes.iter().enumerate() {
-            let path = std::mem::take(&mut self.phase[i]);
-            if path.len() >= 2 {
+            let strips: Vec<Vec<[f32; 2]>> = std::mem::take(&mut self.phase[i])
+                .into_iter()
+                .filter(|s| s.len() >= 2)
+                .collect();
+            if !strips.is_empty() {
                 rec.log_static(
                     format!("pendulum/phase/{name}/path"),
-                    &rerun::LineStrips2D::update_fields().with_strips([path]),
+                    &rerun::LineStrips2D::update_fields().with_strips(strips),
                 )?;
             }
         }
@@ -357,7 +378,7 @@ fn about_text(scene: &PendulumScene) -> String {
          θ'' = −(g/L) sin θ, f64, state (θ, ω).\n\n\
          | parameter | value |\n|---|---|\n\
          | g | {} m/s² |\n| L | {} m |\n| θ0 | {}° |\n| ω0 | {} rad/s |\n| dt | {} s |\n\
-         | steps | {} (to t = {} s) |\n| 3D frames | {} |\n| plotted | every {} steps |\n\
+         | steps | {} (to t = {} s) |\n| 3D frames | {} |\n| plotted | {} |\n\
          | methods | {} |\n| Verlet damping d | {} |\n\n\
          **Reference**: {}\n\n\
          Energy is per unit mass with zero at the bottom: E0 = {:.9} J/kg; the relative energy error is \
@@ -372,7 +393,7 @@ fn about_text(scene: &PendulumScene) -> String {
         s.total,
         crate::report::table::trim_number(s.end_time(), 9),
         s.frames_text(),
-        s.plot_stride,
+        s.series_text(&scene.windows()),
         c.methods
             .iter()
             .map(|m| m.name())

@@ -282,7 +282,7 @@ fn about_text(scene: &RopeScene) -> String {
          {} m), spring damping along each spring, air drag, gravity; pinned nodes {:?}. f64.\n\n\
          | parameter | value |\n|---|---|\n| mass per node | {} kg |\n| ks | {} N/m |\n| kd | {} N·s/m |\n\
          | ka | {} N·s/m |\n| gravity | {:?} m/s² |\n| dt | {} s |\n| steps | {} |\n| 3D frames | {} |\n\
-         | plotted | every {} steps |\n| Verlet damping d | {} |\n| implicit Newton iterations | {} |\n\n\
+         | plotted | {} |\n| Verlet damping d | {} |\n| implicit Newton iterations | {} |\n\n\
          The linearised rope's {}.\n\
          Energy E0 = {:.6} J (gravity's zero at the origin), energy scale {:.4} J. A method stops when its \
          state is not finite, a strain exceeds {:.3}, or it gains more than {ENERGY_GAIN_BOUND} × \
@@ -302,7 +302,7 @@ fn about_text(scene: &RopeScene) -> String {
         c.dt,
         s.total,
         s.frames_text(),
-        s.plot_stride,
+        s.series_text(&crate::scene::harness::Scene::windows(scene)),
         c.options.verlet_damping,
         p.newton_iterations,
         crate::report::rope::rates_text(scene),

@@ -5,24 +5,13 @@
 use rerun::{RecordingStream, TimeColumn};
 
 use super::log_series_style;
-use crate::scene::harness::{Event, EventKind, Frame, Observer, Run, Scene, SeriesBatch};
+use crate::scene::harness::{Event, EventKind, Frame, LOG10, Observer, Run, Scene, SeriesBatch};
 
 /// The plot of wall-clock costs, shown with --timings.
 pub const FRAME_COST: (&str, &str) = (
     "frame_cost",
     "simulation cost per 3D frame [ms, wall clock]",
 );
-
-/// Error-like quantities, plotted as log10 |value| under their own name so that methods ten
-/// decades apart are all visible (a linear plot shows everything but the worst method as a flat
-/// line at zero). Samples equal to zero (log10 = −∞: the reference against itself, the start)
-/// are left out of the log series. (quantity, plotted entity name)
-pub const LOG10: [(&str, &str); 4] = [
-    ("theta_error", "log10_theta_error"),
-    ("energy_error", "log10_energy_error"),
-    ("energy_change", "log10_energy_change"),
-    ("max_stretch", "log10_max_stretch"),
-];
 
 /// The entity name a quantity is plotted under: its log10 name for the error-like ones.
 pub fn plotted(quantity: &'static str) -> &'static str {
@@ -162,35 +151,32 @@ impl<S: Scene, D: Draw<S>> Observer<S> for SceneRecorder<D> {
     fn series(&mut self, scene: &S, lane: usize, batch: &SeriesBatch) -> anyhow::Result<()> {
         self.draw.series(lane, batch);
         let name = self.names[lane];
-        let times = || {
-            [TimeColumn::new_duration_secs(
-                "sim_time",
-                batch.times.iter().copied(),
-            )]
-        };
-        for (&quantity, values) in self.quantities[lane].iter().zip(&batch.columns) {
+        for (q, (&quantity, values)) in self.quantities[lane].iter().zip(&batch.columns).enumerate()
+        {
             let entity = format!("{}/plots/{}/{name}", scene.name(), plotted(quantity));
-            if plotted(quantity) == quantity {
-                self.rec.send_columns(
-                    entity,
-                    times(),
-                    rerun::Scalars::new(values.iter().copied()).columns_of_unit_batches()?,
-                )?;
-                continue;
-            }
-            // log10 |value|, zeros left out (with their times).
-            let kept: Vec<usize> = (0..values.len()).filter(|&i| values[i] != 0.0).collect();
+            let log = plotted(quantity) != quantity;
+            // The rows this quantity's plot needs: an aggregated run keeps other quantities'
+            // extremes in the same rows; a log plot leaves zeros out (log10 = −∞).
+            let kept: Vec<usize> = (0..values.len())
+                .filter(|&i| batch.needed[i] & (1 << q) != 0 && !(log && values[i] == 0.0))
+                .collect();
             if kept.is_empty() {
                 continue;
             }
+            let value = |i: usize| {
+                if log {
+                    values[i].abs().log10()
+                } else {
+                    values[i]
+                }
+            };
             self.rec.send_columns(
                 entity,
                 [TimeColumn::new_duration_secs(
                     "sim_time",
                     kept.iter().map(|&i| batch.times[i]),
                 )],
-                rerun::Scalars::new(kept.iter().map(|&i| values[i].abs().log10()))
-                    .columns_of_unit_batches()?,
+                rerun::Scalars::new(kept.iter().map(|&i| value(i))).columns_of_unit_batches()?,
             )?;
         }
         Ok(())

@@ -47,7 +47,7 @@
 /// The most columns a series is aggregated to: the widest plot drawn exactly.
 pub const MAX_COLUMNS: u32 = 4096;
 
-/// One kept sample: its step index n (time n·dt) and value.
+/// One kept sample of a one-value series: its step index n (time n·dt) and value.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Point {
     pub step: u64,
@@ -64,91 +64,207 @@ pub fn column(step: u64, last_step: u64, columns: u32) -> u32 {
     c.min(u128::from(columns) - 1) as u32
 }
 
-/// What one column keeps while it is open.
-#[derive(Clone, Copy, Debug)]
-struct Open {
-    index: u32,
-    first: Point,
-    last: Point,
-    /// Smallest and largest non-NaN value, the earliest step on ties.
-    min: Option<Point>,
-    max: Option<Point>,
-    /// The column's first NaN.
-    nan: Option<Point>,
+/// The first step of column `index` (u64::MAX past the last column): the least n with
+/// ⌊n·C/N⌋ ≥ index, so that a stream finds its column by one comparison per step.
+fn first_step_of(index: u32, last_step: u64, columns: u32) -> u64 {
+    if index >= columns || last_step == 0 {
+        return u64::MAX;
+    }
+    (u128::from(index) * u128::from(last_step)).div_ceil(u128::from(columns)) as u64
 }
 
+/// What one column keeps of one value while it is open: the steps (as slots of the column's
+/// rows) of its first and last present value, its smallest and largest non-NaN value (the
+/// earliest on ties) and its first NaN.
+#[derive(Clone, Copy, Debug, Default)]
+struct Extremes {
+    first: Option<usize>,
+    last: Option<usize>,
+    min: Option<usize>,
+    max: Option<usize>,
+    nan: Option<usize>,
+}
+
+/// Rows kept, flat: row i is at `steps[i]`, its values are `values[i·width..(i+1)·width]`, and
+/// bit q of `needed[i]` says whether value q's plot needs it (a row kept for one value's
+/// extreme is a true point of every other value too, but they can leave it out).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Kept {
+    pub steps: Vec<u64>,
+    pub values: Vec<f64>,
+    pub needed: Vec<u64>,
+}
+
+impl Kept {
+    pub fn push(&mut self, step: u64, row: &[f64], needed: u64) {
+        self.steps.push(step);
+        self.values.extend_from_slice(row);
+        self.needed.push(needed);
+    }
+
+    pub fn len(&self) -> usize {
+        self.steps.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.steps.is_empty()
+    }
+}
+
+/// The rows of one M4 column: the column's first and last row, and for every value the rows of
+/// its [`Extremes`]. A slot is a copy of a row, `width + 1` numbers (the step, as f64 bits, then
+/// the values), and the values that need it.
+#[derive(Clone, Debug)]
+struct Open {
+    index: u32,
+    slots: Vec<f64>,
+    used: Vec<bool>,
+    needed_by: Vec<u64>,
+    extremes: Vec<Extremes>,
+}
+
+/// Slots of an open column: 0 its first row, 1 its last, then five per value.
+const FIRST: usize = 0;
+const LAST: usize = 1;
+
 impl Open {
-    fn new(index: u32, p: Point) -> Self {
-        let ordered = (!p.value.is_nan()).then_some(p);
+    fn new(absent: &[bool]) -> Self {
+        let width = absent.len();
+        let slots = 2 + 5 * width;
+        // The column's first and last rows are the first and last points of every value that
+        // has no absent points; the others have slots of their own.
+        let present: u64 = (0..width).filter(|&q| !absent[q]).map(|q| 1 << q).sum();
+        let mut needed_by = vec![present; 2];
+        needed_by.extend((0..width).flat_map(|q| [1u64 << q; 5]));
         Open {
-            index,
-            first: p,
-            last: p,
-            min: ordered,
-            max: ordered,
-            nan: if p.value.is_nan() { Some(p) } else { None },
+            index: 0,
+            slots: vec![0.0; slots * (width + 1)],
+            used: vec![false; slots],
+            needed_by,
+            extremes: vec![Extremes::default(); width],
         }
     }
 
-    fn add(&mut self, p: Point) {
-        self.last = p;
-        if p.value.is_nan() {
-            self.nan.get_or_insert(p);
-            return;
+    fn width(&self) -> usize {
+        self.extremes.len()
+    }
+
+    fn store(&mut self, slot: usize, step: u64, row: &[f64]) {
+        let w = self.width() + 1;
+        let s = &mut self.slots[slot * w..(slot + 1) * w];
+        s[0] = f64::from_bits(step);
+        s[1..].copy_from_slice(row);
+        self.used[slot] = true;
+    }
+
+    fn value(&self, slot: usize, q: usize) -> f64 {
+        self.slots[slot * (self.width() + 1) + 1 + q]
+    }
+
+    fn reset(&mut self, index: u32) {
+        self.index = index;
+        self.used.fill(false);
+        self.extremes.fill(Extremes::default());
+    }
+
+    fn add(&mut self, step: u64, row: &[f64], absent: &[bool]) {
+        if !self.used[FIRST] {
+            self.store(FIRST, step, row);
         }
-        if self.min.is_none_or(|m| p.value < m.value) {
-            self.min = Some(p);
-        }
-        if self.max.is_none_or(|m| p.value > m.value) {
-            self.max = Some(p);
+        self.store(LAST, step, row);
+        for (q, &v) in row.iter().enumerate() {
+            if absent[q] && v == 0.0 {
+                continue;
+            }
+            // Slots of value q: first, last, min, max, NaN.
+            let base = 2 + 5 * q;
+            let e = self.extremes[q];
+            if e.first.is_none() {
+                self.store(base, step, row);
+                self.extremes[q].first = Some(base);
+            }
+            self.store(base + 1, step, row);
+            self.extremes[q].last = Some(base + 1);
+            if v.is_nan() {
+                if e.nan.is_none() {
+                    self.store(base + 4, step, row);
+                    self.extremes[q].nan = Some(base + 4);
+                }
+                continue;
+            }
+            if e.min.is_none_or(|m| v < self.value(m, q)) {
+                self.store(base + 2, step, row);
+                self.extremes[q].min = Some(base + 2);
+            }
+            if e.max.is_none_or(|m| v > self.value(m, q)) {
+                self.store(base + 3, step, row);
+                self.extremes[q].max = Some(base + 3);
+            }
         }
     }
 
-    /// The kept points in step order, each once.
-    fn close(&self, out: &mut Vec<Point>) {
-        let mut kept = [
-            Some(self.first),
-            self.min,
-            self.max,
-            self.nan,
-            Some(self.last),
-        ];
-        kept.sort_by_key(|p| p.map(|p| p.step));
-        let mut previous = None;
-        for p in kept.into_iter().flatten() {
-            if previous != Some(p.step) {
-                out.push(p);
-                previous = Some(p.step);
+    /// Appends the kept rows in step order, each once, with the values that need them.
+    fn close(&self, out: &mut Kept) {
+        let w = self.width() + 1;
+        let mut kept: Vec<(u64, usize)> = (0..self.used.len())
+            .filter(|&s| self.used[s])
+            .map(|s| (self.slots[s * w].to_bits(), s))
+            .collect();
+        kept.sort_unstable();
+        for (step, s) in kept {
+            if out.steps.last() == Some(&step) {
+                *out.needed.last_mut().expect("a row per step") |= self.needed_by[s];
+            } else {
+                out.push(step, &self.slots[s * w + 1..(s + 1) * w], self.needed_by[s]);
             }
         }
     }
 }
 
-/// The M4 aggregate of one series over the steps 0..=N, fed one step at a time.
+/// The M4 aggregate of rows of `width` values (one series per value, sharing their steps) over
+/// the steps 0..=N, fed one step at a time. Each value is aggregated on its own; a column keeps
+/// the union of the rows its values keep, so every value keeps its first, last, minimum,
+/// maximum and first NaN per column (and maybe more of its true points, which changes nothing
+/// drawn: see the module documentation; [`Kept::needed`] says which rows each value needs). A
+/// value marked `absent_when_zero` (plotted as log10 |x|, where zeros are left out) treats its
+/// zeros as no point at all.
 #[derive(Clone, Debug)]
 pub struct M4 {
     last_step: u64,
     columns: u32,
-    open: Option<Open>,
+    absent: Vec<bool>,
+    open: Open,
+    is_open: bool,
+    next_column_at: u64,
     previous_step: Option<u64>,
-    completed: Vec<Point>,
+    completed: Kept,
 }
 
 impl M4 {
-    /// An empty aggregate over steps 0..=`last_step` in `columns` columns; an error unless
-    /// 1 ≤ columns ≤ [`MAX_COLUMNS`].
-    pub fn new(last_step: u64, columns: u32) -> Result<Self, String> {
+    /// An empty aggregate of rows of `absent_when_zero.len()` values over steps 0..=`last_step`
+    /// in `columns` columns; an error unless 1 ≤ columns ≤ [`MAX_COLUMNS`] and 1 ≤ width ≤ 63
+    /// (bit 63 of [`Kept::needed`] is left to the caller).
+    pub fn new(last_step: u64, columns: u32, absent_when_zero: &[bool]) -> Result<Self, String> {
         if !(1..=MAX_COLUMNS).contains(&columns) {
             return Err(format!(
                 "M4 columns must be from 1 to {MAX_COLUMNS}, got {columns}"
             ));
         }
+        if !(1..=63).contains(&absent_when_zero.len()) {
+            return Err(format!(
+                "M4 rows must have from 1 to 63 values, got {}",
+                absent_when_zero.len()
+            ));
+        }
         Ok(M4 {
             last_step,
             columns,
-            open: None,
+            absent: absent_when_zero.to_vec(),
+            open: Open::new(absent_when_zero),
+            is_open: false,
+            next_column_at: 0,
             previous_step: None,
-            completed: Vec::new(),
+            completed: Kept::default(),
         })
     }
 
@@ -156,38 +272,40 @@ impl M4 {
         self.columns
     }
 
-    /// Adds the value at `step`. Steps come in increasing order and at most N (a lane that
-    /// stops early simply stops pushing; steps may be skipped). Panics otherwise: that is a bug
-    /// in the caller, not input.
-    pub fn push(&mut self, step: u64, value: f64) {
+    /// Adds the row at `step`. Steps come in increasing order and at most N (a lane that stops
+    /// early simply stops pushing; steps may be skipped). Panics otherwise: that is a bug in the
+    /// caller, not input.
+    pub fn push(&mut self, step: u64, row: &[f64]) {
         assert!(
-            step <= self.last_step && self.previous_step.is_none_or(|s| step > s),
+            step <= self.last_step
+                && self.previous_step.is_none_or(|s| step > s)
+                && row.len() == self.absent.len(),
             "M4 steps must increase within 0..={}: {step} after {:?}",
             self.last_step,
             self.previous_step
         );
         self.previous_step = Some(step);
-        let p = Point { step, value };
-        let index = column(step, self.last_step, self.columns);
-        match &mut self.open {
-            Some(open) if open.index == index => open.add(p),
-            open => {
-                if let Some(done) = open.replace(Open::new(index, p)) {
-                    done.close(&mut self.completed);
-                }
+        if step >= self.next_column_at || !self.is_open {
+            let index = column(step, self.last_step, self.columns);
+            if self.is_open {
+                self.open.close(&mut self.completed);
             }
+            self.open.reset(index);
+            self.is_open = true;
+            self.next_column_at = first_step_of(index + 1, self.last_step, self.columns);
         }
+        self.open.add(step, row, &self.absent);
     }
 
-    /// The points of the columns closed so far (in step order), handed over and forgotten.
-    pub fn take_completed(&mut self) -> Vec<Point> {
+    /// The rows of the columns closed so far, in step order, handed over and forgotten.
+    pub fn take_completed(&mut self) -> Kept {
         std::mem::take(&mut self.completed)
     }
 
-    /// Closes the last column and returns every point not yet taken, in step order.
-    pub fn finish(mut self) -> Vec<Point> {
-        if let Some(open) = self.open.take() {
-            open.close(&mut self.completed);
+    /// Closes the last column and returns every row not yet taken, in step order.
+    pub fn finish(mut self) -> Kept {
+        if self.is_open {
+            self.open.close(&mut self.completed);
         }
         self.completed
     }
@@ -359,16 +477,24 @@ mod tests {
         out
     }
 
+    fn points(kept: Kept) -> Vec<Point> {
+        kept.steps
+            .into_iter()
+            .zip(kept.values)
+            .map(|(step, value)| Point { step, value })
+            .collect()
+    }
+
     fn aggregate(points: &[Point], last: u64, columns: u32) -> Vec<Point> {
-        let mut m4 = M4::new(last, columns).unwrap();
+        let mut m4 = M4::new(last, columns, &[false]).unwrap();
         let mut out = Vec::new();
         for (i, p) in points.iter().enumerate() {
-            m4.push(p.step, p.value);
+            m4.push(p.step, &[p.value]);
             if i % 997 == 0 {
-                out.extend(m4.take_completed());
+                out.extend(self::points(m4.take_completed()));
             }
         }
-        out.extend(m4.finish());
+        out.extend(self::points(m4.finish()));
         out
     }
 
@@ -464,6 +590,70 @@ mod tests {
         }
     }
 
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(48))]
+
+        /// Rows of three values aggregated together, the third absent where it is zero (a log
+        /// plot leaves zeros out): each value's statistics and lit pixels are those of its own
+        /// full series, and a column keeps at most 2 + 5 · 3 rows.
+        #[test]
+        fn rows_keep_every_value_exact(
+            a in shape(0), b in shape(0), c in columns(), zero_percent in 0u64..60
+        ) {
+            let last = a.last;
+            let first = series(&a);
+            let second = series(&Shape { last, ..b });
+            let third: Vec<Point> = second
+                .iter()
+                .map(|p| {
+                    let zero = (p.step.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 32) % 100 < zero_percent;
+                    Point { step: p.step, value: if zero { 0.0 } else { p.value.abs() } }
+                })
+                .collect();
+            let mut m4 = M4::new(last, c, &[false, false, true]).unwrap();
+            for n in 0..=last as usize {
+                m4.push(n as u64, &[first[n].value, second[n].value, third[n].value]);
+            }
+            let Kept { steps, values, needed } = m4.finish();
+            prop_assert!(steps.windows(2).all(|w| w[0] < w[1]));
+            let mut per_column = vec![0u32; c as usize];
+            for &n in &steps {
+                per_column[pixel(n, last, c) as usize] += 1;
+            }
+            prop_assert!(per_column.iter().all(|&k| k <= 17));
+            for q in 0..3 {
+                let mut per_column = vec![0u32; c as usize];
+                for (i, &n) in steps.iter().enumerate() {
+                    if needed[i] & (1 << q) != 0 {
+                        per_column[pixel(n, last, c) as usize] += 1;
+                    }
+                }
+                prop_assert!(per_column.iter().all(|&k| k <= 5), "value {} needs more than 5 rows in a column", q);
+            }
+            for (q, full) in [first, second, third].iter().enumerate() {
+                let present = |p: &Point| q < 2 || p.value != 0.0;
+                let full: Vec<Point> = full.iter().copied().filter(present).collect();
+                // Only the rows value q needs.
+                let kept: Vec<Point> = steps
+                    .iter()
+                    .enumerate()
+                    .filter(|&(i, _)| needed[i] & (1 << q) != 0)
+                    .map(|(i, &step)| Point { step, value: values[3 * i + q] })
+                    .filter(present)
+                    .collect();
+                for (k, p) in kept.iter().enumerate() {
+                    let original = full.iter().find(|f| f.step == p.step).unwrap();
+                    prop_assert_eq!(original.value.to_bits(), kept[k].value.to_bits());
+                }
+                let (lo, hi) = finite_range(&full);
+                for w in exact_widths(c) {
+                    prop_assert_eq!(stats(&full, last, w), stats(&kept, last, w), "value {} width {}", q, w);
+                    prop_assert!(lit(&full, last, w, lo, hi) == lit(&kept, last, w, lo, hi), "value {} width {}", q, w);
+                }
+            }
+        }
+    }
+
     /// The grid identity the exactness rests on, over every step of small grids.
     #[test]
     fn dividing_widths_are_unions_of_whole_columns() {
@@ -488,12 +678,11 @@ mod tests {
         for v in &mut values[901..] {
             *v = f64::NAN;
         }
-        let mut m4 = M4::new(1000, 10).unwrap();
+        let mut m4 = M4::new(1000, 10, &[false]).unwrap();
         for (n, v) in values.iter().enumerate() {
-            m4.push(n as u64, *v);
+            m4.push(n as u64, &[*v]);
         }
-        let kept = m4.finish();
-        let steps: Vec<u64> = kept.iter().map(|p| p.step).collect();
+        let steps = m4.finish().steps;
         // Column k holds steps 100k ..= 100k + 99 (the last also step 1000).
         let mut want = Vec::new();
         for k in 0..9u64 {
@@ -503,8 +692,9 @@ mod tests {
         want.extend([517, 900, 901, 1000]);
         want.sort();
         assert_eq!(steps, want);
-        assert!(M4::new(10, 0).is_err() && M4::new(10, 4097).is_err());
-        let one = M4::new(0, 4096).unwrap();
+        assert!(M4::new(10, 0, &[false]).is_err() && M4::new(10, 4097, &[false]).is_err());
+        let one = M4::new(0, 4096, &[false]).unwrap();
         assert!(one.finish().is_empty());
+        assert!(M4::new(10, 4, &[]).is_err() && M4::new(10, 4, &[false; 64]).is_err());
     }
 }

@@ -3,7 +3,7 @@
 //! harness is one simulation frame.
 
 use super::{Hair, HairMethod, HairParams, HairStats};
-use crate::scene::harness::{Checked, Clock, Sampler, Scene, Schedule};
+use crate::scene::harness::{Checked, Clock, Sampler, Scene, Schedule, Window, Windows};
 use crate::scene::params::{self, Invalid};
 
 /// A method diverges when a position stops being finite or a segment is stretched by more than
@@ -31,6 +31,8 @@ pub struct HairConfig {
     pub substeps: u32,
     /// 3D logging rate [Hz]; plots get every simulation frame.
     pub fps: f64,
+    /// Stretches kept whole when the plots are aggregated (`--window`).
+    pub window: Vec<Window>,
     pub duration: f64,
     pub methods: Vec<HairMethod>,
     /// The step as given [s], which sets `substeps` to 1/(rate·dt).
@@ -50,6 +52,7 @@ impl Default for HairConfig {
             rate: 60.0,
             substeps: 1,
             fps: 30.0,
+            window: Vec::new(),
             duration: 8.0,
             methods: HairMethod::DEFAULT.to_vec(),
             dt: None,
@@ -126,6 +129,7 @@ impl params::SceneConfig for HairConfig {
             )));
         }
         params::within("--damping", p.damping, 0.0, max, "1/s")?;
+        params::windows(&self.schedule(), &self.window)?;
         if !(p.margin.is_finite() && (0.0..0.5).contains(&p.margin)) {
             return Err(Invalid::param(
                 "--margin",
@@ -341,6 +345,10 @@ impl Scene for HairScene {
     /// step needs its state.
     fn max_block(&self) -> u64 {
         1
+    }
+
+    fn windows(&self) -> Windows {
+        Windows::with(&self.config.window)
     }
 
     fn advance(&self, lane: &mut HairLane, _first: u64, _len: usize) {

@@ -15,9 +15,9 @@ mod outcome;
 mod schedule;
 mod series;
 pub use outcome::{LaneStats, Run, divergence_cell};
-pub use schedule::{Clock, MAX_PLOT_POINTS, Schedule};
+pub use schedule::{Clock, MAX_PLOT_POINTS, Schedule, Window, Windows};
 use series::SERIES_BATCH;
-pub use series::{Sampler, SeriesBatch};
+pub use series::{LOG10, LaneSeries, Sampler, SeriesBatch, SeriesPlan, WHOLE, absent_when_zero};
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum EventKind {
@@ -80,6 +80,11 @@ pub trait Scene {
     fn quantities(&self, lane: &Self::Lane) -> &'static [&'static str];
     /// The values at tick 0, if the series start there.
     fn initial(&self, lane: &Self::Lane) -> Option<Vec<f64>>;
+    /// The run's windows, kept whole when its series are aggregated: the first and last ten
+    /// seconds by default.
+    fn windows(&self) -> Windows {
+        Windows::with(&[])
+    }
     /// Longest block of ticks stepped between checks.
     fn max_block(&self) -> u64 {
         u64::MAX
@@ -120,6 +125,10 @@ pub struct Frame<'a, L> {
 /// Receives a run as it happens: the recorder, a progress bar, a test's collector. Errors stop
 /// the run.
 pub trait Observer<S: Scene> {
+    /// Which sampled rows this observer is handed.
+    fn rows(&self) -> WantedRows {
+        WantedRows::Plotted
+    }
     fn start(&mut self, _scene: &S, _lanes: &[(&'static str, &S::Lane)]) -> anyhow::Result<()> {
         Ok(())
     }
@@ -140,9 +149,25 @@ pub trait Observer<S: Scene> {
     }
 }
 
+/// Which sampled rows an observer is handed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum WantedRows {
+    /// None: nothing is plotted (the scenes skip computing them).
+    None,
+    /// Every sampled row, however long the run.
+    Every,
+    /// What a plot needs ([`LaneSeries`]): every sampled row, or beyond [`MAX_PLOT_POINTS`]
+    /// the M4 aggregate and the windows.
+    Plotted,
+}
+
 /// An observer that ignores everything (measurements without a recording).
 pub struct NoObserver;
-impl<S: Scene> Observer<S> for NoObserver {}
+impl<S: Scene> Observer<S> for NoObserver {
+    fn rows(&self) -> WantedRows {
+        WantedRows::None
+    }
+}
 
 /// Runs every lane of `scene` over its schedule, reporting to `observer`.
 pub fn run<S: Scene>(
@@ -174,9 +199,26 @@ pub fn run_until<S: Scene>(
             divergence: None,
         })
         .collect();
-    let mut batches: Vec<SeriesBatch> = lanes
+    let wanted = observer.rows();
+    let plan = match wanted {
+        WantedRows::Plotted => schedule.series_plan(&scene.windows()),
+        WantedRows::None | WantedRows::Every => None,
+    };
+    let mut series: Vec<LaneSeries> = lanes
         .iter()
-        .map(|l| SeriesBatch::new(scene.quantities(l).len()))
+        .map(|l| {
+            let absent: Vec<bool> = scene
+                .quantities(l)
+                .iter()
+                .map(|q| absent_when_zero(q))
+                .collect();
+            LaneSeries::new(
+                &schedule,
+                &absent,
+                plan.as_ref(),
+                wanted != WantedRows::None,
+            )
+        })
         .collect();
     let mut alive = vec![true; lanes.len()];
     let mut accepted = vec![0usize; lanes.len()];
@@ -191,11 +233,7 @@ pub fn run_until<S: Scene>(
     // Tick 0: the initial state is every lane's first sample and frame 0.
     for (i, lane) in lanes.iter().enumerate() {
         if let Some(values) = scene.initial(lane) {
-            Sampler {
-                schedule: &schedule,
-                batch: &mut batches[i],
-            }
-            .push(0, &values);
+            Sampler::new(&schedule, &mut series[i]).push(0, &values);
         }
     }
     observer.frame(
@@ -250,10 +288,7 @@ pub fn run_until<S: Scene>(
                 lane,
                 first,
                 len,
-                &mut Sampler {
-                    schedule: &schedule,
-                    batch: &mut batches[i],
-                },
+                &mut Sampler::new(&schedule, &mut series[i]),
             );
             accepted[i] = checked.accepted;
             s.ticks += checked.accepted as u64;
@@ -298,7 +333,12 @@ pub fn run_until<S: Scene>(
                 s.divergence = Some(event);
                 alive[i] = false;
             }
-            let batch = &mut batches[i];
+            let lane_series = &mut series[i];
+            lane_series.settle(&schedule);
+            if !alive[i] {
+                lane_series.finish(&schedule);
+            }
+            let batch = &mut lane_series.batch;
             if !batch.is_empty() && (batch.len() >= SERIES_BATCH || !alive[i]) {
                 observer.series(scene, i, batch)?;
                 batch.clear();
@@ -330,7 +370,9 @@ pub fn run_until<S: Scene>(
         observer.reached(scene, last);
         first = last + 1;
     }
-    for (i, batch) in batches.iter_mut().enumerate() {
+    for (i, lane_series) in series.iter_mut().enumerate() {
+        lane_series.finish(&schedule);
+        let batch = &mut lane_series.batch;
         if !batch.is_empty() {
             observer.series(scene, i, batch)?;
             batch.clear();

@@ -1,8 +1,88 @@
 //! The schedule a run follows: its ticks, how a tick maps to simulated time, which ticks are
 //! plotted and which are drawn in 3D.
 
-/// Series are thinned evenly so that no plot holds more than this many points per lane.
+use super::series::SeriesPlan;
+use crate::scene::m4::MAX_COLUMNS;
+use crate::scene::params::shown;
+
+/// A run that samples at most this many ticks keeps every sampled row; a longer one keeps an M4
+/// aggregate of its whole run and every row of its windows ([`super::LaneSeries`]).
 pub const MAX_PLOT_POINTS: u64 = 10_000;
+
+/// Rows a window keeps at most: the first and the last window are cut to this many.
+pub const MAX_WINDOW_ROWS: u64 = MAX_PLOT_POINTS;
+
+/// Rows the windows asked for (`--window`) keep at most per lane, together.
+pub const MAX_ASKED_WINDOW_ROWS: u64 = 10 * MAX_PLOT_POINTS;
+
+/// A stretch of simulated time whose every sampled step is kept (`--window FROM:TO`, seconds).
+/// A negative end counts back from the end of the run; an empty one is the run's start or end.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Window {
+    pub from: Option<f64>,
+    pub to: Option<f64>,
+}
+
+impl std::str::FromStr for Window {
+    type Err = String;
+
+    fn from_str(text: &str) -> Result<Self, String> {
+        let rule = "must be FROM:TO in seconds (either may be empty: the run's start or end; \
+                    negative counts back from the end), e.g. 0:20 or -20:";
+        let (from, to) = text.split_once(':').ok_or(rule)?;
+        let end = |e: &str| -> Result<Option<f64>, String> {
+            match e.trim() {
+                "" => Ok(None),
+                e => match e.parse::<f64>() {
+                    Ok(v) if v.is_finite() => Ok(Some(v)),
+                    _ => Err(rule.to_string()),
+                },
+            }
+        };
+        Ok(Window {
+            from: end(from)?,
+            to: end(to)?,
+        })
+    }
+}
+
+impl std::fmt::Display for Window {
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        let end = |e: Option<f64>| e.map_or(String::new(), shown);
+        write!(f, "{}:{}", end(self.from), end(self.to))
+    }
+}
+
+impl serde::Serialize for Window {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(self)
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for Window {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let text = String::deserialize(d)?;
+        text.parse().map_err(serde::de::Error::custom)
+    }
+}
+
+/// A run's windows: the first and the last `edge_seconds` (the last one before each lane
+/// stops), and those asked for.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Windows {
+    pub edge_seconds: f64,
+    pub asked: Vec<Window>,
+}
+
+impl Windows {
+    /// The first and last ten seconds, and those asked for.
+    pub fn with(asked: &[Window]) -> Self {
+        Windows {
+            edge_seconds: 10.0,
+            asked: asked.to_vec(),
+        }
+    }
+}
 
 /// 3D frames a run draws at most. A longer run draws the first and the last half of this many
 /// (the motion as it starts and as it ends, at the frame rate asked for) and none between, so
@@ -43,14 +123,13 @@ pub struct Schedule {
 }
 
 impl Schedule {
-    /// A fixed-step schedule: round(duration / dt) steps, 3D frames at `fps`, series every
-    /// `plot_every` steps or more, so that no series holds more than [`MAX_PLOT_POINTS`] points.
+    /// A fixed-step schedule: round(duration / dt) steps, 3D frames at `fps`, series sampled
+    /// every `plot_every` steps.
     pub fn fixed_step(dt: f64, duration: f64, fps: f64, plot_every: u64) -> Self {
-        let total = ((duration / dt).round() as u64).max(1);
         Schedule {
-            total,
+            total: ((duration / dt).round() as u64).max(1),
             fps,
-            plot_stride: total.div_ceil(MAX_PLOT_POINTS).max(plot_every).max(1),
+            plot_stride: plot_every.max(1),
             clock: Clock::Step(dt),
         }
     }
@@ -176,10 +255,126 @@ impl Schedule {
             "3D drawn over t ≤ {} s and t ≥ {} s only: {} of the {all} frames at the rate asked \
              for (at most {MAX_FRAMES} are drawn); the 3D view holds still between, while the \
              plots and every check cover every step",
-            crate::scene::params::shown(self.time(self.frame_tick(a - 1))),
-            crate::scene::params::shown(self.time(self.frame_tick(b + 1))),
+            shown(self.time(self.frame_tick(a - 1))),
+            shown(self.time(self.frame_tick(b + 1))),
             self.frames()
         ))
+    }
+
+    /// Whether the run samples more ticks than a plot keeps whole, so that its series are
+    /// aggregated (M4) outside its windows.
+    pub fn aggregates(&self) -> bool {
+        self.total.div_ceil(MAX_PLOT_POINTS) > self.plot_stride
+    }
+
+    /// A window's sampled ticks (an inclusive range), or `None` when it holds none.
+    fn window_ticks(&self, w: &Window) -> Option<(u64, u64)> {
+        let end = self.end_time();
+        let at = |e: f64| if e < 0.0 { end + e } else { e };
+        let (from, to) = (w.from.map_or(0.0, at), w.to.map_or(end, at));
+        let per_tick = self.tick_seconds();
+        let first = ((from / per_tick).ceil().max(0.0) as u64).next_multiple_of(self.plot_stride);
+        let last = ((to / per_tick).floor().max(0.0) as u64).min(self.total);
+        (from <= to && first <= last).then_some((first, last))
+    }
+
+    /// Sampled rows in a range of ticks.
+    fn rows_in(&self, (first, last): (u64, u64)) -> u64 {
+        last / self.plot_stride - first.div_ceil(self.plot_stride) + 1
+    }
+
+    /// The windows asked for, each as an inclusive range of ticks; an error (the window and
+    /// why) for a window that holds no sampled step, or once they keep more than
+    /// [`MAX_ASKED_WINDOW_ROWS`] rows together.
+    pub fn asked_windows(&self, asked: &[Window]) -> Result<Vec<(u64, u64)>, (Window, String)> {
+        let mut ticks = Vec::new();
+        let mut rows = 0;
+        for &w in asked {
+            let Some(t) = self.window_ticks(&w) else {
+                return Err((
+                    w,
+                    format!(
+                        "holds no plotted step of the run, which spans 0 to {} s (FROM must not \
+                         be after TO; negative ends count back from the end)",
+                        shown(self.end_time())
+                    ),
+                ));
+            };
+            rows += self.rows_in(t);
+            if rows > MAX_ASKED_WINDOW_ROWS {
+                return Err((
+                    w,
+                    format!(
+                        "the windows keep {rows} plotted steps per lane whole so far; at most \
+                         {MAX_ASKED_WINDOW_ROWS} are kept (shorten the windows, or thin them with \
+                         --plot-every)"
+                    ),
+                ));
+            }
+            ticks.push(t);
+        }
+        Ok(ticks)
+    }
+
+    /// The first window's ticks and the rows of the last one: `edge_seconds`, cut to
+    /// [`MAX_WINDOW_ROWS`] rows.
+    fn edge_rows(&self, edge_seconds: f64) -> u64 {
+        let ticks = (edge_seconds / self.tick_seconds()).ceil() as u64;
+        (ticks / self.plot_stride + 1).min(MAX_WINDOW_ROWS)
+    }
+
+    /// Sampled rows kept whole: every one, or those of the windows.
+    pub fn whole_rows(&self, windows: &Windows) -> u64 {
+        match self.series_plan(windows) {
+            None => self.total / self.plot_stride + 1,
+            Some(plan) => {
+                plan.last_rows as u64 + plan.windows.iter().map(|&w| self.rows_in(w)).sum::<u64>()
+            }
+        }
+    }
+
+    /// How a run longer than [`MAX_PLOT_POINTS`] sampled ticks keeps its rows (`None`: every
+    /// sampled row). Windows that cannot be kept were refused when the configuration was
+    /// validated ([`Schedule::asked_windows`]).
+    pub fn series_plan(&self, windows: &Windows) -> Option<SeriesPlan> {
+        if !self.aggregates() {
+            return None;
+        }
+        let edge = self.edge_rows(windows.edge_seconds);
+        let mut ticks = vec![(0, (edge - 1) * self.plot_stride)];
+        ticks.extend(self.asked_windows(&windows.asked).unwrap_or_default());
+        Some(SeriesPlan {
+            windows: ticks,
+            last_rows: edge as usize,
+        })
+    }
+
+    /// Which steps the plots hold, in words (summaries and the recordings' `about` panels).
+    pub fn series_text(&self, windows: &Windows) -> String {
+        let every = if self.plot_stride == 1 {
+            "every step".to_string()
+        } else {
+            format!("every {} steps", self.plot_stride)
+        };
+        let Some(plan) = self.series_plan(windows) else {
+            return format!("{every} of the run");
+        };
+        let edge = shown(self.time((plan.last_rows as u64 - 1) * self.plot_stride));
+        let asked = windows
+            .asked
+            .iter()
+            .map(|w| format!(" and {w} s"))
+            .collect::<String>();
+        format!(
+            "the run's {} sampled steps aggregated (M4) over {MAX_COLUMNS} columns: per \
+             column the first, last, least and greatest value of every quantity, so that a plot up \
+             to {MAX_COLUMNS} px wide (or {}, {}, ... px) draws what every step would; {every} \
+             kept whole over t ≤ {edge} s, the last {edge} s before each lane stops (at the end, \
+             a divergence or Ctrl-C){asked}; every check still runs on every step",
+            self.total / self.plot_stride + 1,
+            MAX_COLUMNS / 2,
+            MAX_COLUMNS / 4,
+        )
     }
 
     /// Whether the series are sampled at `tick`.

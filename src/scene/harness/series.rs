@@ -1,7 +1,10 @@
 //! The sampled series: what a scene measures at a plotted tick, batched per lane for the
 //! observer.
 
+use std::collections::VecDeque;
+
 use super::Schedule;
+use crate::scene::m4::{self, Kept, M4};
 
 /// Sampled values are handed to the observer in batches of about this many rows: every batch
 /// becomes a chunk in a recording, and small chunks cost more than their data.
@@ -14,6 +17,10 @@ pub struct SeriesBatch {
     pub ticks: Vec<u64>,
     pub times: Vec<f64>,
     pub columns: Vec<Vec<f64>>,
+    /// Per row, bit q set when quantity q's plot needs the row (a row of the M4 aggregate kept
+    /// for one quantity's extreme need not be drawn by the others); [`WHOLE`] (every bit) for
+    /// a row of a stretch whose every sampled step is kept.
+    pub needed: Vec<u64>,
 }
 
 impl SeriesBatch {
@@ -35,34 +42,236 @@ impl SeriesBatch {
     pub fn clear(&mut self) {
         self.ticks.clear();
         self.times.clear();
+        self.needed.clear();
         self.columns.iter_mut().for_each(Vec::clear);
     }
+}
+
+/// The rows of both, in step order, a step in both once (the values that need it joined). Both
+/// are in step order.
+fn merged(a: Kept, b: Kept, width: usize) -> Kept {
+    if b.is_empty() {
+        return a;
+    }
+    if a.is_empty() {
+        return b;
+    }
+    let mut out = Kept::default();
+    let (mut i, mut j) = (0, 0);
+    while i < a.len() || j < b.len() {
+        let sa = a.steps.get(i).copied().unwrap_or(u64::MAX);
+        let sb = b.steps.get(j).copied().unwrap_or(u64::MAX);
+        if sa <= sb {
+            let both = if sa == sb { b.needed[j] } else { 0 };
+            out.push(
+                sa,
+                &a.values[i * width..(i + 1) * width],
+                a.needed[i] | both,
+            );
+            i += 1;
+            j += usize::from(sa == sb);
+        } else {
+            out.push(sb, &b.values[j * width..(j + 1) * width], b.needed[j]);
+            j += 1;
+        }
+    }
+    out
+}
+
+/// Splits off the rows at steps ≥ `step`, keeping those before.
+fn split_from(rows: &mut Kept, step: u64, width: usize) -> Kept {
+    let at = rows.steps.partition_point(|&s| s < step);
+    Kept {
+        steps: rows.steps.split_off(at),
+        values: rows.values.split_off(at * width),
+        needed: rows.needed.split_off(at),
+    }
+}
+
+/// [`SeriesBatch::needed`] of a row of a stretch whose every sampled step is kept: every
+/// quantity needs it, and bit 63, which no M4 row has, says so.
+pub const WHOLE: u64 = u64::MAX;
+
+/// How the sampled rows of a run beyond [`super::MAX_PLOT_POINTS`] are kept; see [`LaneSeries`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct SeriesPlan {
+    /// Sampled ticks whose rows are all kept: the first window and those asked for, each an
+    /// inclusive range of ticks, in order.
+    pub windows: Vec<(u64, u64)>,
+    /// Sampled rows kept whole before a lane stops (at the end, a divergence or Ctrl-C).
+    pub last_rows: usize,
+}
+
+/// A lane's sampled rows on their way to the observer.
+///
+/// A run that samples at most [`super::MAX_PLOT_POINTS`] ticks keeps every sampled row. A longer one
+/// (`plan` given) keeps the rows of the M4 aggregate over [`m4::MAX_COLUMNS`] columns of the
+/// whole run (so a plot up to that many pixels wide draws what every row would draw), every row
+/// inside the plan's windows, and every row of the last window before the lane stopped — held
+/// back in a ring, since only the stop says where that window is. Rows reach the batch in tick
+/// order, each once: a closed column's rows wait until they are older than the ring.
+pub struct LaneSeries {
+    pub batch: SeriesBatch,
+    /// Whether rows are kept at all (an observer that plots nothing wants none).
+    wanted: bool,
+    aggregate: Option<Aggregate>,
+}
+
+struct Aggregate {
+    m4: M4,
+    width: usize,
+    windows: Vec<(u64, u64)>,
+    /// Window rows not yet merged with their column's rows.
+    in_windows: Kept,
+    /// Rows of closed columns, merged, not yet older than the ring.
+    pending: Kept,
+    /// The last `ring_rows` sampled rows.
+    ring: VecDeque<u64>,
+    ring_values: VecDeque<f64>,
+    ring_rows: usize,
+}
+
+impl LaneSeries {
+    /// `absent_when_zero`: per quantity, whether its zeros are no point of its plot
+    /// ([`absent_when_zero`]).
+    pub fn new(
+        schedule: &Schedule,
+        absent_when_zero: &[bool],
+        plan: Option<&SeriesPlan>,
+        wanted: bool,
+    ) -> Self {
+        let width = absent_when_zero.len();
+        LaneSeries {
+            batch: SeriesBatch::new(width),
+            wanted,
+            aggregate: plan.map(|plan| Aggregate {
+                m4: M4::new(schedule.total, m4::MAX_COLUMNS, absent_when_zero)
+                    .expect("MAX_COLUMNS is a valid column count"),
+                width,
+                windows: plan.windows.clone(),
+                in_windows: Kept::default(),
+                pending: Kept::default(),
+                ring: VecDeque::with_capacity(plan.last_rows + 1),
+                ring_values: VecDeque::with_capacity((plan.last_rows + 1) * width),
+                ring_rows: plan.last_rows.max(1),
+            }),
+        }
+    }
+
+    fn push(&mut self, schedule: &Schedule, step: u64, row: &[f64]) {
+        if !self.wanted {
+            return;
+        }
+        let Some(a) = &mut self.aggregate else {
+            push_row(&mut self.batch, schedule, step, row, WHOLE);
+            return;
+        };
+        a.m4.push(step, row);
+        if a.windows
+            .iter()
+            .any(|&(from, to)| (from..=to).contains(&step))
+        {
+            a.in_windows.push(step, row, WHOLE);
+        }
+        if a.ring.len() == a.ring_rows {
+            a.ring.pop_front();
+            a.ring_values.drain(..a.width);
+        }
+        a.ring.push_back(step);
+        a.ring_values.extend(row);
+    }
+
+    /// Moves the rows that are final into the batch (after each block).
+    pub fn settle(&mut self, schedule: &Schedule) {
+        let Some(a) = &mut self.aggregate else {
+            return;
+        };
+        let closed = a.m4.take_completed();
+        if let Some(&last) = closed.steps.last() {
+            let later = split_from(&mut a.in_windows, last + 1, a.width);
+            let windows = std::mem::replace(&mut a.in_windows, later);
+            let pending = std::mem::take(&mut a.pending);
+            a.pending = merged(pending, merged(closed, windows, a.width), a.width);
+        }
+        let oldest_in_ring = a.ring.front().copied().unwrap_or(u64::MAX);
+        let later = split_from(&mut a.pending, oldest_in_ring, a.width);
+        let done = std::mem::replace(&mut a.pending, later);
+        push_rows(&mut self.batch, schedule, &done, a.width);
+    }
+
+    /// Moves every row still held into the batch: the lane has stopped.
+    pub fn finish(&mut self, schedule: &Schedule) {
+        let Some(a) = self.aggregate.take() else {
+            return;
+        };
+        let ring = Kept {
+            needed: vec![WHOLE; a.ring.len()],
+            steps: a.ring.into(),
+            values: a.ring_values.into(),
+        };
+        let w = a.width;
+        let rest = merged(
+            merged(a.pending, a.m4.finish(), w),
+            merged(a.in_windows, ring, w),
+            w,
+        );
+        push_rows(&mut self.batch, schedule, &rest, w);
+    }
+}
+
+fn push_row(batch: &mut SeriesBatch, schedule: &Schedule, step: u64, row: &[f64], needed: u64) {
+    debug_assert_eq!(row.len(), batch.columns.len());
+    batch.ticks.push(step);
+    batch.times.push(schedule.time(step));
+    batch.needed.push(needed);
+    for (column, &v) in batch.columns.iter_mut().zip(row) {
+        column.push(v);
+    }
+}
+
+fn push_rows(batch: &mut SeriesBatch, schedule: &Schedule, rows: &Kept, width: usize) {
+    for (i, &step) in rows.steps.iter().enumerate() {
+        let row = &rows.values[i * width..(i + 1) * width];
+        push_row(batch, schedule, step, row, rows.needed[i]);
+    }
+}
+
+/// Error-like quantities, plotted as log10 |value| under their own name so that methods ten
+/// decades apart are all visible (a linear plot shows everything but the worst method as a flat
+/// line at zero). Samples equal to zero (log10 = −∞: the reference against itself, the start)
+/// are left out of the log series, so they are no point of its plot, and the aggregate treats
+/// them so. (quantity, plotted entity name)
+pub const LOG10: [(&str, &str); 4] = [
+    ("theta_error", "log10_theta_error"),
+    ("energy_error", "log10_energy_error"),
+    ("energy_change", "log10_energy_change"),
+    ("max_stretch", "log10_max_stretch"),
+];
+
+/// Whether a quantity's zeros are left out of its plot (it is plotted as log10 |value|).
+pub fn absent_when_zero(quantity: &str) -> bool {
+    LOG10.iter().any(|(q, _)| *q == quantity)
 }
 
 /// Where a scene's check puts the values it samples.
 pub struct Sampler<'a> {
     pub(super) schedule: &'a Schedule,
-    pub(super) batch: &'a mut SeriesBatch,
+    pub(super) series: &'a mut LaneSeries,
 }
 
 impl<'a> Sampler<'a> {
-    pub fn new(schedule: &'a Schedule, batch: &'a mut SeriesBatch) -> Self {
-        Sampler { schedule, batch }
+    pub fn new(schedule: &'a Schedule, series: &'a mut LaneSeries) -> Self {
+        Sampler { schedule, series }
     }
 
     /// Whether the series are sampled at `tick`.
     #[inline]
     pub fn wants(&self, tick: u64) -> bool {
-        self.schedule.samples(tick)
+        self.series.wanted && self.schedule.samples(tick)
     }
 
     /// Records one row: a value per quantity, in [`Scene::quantities`] order.
     pub fn push(&mut self, tick: u64, values: &[f64]) {
-        debug_assert_eq!(values.len(), self.batch.columns.len());
-        self.batch.ticks.push(tick);
-        self.batch.times.push(self.schedule.time(tick));
-        for (column, &v) in self.batch.columns.iter_mut().zip(values) {
-            column.push(v);
-        }
+        self.series.push(self.schedule, tick, values);
     }
 }

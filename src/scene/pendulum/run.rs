@@ -5,7 +5,7 @@ use super::period::PeriodMeter;
 use super::reference::{ExactPendulum, FineStepReference, Reference, exact_period};
 use super::{Pendulum, PendulumParams, step_block};
 use crate::integrate::{Counts, Integrator, Method, MethodOptions};
-use crate::scene::harness::{Checked, Sampler, Scene, Schedule};
+use crate::scene::harness::{Checked, Sampler, Scene, Schedule, Window, Windows};
 use crate::scene::params::{self, Invalid};
 
 /// A method diverges when θ or ω stops being finite or its energy exceeds this many times
@@ -34,6 +34,8 @@ pub struct PendulumConfig {
     pub fps: f64,
     /// Plot every Nth step (thinned further beyond MAX_PLOT_POINTS).
     pub plot_every: u64,
+    /// Stretches kept whole when the plots are aggregated (`--window`).
+    pub window: Vec<Window>,
     /// Methods in the order they are shown.
     pub methods: Vec<Method>,
     #[serde(flatten)]
@@ -49,6 +51,7 @@ impl Default for PendulumConfig {
             duration: 20.0,
             fps: 30.0,
             plot_every: 1,
+            window: Vec::new(),
             methods: Method::DEFAULT.to_vec(),
             options: MethodOptions::default(),
         }
@@ -95,6 +98,7 @@ impl params::SceneConfig for PendulumConfig {
         params::within("--omega0", p.omega0, -max, max, "rad/s")?;
         params::time(self.dt, self.duration, self.fps, 1)?;
         self.reference_guard()?;
+        params::windows(&self.schedule(), &self.window)?;
         params::plot_and_options(self.plot_every, &self.options)
     }
 }
@@ -292,6 +296,18 @@ impl Scene for PendulumScene {
 
     fn max_block(&self) -> u64 {
         BLOCK_STEPS as u64
+    }
+
+    /// The first and the last five periods (small-angle periods when there is no exact one).
+    fn windows(&self) -> Windows {
+        let p = &self.config.params;
+        let period = self
+            .exact_period
+            .unwrap_or(std::f64::consts::TAU / p.omega_n());
+        Windows {
+            edge_seconds: 5.0 * period,
+            asked: self.config.window.clone(),
+        }
     }
 
     fn traced(&self) -> bool {

@@ -4,7 +4,7 @@
 use super::implicit::Workspace;
 use super::{Rope, RopeParams};
 use crate::integrate::{Counts, Integrator, Method, MethodOptions};
-use crate::scene::harness::{Checked, Sampler, Scene, Schedule};
+use crate::scene::harness::{Checked, Sampler, Scene, Schedule, Window, Windows};
 use crate::scene::params::{self, Invalid};
 
 /// A method diverges when its state stops being finite, a spring's strain passes
@@ -84,6 +84,8 @@ pub struct RopeConfig {
     pub fps: f64,
     /// Plot every Nth step (thinned further beyond MAX_PLOT_POINTS).
     pub plot_every: u64,
+    /// Stretches kept whole when the plots are aggregated (`--window`).
+    pub window: Vec<Window>,
     /// How the recording lays the methods out.
     pub layout: RopeLayout,
     pub methods: Vec<Method>,
@@ -100,6 +102,7 @@ impl Default for RopeConfig {
             duration: 10.0,
             fps: 30.0,
             plot_every: 5,
+            window: Vec::new(),
             layout: RopeLayout::default(),
             methods: Method::DEFAULT.to_vec(),
             options: MethodOptions::default(),
@@ -229,6 +232,7 @@ impl params::SceneConfig for RopeConfig {
             self.memory_bytes(),
             "use fewer --nodes or --methods",
         )?;
+        params::windows(&self.schedule(), &self.window)?;
         params::plot_and_options(self.plot_every, &self.options)
     }
 }
@@ -352,6 +356,16 @@ impl Scene for RopeScene {
 
     fn schedule(&self) -> Schedule {
         self.config.schedule()
+    }
+
+    fn windows(&self) -> Windows {
+        Windows::with(&self.config.window)
+    }
+
+    /// Blocks end at 3D frames, and also after this many steps: a long run's rows are sampled
+    /// every step, and a block's rows are held until it is checked.
+    fn max_block(&self) -> u64 {
+        4096
     }
 
     fn lanes(&self) -> Vec<(&'static str, RopeLane)> {
