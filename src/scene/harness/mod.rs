@@ -63,9 +63,9 @@ impl Checked {
 }
 
 /// One scene: its lanes, how a block of ticks is stepped and checked, what is observed.
-pub trait Scene {
+pub trait Scene: Sync {
     /// One lane's working state: a method's integrator and measurements, or the reference.
-    type Lane;
+    type Lane: Send;
 
     /// The scene's name: `pendulum`, `rope`, `hair`.
     fn name(&self) -> &'static str;
@@ -92,6 +92,12 @@ pub trait Scene {
     /// Whether a lane keeps every tick of its block, so that a 3D frame inside a block can be
     /// read back ([`Scene::check`] then sees them all). Otherwise blocks end at 3D frames.
     fn traced(&self) -> bool {
+        false
+    }
+    /// Whether the lanes of a block are stepped and checked side by side on the rayon pool
+    /// (each lane's own work is one thread's). A scene whose lanes spread their own work over
+    /// the pool (hair) steps them one after another, so that each lane's time is its own.
+    fn side_by_side(&self) -> bool {
         false
     }
     /// Work shared by every lane over ticks first..first+len (the pendulum's reference). It may
@@ -271,25 +277,47 @@ pub fn run_until<S: Scene>(
             break;
         }
 
-        for (i, lane) in lanes.iter_mut().enumerate() {
+        // Each live lane is stepped, checked and its series settled on its own; what reaches
+        // the observer is then handed on in lane order, so that the run is the same on any
+        // number of threads.
+        let step_lane =
+            |((lane, lane_series), &alive): ((&mut S::Lane, &mut LaneSeries), &bool)| {
+                if !alive {
+                    return None;
+                }
+                let started = Instant::now();
+                scene.advance(lane, first, len);
+                let elapsed = started.elapsed();
+                let checked =
+                    scene.check(lane, first, len, &mut Sampler::new(&schedule, lane_series));
+                lane_series.settle(&schedule);
+                if checked.divergence.is_some() {
+                    lane_series.finish(&schedule);
+                }
+                Some((elapsed, checked))
+            };
+        let stepped: Vec<Option<(Duration, Checked)>> = if scene.side_by_side() {
+            use rayon::prelude::*;
+            (lanes.par_iter_mut().zip(series.par_iter_mut()))
+                .zip(alive.par_iter())
+                .map(step_lane)
+                .collect()
+        } else {
+            (lanes.iter_mut().zip(series.iter_mut()))
+                .zip(&alive)
+                .map(step_lane)
+                .collect()
+        };
+
+        for (i, (lane, stepped)) in lanes.iter().zip(stepped).enumerate() {
             accepted[i] = 0;
-            if !alive[i] {
+            let Some((elapsed, checked)) = stepped else {
                 continue;
-            }
-            let started = Instant::now();
-            scene.advance(lane, first, len);
-            let elapsed = started.elapsed();
+            };
             let s = &mut stats[i];
             s.wall += elapsed;
             s.timed_ticks += len as u64;
             cost[i] += elapsed;
-
-            let checked = scene.check(
-                lane,
-                first,
-                len,
-                &mut Sampler::new(&schedule, &mut series[i]),
-            );
             accepted[i] = checked.accepted;
             s.ticks += checked.accepted as u64;
             s.counts = checked.counts.unwrap_or_else(|| scene.counts(lane));
@@ -333,12 +361,7 @@ pub fn run_until<S: Scene>(
                 s.divergence = Some(event);
                 alive[i] = false;
             }
-            let lane_series = &mut series[i];
-            lane_series.settle(&schedule);
-            if !alive[i] {
-                lane_series.finish(&schedule);
-            }
-            let batch = &mut lane_series.batch;
+            let batch = &mut series[i].batch;
             if !batch.is_empty() && (batch.len() >= SERIES_BATCH || !alive[i]) {
                 observer.series(scene, i, batch)?;
                 batch.clear();
@@ -502,6 +525,202 @@ mod tests {
         fn event(&mut self, _: &Counter, e: &Event) -> anyhow::Result<()> {
             self.events.push(e.tick);
             Ok(())
+        }
+    }
+
+    /// Lanes of unequal work side by side: lane i steps x ← x + sin((i + 1) x) / 8 twenty
+    /// times (i + 1) per tick, misses a "solve" at one tick when i is even and diverges at
+    /// one tick when i is odd; it notes the pool thread that stepped each of its blocks.
+    struct SideBySide {
+        schedule: Schedule,
+    }
+
+    struct SideLane {
+        index: usize,
+        x: Vec<f64>,
+        misses: Vec<usize>,
+        bad: Option<usize>,
+        evals: u64,
+        failed: u64,
+        threads: Vec<Option<usize>>,
+    }
+
+    impl SideBySide {
+        const LANES: usize = 5;
+
+        fn miss_at(i: usize) -> Option<u64> {
+            i.is_multiple_of(2).then_some(1000 + 77 * i as u64)
+        }
+
+        fn diverge_at(i: usize) -> Option<u64> {
+            (i % 2 == 1).then_some(20_000 + 3001 * i as u64)
+        }
+    }
+
+    impl Scene for SideBySide {
+        type Lane = SideLane;
+        fn name(&self) -> &'static str {
+            "side by side"
+        }
+        fn schedule(&self) -> Schedule {
+            self.schedule
+        }
+        fn lanes(&self) -> Vec<(&'static str, SideLane)> {
+            const NAMES: [&str; SideBySide::LANES] = ["a", "b", "c", "d", "e"];
+            (0..Self::LANES)
+                .map(|index| {
+                    let lane = SideLane {
+                        index,
+                        x: vec![0.5],
+                        misses: Vec::new(),
+                        bad: None,
+                        evals: 0,
+                        failed: 0,
+                        threads: Vec::new(),
+                    };
+                    (NAMES[index], lane)
+                })
+                .collect()
+        }
+        fn quantities(&self, _: &SideLane) -> &'static [&'static str] {
+            &["x", "theta_error"]
+        }
+        fn initial(&self, _: &SideLane) -> Option<Vec<f64>> {
+            Some(vec![0.5, 0.0])
+        }
+        fn max_block(&self) -> u64 {
+            64
+        }
+        fn traced(&self) -> bool {
+            true
+        }
+        fn side_by_side(&self) -> bool {
+            true
+        }
+        fn advance(&self, lane: &mut SideLane, first: u64, len: usize) {
+            lane.threads.push(rayon::current_thread_index());
+            let mut x = *lane.x.last().unwrap();
+            lane.x.clear();
+            lane.misses.clear();
+            let k = (lane.index + 1) as f64;
+            for j in 0..len {
+                let tick = first + j as u64;
+                for _ in 0..20 * (lane.index + 1) {
+                    x += (k * x).sin() / 8.0;
+                    lane.evals += 1;
+                }
+                lane.x.push(x);
+                if Some(tick) == Self::miss_at(lane.index) {
+                    lane.misses.push(j);
+                    lane.failed += 1;
+                }
+                if Some(tick) == Self::diverge_at(lane.index) {
+                    lane.bad = Some(j);
+                    return;
+                }
+            }
+        }
+        fn check(&self, lane: &mut SideLane, first: u64, len: usize, out: &mut Sampler) -> Checked {
+            let ok = lane.bad.unwrap_or(len);
+            for j in 0..ok {
+                if out.wants(first + j as u64) {
+                    out.push(first + j as u64, &[lane.x[j], (lane.x[j] - 0.5).abs()]);
+                }
+            }
+            Checked {
+                accepted: ok,
+                divergence: lane.bad.map(|j| format!("x = {}", lane.x[j])),
+                solver_miss: lane.misses.first().map(|&j| (j, "a miss".to_string())),
+                counts: None,
+            }
+        }
+        fn counts(&self, lane: &SideLane) -> Counts {
+            Counts {
+                evals: lane.evals,
+                failed_solves: lane.failed,
+                adaptive_steps: None,
+            }
+        }
+    }
+
+    /// Everything a run hands an observer, in the order it came.
+    #[derive(Default, Debug, PartialEq)]
+    struct Transcript {
+        /// (lane, tick, time, which quantities need the row, values as bits).
+        rows: Vec<(usize, u64, u64, u64, Vec<u64>)>,
+        events: Vec<(usize, u64, String)>,
+        frames: Vec<(u64, Vec<bool>)>,
+    }
+
+    impl Observer<SideBySide> for Transcript {
+        fn series(&mut self, _: &SideBySide, lane: usize, b: &SeriesBatch) -> anyhow::Result<()> {
+            for r in 0..b.len() {
+                let values = b.columns.iter().map(|c| c[r].to_bits()).collect();
+                let row = (lane, b.ticks[r], b.times[r].to_bits(), b.needed[r], values);
+                self.rows.push(row);
+            }
+            Ok(())
+        }
+        fn event(&mut self, _: &SideBySide, e: &Event) -> anyhow::Result<()> {
+            self.events.push((e.lane, e.tick, e.message.clone()));
+            Ok(())
+        }
+        fn frame(&mut self, _: &SideBySide, f: &Frame<SideLane>) -> anyhow::Result<()> {
+            let alive = f.lanes.iter().map(Option::is_some).collect();
+            self.frames.push((f.tick, alive));
+            Ok(())
+        }
+    }
+
+    /// Lanes stepped side by side hand the observer the same rows, events and frames in the
+    /// same order, and leave the same counts, on one thread and on two, with the series
+    /// aggregated (a run beyond the plotted points) and not; on two threads the lanes were
+    /// indeed stepped by both.
+    #[test]
+    fn lanes_side_by_side_give_the_same_run_on_any_number_of_threads() {
+        for total in [2_000, 30_000] {
+            let runs = [1, 2].map(|threads| {
+                let mut scene = SideBySide {
+                    schedule: Schedule::fixed_step(0.01, total as f64 * 0.01, 30.0, 1),
+                };
+                let mut seen = Transcript::default();
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap();
+                let run = pool.install(|| run(&mut scene, &mut seen)).unwrap();
+                let stats: Vec<_> = (run.stats.iter())
+                    .map(|s| (s.ticks, s.counts, s.divergence.as_ref().map(|e| e.tick)))
+                    .collect();
+                let mut threads: Vec<_> =
+                    run.lanes.iter().flat_map(|l| l.threads.clone()).collect();
+                threads.sort();
+                threads.dedup();
+                (seen, stats, threads)
+            });
+            let [(one, one_stats, one_threads), (two, two_stats, two_threads)] = runs;
+            assert_eq!(one_threads, [Some(0)]);
+            assert_eq!(
+                two_threads,
+                [Some(0), Some(1)],
+                "both threads stepped lanes"
+            );
+            assert_eq!(one_stats, two_stats, "{total} ticks");
+            assert_eq!(one, two, "{total} ticks");
+            // What the run should have seen: each odd lane stops at its tick, each even lane
+            // reports its miss.
+            for (i, &(ticks, _, diverged)) in one_stats.iter().enumerate() {
+                let stop = SideBySide::diverge_at(i).filter(|&t| t <= total);
+                assert_eq!(diverged, stop, "lane {i}");
+                assert_eq!(ticks, stop.map_or(total, |t| t - 1), "lane {i}");
+            }
+            let missed: Vec<_> = one
+                .events
+                .iter()
+                .filter(|e| e.2.contains("a miss"))
+                .collect();
+            assert_eq!(missed.len(), 3, "{:?}", one.events);
+            assert!(one.rows.len() > 5 * 1000, "{} rows", one.rows.len());
         }
     }
 

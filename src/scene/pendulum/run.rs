@@ -314,6 +314,10 @@ impl Scene for PendulumScene {
         true
     }
 
+    fn side_by_side(&self) -> bool {
+        true
+    }
+
     /// The reference over the block (not timed).
     fn prepare(&mut self, first: u64, len: usize) {
         let dt = self.config.dt;

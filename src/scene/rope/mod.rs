@@ -8,7 +8,7 @@
 pub mod implicit;
 pub mod run;
 
-use std::cell::RefCell;
+use std::sync::{Mutex, PoisonError};
 
 use glam::DVec3;
 
@@ -110,8 +110,9 @@ pub struct Rope {
     rest: f64,
     pinned: Vec<bool>,
     /// Scratch for the implicit solve, allocated at its first step (about 500 B per node, which
-    /// a run without an implicit method does not need).
-    workspace: RefCell<Option<Workspace>>,
+    /// a run without an implicit method does not need). Behind a lock so that lanes can step
+    /// side by side; only the implicit lane takes it.
+    workspace: Mutex<Option<Workspace>>,
 }
 
 impl Rope {
@@ -124,7 +125,7 @@ impl Rope {
         }
         Rope {
             rest: params.rest_length(),
-            workspace: RefCell::new(None),
+            workspace: Mutex::new(None),
             pinned,
             params,
         }
@@ -241,7 +242,10 @@ impl SecondOrderSystem for Rope {
     }
 
     fn implicit_euler_step(&self, x: &mut [f64], v: &mut [f64], dt: f64) -> ImplicitSolve {
-        let mut workspace = self.workspace.borrow_mut();
+        let mut workspace = self
+            .workspace
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner);
         let workspace = workspace.get_or_insert_with(|| Workspace::new(self.params.nodes));
         implicit::backward_euler_step(self, workspace, x, v, dt)
     }
