@@ -277,14 +277,25 @@ impl Reference {
         }
     }
 
-    /// (θ, ω) at step n (time n·dt). Steps must be asked for in order, 1, 2, 3, ...
-    pub fn state_at_step(&mut self, n: u64, dt: f64) -> (f64, f64) {
+    /// (θ, ω) at the steps first, first + 1, ... (times n·dt), one per element of `theta` and
+    /// `omega`; blocks must be asked for in order. The closed form and its table give each step
+    /// on its own, so they are evaluated in chunks on the rayon pool (the values do not depend on
+    /// the threads); the fine-step solution is stepped in order and stops at a stop request
+    /// ([`crate::interrupt::requested`]), leaving the rest unset.
+    pub fn fill(&mut self, first: u64, dt: f64, theta: &mut [f64], omega: &mut [f64]) {
         match self {
-            Reference::Exact(e) => e.state(n as f64 * dt),
-            Reference::Tabulated(_, table) => table.state_at_step(n, dt),
+            Reference::Exact(e) => fill_each(first, theta, omega, |n| e.state(n as f64 * dt)),
+            Reference::Tabulated(_, table) => {
+                fill_each(first, theta, omega, |n| table.state_at_step(n, dt));
+            }
             Reference::FineStep(f) => {
-                debug_assert_eq!(n, f.step + 1, "fine-step reference is sampled in order");
-                f.advance()
+                debug_assert_eq!(first, f.step + 1, "fine-step reference is sampled in order");
+                for (th, w) in theta.iter_mut().zip(omega) {
+                    if crate::interrupt::requested() {
+                        return;
+                    }
+                    (*th, *w) = f.advance();
+                }
             }
         }
     }
@@ -326,4 +337,27 @@ fn closed_form_text(e: &ExactPendulum) -> String {
             t => format!("{t:.12e}"),
         }
     )
+}
+
+/// Steps evaluated per task of the rayon pool: a block of 4096 is four tasks.
+const FILL_CHUNK: usize = 1024;
+
+/// `state(n)` for n = first, first + 1, ... into `theta` and `omega`, in chunks on the pool.
+fn fill_each(
+    first: u64,
+    theta: &mut [f64],
+    omega: &mut [f64],
+    state: impl Fn(u64) -> (f64, f64) + Sync,
+) {
+    use rayon::prelude::*;
+    (theta
+        .par_chunks_mut(FILL_CHUNK)
+        .zip(omega.par_chunks_mut(FILL_CHUNK)))
+    .enumerate()
+    .for_each(|(c, (theta, omega))| {
+        let start = first + (c * FILL_CHUNK) as u64;
+        for (j, (th, w)) in theta.iter_mut().zip(omega).enumerate() {
+            (*th, *w) = state(start + j as u64);
+        }
+    });
 }

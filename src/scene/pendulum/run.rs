@@ -320,14 +320,8 @@ impl Scene for PendulumScene {
 
     /// The reference over the block (not timed).
     fn prepare(&mut self, first: u64, len: usize) {
-        let dt = self.config.dt;
-        for j in 0..len {
-            if crate::interrupt::requested() {
-                return;
-            }
-            (self.ref_theta[j], self.ref_omega[j]) =
-                self.reference.state_at_step(first + j as u64, dt);
-        }
+        let (theta, omega) = (&mut self.ref_theta[..len], &mut self.ref_omega[..len]);
+        self.reference.fill(first, self.config.dt, theta, omega);
     }
 
     /// The timed loop does nothing but step and store.
