@@ -10,7 +10,9 @@ use std::time::Duration;
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use physlab::scene::hair::run::{HairConfig, HairScene};
 use physlab::scene::hair::{Hair, HairMethod, HairParams};
-use physlab::scene::harness::{Frame, Observer as _, Sampler, Scene as _, SeriesBatch};
+use physlab::scene::harness::{
+    Frame, LaneSeries, Observer as _, Sampler, Scene as _, absent_when_zero,
+};
 
 fn config() -> HairConfig {
     HairConfig {
@@ -64,7 +66,12 @@ fn hair_frames(c: &mut Criterion) {
                 let schedule = scene.schedule();
                 let (name, mut lane) = scene.lanes().pop().unwrap();
                 recorder.start(&scene, &[(name, &lane)]).unwrap();
-                let mut batch = SeriesBatch::new(scene.quantities(&lane).len());
+                let absent: Vec<bool> = scene
+                    .quantities(&lane)
+                    .iter()
+                    .map(|q| absent_when_zero(q))
+                    .collect();
+                let mut series = LaneSeries::new(&schedule, &absent, None, true);
                 let mut frame = 0u64;
                 group.bench_function(
                     format!("{}/{threads}-thread/record-30fps", method.name()),
@@ -74,10 +81,10 @@ fn hair_frames(c: &mut Criterion) {
                                 for _ in 0..2 {
                                     frame += 1;
                                     scene.advance(&mut lane, frame, 1);
-                                    batch.clear();
-                                    let mut sampler = Sampler::new(&schedule, &mut batch);
+                                    series.batch.clear();
+                                    let mut sampler = Sampler::new(&schedule, &mut series);
                                     scene.check(&mut lane, frame, 1, &mut sampler);
-                                    recorder.series(&scene, 0, &batch).unwrap();
+                                    recorder.series(&scene, 0, &series.batch).unwrap();
                                 }
                                 let view = Frame {
                                     index: frame / 2,

@@ -215,6 +215,40 @@ const REFUSALS: &[(&[&str], i32, &[&str])] = &[
         &["--verlet-damping 1.5: must be in [0, 1)"],
     ),
     (
+        &["pendulum", "--window", "5"],
+        2,
+        &[
+            "invalid value '5' for '--window <FROM:TO>'",
+            "must be FROM:TO in seconds",
+        ],
+    ),
+    (
+        &["rope", "--window", "0:abc"],
+        2,
+        &["invalid value '0:abc' for '--window <FROM:TO>'"],
+    ),
+    (
+        &["pendulum", "--window", "30:40"],
+        2,
+        &["--window 30:40: holds no plotted step of the run, which spans 0 to 20 s"],
+    ),
+    (
+        &["hair", "--window", "5:2"],
+        2,
+        &[
+            "--window 5:2: holds no plotted step",
+            "FROM must not be after TO",
+        ],
+    ),
+    (
+        &["pendulum", "--duration", "1e5", "--window", "0:1e4"],
+        2,
+        &[
+            "--window 0:10000: the windows keep 1000001 plotted steps per lane",
+            "at most 100000",
+        ],
+    ),
+    (
         &["pendulum", "--plot-every", "0"],
         2,
         &["--plot-every 0: must be at least 1"],
@@ -862,6 +896,12 @@ fn drawing_flags_are_refused_when_nothing_is_recorded() {
         vec!["hair", "--fps", "3", "--no-record"],
         "--no-record with --fps".to_string(),
     ));
+    for scene in ["pendulum", "rope", "hair"] {
+        cases.push((
+            vec![scene, "--window", "0:1", "--no-record"],
+            "--no-record with --window: --window sets what the recording draws".to_string(),
+        ));
+    }
     refused(&cases);
 }
 

@@ -1102,3 +1102,203 @@ mod exit_codes {
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }
+
+mod long_runs {
+    //! The plots of a run longer than a plot keeps whole: the same run observed row by row and
+    //! as recorded (M4 aggregate plus windows) must draw the same thing at every plot width
+    //! dividing the column count, keep its windows bit for bit, and change no summary.
+
+    use std::collections::BTreeMap;
+    use std::time::Duration;
+
+    use physlab::scene::hair::run::{HairConfig, HairScene};
+    use physlab::scene::harness::{
+        Observer, Run, Scene, SeriesBatch, WantedRows, Window, absent_when_zero, run,
+    };
+    use physlab::scene::m4::MAX_COLUMNS;
+    use physlab::scene::pendulum::run::{PendulumConfig, PendulumScene};
+    use physlab::scene::rope::run::{RopeConfig, RopeScene};
+
+    /// One lane's rows: ticks, a column per quantity, and which quantities need each row.
+    #[derive(Default)]
+    struct LaneRows {
+        ticks: Vec<u64>,
+        columns: Vec<Vec<f64>>,
+        needed: Vec<u64>,
+    }
+
+    struct Collect {
+        wanted: WantedRows,
+        lanes: BTreeMap<usize, LaneRows>,
+    }
+
+    impl<S: Scene> Observer<S> for Collect {
+        fn rows(&self) -> WantedRows {
+            self.wanted
+        }
+        fn series(&mut self, _: &S, lane: usize, b: &SeriesBatch) -> anyhow::Result<()> {
+            let rows = self.lanes.entry(lane).or_default();
+            rows.columns.resize(b.columns.len(), Vec::new());
+            rows.ticks.extend(&b.ticks);
+            rows.needed.extend(&b.needed);
+            for (c, values) in rows.columns.iter_mut().zip(&b.columns) {
+                c.extend(values);
+            }
+            Ok(())
+        }
+    }
+
+    /// Per plot column at width `w`: the first and last point (tick, value bits), the least
+    /// and the greatest value (bits), written out here on their own: column = ⌊n·w/N⌋, the last
+    /// step in the last column.
+    type Column = ((u64, u64), (u64, u64), u64, u64);
+
+    fn raster(points: &[(u64, f64)], last: u64, w: u64) -> Vec<Option<Column>> {
+        let mut cols: Vec<Option<Column>> = vec![None; w as usize];
+        for &(n, v) in points {
+            let x = ((u128::from(n) * u128::from(w) / u128::from(last)) as u64).min(w - 1);
+            let at = (n, v.to_bits());
+            let c = cols[x as usize].get_or_insert((at, at, v.to_bits(), v.to_bits()));
+            c.1 = at;
+            if v < f64::from_bits(c.2) {
+                c.2 = v.to_bits();
+            }
+            if v > f64::from_bits(c.3) {
+                c.3 = v.to_bits();
+            }
+        }
+        cols
+    }
+
+    /// Runs `make()` twice, row by row and as plotted, and checks that both draw the same,
+    /// keep the same windows and give the same summary.
+    fn check<S: Scene>(make: impl Fn() -> S, summary: impl Fn(&S, &Run<S::Lane>) -> String) {
+        let mut runs = Vec::new();
+        for wanted in [WantedRows::Every, WantedRows::Plotted] {
+            let mut scene = make();
+            let mut observer = Collect {
+                wanted,
+                lanes: BTreeMap::new(),
+            };
+            let mut ran = run(&mut scene, &mut observer).unwrap();
+            for s in &mut ran.stats {
+                s.wall = Duration::ZERO;
+            }
+            runs.push((summary(&scene, &ran), observer.lanes));
+        }
+        let (every_summary, every) = &runs[0];
+        let (plotted_summary, plotted) = &runs[1];
+        assert_eq!(every_summary, plotted_summary, "summaries differ");
+
+        let scene = make();
+        let schedule = scene.schedule();
+        let plan = schedule
+            .series_plan(&scene.windows())
+            .expect("the run is long enough to be aggregated");
+        let quantities: Vec<&[&str]> = scene
+            .lanes()
+            .iter()
+            .map(|(_, l)| scene.quantities(l))
+            .collect();
+        let whole = schedule.whole_rows(&scene.windows()) as usize;
+        for (lane, full) in every {
+            let kept = &plotted[lane];
+            // At most a column's first and last row and five per quantity, and the windows.
+            let most = MAX_COLUMNS as usize * (2 + 5 * quantities[*lane].len()) + whole;
+            assert!(
+                kept.ticks.len() <= most,
+                "lane {lane}: {} rows",
+                kept.ticks.len()
+            );
+            assert!(full.needed.iter().all(|&n| n == u64::MAX));
+            for (q, name) in quantities[*lane].iter().enumerate() {
+                let present = |v: f64| !(absent_when_zero(name) && v == 0.0);
+                let series = |rows: &LaneRows, only_needed: bool| -> Vec<(u64, f64)> {
+                    (0..rows.ticks.len())
+                        .filter(|&i| !only_needed || rows.needed[i] & (1 << q) != 0)
+                        .map(|i| (rows.ticks[i], rows.columns[q][i]))
+                        .filter(|&(_, v)| present(v))
+                        .collect()
+                };
+                let (a, b) = (series(full, false), series(kept, true));
+                for w in [4096, 2048, 1024, 256, 1] {
+                    assert!(
+                        raster(&a, schedule.total, w) == raster(&b, schedule.total, w),
+                        "lane {lane} {name}: drawn differently at {w} px"
+                    );
+                }
+            }
+            // The windows, and the last window before the lane stopped, bit for bit.
+            let rows = |r: &LaneRows, i: usize| -> Vec<u64> {
+                std::iter::once(r.ticks[i])
+                    .chain(r.columns.iter().map(|c| c[i].to_bits()))
+                    .collect()
+            };
+            let in_range = |r: &LaneRows, from: u64, to: u64| -> Vec<Vec<u64>> {
+                (0..r.ticks.len())
+                    .filter(|&i| (from..=to).contains(&r.ticks[i]))
+                    .map(|i| rows(r, i))
+                    .collect()
+            };
+            let stopped = *full.ticks.last().unwrap();
+            for &(from, to) in plan.windows.iter().filter(|w| w.0 <= stopped) {
+                let want = in_range(full, from, to);
+                assert!(!want.is_empty());
+                assert_eq!(
+                    want,
+                    in_range(kept, from, to),
+                    "lane {lane}: window {from}..={to}"
+                );
+            }
+            let last = full.ticks.len().saturating_sub(plan.last_rows);
+            let (from, to) = (full.ticks[last], *full.ticks.last().unwrap());
+            assert_eq!(
+                in_range(full, from, to),
+                in_range(kept, from, to),
+                "lane {lane}: the last window"
+            );
+        }
+    }
+
+    #[test]
+    fn pendulum_plots_draw_every_step_and_keep_their_windows() {
+        let make = || {
+            PendulumScene::new(PendulumConfig {
+                dt: 0.05,
+                duration: 1500.0,
+                window: vec!["400:410".parse::<Window>().unwrap()],
+                ..PendulumConfig::default()
+            })
+        };
+        assert!(make().schedule().aggregates());
+        // explicit-euler diverges early, so its last window is the one before its divergence.
+        check(make, physlab::report::pendulum::summary_text);
+    }
+
+    #[test]
+    fn rope_plots_draw_every_step_and_keep_their_windows() {
+        let make = || {
+            RopeScene::new(RopeConfig {
+                duration: 100.0,
+                ..RopeConfig::default()
+            })
+        };
+        // Three methods diverge.
+        check(make, physlab::report::rope::summary_text);
+    }
+
+    #[test]
+    fn hair_plots_draw_every_frame_and_keep_their_windows() {
+        let make = || {
+            let mut c = HairConfig {
+                duration: 250.0,
+                window: vec!["-100:-90".parse::<Window>().unwrap()],
+                ..HairConfig::default()
+            };
+            c.params.strands = 8;
+            c.params.nodes = 6;
+            HairScene::new(c)
+        };
+        check(make, physlab::report::hair::summary_text);
+    }
+}

@@ -10,7 +10,7 @@ use std::process::{Command, Stdio};
 use std::sync::Arc;
 use std::time::Duration;
 
-use common::{physlab, s, scratch_dir};
+use common::{decode, physlab, s, scratch_dir};
 use rerun::external::arrow::array::{Array as _, Float64Array, ListArray};
 use rerun::external::re_log_encoding::{DecoderApp, Encoder, EncodingOptions};
 use rerun::log::{Chunk, LogMsg};
@@ -241,6 +241,45 @@ fn diff_of_euler_and_verlet_reports_their_first_parting() {
     let dtheta = &decoded.scalars["/diff/pendulum/plots/theta/explicit-euler/scalars"];
     assert_eq!(dtheta.len(), 401);
     assert_eq!(dtheta[0].1, 0.0);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A run long enough that its plots are aggregated and its 3D frames budgeted: Rerun's own
+/// decoder reads every message of it, and `reproduce` replays it bit for bit, windows included.
+#[test]
+fn a_long_aggregated_run_decodes_and_reproduces() {
+    let dir = scratch_dir("reproduce-long");
+    let out = dir.join("long.rrd");
+    let (code, summary, err) = physlab(&[
+        "pendulum",
+        "--duration",
+        "2500",
+        "--window",
+        "1000:1010",
+        "-q",
+        "-o",
+        s(&out),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        summary.contains("aggregated (M4) over 4096 columns"),
+        "{summary}"
+    );
+    assert!(summary.contains("and 1000:1010 s"), "{summary}");
+    assert!(summary.contains("6000 of the 75001 frames"), "{summary}");
+    let decoded = decode(&out);
+    assert!(decoded.has_footer);
+    let theta = &decoded.scalars["/pendulum/plots/theta/verlet"];
+    // Far fewer rows than the 250,001 steps, and every step of the window asked for.
+    assert!(theta.len() < 60_000, "{} rows", theta.len());
+    let in_window = theta
+        .iter()
+        .filter(|(t, _)| (1_000_000_000_000..=1_010_000_000_000).contains(t))
+        .count();
+    assert_eq!(in_window, 1001);
+    let (code, report, err) = physlab(&["reproduce", s(&out)]);
+    assert_eq!(code, 0, "{report}\n{err}");
+    assert!(report.contains("verdict: bit-identical"), "{report}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -15,6 +15,12 @@ pub const MAX_WINDOW_ROWS: u64 = MAX_PLOT_POINTS;
 /// Rows the windows asked for (`--window`) keep at most per lane, together.
 pub const MAX_ASKED_WINDOW_ROWS: u64 = 10 * MAX_PLOT_POINTS;
 
+/// A moment in words: milliseconds kept, trailing zeros dropped (99.967, 20.2).
+fn seconds(t: f64) -> String {
+    let text = format!("{t:.3}");
+    text.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
 /// A stretch of simulated time whose every sampled step is kept (`--window FROM:TO`, seconds).
 /// A negative end counts back from the end of the run; an empty one is the run's start or end.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -255,8 +261,8 @@ impl Schedule {
             "3D drawn over t ≤ {} s and t ≥ {} s only: {} of the {all} frames at the rate asked \
              for (at most {MAX_FRAMES} are drawn); the 3D view holds still between, while the \
              plots and every check cover every step",
-            shown(self.time(self.frame_tick(a - 1))),
-            shown(self.time(self.frame_tick(b + 1))),
+            seconds(self.time(self.frame_tick(a - 1))),
+            seconds(self.time(self.frame_tick(b + 1))),
             self.frames()
         ))
     }
@@ -359,7 +365,7 @@ impl Schedule {
         let Some(plan) = self.series_plan(windows) else {
             return format!("{every} of the run");
         };
-        let edge = shown(self.time((plan.last_rows as u64 - 1) * self.plot_stride));
+        let edge = seconds(self.time((plan.last_rows as u64 - 1) * self.plot_stride));
         let asked = windows
             .asked
             .iter()
