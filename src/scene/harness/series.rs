@@ -1,8 +1,6 @@
 //! The sampled series: what a scene measures at a plotted tick, batched per lane for the
 //! observer.
 
-use std::collections::VecDeque;
-
 use super::Schedule;
 use crate::scene::m4::{self, Kept, M4};
 
@@ -125,9 +123,10 @@ struct Aggregate {
     in_windows: Kept,
     /// Rows of closed columns, merged, not yet older than the ring.
     pending: Kept,
-    /// The last `ring_rows` sampled rows.
-    ring: VecDeque<u64>,
-    ring_values: VecDeque<f64>,
+    /// The last `ring_rows` sampled rows, the oldest at `ring_next` once the ring is full.
+    ring: Vec<u64>,
+    ring_values: Vec<f64>,
+    ring_next: usize,
     ring_rows: usize,
 }
 
@@ -151,8 +150,9 @@ impl LaneSeries {
                 windows: plan.windows.clone(),
                 in_windows: Kept::default(),
                 pending: Kept::default(),
-                ring: VecDeque::with_capacity(plan.last_rows + 1),
-                ring_values: VecDeque::with_capacity((plan.last_rows + 1) * width),
+                ring: Vec::with_capacity(plan.last_rows.max(1)),
+                ring_values: Vec::with_capacity(plan.last_rows.max(1) * width),
+                ring_next: 0,
                 ring_rows: plan.last_rows.max(1),
             }),
         }
@@ -173,12 +173,15 @@ impl LaneSeries {
         {
             a.in_windows.push(step, row, WHOLE);
         }
-        if a.ring.len() == a.ring_rows {
-            a.ring.pop_front();
-            a.ring_values.drain(..a.width);
+        if a.ring.len() < a.ring_rows {
+            a.ring.push(step);
+            a.ring_values.extend_from_slice(row);
+        } else {
+            let i = a.ring_next;
+            a.ring[i] = step;
+            a.ring_values[i * a.width..(i + 1) * a.width].copy_from_slice(row);
+            a.ring_next = (i + 1) % a.ring_rows;
         }
-        a.ring.push_back(step);
-        a.ring_values.extend(row);
     }
 
     /// Moves the rows that are final into the batch (after each block).
@@ -193,7 +196,7 @@ impl LaneSeries {
             let pending = std::mem::take(&mut a.pending);
             a.pending = merged(pending, merged(closed, windows, a.width), a.width);
         }
-        let oldest_in_ring = a.ring.front().copied().unwrap_or(u64::MAX);
+        let oldest_in_ring = a.ring.get(a.ring_next).copied().unwrap_or(u64::MAX);
         let later = split_from(&mut a.pending, oldest_in_ring, a.width);
         let done = std::mem::replace(&mut a.pending, later);
         push_rows(&mut self.batch, schedule, &done, a.width);
@@ -204,12 +207,12 @@ impl LaneSeries {
         let Some(a) = self.aggregate.take() else {
             return;
         };
-        let ring = Kept {
-            needed: vec![WHOLE; a.ring.len()],
-            steps: a.ring.into(),
-            values: a.ring_values.into(),
-        };
-        let w = a.width;
+        // The ring in step order: from its oldest row on.
+        let (w, oldest) = (a.width, a.ring_next);
+        let mut ring = Kept::default();
+        for i in (oldest..a.ring.len()).chain(0..oldest) {
+            ring.push(a.ring[i], &a.ring_values[i * w..(i + 1) * w], WHOLE);
+        }
         let rest = merged(
             merged(a.pending, a.m4.finish(), w),
             merged(a.in_windows, ring, w),

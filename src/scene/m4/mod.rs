@@ -73,16 +73,35 @@ fn first_step_of(index: u32, last_step: u64, columns: u32) -> u64 {
     (u128::from(index) * u128::from(last_step)).div_ceil(u128::from(columns)) as u64
 }
 
-/// What one column keeps of one value while it is open: the steps (as slots of the column's
-/// rows) of its first and last present value, its smallest and largest non-NaN value (the
-/// earliest on ties) and its first NaN.
-#[derive(Clone, Copy, Debug, Default)]
+/// What one column keeps of one value while it is open: the slots (of the column's rows) of
+/// its first and last present value, its smallest and largest non-NaN value (the earliest on
+/// ties) and its first NaN, [`NONE`] until there is one; and the smallest and largest values.
+#[derive(Clone, Copy, Debug)]
 struct Extremes {
-    first: Option<usize>,
-    last: Option<usize>,
-    min: Option<usize>,
-    max: Option<usize>,
-    nan: Option<usize>,
+    first: usize,
+    last: usize,
+    min: usize,
+    max: usize,
+    nan: usize,
+    lo: f64,
+    hi: f64,
+}
+
+/// No slot yet.
+const NONE: usize = usize::MAX;
+
+impl Default for Extremes {
+    fn default() -> Self {
+        Extremes {
+            first: NONE,
+            last: NONE,
+            min: NONE,
+            max: NONE,
+            nan: NONE,
+            lo: 0.0,
+            hi: 0.0,
+        }
+    }
 }
 
 /// Rows kept, flat: row i is at `steps[i]`, its values are `values[i·width..(i+1)·width]`, and
@@ -113,34 +132,31 @@ impl Kept {
 
 /// The rows of one M4 column: the column's first and last row, and for every value the rows of
 /// its [`Extremes`]. A slot is a copy of a row, `width + 1` numbers (the step, as f64 bits, then
-/// the values), and the values that need it.
+/// the values). A value's first and last present rows are the column's own when the value is
+/// present there (always, for a value never absent), so a row is copied per step only into the
+/// column's last slot, and into a value's own slots when it sets an extreme, first appears after
+/// the column's first row, or is present in the last row as the next one leaves it absent.
 #[derive(Clone, Debug)]
 struct Open {
     index: u32,
     slots: Vec<f64>,
-    used: Vec<bool>,
-    needed_by: Vec<u64>,
+    /// Whether the column has its first row.
+    started: bool,
     extremes: Vec<Extremes>,
 }
 
-/// Slots of an open column: 0 its first row, 1 its last, then five per value.
+/// Slots of an open column: 0 its first row, 1 its last, then five per value (its first and
+/// last present rows when they are not the column's, its minimum, maximum and first NaN).
 const FIRST: usize = 0;
 const LAST: usize = 1;
 
 impl Open {
-    fn new(absent: &[bool]) -> Self {
-        let width = absent.len();
+    fn new(width: usize) -> Self {
         let slots = 2 + 5 * width;
-        // The column's first and last rows are the first and last points of every value that
-        // has no absent points; the others have slots of their own.
-        let present: u64 = (0..width).filter(|&q| !absent[q]).map(|q| 1 << q).sum();
-        let mut needed_by = vec![present; 2];
-        needed_by.extend((0..width).flat_map(|q| [1u64 << q; 5]));
         Open {
             index: 0,
             slots: vec![0.0; slots * (width + 1)],
-            used: vec![false; slots],
-            needed_by,
+            started: false,
             extremes: vec![Extremes::default(); width],
         }
     }
@@ -149,73 +165,90 @@ impl Open {
         self.extremes.len()
     }
 
-    fn store(&mut self, slot: usize, step: u64, row: &[f64]) {
-        let w = self.width() + 1;
-        let s = &mut self.slots[slot * w..(slot + 1) * w];
-        s[0] = f64::from_bits(step);
-        s[1..].copy_from_slice(row);
-        self.used[slot] = true;
-    }
-
-    fn value(&self, slot: usize, q: usize) -> f64 {
-        self.slots[slot * (self.width() + 1) + 1 + q]
-    }
-
     fn reset(&mut self, index: u32) {
         self.index = index;
-        self.used.fill(false);
+        self.started = false;
         self.extremes.fill(Extremes::default());
     }
 
     fn add(&mut self, step: u64, row: &[f64], absent: &[bool]) {
-        if !self.used[FIRST] {
-            self.store(FIRST, step, row);
+        let w = self.width() + 1;
+        let Open {
+            slots,
+            started,
+            extremes,
+            ..
+        } = self;
+        let store = |slots: &mut [f64], slot: usize| {
+            let s = &mut slots[slot * w..(slot + 1) * w];
+            s[0] = f64::from_bits(step);
+            s[1..].copy_from_slice(row);
+        };
+        let starts = !*started;
+        if starts {
+            store(slots, FIRST);
+            *started = true;
         }
-        self.store(LAST, step, row);
-        for (q, &v) in row.iter().enumerate() {
-            if absent[q] && v == 0.0 {
-                continue;
-            }
+        for (q, ((&v, &absent), e)) in row.iter().zip(absent).zip(extremes.iter_mut()).enumerate() {
             // Slots of value q: first, last, min, max, NaN.
             let base = 2 + 5 * q;
-            let e = self.extremes[q];
-            if e.first.is_none() {
-                self.store(base, step, row);
-                self.extremes[q].first = Some(base);
-            }
-            self.store(base + 1, step, row);
-            self.extremes[q].last = Some(base + 1);
-            if v.is_nan() {
-                if e.nan.is_none() {
-                    self.store(base + 4, step, row);
-                    self.extremes[q].nan = Some(base + 4);
+            if absent && v == 0.0 {
+                // The last row, about to be overwritten, may be this value's last present one.
+                if e.last == LAST {
+                    slots.copy_within(LAST * w..(LAST + 1) * w, (base + 1) * w);
+                    e.last = base + 1;
                 }
                 continue;
             }
-            if e.min.is_none_or(|m| v < self.value(m, q)) {
-                self.store(base + 2, step, row);
-                self.extremes[q].min = Some(base + 2);
+            if e.first == NONE {
+                e.first = if starts {
+                    FIRST
+                } else {
+                    store(slots, base);
+                    base
+                };
             }
-            if e.max.is_none_or(|m| v > self.value(m, q)) {
-                self.store(base + 3, step, row);
-                self.extremes[q].max = Some(base + 3);
+            e.last = LAST;
+            if v.is_nan() {
+                if e.nan == NONE {
+                    store(slots, base + 4);
+                    e.nan = base + 4;
+                }
+                continue;
+            }
+            if e.min == NONE || v < e.lo {
+                store(slots, base + 2);
+                (e.min, e.lo) = (base + 2, v);
+            }
+            if e.max == NONE || v > e.hi {
+                store(slots, base + 3);
+                (e.max, e.hi) = (base + 3, v);
             }
         }
+        store(slots, LAST);
     }
 
     /// Appends the kept rows in step order, each once, with the values that need them.
     fn close(&self, out: &mut Kept) {
         let w = self.width() + 1;
-        let mut kept: Vec<(u64, usize)> = (0..self.used.len())
-            .filter(|&s| self.used[s])
+        let mut needed = vec![0u64; 2 + 5 * self.width()];
+        for (q, e) in self.extremes.iter().enumerate() {
+            for slot in [e.first, e.last, e.min, e.max, e.nan] {
+                if slot != NONE {
+                    needed[slot] |= 1 << q;
+                }
+            }
+        }
+        let mut kept: Vec<(u64, usize)> = (0..needed.len())
+            .filter(|&s| needed[s] != 0)
             .map(|s| (self.slots[s * w].to_bits(), s))
             .collect();
         kept.sort_unstable();
         for (step, s) in kept {
             if out.steps.last() == Some(&step) {
-                *out.needed.last_mut().expect("a row per step") |= self.needed_by[s];
+                *out.needed.last_mut().expect("a row per step") |= needed[s];
             } else {
-                out.push(step, &self.slots[s * w + 1..(s + 1) * w], self.needed_by[s]);
+                out.push(step, &self.slots[s * w + 1..(s + 1) * w], needed[s]);
             }
         }
     }
@@ -260,7 +293,7 @@ impl M4 {
             last_step,
             columns,
             absent: absent_when_zero.to_vec(),
-            open: Open::new(absent_when_zero),
+            open: Open::new(absent_when_zero.len()),
             is_open: false,
             next_column_at: 0,
             previous_step: None,
