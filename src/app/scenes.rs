@@ -18,18 +18,70 @@ use crate::scene::pendulum::run::{PendulumConfig, PendulumScene};
 use crate::scene::rope::run::{RopeConfig, RopeScene};
 
 /// Every scene, in the order `physlab all` runs them.
-pub static SCENES: [&dyn SceneKind; 3] = [&PendulumKind, &RopeKind, &HairKind];
+pub static SCENES: [&SceneKind; 3] = [&PENDULUM, &ROPE, &HAIR];
 
 /// A scene as the commands know it before any parameter is given.
-pub trait SceneKind: Sync {
-    fn name(&self) -> &'static str;
+pub struct SceneKind {
+    name: &'static str,
     /// The recording's application id when it runs alone (the viewer keys layouts by it).
-    fn application_id(&self) -> &'static str;
-    fn views(&self) -> &'static SceneViews;
+    application_id: &'static str,
+    views: &'static SceneViews,
     /// Its flags as `physlab all` sets them (none given: what `reproduce` runs under the
     /// recorded scene file).
-    fn flags(&self, all: &AllFlags) -> Box<dyn Flags>;
+    flags: fn(&AllFlags) -> Box<dyn Flags>,
 }
+
+impl SceneKind {
+    pub fn name(&self) -> &'static str {
+        self.name
+    }
+    pub fn application_id(&self) -> &'static str {
+        self.application_id
+    }
+    pub fn views(&self) -> &'static SceneViews {
+        self.views
+    }
+    pub fn flags(&self, all: &AllFlags) -> Box<dyn Flags> {
+        (self.flags)(all)
+    }
+}
+
+static PENDULUM: SceneKind = SceneKind {
+    name: "pendulum",
+    application_id: "physlab-pendulum",
+    views: &record::pendulum::VIEWS,
+    flags: |all| {
+        Box::new(PendulumArgs {
+            step: all.step(),
+            ..PendulumArgs::default()
+        })
+    },
+};
+
+static ROPE: SceneKind = SceneKind {
+    name: "rope",
+    application_id: "physlab-rope",
+    views: &record::rope::VIEWS,
+    flags: |all| {
+        Box::new(RopeArgs {
+            step: all.step(),
+            ..RopeArgs::default()
+        })
+    },
+};
+
+static HAIR: SceneKind = SceneKind {
+    name: "hair",
+    application_id: "physlab-hair",
+    views: &record::hair::VIEWS,
+    flags: |all| {
+        Box::new(HairArgs {
+            fps: all.fps,
+            methods: all.hair.clone(),
+            ..HairArgs::default()
+        })
+    },
+};
 
 /// `physlab all`'s own flags, which override every scene's (each scene takes the methods it
 /// supports).
@@ -55,7 +107,7 @@ impl AllFlags {
 
 /// A scene's flags as given.
 pub trait Flags {
-    fn kind(&self) -> &'static dyn SceneKind;
+    fn kind(&self) -> &'static SceneKind;
     /// These flags over the scene file's table (checked alone first, so that an error there
     /// names the file, table and key) over the defaults, validated.
     fn resolve(
@@ -67,7 +119,7 @@ pub trait Flags {
 
 /// A scene with its validated configuration, ready to run.
 pub trait ReadyScene: Send {
-    fn kind(&self) -> &'static dyn SceneKind;
+    fn kind(&self) -> &'static SceneKind;
     /// The box its 3D view frames.
     fn framing(&self) -> Framing;
     /// Its 3D frames per simulated second.
@@ -99,68 +151,9 @@ pub struct RunContext<'a> {
     pub stop_after: Option<u64>,
 }
 
-struct PendulumKind;
-struct RopeKind;
-struct HairKind;
-
-impl SceneKind for PendulumKind {
-    fn name(&self) -> &'static str {
-        "pendulum"
-    }
-    fn application_id(&self) -> &'static str {
-        "physlab-pendulum"
-    }
-    fn views(&self) -> &'static SceneViews {
-        &record::pendulum::VIEWS
-    }
-    fn flags(&self, all: &AllFlags) -> Box<dyn Flags> {
-        Box::new(PendulumArgs {
-            step: all.step(),
-            ..PendulumArgs::default()
-        })
-    }
-}
-
-impl SceneKind for RopeKind {
-    fn name(&self) -> &'static str {
-        "rope"
-    }
-    fn application_id(&self) -> &'static str {
-        "physlab-rope"
-    }
-    fn views(&self) -> &'static SceneViews {
-        &record::rope::VIEWS
-    }
-    fn flags(&self, all: &AllFlags) -> Box<dyn Flags> {
-        Box::new(RopeArgs {
-            step: all.step(),
-            ..RopeArgs::default()
-        })
-    }
-}
-
-impl SceneKind for HairKind {
-    fn name(&self) -> &'static str {
-        "hair"
-    }
-    fn application_id(&self) -> &'static str {
-        "physlab-hair"
-    }
-    fn views(&self) -> &'static SceneViews {
-        &record::hair::VIEWS
-    }
-    fn flags(&self, all: &AllFlags) -> Box<dyn Flags> {
-        Box::new(HairArgs {
-            fps: all.fps,
-            methods: all.hair.clone(),
-            ..HairArgs::default()
-        })
-    }
-}
-
 impl Flags for PendulumArgs {
-    fn kind(&self) -> &'static dyn SceneKind {
-        &PendulumKind
+    fn kind(&self) -> &'static SceneKind {
+        &PENDULUM
     }
     fn resolve(
         self: Box<Self>,
@@ -180,8 +173,8 @@ impl Flags for PendulumArgs {
 }
 
 impl Flags for RopeArgs {
-    fn kind(&self) -> &'static dyn SceneKind {
-        &RopeKind
+    fn kind(&self) -> &'static SceneKind {
+        &ROPE
     }
     fn resolve(
         self: Box<Self>,
@@ -191,19 +184,19 @@ impl Flags for RopeArgs {
         refuse_drawing_flags(run, &self.step.drawing_flags())?;
         let config: RopeConfig = given(&*self, "rope", file)?.resolve()?;
         let mut flags = self.step.method_flags();
-        flags.push(MethodFlag {
-            flag: "--newton-iterations",
-            given: self.newton_iterations.is_some(),
-            reads: |m| m.info().implicit,
-        });
+        flags.push(MethodFlag::new(
+            "--newton-iterations",
+            self.newton_iterations.is_some(),
+            |m| m.info().implicit,
+        ));
         refuse_unread(&flags, &config.methods, &Method::ALL, Method::name)?;
         Ok(Box::new(Ready(config)))
     }
 }
 
 impl Flags for HairArgs {
-    fn kind(&self) -> &'static dyn SceneKind {
-        &HairKind
+    fn kind(&self) -> &'static SceneKind {
+        &HAIR
     }
     fn resolve(
         self: Box<Self>,
@@ -253,6 +246,12 @@ struct MethodFlag<M> {
     given: bool,
     /// The methods that read it, as the message names them.
     reads: fn(M) -> bool,
+}
+
+impl<M> MethodFlag<M> {
+    fn new(flag: &'static str, given: bool, reads: fn(M) -> bool) -> Self {
+        MethodFlag { flag, given, reads }
+    }
 }
 
 /// Refuses a flag given on the command line that none of the methods run would read (it would
@@ -305,16 +304,12 @@ impl StepFlags {
     /// The step flags only some registry methods read.
     fn method_flags(&self) -> Vec<MethodFlag<Method>> {
         vec![
-            MethodFlag {
-                flag: "--verlet-damping",
-                given: self.verlet_damping.is_some(),
-                reads: |m| m == Method::Verlet,
-            },
-            MethodFlag {
-                flag: "--rtol",
-                given: self.rtol.is_some(),
-                reads: |m| matches!(m.info().evals_per_step, EvalsPerStep::Adaptive(_)),
-            },
+            MethodFlag::new("--verlet-damping", self.verlet_damping.is_some(), |m| {
+                m == Method::Verlet
+            }),
+            MethodFlag::new("--rtol", self.rtol.is_some(), |m| {
+                matches!(m.info().evals_per_step, EvalsPerStep::Adaptive(_))
+            }),
         ]
     }
 }
@@ -324,26 +319,18 @@ impl HairArgs {
     fn method_flags(&self) -> Vec<MethodFlag<HairMethod>> {
         let verlet = |m| m == HairMethod::Verlet;
         vec![
-            MethodFlag {
-                flag: "--solver",
-                given: self.solver.is_some(),
-                reads: verlet,
-            },
-            MethodFlag {
-                flag: "--iterations",
-                given: self.iterations.is_some(),
-                reads: verlet,
-            },
-            MethodFlag {
-                flag: "--stiffness",
-                given: self.stiffness.is_some(),
-                reads: HairMethod::is_spring,
-            },
-            MethodFlag {
-                flag: "--spring-damping",
-                given: self.spring_damping.is_some(),
-                reads: HairMethod::is_spring,
-            },
+            MethodFlag::new("--solver", self.solver.is_some(), verlet),
+            MethodFlag::new("--iterations", self.iterations.is_some(), verlet),
+            MethodFlag::new(
+                "--stiffness",
+                self.stiffness.is_some(),
+                HairMethod::is_spring,
+            ),
+            MethodFlag::new(
+                "--spring-damping",
+                self.spring_damping.is_some(),
+                HairMethod::is_spring,
+            ),
         ]
     }
 }
@@ -353,7 +340,7 @@ struct Ready<C>(C);
 
 /// What the commands need of a scene's configuration besides its layering.
 trait Runs: SceneConfig + Send {
-    const KIND: &'static dyn SceneKind;
+    const KIND: &'static SceneKind;
     fn framing(&self) -> Framing;
     fn fps(&self) -> f64;
     fn methods(&self) -> Vec<&'static str>;
@@ -364,7 +351,7 @@ trait Runs: SceneConfig + Send {
 }
 
 impl<C: Runs> ReadyScene for Ready<C> {
-    fn kind(&self) -> &'static dyn SceneKind {
+    fn kind(&self) -> &'static SceneKind {
         C::KIND
     }
     fn framing(&self) -> Framing {
@@ -389,7 +376,7 @@ impl<C: Runs> ReadyScene for Ready<C> {
 }
 
 impl Runs for PendulumConfig {
-    const KIND: &'static dyn SceneKind = &PendulumKind;
+    const KIND: &'static SceneKind = &PENDULUM;
     fn framing(&self) -> Framing {
         record::pendulum::framing(self)
     }
@@ -423,7 +410,7 @@ impl Runs for PendulumConfig {
 }
 
 impl Runs for RopeConfig {
-    const KIND: &'static dyn SceneKind = &RopeKind;
+    const KIND: &'static SceneKind = &ROPE;
     fn framing(&self) -> Framing {
         record::rope::framing(self)
     }
@@ -452,7 +439,7 @@ impl Runs for RopeConfig {
 }
 
 impl Runs for HairConfig {
-    const KIND: &'static dyn SceneKind = &HairKind;
+    const KIND: &'static SceneKind = &HAIR;
     fn framing(&self) -> Framing {
         record::hair::framing(self)
     }
