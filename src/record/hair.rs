@@ -5,13 +5,9 @@
 //! radius logged once and only positions per frame. Plots `hair/plots/<quantity>/<method>`.
 
 use rerun::RecordingStream;
-use rerun::blueprint::{Blueprint, Horizontal, Vertical};
 
 use super::scene::{Draw, SceneRecorder, clear_diverged};
-use super::{
-    Framing, ViewProperties, about_and_events, log_stage, method_color, plot_column, plots_shown,
-    scene_blueprint, scene_view,
-};
+use super::{Framing, log_stage, method_color, view_above_text};
 use crate::scene::hair::Hair;
 use crate::scene::hair::run::{HairConfig, HairLane, HairScene};
 use crate::scene::harness::{Event, Frame};
@@ -31,30 +27,13 @@ pub const PLOTS: [(&str, &str); 3] = [
     ),
 ];
 
-/// Width / height of the single-scene 3D view at 1600×1000 (left half, 3/4 of the height, above the text panels), measured on a
-/// screenshot.
-const VIEW_ASPECT: f32 = 1.19;
-
 /// The hair's views, for the layouts.
 pub const VIEWS: super::SceneViews = super::SceneViews {
     name: "hair",
     plots: &PLOTS,
     exclude_in_all: &[],
-    blueprint,
+    blueprint: |t, f, p| view_above_text("hair", &PLOTS, t, f, p),
 };
-
-pub fn blueprint(timings: bool, framing: Framing, props: &mut ViewProperties) -> Blueprint {
-    let view = scene_view("hair", "hair: methods side by side", &[]);
-    let left = Vertical::new([
-        props.eye(view, framing, VIEW_ASPECT),
-        Horizontal::new(about_and_events("hair")).into(),
-    ])
-    .with_row_shares([3.0, 1.0]);
-    scene_blueprint(
-        left,
-        plot_column("hair", &plots_shown(&PLOTS, timings), props),
-    )
-}
 
 /// The strands' reach from the head's centre [m], and the spacing of the slots along x.
 fn reach_and_spacing(c: &HairConfig) -> (f64, f64) {
