@@ -8,7 +8,7 @@
 //! pair's loops are instantiated with n2 = 2 known at compile time ([`Fixed`]), so they unroll
 //! with no loop over a runtime length; any other size runs the same code with [`Dynamic`].
 
-use super::{SecondOrderSystem, State};
+use super::{MethodOptions, SecondOrderSystem, State};
 
 /// The number of state components the stage loops run over.
 pub(crate) trait Width: Copy {
@@ -147,8 +147,8 @@ pub struct DenseRk<P> {
 }
 
 impl<P: Pair> DenseRk<P> {
-    pub fn new(x0: &[f64], v0: &[f64], dt: f64, rtol: f64, h_max: f64) -> Self {
-        let n = x0.len();
+    pub fn new(x0: &[f64], v0: &[f64], dt: f64, options: MethodOptions) -> Self {
+        let (n, rtol, h_max) = (x0.len(), options.rtol, options.max_step);
         let mut y = x0.to_vec();
         y.extend_from_slice(v0);
         DenseRk {
@@ -175,17 +175,6 @@ impl<P: Pair> DenseRk<P> {
             },
             pair: std::marker::PhantomData,
         }
-    }
-
-    /// Size of the last accepted step [s] (0 before the first).
-    pub fn last_step(&self) -> f64 {
-        self.core.h_last
-    }
-    pub fn accepted(&self) -> u64 {
-        self.core.accepted
-    }
-    pub fn rejected(&self) -> u64 {
-        self.core.rejected
     }
 
     /// One attempted step of size h from (t, y): `Some(accepted)`, or `None` when the error
