@@ -100,12 +100,7 @@ pub fn orders_table(rows: &[Row], floor: f64, velocity_dependent: bool) -> Strin
     for o in orders(rows, floor) {
         t.row([
             o.method.name().to_string(),
-            if velocity_dependent {
-                o.method.info().order_velocity_dependent
-            } else {
-                o.method.info().order
-            }
-            .to_string(),
+            o.method.info().order_for(velocity_dependent).to_string(),
             o.fitted.map_or("— (fewer than 2 usable rows)".into(), |f| {
                 format!("{f:.3}")
             }),
