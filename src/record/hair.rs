@@ -99,10 +99,10 @@ pub fn spread(drawn: usize, strands: usize) -> Vec<usize> {
 }
 
 /// Each method's head and strands in its slot.
+#[derive(Default)]
 pub struct HairDraw {
     names: Vec<&'static str>,
     offsets: Vec<glam::DVec3>,
-    nodes: usize,
     /// `--log-strands`: how many strands are drawn (None: the budget's default).
     requested: Option<usize>,
     /// The strands drawn, as indices.
@@ -118,11 +118,8 @@ pub fn recorder(
     SceneRecorder::new(
         rec,
         HairDraw {
-            names: Vec::new(),
-            offsets: Vec::new(),
-            nodes: 1,
             requested: log_strands,
-            shown: Vec::new(),
+            ..HairDraw::default()
         },
         timings,
     )
@@ -171,7 +168,6 @@ impl Draw<HairScene> for HairDraw {
         let config = &scene.config;
         let p = &config.params;
         self.names = lanes.iter().map(|l| l.0).collect();
-        self.nodes = p.nodes;
         let plan = strand_plan(config, self.requested);
         self.shown = spread(plan.drawn, plan.strands);
         let (reach, spacing) = reach_and_spacing(config);
@@ -244,7 +240,8 @@ impl Draw<HairScene> for HairDraw {
     }
 
     fn frame_bytes(&self, scene: &HairScene) -> usize {
-        scene.config.params.strands * self.nodes * 12
+        let p = &scene.config.params;
+        p.strands * p.nodes * 12
     }
 
     fn diverged(&mut self, rec: &RecordingStream, e: &Event) -> anyhow::Result<()> {

@@ -79,6 +79,7 @@ pub fn framing(c: &RopeConfig) -> Framing {
 }
 
 /// Each method's rope in its slot (or overlaid), pins marked and labelled.
+#[derive(Default)]
 pub struct RopeDraw {
     names: Vec<&'static str>,
     offsets: Vec<[f64; 3]>,
@@ -88,15 +89,7 @@ pub struct RopeDraw {
 
 /// A recorder of rope runs.
 pub fn recorder(rec: RecordingStream, timings: bool) -> SceneRecorder<RopeDraw> {
-    SceneRecorder::new(
-        rec,
-        RopeDraw {
-            names: Vec::new(),
-            offsets: Vec::new(),
-            points: Vec::new(),
-        },
-        timings,
-    )
+    SceneRecorder::new(rec, RopeDraw::default(), timings)
 }
 
 /// A point as the viewer takes it (the rope is z up like every scene: drawn as simulated).
@@ -177,15 +170,10 @@ impl Draw<RopeScene> for RopeDraw {
                 })
                 .collect();
             // One label per rope (on its first pinned node), not one per pin.
-            let labels: Vec<String> = (0..pinned.len())
-                .map(|k| {
-                    if k == 0 {
-                        name.to_string()
-                    } else {
-                        String::new()
-                    }
-                })
-                .collect();
+            let mut labels = vec![String::new(); pinned.len()];
+            if let Some(first) = labels.first_mut() {
+                *first = name.to_string();
+            }
             rec.log_static(
                 format!("rope/{name}/pinned"),
                 &rerun::Points3D::new(pinned)
