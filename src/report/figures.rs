@@ -6,7 +6,7 @@
 //! with the code, so no figure can go stale.
 
 use crate::integrate::Method;
-use crate::report::table::Table;
+use crate::report::table::{Table, sci};
 use crate::report::{methods::methods_table, study as study_tables};
 use crate::scene::hair::run::{HairConfig, HairScene};
 use crate::scene::harness::{LaneStats, NoObserver, run};
@@ -71,10 +71,6 @@ pub fn damped_study_rope() -> crate::scene::rope::RopeParams {
         air_drag: scene.air_drag,
         ..study::study_rope(false)
     }
-}
-
-fn sci(x: f64) -> String {
-    format!("{x:.3e}")
 }
 
 fn diverged(s: &LaneStats) -> String {

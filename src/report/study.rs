@@ -3,7 +3,7 @@
 
 use std::fmt::Write as _;
 
-use crate::report::table::Table;
+use crate::report::table::{Table, sci};
 use crate::scene::pendulum::reference::ExactPendulum;
 use crate::scene::rope::RopeParams;
 use crate::study::{
@@ -81,10 +81,6 @@ pub fn stability_header(problem: &Problem, steps: u64) -> String {
         },
         problem.omega()
     )
-}
-
-fn sci(x: f64) -> String {
-    format!("{x:.3e}")
 }
 
 /// Fitted order per method against theory (the order for velocity-dependent forces when the
