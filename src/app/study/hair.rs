@@ -61,11 +61,7 @@ pub(super) fn hair_study(a: &StudyArgs) -> anyhow::Result<()> {
     ));
     // With `-o -` or `--csv -` standard output carries the file: the tables go to stderr.
     let to_stdout = outputs.to_stdout();
-    if to_stdout {
-        eprint!("{out}");
-    } else {
-        print!("{out}");
-    }
+    crate::output::print_beside(to_stdout, &out);
     if let Some(csv_out) = &outputs.csv {
         csv_out.write(crate::report::hair::trade_csv(&rows).as_bytes())?;
         if !csv_out.is_stdout() {

@@ -147,11 +147,7 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
     }
     // With `-o -` or `--csv -` standard output carries the file: the tables go to stderr.
     let to_stdout = outputs.to_stdout();
-    if to_stdout {
-        eprint!("{out}");
-    } else {
-        print!("{out}");
-    }
+    crate::output::print_beside(to_stdout, &out);
     if let Some(csv_out) = &outputs.csv
         && complete
     {

@@ -9,17 +9,13 @@ use crate::study::Sweep;
 pub(super) fn report_recording(path: &std::path::Path, bytes: Option<u64>, to_stdout: bool) {
     let line = match bytes {
         Some(bytes) => format!(
-            "\nrecording: {} ({:.2} MB)",
+            "\nrecording: {} ({:.2} MB)\n",
             path.display(),
             bytes as f64 / 1e6
         ),
-        None => "\nrecording written to standard output".into(),
+        None => "\nrecording written to standard output\n".into(),
     };
-    if to_stdout {
-        eprintln!("{line}");
-    } else {
-        println!("{line}");
-    }
+    crate::output::print_beside(to_stdout, &line);
 }
 
 /// What an interrupted study says: how many of its planned runs (or methods' limits) were
@@ -80,7 +76,7 @@ impl Outputs {
 
 pub(super) fn check_outputs(a: &StudyArgs, stems: &[String]) -> anyhow::Result<Outputs> {
     use crate::output::{Dash, check, distinct};
-    use std::path::{Path, PathBuf};
+    use std::path::Path;
     let csv = a
         .csv
         .as_deref()
@@ -90,12 +86,7 @@ pub(super) fn check_outputs(a: &StudyArgs, stems: &[String]) -> anyhow::Result<O
         Some(path) => crate::record::Destinations::output(path).written()?,
         None => None,
     };
-    let beside = |o: &crate::output::Output| {
-        o.target.as_ref().map(|t| match t.parent() {
-            Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-            _ => PathBuf::from("."),
-        })
-    };
+    let beside = |o: &crate::output::Output| o.target.as_deref().map(crate::output::parent_dir);
     if a.plots.as_deref() == Some(Path::new("-")) {
         return Err(Error::Usage(
             "--plots -: standard output is not a folder; --plots names the folder of the diagrams"
