@@ -9,17 +9,7 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use crate::integrate::Method;
-use crate::study::{Limit, Row};
-
-pub(super) fn methods_of(rows: &[Row]) -> Vec<Method> {
-    let mut ms: Vec<Method> = Vec::new();
-    for r in rows {
-        if !ms.contains(&r.method) {
-            ms.push(r.method);
-        }
-    }
-    ms
-}
+use crate::study::{Limit, Row, methods_of};
 
 /// What the error is, with its unit, for a scene.
 pub(super) fn error_desc(scene: &str) -> &'static str {
@@ -78,7 +68,7 @@ where
 {
     root.fill(&BACKGROUND)?;
     let (body, legend) = root.split_horizontally(root.dim_in_pixel().0 - LEGEND_WIDTH);
-    let methods = methods_of(rows);
+    let methods = methods_of(rows, |_| true);
     let errors = || rows.iter().filter_map(|r| r.error);
     let y = decades(errors().chain([floor]));
     let panels = body.split_evenly((1, 2));
@@ -153,7 +143,7 @@ where
 {
     root.fill(&BACKGROUND)?;
     let (body, legend) = root.split_horizontally(root.dim_in_pixel().0 - LEGEND_WIDTH);
-    let methods = methods_of(rows);
+    let methods = methods_of(rows, |_| true);
     let x = decades(rows.iter().map(|r| r.dt));
     let y = decades(rows.iter().filter_map(|r| r.error).chain([floor]));
     let series = series(rows, &methods, |r| r.dt);

@@ -18,7 +18,8 @@ mod orders;
 
 pub use limits::{Limit, stability, yoshida4_limit};
 pub use orders::{
-    Order, Proportionality, STALL_BELOW, cheapest, error_floor, orders, proportionality, stalled,
+    Order, Proportionality, STALL_BELOW, cheapest, error_floor, methods_of, orders,
+    proportionality, stalled,
 };
 
 use std::time::Instant;
