@@ -9,10 +9,12 @@ use super::{Ran, SceneFile, run_scene};
 use crate::cli::{HairArgs, PendulumArgs, RopeArgs, RunArgs, StepFlags};
 use crate::error::Error;
 use crate::integrate::{EvalsPerStep, Method};
+use crate::record::scene::{Draw, SceneRecorder};
 use crate::record::{self, Framing, SceneViews};
 use crate::report;
 use crate::scene::hair::HairMethod;
 use crate::scene::hair::run::{HairConfig, HairScene};
+use crate::scene::harness::{Run, Scene};
 use crate::scene::params::SceneConfig;
 use crate::scene::pendulum::run::{PendulumConfig, PendulumScene};
 use crate::scene::rope::run::{RopeConfig, RopeScene};
@@ -338,6 +340,21 @@ impl HairArgs {
 /// A scene's validated configuration, ready to run.
 struct Ready<C>(C);
 
+impl RunContext<'_> {
+    /// Runs `scene`, recorded (when a recording is made) by what `recorder` makes of the stream,
+    /// and summarised by `summary`.
+    fn run<S: Scene, D: Draw<S>>(
+        &mut self,
+        scene: S,
+        recorder: impl FnOnce(rerun::RecordingStream, bool) -> SceneRecorder<D>,
+        summary: fn(&S, &Run<S::Lane>) -> String,
+    ) -> anyhow::Result<Ran> {
+        let recorder = (self.stream.clone())
+            .map(|s| recorder(s, self.timings).with_frame_rate(self.frame_rate));
+        run_scene(scene, recorder, summary, self.progress, self.stop_after)
+    }
+}
+
 /// What the commands need of a scene's configuration besides its layering.
 trait Runs: SceneConfig + Send {
     const KIND: &'static SceneKind;
@@ -395,16 +412,10 @@ impl Runs for PendulumConfig {
                 reference_steps * 1e-7
             );
         }
-        let recorder = ctx
-            .stream
-            .clone()
-            .map(|s| record::pendulum::recorder(s, ctx.timings).with_frame_rate(ctx.frame_rate));
-        run_scene(
+        ctx.run(
             PendulumScene::new(self),
-            recorder,
+            record::pendulum::recorder,
             report::pendulum::summary_text,
-            ctx.progress,
-            ctx.stop_after,
         )
     }
 }
@@ -424,16 +435,10 @@ impl Runs for RopeConfig {
         RopeConfig::memory_bytes(self)
     }
     fn run(self, ctx: &mut RunContext) -> anyhow::Result<Ran> {
-        let recorder = ctx
-            .stream
-            .clone()
-            .map(|s| record::rope::recorder(s, ctx.timings).with_frame_rate(ctx.frame_rate));
-        run_scene(
+        ctx.run(
             RopeScene::new(self),
-            recorder,
+            record::rope::recorder,
             report::rope::summary_text,
-            ctx.progress,
-            ctx.stop_after,
         )
     }
 }
@@ -464,20 +469,12 @@ impl Runs for HairConfig {
                 plan.expected_bytes / 1e6
             );
         }
-        let recorder = ctx.stream.clone().map(|s| {
-            record::hair::recorder(s, ctx.timings, self.log_strands).with_frame_rate(ctx.frame_rate)
-        });
-        let (config, progress, stop_after) = (self, &mut *ctx.progress, ctx.stop_after);
+        let strands = self.log_strands;
+        let recorder = |s, timings| record::hair::recorder(s, timings, strands);
         // Hair spreads its strands over the pool (--threads); the results do not depend on it.
-        let mut ran = ctx.pool.install(|| {
-            run_scene(
-                HairScene::new(config),
-                recorder,
-                report::hair::summary_text,
-                progress,
-                stop_after,
-            )
-        })?;
+        let pool = ctx.pool;
+        let mut ran =
+            pool.install(|| ctx.run(HairScene::new(self), recorder, report::hair::summary_text))?;
         if recording {
             ran.summary.push_str(&format!(
                 "\n3D: {} of {} strands drawn per head (--log-strands); every strand is simulated and measured above\n",
