@@ -22,7 +22,7 @@
 //! y(t_old + s h) = r1 + s (r2 + s1 (r3 + s (r4 + s1 (r5 + s (r6 + s1 (r7 + s r8)))))), s1 = 1 - s.
 
 use super::SecondOrderSystem;
-use super::dense::{Core, Pair, Width, stage};
+use super::dense::{Core, Pair, Width, hairer_dense, stage};
 
 #[allow(clippy::excessive_precision)]
 /// a[i][j] for stages i = 0..16 (row 12, the stage at the new solution, holds B:
@@ -461,22 +461,7 @@ impl Pair for Dop853 {
         for s in 13..16 {
             stage(sys, w, &mut c.k, &mut c.yt, &c.y_old, &A[s][..s], h);
         }
-        let (k, cont, y, y_old) = (&c.k[..16 * n2], &mut c.cont[..8 * n2], &c.y, &c.y_old);
-        for i in 0..n2 {
-            let ydiff = y[i] - y_old[i];
-            let bspl = h * k[i] - ydiff;
-            cont[i] = y_old[i];
-            cont[n2 + i] = ydiff;
-            cont[2 * n2 + i] = bspl;
-            cont[3 * n2 + i] = ydiff - h * k[12 * n2 + i] - bspl;
-            for r in 0..4 {
-                let mut acc = 0.0;
-                for j in 0..16 {
-                    acc += D[r][j] * k[j * n2 + i];
-                }
-                cont[(4 + r) * n2 + i] = h * acc;
-            }
-        }
+        hairer_dense(c, n2, 12, &D);
     }
 
     #[inline(always)]
