@@ -193,13 +193,14 @@ pub fn scene_blueprint(left: Vertical, plots: Vertical) -> Blueprint {
 
 /// No views but the given ones, the panels collapsed, `sim_time` selected.
 fn only_these_views(blueprint: Blueprint) -> Blueprint {
+    panels_collapsed(blueprint, TimePanel::new().with_timeline("sim_time"))
+}
+
+/// No views but the given ones, the panels collapsed (the time panel `time` as it is given).
+pub fn panels_collapsed(blueprint: Blueprint, time: TimePanel) -> Blueprint {
     blueprint
         .with_auto_views(false)
-        .with_time_panel(
-            TimePanel::new()
-                .with_timeline("sim_time")
-                .with_state(PanelState::Collapsed),
-        )
+        .with_time_panel(time.with_state(PanelState::Collapsed))
         .with_blueprint_panel(BlueprintPanel::new().with_state(PanelState::Collapsed))
         .with_selection_panel(SelectionPanel::new().with_state(PanelState::Collapsed))
 }
