@@ -5,7 +5,7 @@ use super::dense::{Core, Pair, Width, hairer_dense, stage};
 
 /// Butcher tableau (Dormand & Prince 1980). The system is autonomous, so the stage times
 /// (c = 0, 1/5, 3/10, 4/5, 8/9, 1, 1) are not needed.
-const A: [[f64; 6]; 7] = [
+pub(super) const A: [[f64; 6]; 7] = [
     [0.0; 6],
     [1.0 / 5.0, 0.0, 0.0, 0.0, 0.0, 0.0],
     [3.0 / 40.0, 9.0 / 40.0, 0.0, 0.0, 0.0, 0.0],
@@ -118,17 +118,5 @@ impl Pair for Dopri5 {
             let r = |q: usize| cont[q * n2 + i];
             out[i] = r(0) + th * (r(1) + th1 * (r(2) + th * (r(3) + th1 * r(4))));
         }
-    }
-}
-
-#[cfg(test)]
-pub(crate) mod tableau {
-    //! The tableau for the order-condition checks in `integrate::order_conditions`.
-    pub const STAGES: usize = 7;
-    pub fn a(i: usize, j: usize) -> f64 {
-        if j < i { super::A[i][j] } else { 0.0 }
-    }
-    pub fn b(j: usize) -> f64 {
-        super::A[6].get(j).copied().unwrap_or(0.0)
     }
 }

@@ -27,7 +27,7 @@ use super::dense::{Core, Pair, Width, hairer_dense, stage};
 #[allow(clippy::excessive_precision)]
 /// a[i][j] for stages i = 0..16 (row 12, the stage at the new solution, holds B:
 /// dop853.f leaves it zero and evaluates f(y_new) directly, which is the same).
-const A: [[f64; 16]; 16] = [
+pub(super) const A: [[f64; 16]; 16] = [
     [0.0; 16],
     [
         5.26001519587677318785587544488e-2,
@@ -301,7 +301,7 @@ const A: [[f64; 16]; 16] = [
     ],
 ];
 /// Eighth-order weights (stages 0..12): row 12 of `A`, the stage at the new solution.
-const B: [f64; 12] = {
+pub(super) const B: [f64; 12] = {
     let mut b = [0.0; 12];
     let mut j = 0;
     while j < 12 {
@@ -319,7 +319,7 @@ const BHH: [f64; 3] = [
 ];
 /// Fifth-order error weights: B minus the embedded fifth-order weights.
 #[allow(clippy::excessive_precision)]
-const E5: [f64; 12] = [
+pub(super) const E5: [f64; 12] = [
     0.1312004499419488073250102996e-01,
     0.0,
     0.0,
@@ -474,20 +474,5 @@ impl Pair for Dop853 {
             let conpar = r(4) + th * (r(5) + th1 * (r(6) + th * r(7)));
             out[i] = r(0) + th * (r(1) + th1 * (r(2) + th * (r(3) + th1 * conpar)));
         }
-    }
-}
-
-#[cfg(test)]
-pub(crate) mod tableau {
-    //! The tableau for the order-condition checks in `integrate::order_conditions`.
-    pub const STAGES: usize = 12;
-    pub fn a(i: usize, j: usize) -> f64 {
-        super::A[i][j]
-    }
-    pub fn b(j: usize) -> f64 {
-        super::B[j]
-    }
-    pub fn b_embedded(j: usize) -> f64 {
-        super::B[j] - super::E5[j]
     }
 }

@@ -231,10 +231,11 @@ mod tests {
     /// not all of order 6.
     #[test]
     fn dop853_tableau_satisfies_its_order_conditions() {
-        use crate::integrate::dop853::tableau::{STAGES, a, b, b_embedded};
-        let main = residuals(STAGES, a, b, 9);
+        use crate::integrate::dop853::{A, B, E5};
+        let a = |i: usize, j: usize| A[i][j];
+        let main = residuals(B.len(), a, |j| B[j], 9);
         holds_to_order("dop853 order-8 weights", &main, 8, 1e-15, Some(1e-6));
-        let emb = residuals(STAGES, a, b_embedded, 6);
+        let emb = residuals(B.len(), a, |j| B[j] - E5[j], 6);
         holds_to_order("dop853 embedded weights", &emb, 5, 1.5e-15, Some(1e-6));
     }
 
@@ -243,10 +244,11 @@ mod tests {
     /// (their published digits are rounded more coarsely: see the test output), not all of order 9.
     #[test]
     fn vern9_tableau_satisfies_its_order_conditions() {
-        use crate::integrate::verner::tableau::{STAGES, a, b, b_embedded};
-        let main = residuals(STAGES, a, b, 10);
+        use crate::integrate::verner::{A, B, BHAT};
+        let a = |i: usize, j: usize| A[i][j];
+        let main = residuals(B.len(), a, |j| B[j], 10);
         holds_to_order("vern9 order-9 weights", &main, 9, 1e-15, Some(1e-8));
-        let emb = residuals(STAGES, a, b_embedded, 9);
+        let emb = residuals(B.len(), a, |j| BHAT[j], 9);
         holds_to_order("vern9 embedded weights", &emb, 8, 1e-14, Some(1e-8));
     }
 
@@ -262,28 +264,27 @@ mod tests {
     /// the others' rounding, 1.3e-11).
     #[test]
     fn vern9_interpolant_satisfies_its_order_conditions() {
-        use crate::integrate::verner::tableau::{DENSE_STAGES, a, b, b_dense};
+        use crate::integrate::verner::{A, B, dense_weights};
+        let a = |i: usize, j: usize| A[i][j];
         for th in [0.1, 0.25, 0.5, 0.75, 0.9, 1.0] {
-            let r = residuals_at(DENSE_STAGES, a, |j| b_dense(j, th), 9, th);
+            let r = residuals_at(A.len(), a, |j| dense_weights(th)[j], 9, th);
             // At θ = 1 the interpolant is the ninth-order step: order 9 holds there too.
             let misses = (th < 1.0).then_some(1e-9);
             holds_to_order(&format!("vern9 interpolant at {th}"), &r, 8, 1e-11, misses);
         }
-        for j in 0..DENSE_STAGES {
-            let bj = if j < 16 { b(j) } else { 0.0 };
-            assert!(
-                (b_dense(j, 1.0) - bj).abs() <= 2e-11,
-                "stage {j}: {} vs {bj}",
-                b_dense(j, 1.0)
-            );
+        for (j, bj) in dense_weights(1.0).into_iter().enumerate() {
+            let b = B.get(j).copied().unwrap_or(0.0);
+            assert!((bj - b).abs() <= 2e-11, "stage {j}: {bj} vs {b}");
         }
     }
 
     /// dopri5 as a check of the checker: order 5 conditions hold, order 6 do not.
     #[test]
     fn dopri5_tableau_satisfies_its_order_conditions() {
-        use crate::integrate::adaptive::tableau::{STAGES, a, b};
-        let r = residuals(STAGES, a, b, 6);
+        // Its weights are the last row of A (first same as last).
+        use crate::integrate::adaptive::A;
+        let a = |i: usize, j: usize| if j < i { A[i][j] } else { 0.0 };
+        let r = residuals(A.len(), a, |j| A[6].get(j).copied().unwrap_or(0.0), 6);
         holds_to_order("dopri5", &r, 5, 1e-15, Some(1e-6));
     }
 }
