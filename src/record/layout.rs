@@ -75,10 +75,7 @@ pub struct Layout {
 
 impl From<Blueprint> for Layout {
     fn from(blueprint: Blueprint) -> Self {
-        Layout {
-            blueprint,
-            properties: Vec::new(),
-        }
+        ViewProperties::default().layout(blueprint)
     }
 }
 

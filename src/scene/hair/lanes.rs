@@ -536,14 +536,11 @@ mod tests {
                 hair.step(1.0 / 60.0);
             }
             let s = hair.stats();
-            let bits: Vec<u64> = hair
-                .positions()
-                .iter()
+            (hair.positions().iter())
                 .flat_map(|p| p.to_array())
                 .chain([s.max_stretch, s.max_penetration, s.kinetic_energy])
                 .map(f64::to_bits)
-                .collect();
-            bits
+                .collect::<Vec<u64>>()
         };
         for method in [HairMethod::Verlet, HairMethod::Ftl] {
             let results: Vec<Vec<u64>> = paths
