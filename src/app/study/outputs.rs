@@ -3,6 +3,7 @@
 
 use super::Error;
 use crate::cli::{StudyArgs, StudyKind};
+use crate::integrate::Family;
 use crate::study::Sweep;
 
 /// Where the study's recording went; on stderr when standard output carries a file.
@@ -26,32 +27,29 @@ pub(super) fn interrupted_error(
     done: usize,
     complete: bool,
 ) -> anyhow::Error {
-    let planned: usize = match a.kind {
-        StudyKind::Stability => sw.methods.len(),
-        _ => sw
-            .methods
-            .iter()
-            .map(|m| {
-                if m.info().family == crate::integrate::Family::Adaptive {
-                    sw.rtols.len()
-                } else {
-                    sw.levels as usize
-                }
-            })
-            .sum(),
+    let adaptive = |m: &crate::integrate::Method| m.info().family == Family::Adaptive;
+    let (planned, what) = match a.kind {
+        StudyKind::Stability => (sw.methods.len(), "methods' limits"),
+        _ => (
+            (sw.methods.iter())
+                .map(|m| {
+                    if adaptive(m) {
+                        sw.rtols.len()
+                    } else {
+                        sw.levels as usize
+                    }
+                })
+                .sum(),
+            "runs",
+        ),
     };
     let kept = if complete {
         "; the tables above (and any --csv and -o files) hold the complete ones"
     } else {
         "; nothing was written"
     };
-    crate::error::Error::Interrupted(format!(
-        "interrupted: {done} of {planned} {} complete{kept}",
-        if a.kind == StudyKind::Stability {
-            "methods' limits"
-        } else {
-            "runs"
-        }
+    Error::Interrupted(format!(
+        "interrupted: {done} of {planned} {what} complete{kept}"
     ))
     .into()
 }
