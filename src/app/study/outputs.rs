@@ -43,6 +43,17 @@ pub(super) fn interrupted_error(
             "runs",
         ),
     };
+    interrupted_after(done, planned, what, complete)
+}
+
+/// What a stopped study says: `done` of the `planned` `what` complete, and whether the complete
+/// ones were written.
+pub(super) fn interrupted_after(
+    done: usize,
+    planned: usize,
+    what: &str,
+    complete: bool,
+) -> anyhow::Error {
     let kept = if complete {
         "; the tables above (and any --csv and -o files) hold the complete ones"
     } else {
