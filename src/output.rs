@@ -71,6 +71,16 @@ impl Output {
     }
 }
 
+/// Prints `text` for the reader: on standard error when standard output carries an output
+/// (`-`), on standard output otherwise.
+pub fn print_beside(stdout_taken: bool, text: &str) {
+    if stdout_taken {
+        eprint!("{text}");
+    } else {
+        print!("{text}");
+    }
+}
+
 /// Standard output as a destination: where `-` makes sense for a flag, and where not.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Dash {
@@ -235,7 +245,8 @@ fn follow_links(path: &Path) -> std::io::Result<PathBuf> {
     Err(std::io::Error::from_raw_os_error(libc::ELOOP))
 }
 
-fn parent_dir(target: &Path) -> PathBuf {
+/// The folder `target` is in (`.` for a bare name).
+pub fn parent_dir(target: &Path) -> PathBuf {
     match target.parent() {
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
         _ => PathBuf::from("."),

@@ -476,11 +476,7 @@ mod numerics {
                 if m.info().family == physlab::integrate::Family::Adaptive {
                     continue;
                 }
-                let order = if damped {
-                    m.info().order_velocity_dependent
-                } else {
-                    m.info().order
-                };
+                let order = m.info().order_for(damped);
                 let (e1, e2) = (error(m, 4e-4), error(m, 2e-4));
                 let measured = (e1 / e2).log2();
                 assert!(

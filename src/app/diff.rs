@@ -43,13 +43,9 @@ pub fn diff_command(args: &DiffArgs) -> anyhow::Result<()> {
     )?;
     let mut report = String::new();
     let mut line = |s: String| {
-        if to_stdout {
-            eprintln!("{s}");
-        } else {
-            println!("{s}");
-        }
+        let s = s + "\n";
+        crate::output::print_beside(to_stdout, &s);
         report.push_str(&s);
-        report.push('\n');
     };
     line(format!("A: {} — {}", args.a.display(), version_line(&ia)));
     line(format!("B: {} — {}", args.b.display(), version_line(&ib)));
@@ -177,12 +173,8 @@ pub fn diff_command(args: &DiffArgs) -> anyhow::Result<()> {
     ));
     if let (Some(w), Some(out)) = (writer, &args.output) {
         let n = w.finish(&report)?;
-        let wrote = format!("wrote {} difference series (B − A) to {}", n, out.display());
-        if to_stdout {
-            eprintln!("{wrote}");
-        } else {
-            println!("{wrote}");
-        }
+        let wrote = format!("wrote {n} difference series (B − A) to {}\n", out.display());
+        crate::output::print_beside(to_stdout, &wrote);
     }
     if differing > 0 || !only_a.is_empty() || !only_b.is_empty() {
         return Err(Error::Differs("the recordings differ".into()).into());

@@ -9,27 +9,81 @@ use super::{Ran, SceneFile, run_scene};
 use crate::cli::{HairArgs, PendulumArgs, RopeArgs, RunArgs, StepFlags};
 use crate::error::Error;
 use crate::integrate::{EvalsPerStep, Method};
+use crate::record::scene::{Draw, SceneRecorder};
 use crate::record::{self, Framing, SceneViews};
 use crate::report;
 use crate::scene::hair::HairMethod;
 use crate::scene::hair::run::{HairConfig, HairScene};
+use crate::scene::harness::{Run, Scene};
 use crate::scene::params::SceneConfig;
 use crate::scene::pendulum::run::{PendulumConfig, PendulumScene};
 use crate::scene::rope::run::{RopeConfig, RopeScene};
 
 /// Every scene, in the order `physlab all` runs them.
-pub static SCENES: [&dyn SceneKind; 3] = [&PendulumKind, &RopeKind, &HairKind];
+pub static SCENES: [&SceneKind; 3] = [&PENDULUM, &ROPE, &HAIR];
 
 /// A scene as the commands know it before any parameter is given.
-pub trait SceneKind: Sync {
-    fn name(&self) -> &'static str;
+pub struct SceneKind {
+    name: &'static str,
     /// The recording's application id when it runs alone (the viewer keys layouts by it).
-    fn application_id(&self) -> &'static str;
-    fn views(&self) -> &'static SceneViews;
+    application_id: &'static str,
+    views: &'static SceneViews,
     /// Its flags as `physlab all` sets them (none given: what `reproduce` runs under the
     /// recorded scene file).
-    fn flags(&self, all: &AllFlags) -> Box<dyn Flags>;
+    flags: fn(&AllFlags) -> Box<dyn Flags>,
 }
+
+impl SceneKind {
+    pub fn name(&self) -> &'static str {
+        self.name
+    }
+    pub fn application_id(&self) -> &'static str {
+        self.application_id
+    }
+    pub fn views(&self) -> &'static SceneViews {
+        self.views
+    }
+    pub fn flags(&self, all: &AllFlags) -> Box<dyn Flags> {
+        (self.flags)(all)
+    }
+}
+
+static PENDULUM: SceneKind = SceneKind {
+    name: "pendulum",
+    application_id: "physlab-pendulum",
+    views: &record::pendulum::VIEWS,
+    flags: |all| {
+        Box::new(PendulumArgs {
+            step: all.step(),
+            ..PendulumArgs::default()
+        })
+    },
+};
+
+static ROPE: SceneKind = SceneKind {
+    name: "rope",
+    application_id: "physlab-rope",
+    views: &record::rope::VIEWS,
+    flags: |all| {
+        Box::new(RopeArgs {
+            step: all.step(),
+            ..RopeArgs::default()
+        })
+    },
+};
+
+static HAIR: SceneKind = SceneKind {
+    name: "hair",
+    application_id: "physlab-hair",
+    views: &record::hair::VIEWS,
+    flags: |all| {
+        Box::new(HairArgs {
+            fps: all.fps,
+            methods: all.hair.clone(),
+            ..HairArgs::default()
+        })
+    },
+};
 
 /// `physlab all`'s own flags, which override every scene's (each scene takes the methods it
 /// supports).
@@ -55,7 +109,7 @@ impl AllFlags {
 
 /// A scene's flags as given.
 pub trait Flags {
-    fn kind(&self) -> &'static dyn SceneKind;
+    fn kind(&self) -> &'static SceneKind;
     /// These flags over the scene file's table (checked alone first, so that an error there
     /// names the file, table and key) over the defaults, validated.
     fn resolve(
@@ -67,7 +121,7 @@ pub trait Flags {
 
 /// A scene with its validated configuration, ready to run.
 pub trait ReadyScene: Send {
-    fn kind(&self) -> &'static dyn SceneKind;
+    fn kind(&self) -> &'static SceneKind;
     /// The box its 3D view frames.
     fn framing(&self) -> Framing;
     /// Its 3D frames per simulated second.
@@ -99,68 +153,9 @@ pub struct RunContext<'a> {
     pub stop_after: Option<u64>,
 }
 
-struct PendulumKind;
-struct RopeKind;
-struct HairKind;
-
-impl SceneKind for PendulumKind {
-    fn name(&self) -> &'static str {
-        "pendulum"
-    }
-    fn application_id(&self) -> &'static str {
-        "physlab-pendulum"
-    }
-    fn views(&self) -> &'static SceneViews {
-        &record::pendulum::VIEWS
-    }
-    fn flags(&self, all: &AllFlags) -> Box<dyn Flags> {
-        Box::new(PendulumArgs {
-            step: all.step(),
-            ..PendulumArgs::default()
-        })
-    }
-}
-
-impl SceneKind for RopeKind {
-    fn name(&self) -> &'static str {
-        "rope"
-    }
-    fn application_id(&self) -> &'static str {
-        "physlab-rope"
-    }
-    fn views(&self) -> &'static SceneViews {
-        &record::rope::VIEWS
-    }
-    fn flags(&self, all: &AllFlags) -> Box<dyn Flags> {
-        Box::new(RopeArgs {
-            step: all.step(),
-            ..RopeArgs::default()
-        })
-    }
-}
-
-impl SceneKind for HairKind {
-    fn name(&self) -> &'static str {
-        "hair"
-    }
-    fn application_id(&self) -> &'static str {
-        "physlab-hair"
-    }
-    fn views(&self) -> &'static SceneViews {
-        &record::hair::VIEWS
-    }
-    fn flags(&self, all: &AllFlags) -> Box<dyn Flags> {
-        Box::new(HairArgs {
-            fps: all.fps,
-            methods: all.hair.clone(),
-            ..HairArgs::default()
-        })
-    }
-}
-
 impl Flags for PendulumArgs {
-    fn kind(&self) -> &'static dyn SceneKind {
-        &PendulumKind
+    fn kind(&self) -> &'static SceneKind {
+        &PENDULUM
     }
     fn resolve(
         self: Box<Self>,
@@ -180,8 +175,8 @@ impl Flags for PendulumArgs {
 }
 
 impl Flags for RopeArgs {
-    fn kind(&self) -> &'static dyn SceneKind {
-        &RopeKind
+    fn kind(&self) -> &'static SceneKind {
+        &ROPE
     }
     fn resolve(
         self: Box<Self>,
@@ -191,19 +186,19 @@ impl Flags for RopeArgs {
         refuse_drawing_flags(run, &self.step.drawing_flags())?;
         let config: RopeConfig = given(&*self, "rope", file)?.resolve()?;
         let mut flags = self.step.method_flags();
-        flags.push(MethodFlag {
-            flag: "--newton-iterations",
-            given: self.newton_iterations.is_some(),
-            reads: |m| m.info().implicit,
-        });
+        flags.push(MethodFlag::new(
+            "--newton-iterations",
+            self.newton_iterations.is_some(),
+            |m| m.info().implicit,
+        ));
         refuse_unread(&flags, &config.methods, &Method::ALL, Method::name)?;
         Ok(Box::new(Ready(config)))
     }
 }
 
 impl Flags for HairArgs {
-    fn kind(&self) -> &'static dyn SceneKind {
-        &HairKind
+    fn kind(&self) -> &'static SceneKind {
+        &HAIR
     }
     fn resolve(
         self: Box<Self>,
@@ -261,6 +256,12 @@ struct MethodFlag<M> {
     reads: fn(M) -> bool,
 }
 
+impl<M> MethodFlag<M> {
+    fn new(flag: &'static str, given: bool, reads: fn(M) -> bool) -> Self {
+        MethodFlag { flag, given, reads }
+    }
+}
+
 /// Refuses a flag given on the command line that none of the methods run would read (it would
 /// change nothing), naming the flag, the methods that read it and those that run.
 fn refuse_unread<M: Copy>(
@@ -312,16 +313,12 @@ impl StepFlags {
     /// The step flags only some registry methods read.
     fn method_flags(&self) -> Vec<MethodFlag<Method>> {
         vec![
-            MethodFlag {
-                flag: "--verlet-damping",
-                given: self.verlet_damping.is_some(),
-                reads: |m| m == Method::Verlet,
-            },
-            MethodFlag {
-                flag: "--rtol",
-                given: self.rtol.is_some(),
-                reads: |m| matches!(m.info().evals_per_step, EvalsPerStep::Adaptive(_)),
-            },
+            MethodFlag::new("--verlet-damping", self.verlet_damping.is_some(), |m| {
+                m == Method::Verlet
+            }),
+            MethodFlag::new("--rtol", self.rtol.is_some(), |m| {
+                matches!(m.info().evals_per_step, EvalsPerStep::Adaptive(_))
+            }),
         ]
     }
 }
@@ -331,26 +328,18 @@ impl HairArgs {
     fn method_flags(&self) -> Vec<MethodFlag<HairMethod>> {
         let verlet = |m| m == HairMethod::Verlet;
         vec![
-            MethodFlag {
-                flag: "--solver",
-                given: self.solver.is_some(),
-                reads: verlet,
-            },
-            MethodFlag {
-                flag: "--iterations",
-                given: self.iterations.is_some(),
-                reads: verlet,
-            },
-            MethodFlag {
-                flag: "--stiffness",
-                given: self.stiffness.is_some(),
-                reads: HairMethod::is_spring,
-            },
-            MethodFlag {
-                flag: "--spring-damping",
-                given: self.spring_damping.is_some(),
-                reads: HairMethod::is_spring,
-            },
+            MethodFlag::new("--solver", self.solver.is_some(), verlet),
+            MethodFlag::new("--iterations", self.iterations.is_some(), verlet),
+            MethodFlag::new(
+                "--stiffness",
+                self.stiffness.is_some(),
+                HairMethod::is_spring,
+            ),
+            MethodFlag::new(
+                "--spring-damping",
+                self.spring_damping.is_some(),
+                HairMethod::is_spring,
+            ),
         ]
     }
 }
@@ -358,9 +347,24 @@ impl HairArgs {
 /// A scene's validated configuration, ready to run.
 struct Ready<C>(C);
 
+impl RunContext<'_> {
+    /// Runs `scene`, recorded (when a recording is made) by what `recorder` makes of the stream,
+    /// and summarised by `summary`.
+    fn run<S: Scene, D: Draw<S>>(
+        &mut self,
+        scene: S,
+        recorder: impl FnOnce(rerun::RecordingStream, bool) -> SceneRecorder<D>,
+        summary: fn(&S, &Run<S::Lane>) -> String,
+    ) -> anyhow::Result<Ran> {
+        let recorder = (self.stream.clone())
+            .map(|s| recorder(s, self.timings).with_frame_rate(self.frame_rate));
+        run_scene(scene, recorder, summary, self.progress, self.stop_after)
+    }
+}
+
 /// What the commands need of a scene's configuration besides its layering.
 trait Runs: SceneConfig + Send {
-    const KIND: &'static dyn SceneKind;
+    const KIND: &'static SceneKind;
     fn framing(&self) -> Framing;
     fn fps(&self) -> f64;
     fn methods(&self) -> Vec<&'static str>;
@@ -371,7 +375,7 @@ trait Runs: SceneConfig + Send {
 }
 
 impl<C: Runs> ReadyScene for Ready<C> {
-    fn kind(&self) -> &'static dyn SceneKind {
+    fn kind(&self) -> &'static SceneKind {
         C::KIND
     }
     fn framing(&self) -> Framing {
@@ -396,7 +400,7 @@ impl<C: Runs> ReadyScene for Ready<C> {
 }
 
 impl Runs for PendulumConfig {
-    const KIND: &'static dyn SceneKind = &PendulumKind;
+    const KIND: &'static SceneKind = &PENDULUM;
     fn framing(&self) -> Framing {
         record::pendulum::framing(self)
     }
@@ -415,22 +419,16 @@ impl Runs for PendulumConfig {
                 reference_steps * 1e-7
             );
         }
-        let recorder = ctx
-            .stream
-            .clone()
-            .map(|s| record::pendulum::recorder(s, ctx.timings).with_frame_rate(ctx.frame_rate));
-        run_scene(
+        ctx.run(
             PendulumScene::new(self),
-            recorder,
+            record::pendulum::recorder,
             report::pendulum::summary_text,
-            ctx.progress,
-            ctx.stop_after,
         )
     }
 }
 
 impl Runs for RopeConfig {
-    const KIND: &'static dyn SceneKind = &RopeKind;
+    const KIND: &'static SceneKind = &ROPE;
     fn framing(&self) -> Framing {
         record::rope::framing(self)
     }
@@ -444,22 +442,16 @@ impl Runs for RopeConfig {
         RopeConfig::memory_bytes(self)
     }
     fn run(self, ctx: &mut RunContext) -> anyhow::Result<Ran> {
-        let recorder = ctx
-            .stream
-            .clone()
-            .map(|s| record::rope::recorder(s, ctx.timings).with_frame_rate(ctx.frame_rate));
-        run_scene(
+        ctx.run(
             RopeScene::new(self),
-            recorder,
+            record::rope::recorder,
             report::rope::summary_text,
-            ctx.progress,
-            ctx.stop_after,
         )
     }
 }
 
 impl Runs for HairConfig {
-    const KIND: &'static dyn SceneKind = &HairKind;
+    const KIND: &'static SceneKind = &HAIR;
     fn framing(&self) -> Framing {
         record::hair::framing(self)
     }
@@ -484,20 +476,12 @@ impl Runs for HairConfig {
                 plan.expected_bytes / 1e6
             );
         }
-        let recorder = ctx.stream.clone().map(|s| {
-            record::hair::recorder(s, ctx.timings, self.log_strands).with_frame_rate(ctx.frame_rate)
-        });
-        let (config, progress, stop_after) = (self, &mut *ctx.progress, ctx.stop_after);
+        let strands = self.log_strands;
+        let recorder = |s, timings| record::hair::recorder(s, timings, strands);
         // Hair spreads its strands over the pool (--threads); the results do not depend on it.
-        let mut ran = ctx.pool.install(|| {
-            run_scene(
-                HairScene::new(config),
-                recorder,
-                report::hair::summary_text,
-                progress,
-                stop_after,
-            )
-        })?;
+        let pool = ctx.pool;
+        let mut ran =
+            pool.install(|| ctx.run(HairScene::new(self), recorder, report::hair::summary_text))?;
         if recording {
             ran.summary.push_str(&format!(
                 "\n3D: {} of {} strands drawn per head (--log-strands); every strand is simulated and measured above\n",

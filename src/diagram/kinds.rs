@@ -6,19 +6,10 @@ use super::{
 };
 use plotters::coord::Shift;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use crate::integrate::Method;
-use crate::study::{Limit, Row};
-
-pub(super) fn methods_of(rows: &[Row]) -> Vec<Method> {
-    let mut ms: Vec<Method> = Vec::new();
-    for r in rows {
-        if !ms.contains(&r.method) {
-            ms.push(r.method);
-        }
-    }
-    ms
-}
+use crate::study::{Limit, Row, methods_of};
 
 /// What the error is, with its unit, for a scene.
 pub(super) fn error_desc(scene: &str) -> &'static str {
@@ -33,6 +24,17 @@ pub(super) fn runs(rows: &[Row], m: Method) -> Vec<&Row> {
     rows.iter()
         .filter(|r| r.method == m && r.error.is_some_and(|e| e > 0.0))
         .collect()
+}
+
+/// Per method, its runs' (x, error), x given by `x`.
+fn series(rows: &[Row], methods: &[Method], x: fn(&Row) -> f64) -> Vec<(Method, Vec<(f64, f64)>)> {
+    let of = |m| {
+        runs(rows, m)
+            .iter()
+            .map(|r| (x(r), r.error.unwrap_or(0.0)))
+            .collect()
+    };
+    methods.iter().map(|&m| (m, of(m))).collect()
 }
 
 /// Work-precision: error against median wall time (left) and against force evaluations
@@ -66,7 +68,7 @@ where
 {
     root.fill(&BACKGROUND)?;
     let (body, legend) = root.split_horizontally(root.dim_in_pixel().0 - LEGEND_WIDTH);
-    let methods = methods_of(rows);
+    let methods = methods_of(rows, |_| true);
     let errors = || rows.iter().filter_map(|r| r.error);
     let y = decades(errors().chain([floor]));
     let panels = body.split_evenly((1, 2));
@@ -84,18 +86,7 @@ where
     ];
     for (area, (title, x_desc, cost)) in panels.iter().zip(axes) {
         let x = decades(rows.iter().filter(|r| r.error.is_some()).map(cost));
-        let series = methods
-            .iter()
-            .map(|&m| {
-                (
-                    m,
-                    runs(rows, m)
-                        .iter()
-                        .map(|r| (cost(r), r.error.unwrap_or(0.0)))
-                        .collect(),
-                )
-            })
-            .collect();
+        let series = series(rows, &methods, cost);
         let (x0, x1) = (10f64.powf(x.start), 10f64.powf(x.end));
         draw_panel(
             &area.margin(6, 6, 6, 6),
@@ -140,15 +131,6 @@ pub fn convergence(scene: &str, rows: &[Row], floor: f64, velocity_dependent: bo
     }
 }
 
-pub(super) fn order_of(m: Method, velocity_dependent: bool) -> u32 {
-    let info = m.info();
-    if velocity_dependent {
-        info.order_velocity_dependent
-    } else {
-        info.order
-    }
-}
-
 pub(super) fn convergence_on<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     scene: &str,
@@ -161,28 +143,17 @@ where
 {
     root.fill(&BACKGROUND)?;
     let (body, legend) = root.split_horizontally(root.dim_in_pixel().0 - LEGEND_WIDTH);
-    let methods = methods_of(rows);
+    let methods = methods_of(rows, |_| true);
     let x = decades(rows.iter().map(|r| r.dt));
     let y = decades(rows.iter().filter_map(|r| r.error).chain([floor]));
-    let series = methods
-        .iter()
-        .map(|&m| {
-            (
-                m,
-                runs(rows, m)
-                    .iter()
-                    .map(|r| (r.dt, r.error.unwrap_or(0.0)))
-                    .collect(),
-            )
-        })
-        .collect();
+    let series = series(rows, &methods, |r| r.dt);
     // One reference slope per theoretical order, parallel to and below that order's lowest
     // curve, over the same steps (from the coarsest dt down to the finest, or to the bottom).
     let dt_max = rows.iter().map(|r| r.dt).fold(0.0, f64::max);
     let dt_min = rows.iter().map(|r| r.dt).fold(f64::INFINITY, f64::min);
     let mut orders: Vec<u32> = methods
         .iter()
-        .map(|&m| order_of(m, velocity_dependent))
+        .map(|&m| m.info().order_for(velocity_dependent))
         .collect();
     orders.sort_unstable();
     orders.dedup();
@@ -192,7 +163,7 @@ where
     for &p in &orders {
         let lowest = rows
             .iter()
-            .filter(|r| r.dt == dt_max && order_of(r.method, velocity_dependent) == p)
+            .filter(|r| r.dt == dt_max && r.method.info().order_for(velocity_dependent) == p)
             .filter_map(|r| r.error)
             .filter(|e| *e > floor)
             .fold(f64::INFINITY, f64::min);
@@ -347,22 +318,12 @@ where
         }
         if let Some(text) = said {
             // Beside the dot, on the side with room; at the left edge when there is no dot.
-            let at = match measured {
-                Some(d) if d.log10() > (x.start + x.end) / 2.0 => d.log10() - 0.12,
-                Some(d) => d.log10() + 0.12,
-                None => x.start + 0.05,
+            let (at, side) = match measured {
+                Some(d) if d.log10() > (x.start + x.end) / 2.0 => (d.log10() - 0.12, HPos::Right),
+                Some(d) => (d.log10() + 0.12, HPos::Left),
+                None => (x.start + 0.05, HPos::Left),
             };
-            let style = if measured.is_some_and(|d| d.log10() > (x.start + x.end) / 2.0) {
-                words.clone().pos(plotters::style::text_anchor::Pos::new(
-                    plotters::style::text_anchor::HPos::Right,
-                    plotters::style::text_anchor::VPos::Center,
-                ))
-            } else {
-                words.clone().pos(plotters::style::text_anchor::Pos::new(
-                    plotters::style::text_anchor::HPos::Left,
-                    plotters::style::text_anchor::VPos::Center,
-                ))
-            };
+            let style = words.clone().pos(Pos::new(side, VPos::Center));
             chart.draw_series(std::iter::once(Text::new(text, (at, yv), style)))?;
         }
     }

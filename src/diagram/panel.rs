@@ -5,6 +5,7 @@ use std::ops::Range;
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use crate::integrate::Method;
 
@@ -59,19 +60,17 @@ where
         // The label sits above the line's last point, on the side away from the plot's edge.
         let end = l[l.len() - 1];
         let h = if end.0 < l[0].0 && end.0 > p.x.start + 0.3 {
-            plotters::style::text_anchor::HPos::Right
+            HPos::Right
         } else {
-            plotters::style::text_anchor::HPos::Left
+            HPos::Left
         };
         chart.draw_series(std::iter::once(Text::new(
             label.clone(),
             end,
-            (FONT, 17).into_font().color(&RGBColor(190, 190, 190)).pos(
-                plotters::style::text_anchor::Pos::new(
-                    h,
-                    plotters::style::text_anchor::VPos::Bottom,
-                ),
-            ),
+            (FONT, 17)
+                .into_font()
+                .color(&RGBColor(190, 190, 190))
+                .pos(Pos::new(h, VPos::Bottom)),
         )))?;
     }
     for (m, pts) in &p.series {

@@ -1,11 +1,11 @@
 //! Adaptive embedded Runge–Kutta: Dormand–Prince 5(4) with error control and dense output.
 
 use super::SecondOrderSystem;
-use super::dense::{Core, Pair, Width, stage};
+use super::dense::{Core, Pair, Width, hairer_dense, stage};
 
 /// Butcher tableau (Dormand & Prince 1980). The system is autonomous, so the stage times
 /// (c = 0, 1/5, 3/10, 4/5, 8/9, 1, 1) are not needed.
-const A: [[f64; 6]; 7] = [
+pub(super) const A: [[f64; 6]; 7] = [
     [0.0; 6],
     [1.0 / 5.0, 0.0, 0.0, 0.0, 0.0, 0.0],
     [3.0 / 40.0, 9.0 / 40.0, 0.0, 0.0, 0.0, 0.0],
@@ -106,22 +106,7 @@ impl Pair for Dopri5 {
 
     #[inline(always)]
     fn build_dense<S: SecondOrderSystem, W: Width>(c: &mut Core, _sys: &S, w: W) {
-        let n2 = w.get();
-        let h = c.h_last;
-        let (k, cont, y, y_old) = (&c.k[..7 * n2], &mut c.cont[..5 * n2], &c.y, &c.y_old);
-        for i in 0..n2 {
-            let ydiff = y[i] - y_old[i];
-            let bspl = h * k[i] - ydiff;
-            cont[i] = y_old[i];
-            cont[n2 + i] = ydiff;
-            cont[2 * n2 + i] = bspl;
-            cont[3 * n2 + i] = ydiff - h * k[6 * n2 + i] - bspl;
-            let mut acc = 0.0;
-            for (j, dj) in D.iter().enumerate() {
-                acc += dj * k[j * n2 + i];
-            }
-            cont[4 * n2 + i] = h * acc;
-        }
+        hairer_dense(c, w.get(), 6, &[D]);
     }
 
     #[inline(always)]
@@ -133,17 +118,5 @@ impl Pair for Dopri5 {
             let r = |q: usize| cont[q * n2 + i];
             out[i] = r(0) + th * (r(1) + th1 * (r(2) + th * (r(3) + th1 * r(4))));
         }
-    }
-}
-
-#[cfg(test)]
-pub(crate) mod tableau {
-    //! The tableau for the order-condition checks in `integrate::order_conditions`.
-    pub const STAGES: usize = 7;
-    pub fn a(i: usize, j: usize) -> f64 {
-        if j < i { super::A[i][j] } else { 0.0 }
-    }
-    pub fn b(j: usize) -> f64 {
-        super::A[6].get(j).copied().unwrap_or(0.0)
     }
 }

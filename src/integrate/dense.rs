@@ -8,7 +8,7 @@
 //! pair's loops are instantiated with n2 = 2 known at compile time ([`Fixed`]), so they unroll
 //! with no loop over a runtime length; any other size runs the same code with [`Dynamic`].
 
-use super::{SecondOrderSystem, State};
+use super::{MethodOptions, SecondOrderSystem, State};
 
 /// The number of state components the stage loops run over.
 pub(crate) trait Width: Copy {
@@ -102,6 +102,36 @@ pub(crate) struct Core {
     pub rejected: u64,
 }
 
+/// Hairer's dense output of the last accepted step (`dopri5.f`, `dop853.f`), per component:
+/// y_old, Δy, h f_old − Δy and Δy − h f_new − (h f_old − Δy), f_new at the stage `fsal_row`,
+/// then h Σ_j d_j k_j for each row d of `d`.
+#[inline(always)]
+pub(crate) fn hairer_dense<const S: usize>(
+    c: &mut Core,
+    n2: usize,
+    fsal_row: usize,
+    d: &[[f64; S]],
+) {
+    let h = c.h_last;
+    let rows = 4 + d.len();
+    let (k, cont, y, y_old) = (&c.k[..S * n2], &mut c.cont[..rows * n2], &c.y, &c.y_old);
+    for i in 0..n2 {
+        let ydiff = y[i] - y_old[i];
+        let bspl = h * k[i] - ydiff;
+        cont[i] = y_old[i];
+        cont[n2 + i] = ydiff;
+        cont[2 * n2 + i] = bspl;
+        cont[3 * n2 + i] = ydiff - h * k[fsal_row * n2 + i] - bspl;
+        for (r, dr) in d.iter().enumerate() {
+            let mut acc = 0.0;
+            for j in 0..S {
+                acc += dr[j] * k[j * n2 + i];
+            }
+            cont[(4 + r) * n2 + i] = h * acc;
+        }
+    }
+}
+
 /// k = f(y) = (v, a(x, v)).
 #[inline(always)]
 pub(crate) fn eval<S: SecondOrderSystem, W: Width>(sys: &S, w: W, y: &[f64], k: &mut [f64]) {
@@ -147,8 +177,8 @@ pub struct DenseRk<P> {
 }
 
 impl<P: Pair> DenseRk<P> {
-    pub fn new(x0: &[f64], v0: &[f64], dt: f64, rtol: f64, h_max: f64) -> Self {
-        let n = x0.len();
+    pub fn new(x0: &[f64], v0: &[f64], dt: f64, options: MethodOptions) -> Self {
+        let (n, rtol, h_max) = (x0.len(), options.rtol, options.max_step);
         let mut y = x0.to_vec();
         y.extend_from_slice(v0);
         DenseRk {
@@ -175,17 +205,6 @@ impl<P: Pair> DenseRk<P> {
             },
             pair: std::marker::PhantomData,
         }
-    }
-
-    /// Size of the last accepted step [s] (0 before the first).
-    pub fn last_step(&self) -> f64 {
-        self.core.h_last
-    }
-    pub fn accepted(&self) -> u64 {
-        self.core.accepted
-    }
-    pub fn rejected(&self) -> u64 {
-        self.core.rejected
     }
 
     /// One attempted step of size h from (t, y): `Some(accepted)`, or `None` when the error

@@ -22,12 +22,12 @@
 //! y(t_old + s h) = r1 + s (r2 + s1 (r3 + s (r4 + s1 (r5 + s (r6 + s1 (r7 + s r8)))))), s1 = 1 - s.
 
 use super::SecondOrderSystem;
-use super::dense::{Core, Pair, Width, stage};
+use super::dense::{Core, Pair, Width, hairer_dense, stage};
 
 #[allow(clippy::excessive_precision)]
 /// a[i][j] for stages i = 0..16 (row 12, the stage at the new solution, holds B:
 /// dop853.f leaves it zero and evaluates f(y_new) directly, which is the same).
-const A: [[f64; 16]; 16] = [
+pub(super) const A: [[f64; 16]; 16] = [
     [0.0; 16],
     [
         5.26001519587677318785587544488e-2,
@@ -301,7 +301,7 @@ const A: [[f64; 16]; 16] = [
     ],
 ];
 /// Eighth-order weights (stages 0..12): row 12 of `A`, the stage at the new solution.
-const B: [f64; 12] = {
+pub(super) const B: [f64; 12] = {
     let mut b = [0.0; 12];
     let mut j = 0;
     while j < 12 {
@@ -319,7 +319,7 @@ const BHH: [f64; 3] = [
 ];
 /// Fifth-order error weights: B minus the embedded fifth-order weights.
 #[allow(clippy::excessive_precision)]
-const E5: [f64; 12] = [
+pub(super) const E5: [f64; 12] = [
     0.1312004499419488073250102996e-01,
     0.0,
     0.0,
@@ -461,22 +461,7 @@ impl Pair for Dop853 {
         for s in 13..16 {
             stage(sys, w, &mut c.k, &mut c.yt, &c.y_old, &A[s][..s], h);
         }
-        let (k, cont, y, y_old) = (&c.k[..16 * n2], &mut c.cont[..8 * n2], &c.y, &c.y_old);
-        for i in 0..n2 {
-            let ydiff = y[i] - y_old[i];
-            let bspl = h * k[i] - ydiff;
-            cont[i] = y_old[i];
-            cont[n2 + i] = ydiff;
-            cont[2 * n2 + i] = bspl;
-            cont[3 * n2 + i] = ydiff - h * k[12 * n2 + i] - bspl;
-            for r in 0..4 {
-                let mut acc = 0.0;
-                for j in 0..16 {
-                    acc += D[r][j] * k[j * n2 + i];
-                }
-                cont[(4 + r) * n2 + i] = h * acc;
-            }
-        }
+        hairer_dense(c, n2, 12, &D);
     }
 
     #[inline(always)]
@@ -489,20 +474,5 @@ impl Pair for Dop853 {
             let conpar = r(4) + th * (r(5) + th1 * (r(6) + th * r(7)));
             out[i] = r(0) + th * (r(1) + th1 * (r(2) + th * (r(3) + th1 * conpar)));
         }
-    }
-}
-
-#[cfg(test)]
-pub(crate) mod tableau {
-    //! The tableau for the order-condition checks in `integrate::order_conditions`.
-    pub const STAGES: usize = 12;
-    pub fn a(i: usize, j: usize) -> f64 {
-        super::A[i][j]
-    }
-    pub fn b(j: usize) -> f64 {
-        super::B[j]
-    }
-    pub fn b_embedded(j: usize) -> f64 {
-        super::B[j] - super::E5[j]
     }
 }

@@ -184,27 +184,9 @@ impl Integrator {
                 &mut counts,
             )),
             Method::Yoshida4 => Stepper::Yoshida4(composition::Yoshida4::new(n)),
-            Method::Dopri5 => Stepper::Dopri5(dense::DenseRk::new(
-                x0,
-                v0,
-                dt,
-                options.rtol,
-                options.max_step,
-            )),
-            Method::Dop853 => Stepper::Dop853(dense::DenseRk::new(
-                x0,
-                v0,
-                dt,
-                options.rtol,
-                options.max_step,
-            )),
-            Method::Vern9 => Stepper::Vern9(dense::DenseRk::new(
-                x0,
-                v0,
-                dt,
-                options.rtol,
-                options.max_step,
-            )),
+            Method::Dopri5 => Stepper::Dopri5(dense::DenseRk::new(x0, v0, dt, options)),
+            Method::Dop853 => Stepper::Dop853(dense::DenseRk::new(x0, v0, dt, options)),
+            Method::Vern9 => Stepper::Vern9(dense::DenseRk::new(x0, v0, dt, options)),
         };
         Integrator {
             dt,
@@ -236,47 +218,37 @@ impl Integrator {
     pub fn jacobian_evals(&self) -> u64 {
         self.jacobian_evals
     }
+    /// An adaptive method's driver state (`None` for fixed-step methods).
+    fn adaptive(&self) -> Option<&dense::Core> {
+        match &self.stepper {
+            Stepper::Dopri5(m) => Some(&m.core),
+            Stepper::Dop853(m) => Some(&m.core),
+            Stepper::Vern9(m) => Some(&m.core),
+            _ => None,
+        }
+    }
     /// Steps the method accepted so far: its own internal steps for an adaptive method (which
     /// may be more or fewer than the calls of [`Integrator::step`]), the calls otherwise.
     pub fn accepted_steps(&self) -> u64 {
-        match &self.stepper {
-            Stepper::Dopri5(m) => m.accepted(),
-            Stepper::Dop853(m) => m.accepted(),
-            Stepper::Vern9(m) => m.accepted(),
-            _ => self.steps,
-        }
+        self.adaptive().map_or(self.steps, |c| c.accepted)
     }
     /// What the run has spent so far: evaluations, missed solves and an adaptive method's own
     /// accepted and rejected steps.
     pub fn counts(&self) -> Counts {
-        let adaptive = matches!(
-            self.stepper,
-            Stepper::Dopri5(_) | Stepper::Dop853(_) | Stepper::Vern9(_)
-        );
         Counts {
             evals: self.evals(),
             failed_solves: self.failed_solves(),
-            adaptive_steps: adaptive.then(|| (self.accepted_steps(), self.rejected_steps())),
+            adaptive_steps: self.adaptive().map(|c| (c.accepted, c.rejected)),
         }
     }
     /// Steps the error control rejected so far (0 for fixed-step methods).
     pub fn rejected_steps(&self) -> u64 {
-        match &self.stepper {
-            Stepper::Dopri5(m) => m.rejected(),
-            Stepper::Dop853(m) => m.rejected(),
-            Stepper::Vern9(m) => m.rejected(),
-            _ => 0,
-        }
+        self.adaptive().map_or(0, |c| c.rejected)
     }
     /// Size of the last accepted step [s]: the adaptive method's own (0 before its first), dt
     /// otherwise.
     pub fn last_step_size(&self) -> f64 {
-        match &self.stepper {
-            Stepper::Dopri5(m) => m.last_step(),
-            Stepper::Dop853(m) => m.last_step(),
-            Stepper::Vern9(m) => m.last_step(),
-            _ => self.dt,
-        }
+        self.adaptive().map_or(self.dt, |c| c.h_last)
     }
     /// Implicit steps whose solve did not converge to tolerance.
     pub fn failed_solves(&self) -> u64 {

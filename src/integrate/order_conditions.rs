@@ -186,7 +186,15 @@ mod tests {
         assert_eq!(r[0].exact, 2f64.powi(-54), "{:e}", r[0].exact);
     }
 
-    fn report(name: &str, r: &[OrderResidual]) {
+    /// Prints the residuals, asserts that every condition of order ≤ `order` holds to `tol`
+    /// (exactly evaluated) and, given `misses`, that some of order `order` + 1 miss by more.
+    fn holds_to_order(
+        name: &str,
+        r: &[OrderResidual],
+        order: usize,
+        tol: f64,
+        misses: Option<f64>,
+    ) {
         println!("{name}: order, trees, residual in f64, exact on the f64 tableau, relative");
         for (o, x) in r.iter().enumerate() {
             println!(
@@ -197,6 +205,18 @@ mod tests {
                 x.exact,
                 x.relative
             );
+        }
+        for (o, x) in r.iter().enumerate().take(order) {
+            assert!(
+                x.exact <= tol,
+                "{name} order {}: residual {:e}",
+                o + 1,
+                x.exact
+            );
+        }
+        if let Some(misses) = misses {
+            let next = r[order].exact;
+            assert!(next > misses, "{name}: order {} holds? {next:e}", order + 1);
         }
     }
 
@@ -211,37 +231,12 @@ mod tests {
     /// not all of order 6.
     #[test]
     fn dop853_tableau_satisfies_its_order_conditions() {
-        use crate::integrate::dop853::tableau::{STAGES, a, b, b_embedded};
-        let main = residuals(STAGES, a, b, 9);
-        report("dop853 order-8 weights", &main);
-        for (order, r) in main.iter().enumerate().take(8) {
-            assert!(
-                r.exact <= 1e-15,
-                "order {}: residual {:e}",
-                order + 1,
-                r.exact
-            );
-        }
-        assert!(
-            main[8].exact > 1e-6,
-            "order 9 holds too? {:e}",
-            main[8].exact
-        );
-        let emb = residuals(STAGES, a, b_embedded, 6);
-        report("dop853 embedded weights", &emb);
-        for (order, r) in emb.iter().enumerate().take(5) {
-            assert!(
-                r.exact <= 1.5e-15,
-                "embedded order {}: residual {:e}",
-                order + 1,
-                r.exact
-            );
-        }
-        assert!(
-            emb[5].exact > 1e-6,
-            "embedded order 6 holds? {:e}",
-            emb[5].exact
-        );
+        use crate::integrate::dop853::{A, B, E5};
+        let a = |i: usize, j: usize| A[i][j];
+        let main = residuals(B.len(), a, |j| B[j], 9);
+        holds_to_order("dop853 order-8 weights", &main, 8, 1e-15, Some(1e-6));
+        let emb = residuals(B.len(), a, |j| B[j] - E5[j], 6);
+        holds_to_order("dop853 embedded weights", &emb, 5, 1.5e-15, Some(1e-6));
     }
 
     /// Verner's 9(8): the propagated weights satisfy all 486 conditions of order ≤ 9 to 1e-15
@@ -249,37 +244,12 @@ mod tests {
     /// (their published digits are rounded more coarsely: see the test output), not all of order 9.
     #[test]
     fn vern9_tableau_satisfies_its_order_conditions() {
-        use crate::integrate::verner::tableau::{STAGES, a, b, b_embedded};
-        let main = residuals(STAGES, a, b, 10);
-        report("vern9 order-9 weights", &main);
-        for (order, r) in main.iter().enumerate().take(9) {
-            assert!(
-                r.exact <= 1e-15,
-                "order {}: residual {:e}",
-                order + 1,
-                r.exact
-            );
-        }
-        assert!(
-            main[9].exact > 1e-8,
-            "order 10 holds too? {:e}",
-            main[9].exact
-        );
-        let emb = residuals(STAGES, a, b_embedded, 9);
-        report("vern9 embedded weights", &emb);
-        for (order, r) in emb.iter().enumerate().take(8) {
-            assert!(
-                r.exact <= 1e-14,
-                "embedded order {}: residual {:e}",
-                order + 1,
-                r.exact
-            );
-        }
-        assert!(
-            emb[8].exact > 1e-8,
-            "embedded order 9 holds? {:e}",
-            emb[8].exact
-        );
+        use crate::integrate::verner::{A, B, BHAT};
+        let a = |i: usize, j: usize| A[i][j];
+        let main = residuals(B.len(), a, |j| B[j], 10);
+        holds_to_order("vern9 order-9 weights", &main, 9, 1e-15, Some(1e-8));
+        let emb = residuals(B.len(), a, |j| BHAT[j], 9);
+        holds_to_order("vern9 embedded weights", &emb, 8, 1e-14, Some(1e-8));
     }
 
     /// Verner's interpolant: at θ = 0.1, 0.25, …, 1 its weights over the 21 stages (as physlab
@@ -294,40 +264,27 @@ mod tests {
     /// the others' rounding, 1.3e-11).
     #[test]
     fn vern9_interpolant_satisfies_its_order_conditions() {
-        use crate::integrate::verner::tableau::{DENSE_STAGES, a, b, b_dense};
+        use crate::integrate::verner::{A, B, dense_weights};
+        let a = |i: usize, j: usize| A[i][j];
         for th in [0.1, 0.25, 0.5, 0.75, 0.9, 1.0] {
-            let r = residuals_at(DENSE_STAGES, a, |j| b_dense(j, th), 9, th);
-            report(&format!("vern9 interpolant at {th}"), &r);
-            for (order, x) in r.iter().enumerate().take(8) {
-                assert!(
-                    x.exact <= 1e-11,
-                    "θ {th} order {}: {:e}",
-                    order + 1,
-                    x.exact
-                );
-            }
-            if th < 1.0 {
-                assert!(r[8].exact > 1e-9, "θ {th}: order 9 holds? {:e}", r[8].exact);
-            }
+            let r = residuals_at(A.len(), a, |j| dense_weights(th)[j], 9, th);
+            // At θ = 1 the interpolant is the ninth-order step: order 9 holds there too.
+            let misses = (th < 1.0).then_some(1e-9);
+            holds_to_order(&format!("vern9 interpolant at {th}"), &r, 8, 1e-11, misses);
         }
-        for j in 0..DENSE_STAGES {
-            let bj = if j < 16 { b(j) } else { 0.0 };
-            assert!(
-                (b_dense(j, 1.0) - bj).abs() <= 2e-11,
-                "stage {j}: {} vs {bj}",
-                b_dense(j, 1.0)
-            );
+        for (j, bj) in dense_weights(1.0).into_iter().enumerate() {
+            let b = B.get(j).copied().unwrap_or(0.0);
+            assert!((bj - b).abs() <= 2e-11, "stage {j}: {bj} vs {b}");
         }
     }
 
     /// dopri5 as a check of the checker: order 5 conditions hold, order 6 do not.
     #[test]
     fn dopri5_tableau_satisfies_its_order_conditions() {
-        use crate::integrate::adaptive::tableau::{STAGES, a, b};
-        let r = residuals(STAGES, a, b, 6);
-        for (order, x) in r.iter().enumerate().take(5) {
-            assert!(x.exact <= 1e-15, "order {}: {:e}", order + 1, x.exact);
-        }
-        assert!(r[5].exact > 1e-6);
+        // Its weights are the last row of A (first same as last).
+        use crate::integrate::adaptive::A;
+        let a = |i: usize, j: usize| if j < i { A[i][j] } else { 0.0 };
+        let r = residuals(A.len(), a, |j| A[6].get(j).copied().unwrap_or(0.0), 6);
+        holds_to_order("dopri5", &r, 5, 1e-15, Some(1e-6));
     }
 }

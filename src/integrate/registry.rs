@@ -140,6 +140,17 @@ pub struct MethodInfo {
     pub default: bool,
 }
 
+impl MethodInfo {
+    /// Its order for forces of position only, or for velocity-dependent ones.
+    pub fn order_for(&self, velocity_dependent: bool) -> u32 {
+        if velocity_dependent {
+            self.order_velocity_dependent
+        } else {
+            self.order
+        }
+    }
+}
+
 // The registry: one entry per method, in the order of tables and layouts. The macro makes the
 // `Method` enum, `Method::ALL` and `Method::info` from the one list, so a method is named once
 // and the compiler checks that every variant has its row.

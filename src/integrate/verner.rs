@@ -24,7 +24,7 @@ use super::SecondOrderSystem;
 use super::dense::{Core, Pair, Width, stage};
 
 /// a[i][j] for the 16 stages of the step (row 16 = B: f(y_new)) and the 4 of the interpolant.
-const A: [[f64; 20]; 21] = [
+pub(super) const A: [[f64; 20]; 21] = [
     [
         0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
         0.0, 0.0,
@@ -454,7 +454,7 @@ const A: [[f64; 20]; 21] = [
 ];
 /// Ninth-order weights (stages 0..16): row 16 of `A`, the first interpolant stage, taken at
 /// the new solution (FSAL).
-const B: [f64; 16] = {
+pub(super) const B: [f64; 16] = {
     let mut b = [0.0; 16];
     let mut j = 0;
     while j < 16 {
@@ -463,7 +463,7 @@ const B: [f64; 16] = {
     }
     b
 };
-const BHAT: [f64; 16] = [
+pub(super) const BHAT: [f64; 16] = [
     0.018972105324811014,
     0.0,
     0.0,
@@ -651,7 +651,7 @@ const E: [f64; 16] = {
 /// stages, O(h): on the pendulum at h = 0.05 the interpolation error at θ = 0.9 drops from
 /// 1.4e-12 to 5e-14 (measured against a 30-digit solution).
 #[cfg(test)]
-fn dense_weights(th: f64) -> [f64; 21] {
+pub(super) fn dense_weights(th: f64) -> [f64; 21] {
     let mut bt = [0.0; 21];
     let mut rest = 0.0;
     for j in 1..21 {
@@ -744,25 +744,5 @@ impl Pair for Vern9 {
             }
             out[i] = y0[i] + th * p;
         }
-    }
-}
-
-#[cfg(test)]
-pub(crate) mod tableau {
-    //! The tableau for the order-condition checks in `integrate::order_conditions`.
-    pub const STAGES: usize = 16;
-    pub fn a(i: usize, j: usize) -> f64 {
-        super::A[i][j]
-    }
-    pub fn b(j: usize) -> f64 {
-        super::B[j]
-    }
-    pub fn b_embedded(j: usize) -> f64 {
-        super::BHAT[j]
-    }
-    /// The interpolant's weights at θ over all 21 stages.
-    pub const DENSE_STAGES: usize = 21;
-    pub fn b_dense(j: usize, th: f64) -> f64 {
-        super::dense_weights(th)[j]
     }
 }

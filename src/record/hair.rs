@@ -5,13 +5,9 @@
 //! radius logged once and only positions per frame. Plots `hair/plots/<quantity>/<method>`.
 
 use rerun::RecordingStream;
-use rerun::blueprint::{Blueprint, Horizontal, Vertical};
 
 use super::scene::{Draw, SceneRecorder, clear_diverged};
-use super::{
-    Framing, ViewProperties, about_and_events, log_stage, method_color, plot_column, plots_shown,
-    scene_blueprint, scene_view,
-};
+use super::{Framing, log_stage, method_color, view_above_text};
 use crate::scene::hair::Hair;
 use crate::scene::hair::run::{HairConfig, HairLane, HairScene};
 use crate::scene::harness::{Event, Frame};
@@ -31,30 +27,13 @@ pub const PLOTS: [(&str, &str); 3] = [
     ),
 ];
 
-/// Width / height of the single-scene 3D view at 1600×1000 (left half, 3/4 of the height, above the text panels), measured on a
-/// screenshot.
-const VIEW_ASPECT: f32 = 1.19;
-
 /// The hair's views, for the layouts.
 pub const VIEWS: super::SceneViews = super::SceneViews {
     name: "hair",
     plots: &PLOTS,
     exclude_in_all: &[],
-    blueprint,
+    blueprint: |t, f, p| view_above_text("hair", &PLOTS, t, f, p),
 };
-
-pub fn blueprint(timings: bool, framing: Framing, props: &mut ViewProperties) -> Blueprint {
-    let view = scene_view("hair", "hair: methods side by side", &[]);
-    let left = Vertical::new([
-        props.eye(view, framing, VIEW_ASPECT),
-        Horizontal::new(about_and_events("hair")).into(),
-    ])
-    .with_row_shares([3.0, 1.0]);
-    scene_blueprint(
-        left,
-        plot_column("hair", &plots_shown(&PLOTS, timings), props),
-    )
-}
 
 /// The strands' reach from the head's centre [m], and the spacing of the slots along x.
 fn reach_and_spacing(c: &HairConfig) -> (f64, f64) {
@@ -120,10 +99,10 @@ pub fn spread(drawn: usize, strands: usize) -> Vec<usize> {
 }
 
 /// Each method's head and strands in its slot.
+#[derive(Default)]
 pub struct HairDraw {
     names: Vec<&'static str>,
     offsets: Vec<glam::DVec3>,
-    nodes: usize,
     /// `--log-strands`: how many strands are drawn (None: the budget's default).
     requested: Option<usize>,
     /// The strands drawn, as indices.
@@ -139,11 +118,8 @@ pub fn recorder(
     SceneRecorder::new(
         rec,
         HairDraw {
-            names: Vec::new(),
-            offsets: Vec::new(),
-            nodes: 1,
             requested: log_strands,
-            shown: Vec::new(),
+            ..HairDraw::default()
         },
         timings,
     )
@@ -192,7 +168,6 @@ impl Draw<HairScene> for HairDraw {
         let config = &scene.config;
         let p = &config.params;
         self.names = lanes.iter().map(|l| l.0).collect();
-        self.nodes = p.nodes;
         let plan = strand_plan(config, self.requested);
         self.shown = spread(plan.drawn, plan.strands);
         let (reach, spacing) = reach_and_spacing(config);
@@ -265,7 +240,8 @@ impl Draw<HairScene> for HairDraw {
     }
 
     fn frame_bytes(&self, scene: &HairScene) -> usize {
-        scene.config.params.strands * self.nodes * 12
+        let p = &scene.config.params;
+        p.strands * p.nodes * 12
     }
 
     fn diverged(&mut self, rec: &RecordingStream, e: &Event) -> anyhow::Result<()> {

@@ -15,6 +15,7 @@
 
 use rerun::blueprint::components::Corner2D;
 use rerun::blueprint::{Blueprint, BlueprintActivation, ContainerLike};
+use rerun::external::re_sdk_types::blueprint::archetypes::{EyeControls3D, PlotLegend};
 use rerun::log::LogMsg;
 use rerun::{AsComponents, SerializedComponentBatch};
 
@@ -74,10 +75,7 @@ pub struct Layout {
 
 impl From<Blueprint> for Layout {
     fn from(blueprint: Blueprint) -> Self {
-        Layout {
-            blueprint,
-            properties: Vec::new(),
-        }
+        ViewProperties::default().layout(blueprint)
     }
 }
 
@@ -111,11 +109,8 @@ impl ViewProperties {
         corner: Option<Corner2D>,
     ) -> ContainerLike {
         let legend = match corner {
-            Some(c) => rerun::external::re_sdk_types::blueprint::archetypes::PlotLegend::new()
-                .with_corner(c)
-                .with_visible(true),
-            None => rerun::external::re_sdk_types::blueprint::archetypes::PlotLegend::new()
-                .with_visible(false),
+            Some(c) => PlotLegend::new().with_corner(c).with_visible(true),
+            None => PlotLegend::new().with_visible(false),
         };
         self.add(view, "PlotLegend", &legend)
     }
@@ -128,7 +123,7 @@ impl ViewProperties {
         aspect: f32,
     ) -> ContainerLike {
         let (position, target) = framing.eye(aspect);
-        let eye = rerun::external::re_sdk_types::blueprint::archetypes::EyeControls3D::new()
+        let eye = EyeControls3D::new()
             .with_kind(rerun::blueprint::components::Eye3DKind::Orbital)
             .with_position(position)
             .with_look_target(target)

@@ -32,7 +32,7 @@ pub use recording::{
 };
 pub use views::{
     SceneViews, about_and_events, all_layout, plot_column, plots_shown, scene_blueprint,
-    scene_layout, scene_view, summary_view,
+    scene_layout, scene_view, summary_view, view_above_text,
 };
 
 /// One colour per method (the palette is shared with the diagrams: `crate::palette`).

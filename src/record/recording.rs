@@ -23,16 +23,11 @@ pub struct Destinations {
 impl Destinations {
     /// `-o PATH`, where `-` means standard output.
     pub fn output(path: &Path) -> Self {
-        if path.as_os_str() == "-" {
-            Destinations {
-                stdout: true,
-                ..Default::default()
-            }
-        } else {
-            Destinations {
-                file: Some(path.to_path_buf()),
-                ..Default::default()
-            }
+        let stdout = path.as_os_str() == "-";
+        Destinations {
+            file: (!stdout).then(|| path.to_path_buf()),
+            stdout,
+            ..Default::default()
         }
     }
 
@@ -228,10 +223,8 @@ impl Recording {
             return Ok(None);
         };
         file.finish()?;
-        Ok(match &self.target {
-            Some(target) => Some(std::fs::metadata(target)?.len()),
-            None => None,
-        })
+        let size = self.target.as_ref().map(std::fs::metadata).transpose()?;
+        Ok(size.map(|m| m.len()))
     }
 }
 

@@ -7,13 +7,9 @@
 //! - `rope/events`, `rope/about`: warnings at the moment they happened; what was run.
 
 use rerun::RecordingStream;
-use rerun::blueprint::{Blueprint, Horizontal, Vertical};
 
 use super::scene::{Draw, SceneRecorder, clear_diverged};
-use super::{
-    Framing, ViewProperties, about_and_events, log_stage, method_color, plot_column, plots_shown,
-    scene_blueprint, scene_view, slot_cells,
-};
+use super::{Framing, log_stage, method_color, slot_cells, view_above_text};
 use crate::report::rope::cost_per_step;
 use crate::report::table::trim_number;
 use crate::scene::harness::{Event, Frame};
@@ -30,30 +26,13 @@ pub const PLOTS: [(&str, &str); 3] = [
     ("max_strain", "maximum strain max |ℓ − ℓ0| / ℓ0"),
 ];
 
-/// Width / height of the single-scene 3D view at 1600×1000 (left half, 3/4 of the height, above the text panels), measured on a
-/// screenshot.
-const VIEW_ASPECT: f32 = 1.19;
-
 /// The rope's views, for the layouts.
 pub const VIEWS: super::SceneViews = super::SceneViews {
     name: "rope",
     plots: &PLOTS,
     exclude_in_all: &[],
-    blueprint,
+    blueprint: |t, f, p| view_above_text("rope", &PLOTS, t, f, p),
 };
-
-pub fn blueprint(timings: bool, framing: Framing, props: &mut ViewProperties) -> Blueprint {
-    let view = scene_view("rope", "rope: methods side by side", &[]);
-    let left = Vertical::new([
-        props.eye(view, framing, VIEW_ASPECT),
-        Horizontal::new(about_and_events("rope")).into(),
-    ])
-    .with_row_shares([3.0, 1.0]);
-    scene_blueprint(
-        left,
-        plot_column("rope", &plots_shown(&PLOTS, timings), props),
-    )
-}
 
 /// Each lane's slot offset [m]: rows of four stacked upwards (see `slot_cells`), or all at one
 /// place with `--layout overlay`.
@@ -100,6 +79,7 @@ pub fn framing(c: &RopeConfig) -> Framing {
 }
 
 /// Each method's rope in its slot (or overlaid), pins marked and labelled.
+#[derive(Default)]
 pub struct RopeDraw {
     names: Vec<&'static str>,
     offsets: Vec<[f64; 3]>,
@@ -109,15 +89,7 @@ pub struct RopeDraw {
 
 /// A recorder of rope runs.
 pub fn recorder(rec: RecordingStream, timings: bool) -> SceneRecorder<RopeDraw> {
-    SceneRecorder::new(
-        rec,
-        RopeDraw {
-            names: Vec::new(),
-            offsets: Vec::new(),
-            points: Vec::new(),
-        },
-        timings,
-    )
+    SceneRecorder::new(rec, RopeDraw::default(), timings)
 }
 
 /// A point as the viewer takes it (the rope is z up like every scene: drawn as simulated).
@@ -198,15 +170,10 @@ impl Draw<RopeScene> for RopeDraw {
                 })
                 .collect();
             // One label per rope (on its first pinned node), not one per pin.
-            let labels: Vec<String> = (0..pinned.len())
-                .map(|k| {
-                    if k == 0 {
-                        name.to_string()
-                    } else {
-                        String::new()
-                    }
-                })
-                .collect();
+            let mut labels = vec![String::new(); pinned.len()];
+            if let Some(first) = labels.first_mut() {
+                *first = name.to_string();
+            }
             rec.log_static(
                 format!("rope/{name}/pinned"),
                 &rerun::Points3D::new(pinned)

@@ -1,10 +1,8 @@
 //! A study as a recording: its diagrams (log-log PNGs drawn by `crate::diagram`, the scenes'
 //! colours) beside its tables as a rendered markdown document.
 
-use rerun::blueprint::components::PanelState;
 use rerun::blueprint::{
-    Blueprint, BlueprintPanel, ContainerLike, Horizontal, SelectionPanel, Spatial2DView,
-    TextDocumentView, TimePanel, Vertical,
+    Blueprint, ContainerLike, Horizontal, Spatial2DView, TextDocumentView, TimePanel, Vertical,
 };
 
 use super::{Destinations, Recording};
@@ -36,19 +34,14 @@ pub fn record_study(
     // The diagrams (wide pictures) across the top, the tables below; the side and time panels
     // collapsed, since everything is static: the picture gets the window.
     let n = views.len() as f32;
-    let blueprint = Blueprint::new(
-        Vertical::new([
-            Horizontal::new(views).into(),
-            TextDocumentView::new("tables")
-                .with_origin("/study/tables")
-                .into(),
-        ])
-        .with_row_shares([2.0 + n, 2.0]),
-    )
-    .with_auto_views(false)
-    .with_blueprint_panel(BlueprintPanel::new().with_state(PanelState::Collapsed))
-    .with_selection_panel(SelectionPanel::new().with_state(PanelState::Collapsed))
-    .with_time_panel(TimePanel::new().with_state(PanelState::Collapsed));
+    let table_view = TextDocumentView::new("tables").with_origin("/study/tables");
+    let blueprint = super::views::panels_collapsed(
+        Blueprint::new(
+            Vertical::new([Horizontal::new(views).into(), table_view.into()])
+                .with_row_shares([2.0 + n, 2.0]),
+        ),
+        TimePanel::new(),
+    );
     let recording = Recording::create(d, "physlab-study", &format!("study {scene}"), blueprint)?;
     let rec = recording.stream();
     super::send_provenance(rec, &format!("study {scene}"), config, methods)?;

@@ -123,6 +123,29 @@ pub fn all_layout(timings: bool, scenes: &[(&SceneViews, Framing)]) -> Layout {
     props.layout(blueprint)
 }
 
+/// Width / height of the single-scene 3D view above the text panels at 1600×1000 (the left
+/// half, 3/4 of the height), measured on a screenshot.
+const ABOVE_TEXT_ASPECT: f32 = 1.19;
+
+/// A single scene's layout: its 3D view of the methods side by side, framed on `framing`, above
+/// its about text and events, beside its plots.
+pub fn view_above_text(
+    scene: &str,
+    plots: &[(&'static str, &'static str)],
+    timings: bool,
+    framing: Framing,
+    props: &mut ViewProperties,
+) -> Blueprint {
+    let title = format!("{scene}: methods side by side");
+    let view = props.eye(scene_view(scene, &title, &[]), framing, ABOVE_TEXT_ASPECT);
+    let left = Vertical::new([view, Horizontal::new(about_and_events(scene)).into()])
+        .with_row_shares([3.0, 1.0]);
+    scene_blueprint(
+        left,
+        plot_column(scene, &plots_shown(plots, timings), props),
+    )
+}
+
 /// The scene's 3D view: everything under `/<scene>` except its plots, events, about text,
 /// summary and the given subtrees.
 pub fn scene_view(scene: &str, title: &str, exclude: &[&str]) -> Spatial3DView {
@@ -170,13 +193,14 @@ pub fn scene_blueprint(left: Vertical, plots: Vertical) -> Blueprint {
 
 /// No views but the given ones, the panels collapsed, `sim_time` selected.
 fn only_these_views(blueprint: Blueprint) -> Blueprint {
+    panels_collapsed(blueprint, TimePanel::new().with_timeline("sim_time"))
+}
+
+/// No views but the given ones, the panels collapsed (the time panel `time` as it is given).
+pub fn panels_collapsed(blueprint: Blueprint, time: TimePanel) -> Blueprint {
     blueprint
         .with_auto_views(false)
-        .with_time_panel(
-            TimePanel::new()
-                .with_timeline("sim_time")
-                .with_state(PanelState::Collapsed),
-        )
+        .with_time_panel(time.with_state(PanelState::Collapsed))
         .with_blueprint_panel(BlueprintPanel::new().with_state(PanelState::Collapsed))
         .with_selection_panel(SelectionPanel::new().with_state(PanelState::Collapsed))
 }

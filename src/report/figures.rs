@@ -6,7 +6,7 @@
 //! with the code, so no figure can go stale.
 
 use crate::integrate::Method;
-use crate::report::table::Table;
+use crate::report::table::{Table, sci};
 use crate::report::{methods::methods_table, study as study_tables};
 use crate::scene::hair::run::{HairConfig, HairScene};
 use crate::scene::harness::{LaneStats, NoObserver, run};
@@ -32,36 +32,24 @@ pub fn deterministic() -> Vec<Figure> {
         timed: false,
         markdown,
     };
+    let results = |name, markdown| fig(name, "docs/results.md", markdown);
+    let (pendulum, rope) = (Problem::Pendulum(Default::default()), Problem::Rope);
     vec![
-        fig("methods", "docs/results.md", methods_table()),
+        results("methods", methods_table()),
         fig("pendulum-default", "README.md", pendulum_default()),
         fig("rope-default", "README.md", rope_default()),
         fig("hair-default", "README.md", hair_default()),
-        fig(
-            "convergence-pendulum",
-            "docs/results.md",
-            convergence(&Problem::Pendulum(Default::default())),
-        ),
-        fig(
+        results("convergence-pendulum", convergence(&pendulum)),
+        results(
             "convergence-rope-undamped",
-            "docs/results.md",
-            convergence(&Problem::Rope(study::study_rope(false))),
+            convergence(&rope(study::study_rope(false))),
         ),
-        fig(
+        results(
             "convergence-rope-damped",
-            "docs/results.md",
-            convergence(&Problem::Rope(damped_study_rope())),
+            convergence(&rope(damped_study_rope())),
         ),
-        fig(
-            "stability-pendulum",
-            "docs/results.md",
-            stability(&Problem::Pendulum(Default::default())),
-        ),
-        fig(
-            "stability-rope",
-            "docs/results.md",
-            stability(&Problem::Rope(study::study_rope(true))),
-        ),
+        results("stability-pendulum", stability(&pendulum)),
+        results("stability-rope", stability(&rope(study::study_rope(true)))),
     ]
 }
 
@@ -83,10 +71,6 @@ pub fn damped_study_rope() -> crate::scene::rope::RopeParams {
         air_drag: scene.air_drag,
         ..study::study_rope(false)
     }
-}
-
-fn sci(x: f64) -> String {
-    format!("{x:.3e}")
 }
 
 fn diverged(s: &LaneStats) -> String {

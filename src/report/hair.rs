@@ -1,6 +1,6 @@
 //! The hair run's summary table.
 
-use crate::report::table::{Table, plural, sig, trim_number};
+use crate::report::table::{Table, figure, plural, sig, trim_number};
 use crate::scene::hair::run::{HairConfig, HairLane, HairScene};
 use crate::scene::hair::{HairMethod, SPRING_STRETCH_BOUND, SPRING_WAVE_SPEEDS, Solver};
 use crate::scene::harness::{Run, divergence_cell};
@@ -55,14 +55,6 @@ pub fn summary_text(scene: &HairScene, run: &Run<HairLane>) -> String {
         let wall = s.wall.as_secs_f64();
         let fps = s.timed_ticks as f64 / wall.max(1e-12);
         let w = &lane.worst;
-        // A lane that failed its first frame has no figures (not the zeros it started from).
-        let shown = |v: String| {
-            if s.failed_at_once() {
-                "—".to_string()
-            } else {
-                v
-            }
-        };
         table.row([
             s.name.to_string(),
             s.ticks.to_string(),
@@ -70,10 +62,10 @@ pub fn summary_text(scene: &HairScene, run: &Run<HairLane>) -> String {
             format!("{:.3}", wall * 1e3 / s.timed_ticks.max(1) as f64),
             format!("{fps:.0}"),
             sig(fps / c.rate, 3),
-            shown(format!("{:.2e}", w.max_stretch)),
-            shown(format!("{:.1e}", w.max_penetration)),
-            shown(format!("{:.1e}", w.max_root_error)),
-            shown(format!("{:.4e}", w.kinetic_energy)),
+            figure(s, format!("{:.2e}", w.max_stretch)),
+            figure(s, format!("{:.1e}", w.max_penetration)),
+            figure(s, format!("{:.1e}", w.max_root_error)),
+            figure(s, format!("{:.4e}", w.kinetic_energy)),
             divergence_cell(s),
         ]);
     }

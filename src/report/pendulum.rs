@@ -1,6 +1,6 @@
 //! The pendulum run's summary table, as printed on stdout.
 
-use crate::report::table::{ADAPTIVE_STEPS_NOTE, Table, sig, trim_number};
+use crate::report::table::{ADAPTIVE_STEPS_NOTE, Table, figure, sig, trim_number};
 use crate::scene::harness::{Run, Scene as _, divergence_cell};
 use crate::scene::pendulum::run::{PendulumLane, PendulumScene};
 
@@ -85,11 +85,7 @@ pub fn summary_text(scene: &PendulumScene, run: &Run<PendulumLane>) -> String {
             } else {
                 dash()
             },
-            if s.failed_at_once() {
-                dash()
-            } else {
-                format!("{:.3e}", lane.max_energy_error)
-            },
+            figure(s, format!("{:.3e}", lane.max_energy_error)),
             period.map_or_else(|| "— (< 2 crossings)".to_string(), |t| format!("{t:.9}")),
             period_err,
             divergence_cell(s),

@@ -1,7 +1,7 @@
 //! The rope run's summary table, as printed on stdout.
 
 use crate::integrate::{EvalsPerStep, Method};
-use crate::report::table::{ADAPTIVE_STEPS_NOTE, Table, sig, trim_number};
+use crate::report::table::{ADAPTIVE_STEPS_NOTE, Table, figure, sig, trim_number};
 use crate::scene::harness::{Run, Scene as _, divergence_cell};
 use crate::scene::rope::run::{ENERGY_GAIN_BOUND, RopeLane, RopeScene};
 
@@ -102,14 +102,6 @@ pub fn summary_text(scene: &RopeScene, run: &Run<RopeLane>) -> String {
         "diverged",
     ]);
     for (lane, s) in run.lanes.iter().zip(&run.stats) {
-        // A lane that failed its first check has only its starting values: show none.
-        let figure = |text: String| {
-            if s.failed_at_once() {
-                "—".to_string()
-            } else {
-                text
-            }
-        };
         table.row([
             s.name.to_string(),
             cost_per_step(lane.method, p.newton_iterations),
@@ -117,9 +109,12 @@ pub fn summary_text(scene: &RopeScene, run: &Run<RopeLane>) -> String {
             s.counts.evals.to_string(),
             format!("{:.3}", s.wall.as_secs_f64() * 1e3),
             s.ns_per_step().map_or("—".into(), |ns| format!("{ns:.0}")),
-            figure(sig(lane.final_energy, 7)),
-            figure(format!("{:+.3e}", lane.final_energy - scene.initial_energy)),
-            figure(format!("{:.3e}", lane.max_strain)),
+            figure(s, sig(lane.final_energy, 7)),
+            figure(
+                s,
+                format!("{:+.3e}", lane.final_energy - scene.initial_energy),
+            ),
+            figure(s, format!("{:.3e}", lane.max_strain)),
             divergence_cell(s),
         ]);
     }

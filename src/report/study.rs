@@ -3,7 +3,7 @@
 
 use std::fmt::Write as _;
 
-use crate::report::table::Table;
+use crate::report::table::{Table, sci};
 use crate::scene::pendulum::reference::ExactPendulum;
 use crate::scene::rope::RopeParams;
 use crate::study::{
@@ -83,10 +83,6 @@ pub fn stability_header(problem: &Problem, steps: u64) -> String {
     )
 }
 
-fn sci(x: f64) -> String {
-    format!("{x:.3e}")
-}
-
 /// Fitted order per method against theory (the order for velocity-dependent forces when the
 /// problem has them), leaving out errors below `floor`.
 pub fn orders_table(rows: &[Row], floor: f64, velocity_dependent: bool) -> String {
@@ -100,12 +96,7 @@ pub fn orders_table(rows: &[Row], floor: f64, velocity_dependent: bool) -> Strin
     for o in orders(rows, floor) {
         t.row([
             o.method.name().to_string(),
-            if velocity_dependent {
-                o.method.info().order_velocity_dependent
-            } else {
-                o.method.info().order
-            }
-            .to_string(),
+            o.method.info().order_for(velocity_dependent).to_string(),
             o.fitted.map_or("— (fewer than 2 usable rows)".into(), |f| {
                 format!("{f:.3}")
             }),

@@ -1,6 +1,8 @@
 //! Plain-text tables in Markdown pipe syntax, padded so they read well in a terminal and paste
 //! cleanly into a bug report.
 
+use crate::scene::harness::LaneStats;
+
 /// A table under construction: a header row and data rows of the same width.
 pub struct Table {
     header: Vec<String>,
@@ -80,6 +82,21 @@ pub fn sig(x: f64, digits: usize) -> String {
         format!("{x:.decimals$}")
     } else {
         format!("{x:.*e}", digits - 1)
+    }
+}
+
+/// In exponent form with four significant digits.
+pub fn sci(x: f64) -> String {
+    format!("{x:.3e}")
+}
+
+/// A lane's figure, or a dash for a lane that failed its first check: it has only the values
+/// it started from.
+pub fn figure(s: &LaneStats, text: String) -> String {
+    if s.failed_at_once() {
+        "—".into()
+    } else {
+        text
     }
 }
 

@@ -4,6 +4,7 @@
 pub mod hair;
 pub mod harness;
 pub mod m4;
+pub mod params;
 pub mod pendulum;
 pub mod rope;
 
@@ -18,4 +19,21 @@ pub fn choice<T: Copy>(name: &str, choices: &[(&'static str, T)]) -> Result<T, S
             format!("'{name}' is not one of {}", allowed.join(", "))
         })
 }
-pub mod params;
+
+/// `FromStr` for the enums chosen by name from a table `ALL` of (name, value), by [`choice`].
+macro_rules! from_str_by_choice {
+    ($($t:ty),*) => {$(
+        impl std::str::FromStr for $t {
+            type Err = String;
+            fn from_str(s: &str) -> Result<Self, String> {
+                choice(s, &<$t>::ALL)
+            }
+        }
+    )*};
+}
+from_str_by_choice!(
+    hair::Solver,
+    hair::HeadMotion,
+    rope::run::RopeLayout,
+    rope::run::RopePreset
+);

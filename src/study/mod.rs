@@ -18,7 +18,8 @@ mod orders;
 
 pub use limits::{Limit, stability, yoshida4_limit};
 pub use orders::{
-    Order, Proportionality, STALL_BELOW, cheapest, error_floor, orders, proportionality, stalled,
+    Order, Proportionality, STALL_BELOW, cheapest, error_floor, methods_of, orders,
+    proportionality, stalled,
 };
 
 use std::time::Instant;
@@ -193,15 +194,16 @@ fn steps<S: SecondOrderSystem>(it: &mut Integrator, sys: &S, n: u64) -> bool {
     true
 }
 
-/// Steps `method` over the reference's sample times and measures it (`None` when stopped).
+/// One run of a sweep: the method, its step, its options and its steps per sample.
+type Trial = (Method, f64, MethodOptions, u64);
+
+/// Steps the trial's method over the reference's sample times and measures it (`None` when
+/// stopped).
 fn measure<S: SecondOrderSystem>(
     sys: &S,
     start: &(Vec<f64>, Vec<f64>),
-    method: Method,
-    dt: f64,
-    options: MethodOptions,
-    per_sample: u64,
     reference: &[Vec<f64>],
+    (method, dt, options, per_sample): Trial,
 ) -> Option<Measured> {
     let began = Instant::now();
     let mut it = Integrator::new(method, sys, &start.0, &start.1, dt, options);
@@ -350,8 +352,12 @@ impl Sweep {
 
     /// The reference's steps: 8× finer than the finest level.
     pub fn reference_steps(&self) -> f64 {
-        let finest = self.dt0 / 2f64.powi(self.levels as i32 - 1);
-        8.0 * self.duration / finest
+        8.0 * self.duration / self.finest()
+    }
+
+    /// The finest level's step.
+    fn finest(&self) -> f64 {
+        self.dt0 / 2f64.powi(self.levels as i32 - 1)
     }
 
     /// The schedule as its flags say it, for messages.
@@ -380,35 +386,20 @@ pub fn validate_stability_steps(steps: u64) -> Result<(), Invalid> {
 pub fn sweep(problem: &Problem, s: &Sweep) -> (Vec<Row>, f64) {
     let sample_dt = SAMPLE_EVERY as f64 * s.dt0;
     let samples = ((s.duration / sample_dt).round() as usize).max(1);
-    let finest = s.dt0 / 2f64.powi(s.levels as i32 - 1);
-    let Some((reference, reference_error)) = reference(problem, sample_dt, samples, finest) else {
+    let Some((reference, reference_error)) = reference(problem, sample_dt, samples, s.finest())
+    else {
         return (Vec::new(), 0.0);
     };
     let start = problem.start();
     let mut rows = Vec::new();
-    let mut one = |method: Method, dt: f64, per: u64, options: MethodOptions, rtol: Option<f64>| {
+    let mut one = |trial: Trial, rtol: Option<f64>| {
+        let (method, dt, ..) = trial;
         let mut walls = Vec::new();
         let mut result = None;
         for _ in 0..s.repeats.max(1) {
             let Some(m) = (match problem {
-                Problem::Pendulum(p) => measure(
-                    &Pendulum::new(p),
-                    &start,
-                    method,
-                    dt,
-                    options,
-                    per,
-                    &reference,
-                ),
-                Problem::Rope(p) => measure(
-                    &Rope::new(p.clone()),
-                    &start,
-                    method,
-                    dt,
-                    options,
-                    per,
-                    &reference,
-                ),
+                Problem::Pendulum(p) => measure(&Pendulum::new(p), &start, &reference, trial),
+                Problem::Rope(p) => measure(&Rope::new(p.clone()), &start, &reference, trial),
             }) else {
                 return;
             };
@@ -437,10 +428,7 @@ pub fn sweep(problem: &Problem, s: &Sweep) -> (Vec<Row>, f64) {
                     break;
                 }
                 one(
-                    m,
-                    sample_dt,
-                    1,
-                    MethodOptions { rtol, ..s.options },
+                    (m, sample_dt, MethodOptions { rtol, ..s.options }, 1),
                     Some(rtol),
                 );
             }
@@ -450,10 +438,7 @@ pub fn sweep(problem: &Problem, s: &Sweep) -> (Vec<Row>, f64) {
                     break;
                 }
                 one(
-                    m,
-                    s.dt0 / 2f64.powi(k as i32),
-                    SAMPLE_EVERY << k,
-                    s.options,
+                    (m, s.dt0 / 2f64.powi(k as i32), s.options, SAMPLE_EVERY << k),
                     None,
                 );
             }
@@ -484,16 +469,7 @@ mod tests {
             ]
         };
         let mul = |a: M, b: M| -> M {
-            [
-                [
-                    a[0][0] * b[0][0] + a[0][1] * b[1][0],
-                    a[0][0] * b[0][1] + a[0][1] * b[1][1],
-                ],
-                [
-                    a[1][0] * b[0][0] + a[1][1] * b[1][0],
-                    a[1][0] * b[0][1] + a[1][1] * b[1][1],
-                ],
-            ]
+            std::array::from_fn(|i| std::array::from_fn(|j| a[i][0] * b[0][j] + a[i][1] * b[1][j]))
         };
         let w1 = 1.0 / (2.0 - 2f64.cbrt());
         let w0 = 1.0 - 2.0 * w1;

@@ -41,14 +41,19 @@ pub fn error_floor(reference_error: f64) -> f64 {
     (100.0 * reference_error).max(1e-11)
 }
 
-pub fn orders(rows: &[Row], floor: f64) -> Vec<Order> {
+/// The methods of the rows `keep` keeps, in the order they first appear.
+pub fn methods_of(rows: &[Row], keep: impl Fn(&Row) -> bool) -> Vec<Method> {
     let mut methods: Vec<Method> = Vec::new();
-    for r in rows {
-        if r.rtol.is_none() && !methods.contains(&r.method) {
+    for r in rows.iter().filter(|r| keep(r)) {
+        if !methods.contains(&r.method) {
             methods.push(r.method);
         }
     }
     methods
+}
+
+pub fn orders(rows: &[Row], floor: f64) -> Vec<Order> {
+    methods_of(rows, |r| r.rtol.is_none())
         .into_iter()
         .map(|m| {
             let mine: Vec<&Row> = rows
@@ -89,13 +94,7 @@ pub struct Proportionality {
 }
 
 pub fn proportionality(rows: &[Row], floor: f64) -> Vec<Proportionality> {
-    let mut methods: Vec<Method> = Vec::new();
-    for r in rows {
-        if r.rtol.is_some() && !methods.contains(&r.method) {
-            methods.push(r.method);
-        }
-    }
-    methods
+    methods_of(rows, |r| r.rtol.is_some())
         .into_iter()
         .map(|m| {
             let pts: Vec<(f64, f64)> = rows

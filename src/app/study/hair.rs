@@ -3,7 +3,7 @@
 use crate::scene::params::SceneConfig as _;
 use std::fmt::Write as _;
 
-use super::outputs::{check_outputs, report_recording};
+use super::outputs::{check_outputs, interrupted_after, report_recording};
 use crate::cli::StudyArgs;
 
 /// `physlab study hair`: the hair scene's configurations (`study::hair::configurations`) at its
@@ -23,19 +23,7 @@ pub(super) fn hair_study(a: &StudyArgs) -> anyhow::Result<()> {
     // compared; with none, nothing is.
     let interrupted = crate::interrupt::requested();
     let complete = !rows.is_empty();
-    let stopped = || -> anyhow::Error {
-        crate::error::Error::Interrupted(format!(
-            "interrupted: {} of {} configurations complete{}",
-            rows.len(),
-            configs.len(),
-            if complete {
-                "; the tables above (and any --csv and -o files) hold the complete ones"
-            } else {
-                "; nothing was written"
-            }
-        ))
-        .into()
-    };
+    let stopped = || interrupted_after(rows.len(), configs.len(), "configurations", complete);
     if !complete {
         return Err(stopped());
     }
@@ -61,11 +49,7 @@ pub(super) fn hair_study(a: &StudyArgs) -> anyhow::Result<()> {
     ));
     // With `-o -` or `--csv -` standard output carries the file: the tables go to stderr.
     let to_stdout = outputs.to_stdout();
-    if to_stdout {
-        eprint!("{out}");
-    } else {
-        print!("{out}");
-    }
+    crate::output::print_beside(to_stdout, &out);
     if let Some(csv_out) = &outputs.csv {
         csv_out.write(crate::report::hair::trade_csv(&rows).as_bytes())?;
         if !csv_out.is_stdout() {

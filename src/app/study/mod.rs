@@ -39,11 +39,7 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
         StudyKind::Convergence | StudyKind::WorkPrecision => {
             let (rows, reference_error) = sweep(&problem, &sw);
             done = rows.len();
-            let kind = if a.kind == StudyKind::Convergence {
-                "convergence"
-            } else {
-                "work-precision"
-            };
+            let kind = setup::kind_name(a.kind);
             out.push_str(&report::sweep_header(&problem, kind, &sw, reference_error));
             if a.kind == StudyKind::Convergence {
                 out.push_str(&report::orders_table(
@@ -147,11 +143,7 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
     }
     // With `-o -` or `--csv -` standard output carries the file: the tables go to stderr.
     let to_stdout = outputs.to_stdout();
-    if to_stdout {
-        eprint!("{out}");
-    } else {
-        print!("{out}");
-    }
+    crate::output::print_beside(to_stdout, &out);
     if let Some(csv_out) = &outputs.csv
         && complete
     {

@@ -3,23 +3,20 @@
 
 use super::Error;
 use crate::cli::{StudyArgs, StudyKind};
+use crate::integrate::Family;
 use crate::study::Sweep;
 
 /// Where the study's recording went; on stderr when standard output carries a file.
 pub(super) fn report_recording(path: &std::path::Path, bytes: Option<u64>, to_stdout: bool) {
     let line = match bytes {
         Some(bytes) => format!(
-            "\nrecording: {} ({:.2} MB)",
+            "\nrecording: {} ({:.2} MB)\n",
             path.display(),
             bytes as f64 / 1e6
         ),
-        None => "\nrecording written to standard output".into(),
+        None => "\nrecording written to standard output\n".into(),
     };
-    if to_stdout {
-        eprintln!("{line}");
-    } else {
-        println!("{line}");
-    }
+    crate::output::print_beside(to_stdout, &line);
 }
 
 /// What an interrupted study says: how many of its planned runs (or methods' limits) were
@@ -30,32 +27,40 @@ pub(super) fn interrupted_error(
     done: usize,
     complete: bool,
 ) -> anyhow::Error {
-    let planned: usize = match a.kind {
-        StudyKind::Stability => sw.methods.len(),
-        _ => sw
-            .methods
-            .iter()
-            .map(|m| {
-                if m.info().family == crate::integrate::Family::Adaptive {
-                    sw.rtols.len()
-                } else {
-                    sw.levels as usize
-                }
-            })
-            .sum(),
+    let adaptive = |m: &crate::integrate::Method| m.info().family == Family::Adaptive;
+    let (planned, what) = match a.kind {
+        StudyKind::Stability => (sw.methods.len(), "methods' limits"),
+        _ => (
+            (sw.methods.iter())
+                .map(|m| {
+                    if adaptive(m) {
+                        sw.rtols.len()
+                    } else {
+                        sw.levels as usize
+                    }
+                })
+                .sum(),
+            "runs",
+        ),
     };
+    interrupted_after(done, planned, what, complete)
+}
+
+/// What a stopped study says: `done` of the `planned` `what` complete, and whether the complete
+/// ones were written.
+pub(super) fn interrupted_after(
+    done: usize,
+    planned: usize,
+    what: &str,
+    complete: bool,
+) -> anyhow::Error {
     let kept = if complete {
         "; the tables above (and any --csv and -o files) hold the complete ones"
     } else {
         "; nothing was written"
     };
-    crate::error::Error::Interrupted(format!(
-        "interrupted: {done} of {planned} {} complete{kept}",
-        if a.kind == StudyKind::Stability {
-            "methods' limits"
-        } else {
-            "runs"
-        }
+    Error::Interrupted(format!(
+        "interrupted: {done} of {planned} {what} complete{kept}"
     ))
     .into()
 }
@@ -80,7 +85,7 @@ impl Outputs {
 
 pub(super) fn check_outputs(a: &StudyArgs, stems: &[String]) -> anyhow::Result<Outputs> {
     use crate::output::{Dash, check, distinct};
-    use std::path::{Path, PathBuf};
+    use std::path::Path;
     let csv = a
         .csv
         .as_deref()
@@ -90,12 +95,7 @@ pub(super) fn check_outputs(a: &StudyArgs, stems: &[String]) -> anyhow::Result<O
         Some(path) => crate::record::Destinations::output(path).written()?,
         None => None,
     };
-    let beside = |o: &crate::output::Output| {
-        o.target.as_ref().map(|t| match t.parent() {
-            Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-            _ => PathBuf::from("."),
-        })
-    };
+    let beside = |o: &crate::output::Output| o.target.as_deref().map(crate::output::parent_dir);
     if a.plots.as_deref() == Some(Path::new("-")) {
         return Err(Error::Usage(
             "--plots -: standard output is not a folder; --plots names the folder of the diagrams"

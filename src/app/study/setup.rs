@@ -99,10 +99,7 @@ pub(super) fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), E
         }
     };
     // The scene file's schedule and methods apply too: its dt is the coarsest step.
-    let scene_name = match scene {
-        StudyScene::Pendulum => "pendulum",
-        StudyScene::Rope => "rope",
-    };
+    let scene_name = problem.name();
     let from_file = |key: &str| {
         file.table(scene_name)
             .is_some_and(|t| t.contains_key(key))
@@ -118,15 +115,9 @@ pub(super) fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), E
         .unwrap_or_else(|| Method::ALL.to_vec());
     if methods.is_empty() {
         let origin = match &a.config {
-            Some(path) if a.methods.is_none() => format!(
-                "--config {}: [{}] methods = []",
-                path.display(),
-                if scene == StudyScene::Rope {
-                    "rope"
-                } else {
-                    "pendulum"
-                }
-            ),
+            Some(path) if a.methods.is_none() => {
+                format!("--config {}: [{scene_name}] methods = []", path.display())
+            }
             _ => "--methods []".into(),
         };
         return Err(Error::Usage(format!(

@@ -35,13 +35,6 @@ impl HeadMotion {
     ];
 }
 
-impl std::str::FromStr for HeadMotion {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        crate::scene::choice(s, &HeadMotion::ALL)
-    }
-}
-
 /// Length of one motion pulse [s]; a tour is four of them (sway, turn, nod, rest).
 pub const PULSE: f64 = 2.0;
 /// Sway amplitude [head radii], turn amplitude [rad], nod amplitude [rad].

@@ -233,35 +233,32 @@ impl StepContext<'_> {
             Isa::Portable => self.kernel(x, p, v, s, inputs, ftl),
         }
     }
+}
 
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx512f")]
-    unsafe fn kernel_avx512(
-        &self,
-        x: &mut [V3],
-        p: &mut [V3],
-        v: &mut [V3],
-        s: &mut LaneScratch,
-        inputs: &LaneInputs,
-        ftl: bool,
-    ) -> Option<ChunkStats> {
-        self.kernel(x, p, v, s, inputs, ftl)
-    }
+/// [`StepContext::kernel`] compiled with a target feature, under its own name.
+macro_rules! kernel_with {
+    ($name:ident, $feature:literal) => {
+        impl StepContext<'_> {
+            #[cfg(target_arch = "x86_64")]
+            #[target_feature(enable = $feature)]
+            unsafe fn $name(
+                &self,
+                x: &mut [V3],
+                p: &mut [V3],
+                v: &mut [V3],
+                s: &mut LaneScratch,
+                inputs: &LaneInputs,
+                ftl: bool,
+            ) -> Option<ChunkStats> {
+                self.kernel(x, p, v, s, inputs, ftl)
+            }
+        }
+    };
+}
+kernel_with!(kernel_avx512, "avx512f");
+kernel_with!(kernel_avx2, "avx2");
 
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    unsafe fn kernel_avx2(
-        &self,
-        x: &mut [V3],
-        p: &mut [V3],
-        v: &mut [V3],
-        s: &mut LaneScratch,
-        inputs: &LaneInputs,
-        ftl: bool,
-    ) -> Option<ChunkStats> {
-        self.kernel(x, p, v, s, inputs, ftl)
-    }
-
+impl StepContext<'_> {
     /// One step of a chunk of eight strands in place: `x` its positions, `p` the start-of-step
     /// positions (verlet's state, ftl's scratch), `v` ftl's velocities (empty for verlet), one
     /// lane vector per node; their measurements on the last inner step.
@@ -539,14 +536,11 @@ mod tests {
                 hair.step(1.0 / 60.0);
             }
             let s = hair.stats();
-            let bits: Vec<u64> = hair
-                .positions()
-                .iter()
+            (hair.positions().iter())
                 .flat_map(|p| p.to_array())
                 .chain([s.max_stretch, s.max_penetration, s.kinetic_energy])
                 .map(f64::to_bits)
-                .collect();
-            bits
+                .collect::<Vec<u64>>()
         };
         for method in [HairMethod::Verlet, HairMethod::Ftl] {
             let results: Vec<Vec<u64>> = paths

@@ -122,10 +122,3 @@ impl Solver {
         }
     }
 }
-
-impl std::str::FromStr for Solver {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        crate::scene::choice(s, &Solver::ALL)
-    }
-}

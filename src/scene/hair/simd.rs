@@ -132,55 +132,32 @@ pub struct V3 {
     pub z: F8,
 }
 
-impl Add for V3 {
-    type Output = V3;
-    #[inline(always)]
-    fn add(self, o: V3) -> V3 {
-        V3 {
-            x: self.x + o.x,
-            y: self.y + o.y,
-            z: self.z + o.z,
+/// Component by component: `V3 ∘ V3`, or `V3 ∘ F8` with the lane's scalar (as glam's
+/// `DVec3 ∘ f64`).
+macro_rules! componentwise {
+    ($trait:ident, $f:ident, V3, $op:tt) => {
+        impl $trait for V3 {
+            type Output = V3;
+            #[inline(always)]
+            fn $f(self, o: V3) -> V3 {
+                V3 { x: self.x $op o.x, y: self.y $op o.y, z: self.z $op o.z }
+            }
         }
-    }
-}
-
-impl Sub for V3 {
-    type Output = V3;
-    #[inline(always)]
-    fn sub(self, o: V3) -> V3 {
-        V3 {
-            x: self.x - o.x,
-            y: self.y - o.y,
-            z: self.z - o.z,
+    };
+    ($trait:ident, $f:ident, F8, $op:tt) => {
+        impl $trait<F8> for V3 {
+            type Output = V3;
+            #[inline(always)]
+            fn $f(self, s: F8) -> V3 {
+                V3 { x: self.x $op s, y: self.y $op s, z: self.z $op s }
+            }
         }
-    }
+    };
 }
-
-/// Every component times the lane's scalar.
-impl Mul<F8> for V3 {
-    type Output = V3;
-    #[inline(always)]
-    fn mul(self, s: F8) -> V3 {
-        V3 {
-            x: self.x * s,
-            y: self.y * s,
-            z: self.z * s,
-        }
-    }
-}
-
-/// Every component divided by the lane's scalar (as glam's `DVec3 / f64`).
-impl Div<F8> for V3 {
-    type Output = V3;
-    #[inline(always)]
-    fn div(self, s: F8) -> V3 {
-        V3 {
-            x: self.x / s,
-            y: self.y / s,
-            z: self.z / s,
-        }
-    }
-}
+componentwise!(Add, add, V3, +);
+componentwise!(Sub, sub, V3, -);
+componentwise!(Mul, mul, F8, *);
+componentwise!(Div, div, F8, /);
 
 impl V3 {
     #[inline(always)]

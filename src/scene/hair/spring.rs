@@ -20,7 +20,8 @@
 use glam::{DMat3, DVec3};
 
 use super::StepContext;
-use crate::scene::rope::implicit::{Chain, Workspace, backward_euler_step};
+use crate::scene::rope::implicit::{Chain, ChainConstants, Workspace, backward_euler_step};
+use crate::scene::rope::node;
 
 /// Per-thread storage for the implicit solve, made for the strand's size once.
 #[derive(Default)]
@@ -32,14 +33,9 @@ pub struct SpringScratch {
 
 /// One strand as the rope's implicit solve sees it: unit masses, the root pinned.
 struct Strand {
-    nodes: usize,
-    stiffness: f64,
-    spring_damping: f64,
-    rest: f64,
-    drag: f64,
+    c: ChainConstants,
     /// Gravity plus wind [m/s²].
     accel: DVec3,
-    iterations: u32,
     /// The head's centre and the collision radius R(1 + margin): a node inside feels the
     /// contact force k (rc - |x - c|) n inside the solve (a penalty at the springs' stiffness),
     /// so the solve and the collision no longer fight; the push-out after the solve then moves
@@ -55,7 +51,7 @@ impl Strand {
         if i == 0 {
             return None;
         }
-        let r = DVec3::new(x[3 * i], x[3 * i + 1], x[3 * i + 2]) - self.center;
+        let r = node(x, i) - self.center;
         let d = r.length();
         (d < self.collide_radius && d > 0.0).then(|| (self.collide_radius - d, r / d))
     }
@@ -63,32 +59,8 @@ impl Strand {
 
 impl Chain for Strand {
     #[inline]
-    fn nodes(&self) -> usize {
-        self.nodes
-    }
-    #[inline]
-    fn mass(&self) -> f64 {
-        1.0
-    }
-    #[inline]
-    fn stiffness(&self) -> f64 {
-        self.stiffness
-    }
-    #[inline]
-    fn spring_damping(&self) -> f64 {
-        self.spring_damping
-    }
-    #[inline]
-    fn rest(&self) -> f64 {
-        self.rest
-    }
-    #[inline]
-    fn air_drag(&self) -> f64 {
-        self.drag
-    }
-    #[inline]
-    fn newton_iterations(&self) -> u32 {
-        self.iterations
+    fn constants(&self) -> ChainConstants {
+        self.c
     }
     #[inline]
     fn is_pinned(&self, i: usize) -> bool {
@@ -98,53 +70,51 @@ impl Chain for Strand {
         true
     }
     fn merit(&self, x: &[f64], v: &[f64], v0: &[f64], h: f64) -> Option<f64> {
-        let node = |a: &[f64], i: usize| DVec3::new(a[3 * i], a[3 * i + 1], a[3 * i + 2]);
         let mut e = 0.0;
-        for i in 1..self.nodes {
+        for i in 1..self.c.nodes {
             let (xi, vi) = (node(x, i), node(v, i));
             e += 0.5 * (vi - node(v0, i)).length_squared() - self.accel.dot(xi)
-                + h * 0.5 * self.drag * vi.length_squared();
+                + h * 0.5 * self.c.air_drag * vi.length_squared();
             if let Some((depth, _)) = self.contact(x, i) {
-                e += 0.5 * self.stiffness * depth * depth;
+                e += 0.5 * self.c.stiffness * depth * depth;
             }
         }
-        for i in 0..self.nodes - 1 {
+        for i in 0..self.c.nodes - 1 {
             let d = node(x, i + 1) - node(x, i);
             let len = d.length();
-            e += 0.5 * self.stiffness * (len - self.rest) * (len - self.rest);
+            e += 0.5 * self.c.stiffness * (len - self.c.rest) * (len - self.c.rest);
             if len > 0.0 {
                 let dv = (node(v, i + 1) - node(v, i)).dot(d / len);
-                e += h * 0.5 * self.spring_damping * dv * dv;
+                e += h * 0.5 * self.c.spring_damping * dv * dv;
             }
         }
         Some(e)
     }
     fn node_stiffness(&self, x: &[f64], i: usize) -> Option<DMat3> {
         self.contact(x, i).map(|(_, n)| {
-            let c = |a: f64| n * (self.stiffness * a);
+            let c = |a: f64| n * (self.c.stiffness * a);
             DMat3::from_cols(c(n.x), c(n.y), c(n.z))
         })
     }
     fn forces(&self, x: &[f64], v: &[f64], f: &mut [f64]) {
-        let node = |a: &[f64], i: usize| DVec3::new(a[3 * i], a[3 * i + 1], a[3 * i + 2]);
         let mut carried = DVec3::ZERO;
-        for i in 0..self.nodes {
-            let mut fi = self.accel - self.drag * node(v, i) - carried;
-            if i + 1 < self.nodes {
+        for i in 0..self.c.nodes {
+            let mut fi = self.accel - self.c.air_drag * node(v, i) - carried;
+            if i + 1 < self.c.nodes {
                 let fs = spring_force(
                     node(x, i),
                     node(x, i + 1),
                     node(v, i),
                     node(v, i + 1),
-                    self.rest,
-                    self.stiffness,
-                    self.spring_damping,
+                    self.c.rest,
+                    self.c.stiffness,
+                    self.c.spring_damping,
                 );
                 fi += fs;
                 carried = fs;
             }
             if let Some((depth, normal)) = self.contact(x, i) {
-                fi += self.stiffness * depth * normal;
+                fi += self.c.stiffness * depth * normal;
             }
             f[3 * i] = fi.x;
             f[3 * i + 1] = fi.y;
@@ -225,16 +195,20 @@ impl StepContext<'_> {
         let h = self.dt;
         let n = x.len();
         let strand = Strand {
-            nodes: n,
-            stiffness: p.stiffness,
-            // With the spring damping's full x-Jacobian (non-symmetric, kd/ℓ cross terms, h kd ≫ 1
-            // at 60 Hz) the step diverged within 0.3 s on every test scene; the strand asks
-            // for the definite Jacobian, which leaves that term out ([`Chain::definite_jacobian`]).
-            spring_damping: p.spring_damping,
-            rest: p.segment_length,
-            drag: p.damping,
+            c: ChainConstants {
+                nodes: n,
+                mass: 1.0,
+                stiffness: p.stiffness,
+                // With the spring damping's full x-Jacobian (non-symmetric, kd/ℓ cross terms,
+                // h kd ≫ 1 at 60 Hz) the step diverged within 0.3 s on every test scene; the
+                // strand asks for the definite Jacobian, which leaves that term out
+                // ([`Chain::definite_jacobian`]).
+                spring_damping: p.spring_damping,
+                rest: p.segment_length,
+                air_drag: p.damping,
+                newton_iterations: super::IMPLICIT_NEWTON_CAP,
+            },
             accel: p.gravity + p.wind_at(self.time, x[0]),
-            iterations: super::IMPLICIT_NEWTON_CAP,
             center: self.center,
             collide_radius: self.collide_radius,
         };

@@ -19,25 +19,31 @@ use glam::{DMat3, DVec3};
 use super::{Rope, node};
 use crate::integrate::ImplicitSolve;
 
+/// A chain's masses and springs.
+#[derive(Clone, Copy, Debug)]
+pub struct ChainConstants {
+    /// Number of nodes, ≥ 2.
+    pub nodes: usize,
+    /// Mass of every node.
+    pub mass: f64,
+    /// Hooke stiffness of every spring.
+    pub stiffness: f64,
+    /// Damping on the relative velocity along each spring.
+    pub spring_damping: f64,
+    /// Rest length of every spring.
+    pub rest: f64,
+    /// Linear drag: force -drag·v on every node.
+    pub air_drag: f64,
+    /// Newton iterations per step (1 = linearised backward Euler).
+    pub newton_iterations: u32,
+}
+
 /// What the block-tridiagonal backward-Euler solve needs to know about a chain of equal point
 /// masses joined by identical damped springs, with linear drag and some nodes held (their
 /// velocity is kept as given: δv = 0). The rope is one; each hair strand of the force-based hair
 /// methods is another (its root held on the moving head).
 pub trait Chain {
-    /// Number of nodes, ≥ 2.
-    fn nodes(&self) -> usize;
-    /// Mass of every node.
-    fn mass(&self) -> f64;
-    /// Hooke stiffness of every spring.
-    fn stiffness(&self) -> f64;
-    /// Damping on the relative velocity along each spring.
-    fn spring_damping(&self) -> f64;
-    /// Rest length of every spring.
-    fn rest(&self) -> f64;
-    /// Linear drag: force -drag·v on every node.
-    fn air_drag(&self) -> f64;
-    /// Newton iterations per step (1 = linearised backward Euler).
-    fn newton_iterations(&self) -> u32;
+    fn constants(&self) -> ChainConstants;
     fn is_pinned(&self, i: usize) -> bool;
     /// Total force on every node (flat, 3 per node), before pinning.
     fn forces(&self, x: &[f64], v: &[f64], f: &mut [f64]);
@@ -65,32 +71,17 @@ pub trait Chain {
 
 impl Chain for Rope {
     #[inline]
-    fn nodes(&self) -> usize {
-        self.params.nodes
-    }
-    #[inline]
-    fn mass(&self) -> f64 {
-        self.params.mass
-    }
-    #[inline]
-    fn stiffness(&self) -> f64 {
-        self.params.stiffness
-    }
-    #[inline]
-    fn spring_damping(&self) -> f64 {
-        self.params.spring_damping
-    }
-    #[inline]
-    fn rest(&self) -> f64 {
-        Rope::rest(self)
-    }
-    #[inline]
-    fn air_drag(&self) -> f64 {
-        self.params.air_drag
-    }
-    #[inline]
-    fn newton_iterations(&self) -> u32 {
-        self.params.newton_iterations
+    fn constants(&self) -> ChainConstants {
+        let p = &self.params;
+        ChainConstants {
+            nodes: p.nodes,
+            mass: p.mass,
+            stiffness: p.stiffness,
+            spring_damping: p.spring_damping,
+            rest: self.rest,
+            air_drag: p.air_drag,
+            newton_iterations: p.newton_iterations,
+        }
     }
     #[inline]
     fn is_pinned(&self, i: usize) -> bool {
@@ -154,7 +145,13 @@ fn outer(a: DVec3, b: DVec3) -> DMat3 {
 
 /// The spring's force Jacobians at (x, v): ∂F/∂d and ∂F/∂(Δv), F = [ks(ℓ - ℓ0) + kd Δv·u] u.
 #[inline]
-fn spring_jacobians<C: Chain>(rope: &C, x: &[f64], v: &[f64], i: usize) -> (DMat3, DMat3) {
+fn spring_jacobians<C: Chain>(
+    rope: &C,
+    c: &ChainConstants,
+    x: &[f64],
+    v: &[f64],
+    i: usize,
+) -> (DMat3, DMat3) {
     let d = node(x, i + 1) - node(x, i);
     let len = d.length();
     if len == 0.0 {
@@ -165,13 +162,13 @@ fn spring_jacobians<C: Chain>(rope: &C, x: &[f64], v: &[f64], i: usize) -> (DMat
     let transverse = DMat3::IDENTITY - uu;
     let dv = node(v, i + 1) - node(v, i);
     // Hooke: ks [u uᵀ + (1 - ℓ0/ℓ)(I - u uᵀ)].
-    let mut transverse_scale = 1.0 - rope.rest() / len;
+    let mut transverse_scale = 1.0 - c.rest / len;
     if rope.definite_jacobian() {
         transverse_scale = transverse_scale.max(0.0);
     }
-    let hooke = rope.stiffness() * (uu + transverse_scale * transverse);
+    let hooke = c.stiffness * (uu + transverse_scale * transverse);
     // Damping kd (Δv·u) u varies with x through u: kd/ℓ [(Δv·u)(I - u uᵀ) + u ((I - u uᵀ)Δv)ᵀ].
-    let kd = rope.spring_damping();
+    let kd = c.spring_damping;
     // With the definite Jacobian the damping's x-derivative (non-symmetric, and indefinite
     // when the spring shortens) is left out, as cloth solvers do: the system stays symmetric
     // positive definite, and only the Newton direction changes, not the equation solved.
@@ -184,7 +181,7 @@ fn spring_jacobians<C: Chain>(rope: &C, x: &[f64], v: &[f64], i: usize) -> (DMat
 }
 
 /// One backward-Euler step of a chain (the rope, a hair strand) in place (see the module docs).
-/// `ws` must have been made for `rope.nodes()` nodes.
+/// `ws` must have been made for the chain's nodes.
 pub fn backward_euler_step<C: Chain>(
     rope: &C,
     ws: &mut Workspace,
@@ -192,12 +189,11 @@ pub fn backward_euler_step<C: Chain>(
     v: &mut [f64],
     h: f64,
 ) -> ImplicitSolve {
-    let n = rope.nodes();
-    let m = rope.mass();
-    let air_drag = rope.air_drag();
+    let c = rope.constants();
+    let (n, m, air_drag) = (c.nodes, c.mass, c.air_drag);
     ws.x0.copy_from_slice(x);
     ws.v0.copy_from_slice(v);
-    let iterations = rope.newton_iterations().max(1);
+    let iterations = c.newton_iterations.max(1);
     let mut done = 0;
     let mut converged = false;
     let mut last_update = f64::INFINITY;
@@ -207,7 +203,7 @@ pub fn backward_euler_step<C: Chain>(
         // (x0, v0).
         rope.forces(x, v, &mut ws.f);
         for s in 0..n - 1 {
-            let (jx, jv) = spring_jacobians(rope, x, v, s);
+            let (jx, jv) = spring_jacobians(rope, &c, x, v, s);
             ws.jac_x[s] = jx;
             ws.jac_v[s] = jv;
         }

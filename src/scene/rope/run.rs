@@ -59,13 +59,6 @@ impl RopeLayout {
     ];
 }
 
-impl std::str::FromStr for RopeLayout {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        crate::scene::choice(s, &RopeLayout::ALL)
-    }
-}
-
 /// Everything a rope run needs, resolved and validated.
 /// Everything a rope run needs; its serialised form is the scene file's `[rope]` table.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -154,13 +147,6 @@ impl RopePreset {
                 ..RopeConfig::default()
             },
         }
-    }
-}
-
-impl std::str::FromStr for RopePreset {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        crate::scene::choice(s, &RopePreset::ALL)
     }
 }
 
