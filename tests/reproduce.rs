@@ -1104,8 +1104,9 @@ mod ctrl_c {
             })
             .min()
             .unwrap();
+        // (A 200 MB diff takes about a second on a quiet 2-core machine.)
         assert!(
-            whole > Duration::from_millis(1500),
+            whole > Duration::from_millis(700),
             "diff of the large file took only {whole:?}"
         );
         // How long an uninterrupted reproduce takes (it re-runs, then compares): the signals land

@@ -2,7 +2,8 @@
 //! observer.
 
 use super::Schedule;
-use crate::scene::m4::{self, Kept, M4};
+use crate::scene::m4::{self, Kept, M4, Sample};
+use std::collections::VecDeque;
 
 /// Sampled values are handed to the observer in batches of about this many rows: every batch
 /// becomes a chunk in a recording, and small chunks cost more than their data.
@@ -45,8 +46,8 @@ impl SeriesBatch {
     }
 }
 
-/// The rows of both, in step order, a step in both once (the values that need it joined). Both
-/// are in step order.
+/// The rows of both, in step order, a step in both once: each value from the one that needs
+/// it (a row keeps only the values it is needed for). Both are in step order.
 fn merged(a: Kept, b: Kept, width: usize) -> Kept {
     if b.is_empty() {
         return a;
@@ -59,21 +60,33 @@ fn merged(a: Kept, b: Kept, width: usize) -> Kept {
     while i < a.len() || j < b.len() {
         let sa = a.steps.get(i).copied().unwrap_or(u64::MAX);
         let sb = b.steps.get(j).copied().unwrap_or(u64::MAX);
-        if sa <= sb {
-            let both = if sa == sb { b.needed[j] } else { 0 };
-            out.push(
-                sa,
-                &a.values[i * width..(i + 1) * width],
-                a.needed[i] | both,
-            );
+        if sa == sb {
+            let (na, nb) = (a.needed[i], b.needed[j]);
+            let values: Vec<f64> = (0..width)
+                .map(|q| {
+                    if na & (1 << q) != 0 {
+                        row(&a, i, width)[q]
+                    } else {
+                        row(&b, j, width)[q]
+                    }
+                })
+                .collect();
+            out.push(sa, &values, na | nb);
+            (i, j) = (i + 1, j + 1);
+        } else if sa < sb {
+            out.push(sa, row(&a, i, width), a.needed[i]);
             i += 1;
-            j += usize::from(sa == sb);
         } else {
-            out.push(sb, &b.values[j * width..(j + 1) * width], b.needed[j]);
+            out.push(sb, row(&b, j, width), b.needed[j]);
             j += 1;
         }
     }
     out
+}
+
+/// Row `i` of `k`'s values.
+fn row(k: &Kept, i: usize, width: usize) -> &[f64] {
+    &k.values[i * width..(i + 1) * width]
 }
 
 /// Splits off the rows at steps ≥ `step`, keeping those before.
@@ -119,15 +132,17 @@ struct Aggregate {
     m4: M4,
     width: usize,
     windows: Vec<(u64, u64)>,
+    /// The rows sampled since the last [`LaneSeries::settle`]: the M4 aggregate and the
+    /// windows take them in a block, then they join `trailing`.
+    staged: Vec<Sample>,
     /// Window rows not yet merged with their column's rows.
     in_windows: Kept,
-    /// Rows of closed columns, merged, not yet older than the ring.
+    /// Rows of closed columns, merged, not yet older than the trailing rows.
     pending: Kept,
-    /// The last `ring_rows` sampled rows, the oldest at `ring_next` once the ring is full.
-    ring: Vec<u64>,
-    ring_values: Vec<f64>,
-    ring_next: usize,
-    ring_rows: usize,
+    /// The last blocks of sampled rows, at least `last_rows` rows once there are (whole blocks
+    /// are kept, not copied row by row).
+    trailing: VecDeque<Vec<Sample>>,
+    last_rows: usize,
 }
 
 impl LaneSeries {
@@ -145,42 +160,26 @@ impl LaneSeries {
             wanted,
             aggregate: plan.map(|plan| Aggregate {
                 m4: M4::new(schedule.total, m4::MAX_COLUMNS, absent_when_zero)
-                    .expect("MAX_COLUMNS is a valid column count"),
+                    .expect("a scene plots at most m4::MAX_VALUES quantities"),
                 width,
                 windows: plan.windows.clone(),
+                staged: Vec::new(),
                 in_windows: Kept::default(),
                 pending: Kept::default(),
-                ring: Vec::with_capacity(plan.last_rows.max(1)),
-                ring_values: Vec::with_capacity(plan.last_rows.max(1) * width),
-                ring_next: 0,
-                ring_rows: plan.last_rows.max(1),
+                trailing: VecDeque::new(),
+                last_rows: plan.last_rows.max(1),
             }),
         }
     }
 
+    #[inline]
     fn push(&mut self, schedule: &Schedule, step: u64, row: &[f64]) {
         if !self.wanted {
             return;
         }
-        let Some(a) = &mut self.aggregate else {
-            push_row(&mut self.batch, schedule, step, row, WHOLE);
-            return;
-        };
-        a.m4.push(step, row);
-        if a.windows
-            .iter()
-            .any(|&(from, to)| (from..=to).contains(&step))
-        {
-            a.in_windows.push(step, row, WHOLE);
-        }
-        if a.ring.len() < a.ring_rows {
-            a.ring.push(step);
-            a.ring_values.extend_from_slice(row);
-        } else {
-            let i = a.ring_next;
-            a.ring[i] = step;
-            a.ring_values[i * a.width..(i + 1) * a.width].copy_from_slice(row);
-            a.ring_next = (i + 1) % a.ring_rows;
+        match &mut self.aggregate {
+            None => push_row(&mut self.batch, schedule, step, row, WHOLE),
+            Some(a) => a.staged.push((step, m4::row_of(row))),
         }
     }
 
@@ -189,6 +188,7 @@ impl LaneSeries {
         let Some(a) = &mut self.aggregate else {
             return;
         };
+        a.take_staged();
         let closed = a.m4.take_completed();
         if let Some(&last) = closed.steps.last() {
             let later = split_from(&mut a.in_windows, last + 1, a.width);
@@ -196,29 +196,69 @@ impl LaneSeries {
             let pending = std::mem::take(&mut a.pending);
             a.pending = merged(pending, merged(closed, windows, a.width), a.width);
         }
-        let oldest_in_ring = a.ring.get(a.ring_next).copied().unwrap_or(u64::MAX);
-        let later = split_from(&mut a.pending, oldest_in_ring, a.width);
+        let oldest_trailing = a
+            .trailing
+            .front()
+            .and_then(|b| b.first())
+            .map_or(u64::MAX, |r| r.0);
+        let later = split_from(&mut a.pending, oldest_trailing, a.width);
         let done = std::mem::replace(&mut a.pending, later);
         push_rows(&mut self.batch, schedule, &done, a.width);
     }
 
     /// Moves every row still held into the batch: the lane has stopped.
     pub fn finish(&mut self, schedule: &Schedule) {
-        let Some(a) = self.aggregate.take() else {
+        let Some(mut a) = self.aggregate.take() else {
             return;
         };
-        // The ring in step order: from its oldest row on.
-        let (w, oldest) = (a.width, a.ring_next);
-        let mut ring = Kept::default();
-        for i in (oldest..a.ring.len()).chain(0..oldest) {
-            ring.push(a.ring[i], &a.ring_values[i * w..(i + 1) * w], WHOLE);
+        a.take_staged();
+        let w = a.width;
+        let held: usize = a.trailing.iter().map(Vec::len).sum();
+        let mut last = Kept::default();
+        for (step, row) in a
+            .trailing
+            .iter()
+            .flatten()
+            .skip(held.saturating_sub(a.last_rows))
+        {
+            last.push(*step, &row[..w], WHOLE);
         }
         let rest = merged(
             merged(a.pending, a.m4.finish(), w),
-            merged(a.in_windows, ring, w),
+            merged(a.in_windows, last, w),
             w,
         );
         push_rows(&mut self.batch, schedule, &rest, w);
+    }
+}
+
+impl Aggregate {
+    /// Hands the staged rows to the M4 aggregate and the windows, and keeps them as the newest
+    /// trailing block.
+    fn take_staged(&mut self) {
+        if self.staged.is_empty() {
+            return;
+        }
+        let rows = &self.staged;
+        self.m4.push_rows(rows);
+        for &(from, to) in &self.windows {
+            let start = rows.partition_point(|r| r.0 < from);
+            let end = rows.partition_point(|r| r.0 <= to);
+            for (step, row) in &rows[start..end] {
+                self.in_windows.push(*step, &row[..self.width], WHOLE);
+            }
+        }
+        // The oldest block goes once the others hold the last rows; its buffer is reused.
+        let mut spare = Vec::new();
+        let held: usize = self.trailing.iter().map(Vec::len).sum::<usize>() + rows.len();
+        if let Some(oldest) = self.trailing.front()
+            && held - oldest.len() >= self.last_rows
+        {
+            spare = self.trailing.pop_front().expect("a front block");
+            spare.clear();
+        }
+        self.trailing
+            .push_back(std::mem::replace(&mut self.staged, spare));
     }
 }
 
@@ -274,6 +314,7 @@ impl<'a> Sampler<'a> {
     }
 
     /// Records one row: a value per quantity, in [`Scene::quantities`] order.
+    #[inline]
     pub fn push(&mut self, tick: u64, values: &[f64]) {
         self.series.push(self.schedule, tick, values);
     }

@@ -73,40 +73,112 @@ fn first_step_of(index: u32, last_step: u64, columns: u32) -> u64 {
     (u128::from(index) * u128::from(last_step)).div_ceil(u128::from(columns)) as u64
 }
 
-/// What one column keeps of one value while it is open: the slots (of the column's rows) of
-/// its first and last present value, its smallest and largest non-NaN value (the earliest on
-/// ties) and its first NaN, [`NONE`] until there is one; and the smallest and largest values.
-#[derive(Clone, Copy, Debug)]
+/// What one column keeps of one value while it is open: its first and last present point, its
+/// smallest and largest non-NaN value (the earliest on ties) and the step of its first NaN.
+#[derive(Clone, Copy, Debug, Default)]
 struct Extremes {
-    first: usize,
-    last: usize,
-    min: usize,
-    max: usize,
-    nan: usize,
-    lo: f64,
-    hi: f64,
+    first: Option<Point>,
+    last: Option<Point>,
+    min: Option<Point>,
+    max: Option<Point>,
+    nan: Option<u64>,
 }
 
-/// No slot yet.
-const NONE: usize = usize::MAX;
+impl Extremes {
+    /// Takes in the block's extremes `lo` and `hi` of value `q` of consecutive rows whose values
+    /// q are all present and not NaN, looking up where they are only when they beat the
+    /// column's.
+    fn add_plain(&mut self, rows: &[Sample], q: usize, lo: f64, hi: f64) {
+        let point = |k: usize| Point {
+            step: rows[k].0,
+            value: rows[k].1[q],
+        };
+        self.first.get_or_insert(point(0));
+        self.last = Some(point(rows.len() - 1));
+        let new_min = self.min.is_none_or(|m| lo < m.value);
+        let new_max = self.max.is_none_or(|m| hi > m.value);
+        if !(new_min || new_max) {
+            return;
+        }
+        // Where the new extremes first are, in one scan that stops once it has them.
+        let (mut lo_at, mut hi_at) = (None, None);
+        for (k, row) in rows.iter().enumerate() {
+            let v = row.1[q];
+            if new_min && lo_at.is_none() && v == lo {
+                lo_at = Some(k);
+            }
+            if new_max && hi_at.is_none() && v == hi {
+                hi_at = Some(k);
+            }
+            if (lo_at.is_some() || !new_min) && (hi_at.is_some() || !new_max) {
+                break;
+            }
+        }
+        if new_min {
+            self.min = Some(point(lo_at.expect("an extreme is a value")));
+        }
+        if new_max {
+            self.max = Some(point(hi_at.expect("an extreme is a value")));
+        }
+    }
 
-impl Default for Extremes {
-    fn default() -> Self {
-        Extremes {
-            first: NONE,
-            last: NONE,
-            min: NONE,
-            max: NONE,
-            nan: NONE,
-            lo: 0.0,
-            hi: 0.0,
+    /// Takes in value `q` of consecutive rows, whatever they are: zeros that are absent, NaNs.
+    fn add_any(&mut self, rows: &[Sample], q: usize, absent_when_zero: bool) {
+        const NO: usize = usize::MAX;
+        let (mut first, mut last, mut nan) = (NO, NO, NO);
+        let (mut lo, mut lo_at, mut hi, mut hi_at) = (f64::INFINITY, NO, f64::NEG_INFINITY, NO);
+        for (k, row) in rows.iter().enumerate() {
+            let v = row.1[q];
+            if absent_when_zero && v == 0.0 {
+                continue;
+            }
+            first = first.min(k);
+            last = k;
+            if v < lo {
+                (lo, lo_at) = (v, k);
+            }
+            if v > hi {
+                (hi, hi_at) = (v, k);
+            }
+            if v.is_nan() && nan == NO {
+                nan = k;
+            }
+        }
+        if last == NO {
+            return;
+        }
+        // Only +∞ (or only −∞) is never below (above) the start: its first one is the extreme.
+        let present_not_nan = |k: &usize| {
+            let v = rows[*k].1[q];
+            !(v.is_nan() || absent_when_zero && v == 0.0)
+        };
+        if lo_at == NO {
+            lo_at = (first..=last).find(present_not_nan).unwrap_or(NO);
+        }
+        if hi_at == NO {
+            hi_at = (first..=last).find(present_not_nan).unwrap_or(NO);
+        }
+        let point = |k: usize| Point {
+            step: rows[k].0,
+            value: rows[k].1[q],
+        };
+        self.first.get_or_insert(point(first));
+        self.last = Some(point(last));
+        if lo_at != NO && self.min.is_none_or(|m| point(lo_at).value < m.value) {
+            self.min = Some(point(lo_at));
+        }
+        if hi_at != NO && self.max.is_none_or(|m| point(hi_at).value > m.value) {
+            self.max = Some(point(hi_at));
+        }
+        if nan != NO && self.nan.is_none() {
+            self.nan = Some(rows[nan].0);
         }
     }
 }
 
 /// Rows kept, flat: row i is at `steps[i]`, its values are `values[i·width..(i+1)·width]`, and
-/// bit q of `needed[i]` says whether value q's plot needs it (a row kept for one value's
-/// extreme is a true point of every other value too, but they can leave it out).
+/// bit q of `needed[i]` says whether value q's plot needs it. Only the values a row is needed
+/// for are kept; the others are NaN there and must not be drawn.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Kept {
     pub steps: Vec<u64>,
@@ -130,33 +202,59 @@ impl Kept {
     }
 }
 
-/// The rows of one M4 column: the column's first and last row, and for every value the rows of
-/// its [`Extremes`]. A slot is a copy of a row, `width + 1` numbers (the step, as f64 bits, then
-/// the values). A value's first and last present rows are the column's own when the value is
-/// present there (always, for a value never absent), so a row is copied per step only into the
-/// column's last slot, and into a value's own slots when it sets an extreme, first appears after
-/// the column's first row, or is present in the last row as the next one leaves it absent.
+/// The rows of one M4 column: its first and last row whole, and what each value keeps
+/// ([`Extremes`]). A value's points are kept as that value alone, so a step that sets an extreme
+/// costs one (step, value) pair, not a copy of the row; the whole rows stand for every value's
+/// first and last point that falls on them.
 #[derive(Clone, Debug)]
 struct Open {
     index: u32,
-    slots: Vec<f64>,
-    /// Whether the column has its first row.
-    started: bool,
+    first: Option<(u64, Row)>,
+    last: (u64, Row),
     extremes: Vec<Extremes>,
 }
 
-/// Slots of an open column: 0 its first row, 1 its last, then five per value (its first and
-/// last present rows when they are not the column's, its minimum, maximum and first NaN).
-const FIRST: usize = 0;
-const LAST: usize = 1;
+/// Values per row at most: a row is a fixed-size array, so that keeping one is a move the
+/// compiler writes out, not a call.
+pub const MAX_VALUES: usize = 8;
+
+/// One row's values, padded with zeros past its width.
+pub type Row = [f64; MAX_VALUES];
+
+/// A row and its step.
+pub type Sample = (u64, Row);
+
+/// A row of `values.len()` ≤ [`MAX_VALUES`] values as a [`Row`].
+#[inline]
+pub fn row_of(values: &[f64]) -> Row {
+    std::array::from_fn(|q| values.get(q).copied().unwrap_or(0.0))
+}
+
+/// Per value q < W of the rows: the smallest and largest value, and whether any is NaN or an
+/// absent zero (then the two are meaningless).
+fn extremes_of<const W: usize>(
+    rows: &[Sample],
+    absent: &[bool; MAX_VALUES],
+) -> (Row, Row, [bool; MAX_VALUES]) {
+    let (mut lo, mut hi) = ([f64::INFINITY; MAX_VALUES], [f64::NEG_INFINITY; MAX_VALUES]);
+    let mut odd = [false; MAX_VALUES];
+    for (_, row) in rows {
+        for q in 0..W {
+            let v = row[q];
+            lo[q] = if v < lo[q] { v } else { lo[q] };
+            hi[q] = if v > hi[q] { v } else { hi[q] };
+            odd[q] |= v.is_nan() | (absent[q] & (v == 0.0));
+        }
+    }
+    (lo, hi, odd)
+}
 
 impl Open {
     fn new(width: usize) -> Self {
-        let slots = 2 + 5 * width;
         Open {
             index: 0,
-            slots: vec![0.0; slots * (width + 1)],
-            started: false,
+            first: None,
+            last: (0, [0.0; MAX_VALUES]),
             extremes: vec![Extremes::default(); width],
         }
     }
@@ -167,88 +265,81 @@ impl Open {
 
     fn reset(&mut self, index: u32) {
         self.index = index;
-        self.started = false;
+        self.first = None;
         self.extremes.fill(Extremes::default());
     }
 
-    fn add(&mut self, step: u64, row: &[f64], absent: &[bool]) {
-        let w = self.width() + 1;
-        let Open {
-            slots,
-            started,
-            extremes,
-            ..
-        } = self;
-        let store = |slots: &mut [f64], slot: usize| {
-            let s = &mut slots[slot * w..(slot + 1) * w];
-            s[0] = f64::from_bits(step);
-            s[1..].copy_from_slice(row);
+    /// Takes in consecutive rows of this column. One pass over the rows finds every value's
+    /// extremes at once (a row is a fixed-size array, so the pass is a few vector
+    /// instructions per row) and which values are not plain (a NaN, or an absent zero); only
+    /// those take the slower way.
+    fn add(&mut self, rows: &[Sample], absent: &[bool; MAX_VALUES]) {
+        // The pass over the values the rows have, not all MAX_VALUES.
+        let (lo, hi, odd) = match self.width() {
+            0..=2 => extremes_of::<2>(rows, absent),
+            3..=4 => extremes_of::<4>(rows, absent),
+            5..=6 => extremes_of::<6>(rows, absent),
+            _ => extremes_of::<MAX_VALUES>(rows, absent),
         };
-        let starts = !*started;
-        if starts {
-            store(slots, FIRST);
-            *started = true;
-        }
-        for (q, ((&v, &absent), e)) in row.iter().zip(absent).zip(extremes.iter_mut()).enumerate() {
-            // Slots of value q: first, last, min, max, NaN.
-            let base = 2 + 5 * q;
-            if absent && v == 0.0 {
-                // The last row, about to be overwritten, may be this value's last present one.
-                if e.last == LAST {
-                    slots.copy_within(LAST * w..(LAST + 1) * w, (base + 1) * w);
-                    e.last = base + 1;
-                }
-                continue;
-            }
-            if e.first == NONE {
-                e.first = if starts {
-                    FIRST
-                } else {
-                    store(slots, base);
-                    base
-                };
-            }
-            e.last = LAST;
-            if v.is_nan() {
-                if e.nan == NONE {
-                    store(slots, base + 4);
-                    e.nan = base + 4;
-                }
-                continue;
-            }
-            if e.min == NONE || v < e.lo {
-                store(slots, base + 2);
-                (e.min, e.lo) = (base + 2, v);
-            }
-            if e.max == NONE || v > e.hi {
-                store(slots, base + 3);
-                (e.max, e.hi) = (base + 3, v);
+        self.first.get_or_insert(rows[0]);
+        for (q, e) in self.extremes.iter_mut().enumerate() {
+            if odd[q] {
+                e.add_any(rows, q, absent[q]);
+            } else {
+                e.add_plain(rows, q, lo[q], hi[q]);
             }
         }
-        store(slots, LAST);
+        self.last = rows[rows.len() - 1];
     }
 
-    /// Appends the kept rows in step order, each once, with the values that need them.
+    /// Appends the kept rows in step order, each once, with the values that need them; a
+    /// value a row is not kept for is NaN there.
     fn close(&self, out: &mut Kept) {
-        let w = self.width() + 1;
-        let mut needed = vec![0u64; 2 + 5 * self.width()];
+        let Some(first) = &self.first else {
+            return;
+        };
+        let w = self.width();
+        let (mut from_first, mut from_last) = (0u64, 0u64);
+        let mut points: Vec<(u64, usize, f64)> = Vec::with_capacity(5 * w);
         for (q, e) in self.extremes.iter().enumerate() {
-            for slot in [e.first, e.last, e.min, e.max, e.nan] {
-                if slot != NONE {
-                    needed[slot] |= 1 << q;
-                }
+            let own = |p: &Point| (p.step, q, p.value);
+            match e.first {
+                Some(p) if p.step == first.0 => from_first |= 1 << q,
+                Some(p) => points.push(own(&p)),
+                None => {}
             }
+            match e.last {
+                Some(p) if p.step == self.last.0 => from_last |= 1 << q,
+                Some(p) => points.push(own(&p)),
+                None => {}
+            }
+            points.extend(e.min.iter().chain(&e.max).map(own));
+            points.extend(e.nan.map(|step| (step, q, f64::NAN)));
         }
-        let mut kept: Vec<(u64, usize)> = (0..needed.len())
-            .filter(|&s| needed[s] != 0)
-            .map(|s| (self.slots[s * w].to_bits(), s))
+        let whole = [(first, from_first), (&self.last, from_last)];
+        let mut rows: Vec<(u64, Row, u64)> = whole
+            .iter()
+            .filter(|(_, needed)| *needed != 0)
+            .map(|((step, row), needed)| (*step, *row, *needed))
             .collect();
-        kept.sort_unstable();
-        for (step, s) in kept {
+        rows.extend(points.iter().map(|&(step, q, value)| {
+            let mut row = [f64::NAN; MAX_VALUES];
+            row[q] = value;
+            (step, row, 1 << q)
+        }));
+        rows.sort_by_key(|r| r.0);
+        for (step, row, needed) in rows {
             if out.steps.last() == Some(&step) {
-                *out.needed.last_mut().expect("a row per step") |= needed[s];
+                let at = out.len() - 1;
+                let kept = &mut out.values[at * w..(at + 1) * w];
+                for (q, (k, v)) in kept.iter_mut().zip(&row).enumerate() {
+                    if needed & (1 << q) != 0 {
+                        *k = *v;
+                    }
+                }
+                out.needed[at] |= needed;
             } else {
-                out.push(step, &self.slots[s * w + 1..(s + 1) * w], needed[s]);
+                out.push(step, &row[..w], needed);
             }
         }
     }
@@ -265,7 +356,8 @@ impl Open {
 pub struct M4 {
     last_step: u64,
     columns: u32,
-    absent: Vec<bool>,
+    width: usize,
+    absent: [bool; MAX_VALUES],
     open: Open,
     is_open: bool,
     next_column_at: u64,
@@ -275,24 +367,25 @@ pub struct M4 {
 
 impl M4 {
     /// An empty aggregate of rows of `absent_when_zero.len()` values over steps 0..=`last_step`
-    /// in `columns` columns; an error unless 1 ≤ columns ≤ [`MAX_COLUMNS`] and 1 ≤ width ≤ 63
-    /// (bit 63 of [`Kept::needed`] is left to the caller).
+    /// in `columns` columns; an error unless 1 ≤ columns ≤ [`MAX_COLUMNS`] and
+    /// 1 ≤ width ≤ [`MAX_VALUES`] (so bit 63 of [`Kept::needed`] is left to the caller).
     pub fn new(last_step: u64, columns: u32, absent_when_zero: &[bool]) -> Result<Self, String> {
         if !(1..=MAX_COLUMNS).contains(&columns) {
             return Err(format!(
                 "M4 columns must be from 1 to {MAX_COLUMNS}, got {columns}"
             ));
         }
-        if !(1..=63).contains(&absent_when_zero.len()) {
+        if !(1..=MAX_VALUES).contains(&absent_when_zero.len()) {
             return Err(format!(
-                "M4 rows must have from 1 to 63 values, got {}",
+                "M4 rows must have from 1 to {MAX_VALUES} values, got {}",
                 absent_when_zero.len()
             ));
         }
         Ok(M4 {
             last_step,
             columns,
-            absent: absent_when_zero.to_vec(),
+            width: absent_when_zero.len(),
+            absent: std::array::from_fn(|q| absent_when_zero.get(q) == Some(&true)),
             open: Open::new(absent_when_zero.len()),
             is_open: false,
             next_column_at: 0,
@@ -308,26 +401,41 @@ impl M4 {
     /// Adds the row at `step`. Steps come in increasing order and at most N (a lane that stops
     /// early simply stops pushing; steps may be skipped). Panics otherwise: that is a bug in the
     /// caller, not input.
-    pub fn push(&mut self, step: u64, row: &[f64]) {
+    pub fn push(&mut self, step: u64, values: &[f64]) {
+        assert_eq!(values.len(), self.width, "M4 rows have a fixed width");
+        self.push_rows(&[(step, row_of(values))]);
+    }
+
+    /// Adds rows (values past the width are ignored), by the same rules as [`M4::push`].
+    pub fn push_rows(&mut self, rows: &[Sample]) {
         assert!(
-            step <= self.last_step
-                && self.previous_step.is_none_or(|s| step > s)
-                && row.len() == self.absent.len(),
-            "M4 steps must increase within 0..={}: {step} after {:?}",
+            rows.windows(2).all(|w| w[0].0 < w[1].0)
+                && rows
+                    .first()
+                    .is_none_or(|r| self.previous_step.is_none_or(|p| r.0 > p))
+                && rows.last().is_none_or(|r| r.0 <= self.last_step),
+            "M4 steps must increase within 0..={}: {:?} after {:?}",
             self.last_step,
+            rows.first().map(|r| r.0),
             self.previous_step
         );
-        self.previous_step = Some(step);
-        if step >= self.next_column_at || !self.is_open {
-            let index = column(step, self.last_step, self.columns);
-            if self.is_open {
-                self.open.close(&mut self.completed);
+        let mut i = 0;
+        while i < rows.len() {
+            let step = rows[i].0;
+            if step >= self.next_column_at || !self.is_open {
+                let index = column(step, self.last_step, self.columns);
+                if self.is_open {
+                    self.open.close(&mut self.completed);
+                }
+                self.open.reset(index);
+                self.is_open = true;
+                self.next_column_at = first_step_of(index + 1, self.last_step, self.columns);
             }
-            self.open.reset(index);
-            self.is_open = true;
-            self.next_column_at = first_step_of(index + 1, self.last_step, self.columns);
+            let end = i + rows[i..].partition_point(|r| r.0 < self.next_column_at);
+            self.open.add(&rows[i..end], &self.absent);
+            i = end;
         }
-        self.open.add(step, row, &self.absent);
+        self.previous_step = rows.last().map(|r| r.0).or(self.previous_step);
     }
 
     /// The rows of the columns closed so far, in step order, handed over and forgotten.
