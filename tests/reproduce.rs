@@ -910,10 +910,11 @@ mod readers {
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
-    /// `reproduce` streams the files: reproducing a 12 MB recording takes less than 3 MB more
-    /// resident memory than the run it repeats takes on its own (a run's own peak varies by about
-    /// 1 MB). What `diff` and `reproduce` hold while comparing is measured exactly, on the heap, in
-    /// `tests/stream_memory.rs`.
+    /// `reproduce` streams the files: reproducing a 29 MB recording takes less than 3 MB more
+    /// resident memory than the run it repeats takes on its own. A run's own peak varies by
+    /// 10 MB and more from one try to the next (how many chunks Rerun's batcher holds when the
+    /// peak comes), so each side is the least of three tries. What `diff` and `reproduce` hold
+    /// while comparing is measured exactly, on the heap, in `tests/stream_memory.rs`.
     #[test]
     fn reproduce_memory_does_not_grow_with_the_file() {
         let dir = scratch_dir("streamed-memory");
@@ -921,7 +922,13 @@ mod readers {
         record_pendulum(&large, "1e-4", "60");
         let size = std::fs::metadata(&large).unwrap().len();
         assert!(size > 10_000_000, "{size} B");
-        let run = peak_memory(&[
+        let again = dir.join("again.rrd");
+        let least = |args: &[&str]| {
+            (0..3)
+                .map(|_| peak_memory(args))
+                .fold(f64::INFINITY, f64::min)
+        };
+        let run = least(&[
             "pendulum",
             "-q",
             "--dt",
@@ -931,12 +938,12 @@ mod readers {
             "--duration",
             "60",
             "-o",
-            s(&dir.join("again.rrd")),
+            s(&again),
         ]);
-        let reproduce = peak_memory(&["reproduce", s(&large)]);
+        let reproduce = least(&["reproduce", s(&large)]);
         assert!(
             reproduce - run < 3e6,
-            "reproduce: {reproduce:.3e} B, the run alone {run:.3e} B"
+            "reproduce: {reproduce:.3e} B, the run alone {run:.3e} B, the file {size} B"
         );
     }
 

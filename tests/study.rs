@@ -399,11 +399,14 @@ mod hair {
 
     /// `physlab study hair`: every configuration measured, the CSV written with
     /// one row each, the direct solver and ftl within 1e-6 and one Gauss–Seidel sweep not within
-    /// 1e-1 (the chain cannot carry a correction from tip to root in one sweep).
+    /// 1e-1 (the chain cannot carry a correction from tip to root in one sweep); the trade
+    /// diagram written beside the CSV, a series named per family of configurations, and into the
+    /// recording.
     #[test]
     fn study_hair_measures_the_trade() {
         let dir = scratch_dir("study-hair");
         let csv = dir.join("hair.csv");
+        let rrd = dir.join("hair.rrd");
         let (code, stdout, stderr) = physlab(&[
             "study",
             "hair",
@@ -411,6 +414,8 @@ mod hair {
             "0.25",
             "--csv",
             csv.to_str().unwrap(),
+            "-o",
+            rrd.to_str().unwrap(),
         ]);
         assert_eq!(code, 0, "{stderr}");
         assert!(stdout.contains("cheapest configuration"), "{stdout}");
@@ -431,6 +436,23 @@ mod hair {
         assert!(stretch("verlet", "direct", "2", "1") < 1e-6);
         assert!(stretch("ftl", "", "1", "1") < 1e-6);
         assert!(stretch("verlet", "gauss-seidel", "1", "1") > 1e-1);
+        assert!(dir.join("hair-trade.png").is_file(), "{stderr}");
+        let svg = std::fs::read_to_string(dir.join("hair-trade.svg")).unwrap();
+        for family in [
+            "verlet gauss-seidel, 1 substep, over sweeps",
+            "verlet gauss-seidel, 8 substeps, over sweeps",
+            "verlet direct, over Newton steps",
+            "semi-implicit-euler, over k/m",
+            "implicit-euler k/m = 4e8, over substeps",
+            "wall time per frame [ms]",
+        ] {
+            // (The legend wraps long names at a space.)
+            let words: Vec<&str> = family.split(' ').collect();
+            assert!(words.iter().all(|w| svg.contains(w)), "{family} not in the diagram");
+        }
+        let (code, inspected, err) = physlab(&["inspect", rrd.to_str().unwrap()]);
+        assert_eq!(code, 0, "{err}");
+        assert!(inspected.contains("/study/diagrams/0"), "{inspected}");
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -209,8 +209,8 @@ fn long_run_notice(
         format!(" and writes about {} to its recording", size_text(b))
     });
     Some(format!(
-        "{label}: this scene takes about {}{size} in all ({how}, at {:.2} % of its simulated \
-         time); Ctrl-C stops it and keeps what is recorded",
+        "{label}: this takes about {}{size} in all ({how}, at {:.2} % of its way); Ctrl-C \
+         stops it and keeps what is done",
         duration_text(seconds),
         100.0 * done
     ))

@@ -276,7 +276,7 @@ pub struct StudyArgs {
     #[arg(long, value_name = "DIR")]
     pub plots: Option<PathBuf>,
 
-    /// No progress output (accepted like every command's -q; the study prints only its tables)
+    /// No progress bar or long-run notice (the study prints only its tables)
     #[arg(short, long)]
     pub quiet: bool,
 }

@@ -1,14 +1,16 @@
-//! The three diagrams: work-precision, convergence and stability, each from a study's rows.
+//! The diagrams: work-precision, convergence, stability and the hair trade, each from a
+//! study's rows.
 
 use super::{
-    BACKGROUND, Content, Diagram, FAINT, FONT, GRID, INK, LEGEND_WIDTH, PANEL, Panel, Res, Ticks,
-    decade_label, decades, draw_legend, draw_panel, label_of, marker,
+    BACKGROUND, Content, Diagram, FAINT, FONT, GRID, INK, Key, LEGEND_WIDTH, PANEL, Panel, Res,
+    Ticks, decade_label, decades, draw_legend, draw_panel, label_of, marker,
 };
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use crate::integrate::Method;
+use crate::study::hair::HairRow;
 use crate::study::{Limit, Row, methods_of};
 
 /// What the error is, with its unit, for a scene.
@@ -27,14 +29,14 @@ pub(super) fn runs(rows: &[Row], m: Method) -> Vec<&Row> {
 }
 
 /// Per method, its runs' (x, error), x given by `x`.
-fn series(rows: &[Row], methods: &[Method], x: fn(&Row) -> f64) -> Vec<(Method, Vec<(f64, f64)>)> {
+fn series(rows: &[Row], methods: &[Method], x: fn(&Row) -> f64) -> Vec<(Key, Vec<(f64, f64)>)> {
     let of = |m| {
         runs(rows, m)
             .iter()
             .map(|r| (x(r), r.error.unwrap_or(0.0)))
             .collect()
     };
-    methods.iter().map(|&m| (m, of(m))).collect()
+    methods.iter().map(|&m| (Key::of(m), of(m))).collect()
 }
 
 /// Work-precision: error against median wall time (left) and against force evaluations
@@ -103,7 +105,7 @@ where
     }
     draw_legend(
         &legend,
-        &methods,
+        &methods.iter().map(|&m| Key::of(m)).collect::<Vec<_>>(),
         &[
             format!("{scene}: lower left is better."),
             format!("dashed: the reference's error floor {floor:.0e}."),
@@ -202,7 +204,7 @@ where
     )?;
     draw_legend(
         &legend,
-        &methods,
+        &methods.iter().map(|&m| Key::of(m)).collect::<Vec<_>>(),
         &[
             "dashed slopes: dtᵖ for each theoretical order p, a quarter below that order's lowest curve."
                 .to_string(),
@@ -313,7 +315,7 @@ where
         };
         if let Some(d) = measured {
             chart.draw_series(std::iter::once(
-                EmptyElement::at((d.log10(), yv)) + marker(*m, 7.0),
+                EmptyElement::at((d.log10(), yv)) + marker(&Key::of(*m), 7.0),
             ))?;
         }
         if let Some(text) = said {
@@ -329,11 +331,115 @@ where
     }
     draw_legend(
         &legend,
-        &limits.iter().map(|l| l.0).collect::<Vec<_>>(),
+        &limits.iter().map(|l| Key::of(l.0)).collect::<Vec<_>>(),
         &[
             "marker: measured largest stable dt (bisection; for unconditionally stable methods the largest tried)."
                 .to_string(),
             "cross: theory, limit h / ω on the linearised problem.".to_string(),
+        ],
+    )
+}
+
+/// The hair trade: largest stretch over the run against wall time per frame, one series per
+/// family of configurations (a solver at fixed substeps over its iterations, a spring method
+/// over its stiffness or substeps), each point a configuration of the table.
+pub fn hair_trade(rows: &[HairRow], note: &str) -> Diagram {
+    Diagram {
+        stem: "hair-trade".to_string(),
+        title: "hair trade".to_string(),
+        size: (1500, 900),
+        content: Content::HairTrade {
+            rows: rows.to_vec(),
+            note: note.to_string(),
+        },
+    }
+}
+
+/// The family a hair configuration belongs to: what stays fixed along its series.
+fn hair_family(r: &HairRow) -> String {
+    let method = r.method.name();
+    match (r.solver, r.stiffness) {
+        (Some(crate::scene::hair::Solver::GaussSeidel), _) => format!(
+            "{method} gauss-seidel, {} substep{}, over sweeps",
+            r.substeps,
+            if r.substeps == 1 { "" } else { "s" }
+        ),
+        (Some(s), _) => format!("{method} {}, over Newton steps", s.name()),
+        (None, Some(k)) if r.method == crate::scene::hair::HairMethod::ImplicitEuler => {
+            format!("{method} k/m = {k:.0e}, over substeps")
+        }
+        (None, Some(_)) => format!("{method}, over k/m"),
+        (None, None) => method.to_string(),
+    }
+}
+
+pub(super) fn hair_trade_on<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    rows: &[HairRow],
+    note: &str,
+) -> Res
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&BACKGROUND)?;
+    let (body, legend) = root.split_horizontally(root.dim_in_pixel().0 - LEGEND_WIDTH - 150);
+    let mut families: Vec<(String, crate::scene::hair::HairMethod)> = Vec::new();
+    for r in rows {
+        let f = hair_family(r);
+        if !families.iter().any(|(g, _)| *g == f) {
+            families.push((f, r.method));
+        }
+    }
+    // A method's colour, lighter for each further family of the same method.
+    let keys: Vec<Key> = families
+        .iter()
+        .enumerate()
+        .map(|(i, (family, method))| {
+            let earlier = families[..i].iter().filter(|(_, m)| m == method).count();
+            let share = (0.2 * earlier as f64).min(0.8);
+            let lighter = |c: u8| (f64::from(c) + f64::from(255 - c) * share) as u8;
+            let [r, g, b] = crate::palette::method_color(method.name());
+            Key {
+                name: family.clone(),
+                color: RGBColor(lighter(r), lighter(g), lighter(b)),
+                shape: i,
+            }
+        })
+        .collect();
+    let series: Vec<(Key, Vec<(f64, f64)>)> = keys
+        .iter()
+        .map(|key| {
+            let points = rows
+                .iter()
+                .filter(|row| hair_family(row) == key.name)
+                .filter_map(|row| row.stretch.map(|s| (row.ms_per_frame, s)))
+                .collect();
+            (key.clone(), points)
+        })
+        .collect();
+    let plotted = || series.iter().flat_map(|(_, p)| p.iter().copied());
+    let x = decades(plotted().map(|(x, _)| x));
+    let y = decades(plotted().map(|(_, y)| y).chain([1e-16]));
+    draw_panel(
+        &body.margin(6, 6, 6, 6),
+        &Panel {
+            title: "hair: largest stretch against cost per frame",
+            x_desc: "wall time per frame [ms]",
+            y_desc: "max stretch |ℓ − ℓ0|/ℓ0",
+            x,
+            y,
+            series,
+            guides: Vec::new(),
+        },
+    )?;
+    draw_legend(
+        &legend,
+        &keys,
+        &[
+            "lower left is better; a diverged configuration has no point.".to_string(),
+            "stretch near 1e-16 is round-off: the constraint holds to machine precision."
+                .to_string(),
+            note.to_string(),
         ],
     )
 }

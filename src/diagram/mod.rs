@@ -1,6 +1,7 @@
 //! The studies' diagrams as pictures: log-log work-precision (error against wall time and
 //! against force evaluations), convergence (error against dt with reference slopes) and
-//! stability (measured limit against theory), drawn with `plotters` into SVG and PNG.
+//! stability (measured limit against theory), and the hair trade (stretch against cost per
+//! frame), drawn with `plotters` into SVG and PNG.
 //!
 //! Axes are in decades (ticks at every power of ten, faint lines at 2…9 × 10ᵏ), every axis has
 //! its unit, each method has its colour from [`crate::palette`] (the recordings' colours), and the
@@ -27,8 +28,8 @@ mod panel;
 
 pub use axes::decade_label;
 use axes::{Ticks, decades, label_of};
-use kinds::{LimitRow, convergence_on, stability_on, work_precision_on};
-pub use kinds::{convergence, stability, work_precision};
+use kinds::{LimitRow, convergence_on, hair_trade_on, stability_on, work_precision_on};
+pub use kinds::{convergence, hair_trade, stability, work_precision};
 use panel::{Panel, draw_legend, draw_panel};
 
 const FONT: &str = "sans-serif";
@@ -64,6 +65,10 @@ enum Content {
         scene: String,
         limits: Vec<LimitRow>,
         omega: f64,
+    },
+    HairTrade {
+        rows: Vec<crate::study::hair::HairRow>,
+        note: String,
     },
 }
 
@@ -162,6 +167,7 @@ impl Diagram {
                 limits,
                 omega,
             } => stability_on(root, scene, limits, *omega),
+            Content::HairTrade { rows, note } => hair_trade_on(root, rows, note),
         }
     }
 }
@@ -172,15 +178,30 @@ fn err(e: Box<dyn std::error::Error>) -> anyhow::Error {
     anyhow::anyhow!("drawing a diagram: {e}")
 }
 
-fn color(m: Method) -> RGBColor {
-    let [r, g, b] = method_color(m.name());
-    RGBColor(r, g, b)
+/// What names a series in a diagram: its legend text, colour and marker shape.
+#[derive(Clone, Debug)]
+struct Key {
+    name: String,
+    color: RGBColor,
+    shape: usize,
 }
 
-/// A filled marker for method `m` at pixel offset (0, 0): a shape per method (by its place in
-/// the registry), so methods whose curves coincide still show both.
-fn marker(m: Method, size: f64) -> Polygon<(i32, i32)> {
-    let k = Method::ALL.iter().position(|&x| x == m).unwrap_or(0);
+impl Key {
+    /// A method's series: its name and colour (the recordings' own), and a shape by its place
+    /// in the registry, so methods whose curves coincide still show both.
+    fn of(m: Method) -> Key {
+        let [r, g, b] = method_color(m.name());
+        Key {
+            name: m.name().to_string(),
+            color: RGBColor(r, g, b),
+            shape: Method::ALL.iter().position(|&x| x == m).unwrap_or(0),
+        }
+    }
+}
+
+/// A filled marker of `key`'s shape and colour at pixel offset (0, 0).
+fn marker(key: &Key, size: f64) -> Polygon<(i32, i32)> {
+    let k = key.shape;
     // (sides, rotation in turns, scale): circle, triangle up, square, diamond, triangle down,
     // pentagon, hexagon, …
     let shapes = [
@@ -195,7 +216,7 @@ fn marker(m: Method, size: f64) -> Polygon<(i32, i32)> {
     ];
     let (sides, turn, scale) = shapes[k % shapes.len()];
     let r = size * scale;
-    let c = color(m);
+    let c = key.color;
     Polygon::new(
         (0..sides)
             .map(|i| {

@@ -1,13 +1,11 @@
 //! One log-log panel with its series, and the legend in its own column.
 
-use super::{FAINT, FONT, GRID, INK, PANEL, Res, Ticks, color, label_of, marker};
+use super::{FAINT, FONT, GRID, INK, Key, PANEL, Res, Ticks, label_of, marker};
 use std::ops::Range;
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
-
-use crate::integrate::Method;
 
 /// One log-log panel: decades on both axes, the given series (x, y in linear units; points
 /// outside (0, ∞) dropped), plus extra dashed lines with labels.
@@ -17,7 +15,7 @@ pub(super) struct Panel<'a> {
     pub(super) y_desc: &'a str,
     pub(super) x: Range<f64>,
     pub(super) y: Range<f64>,
-    pub(super) series: Vec<(Method, Vec<(f64, f64)>)>,
+    pub(super) series: Vec<(Key, Vec<(f64, f64)>)>,
     /// Dashed grey guides: points (linear units) and a label at the last point.
     pub(super) guides: Vec<(Vec<(f64, f64)>, String)>,
 }
@@ -73,38 +71,47 @@ where
                 .pos(Pos::new(h, VPos::Bottom)),
         )))?;
     }
-    for (m, pts) in &p.series {
+    for (key, pts) in &p.series {
         let l: Vec<(f64, f64)> = pts.iter().copied().filter_map(log).collect();
-        chart.draw_series(LineSeries::new(l.clone(), color(*m).stroke_width(2)))?;
-        chart.draw_series(l.iter().map(|&q| EmptyElement::at(q) + marker(*m, 4.5)))?;
+        chart.draw_series(LineSeries::new(l.clone(), key.color.stroke_width(2)))?;
+        chart.draw_series(l.iter().map(|&q| EmptyElement::at(q) + marker(key, 4.5)))?;
     }
     Ok(())
 }
 
-/// The legend column: one swatch and name per method, and notes below.
+/// The legend column: one swatch and name per series, and notes below.
 pub(super) fn draw_legend<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
-    methods: &[Method],
+    keys: &[Key],
     notes: &[String],
 ) -> Res
 where
     DB::ErrorType: 'static,
 {
     let font = (FONT, 19).into_font().color(&INK);
+    // About 10 px per character of the legend's text, right of its swatch.
+    let chars = ((area.dim_in_pixel().0 as usize).saturating_sub(70) / 10).max(12);
     let mut y = 70;
-    for &m in methods {
+    for key in keys {
         area.draw(&PathElement::new(
             vec![(14, y + 10), (48, y + 10)],
-            color(m).stroke_width(3),
+            key.color.stroke_width(3),
         ))?;
-        area.draw(&(EmptyElement::at((31, y + 10)) + marker(m, 5.5)))?;
-        area.draw(&Text::new(m.name(), (58, y), font.clone()))?;
-        y += 30;
+        area.draw(&(EmptyElement::at((31, y + 10)) + marker(key, 5.5)))?;
+        let lines = wrap(&key.name, chars);
+        for (i, line) in lines.iter().enumerate() {
+            area.draw(&Text::new(
+                line.clone(),
+                (58, y + 22 * i as i32),
+                font.clone(),
+            ))?;
+        }
+        y += 8 + 22 * lines.len() as i32;
     }
     y += 16;
     let small = (FONT, 15).into_font().color(&RGBColor(180, 180, 180));
     for n in notes {
-        for line in wrap(n, 28) {
+        for line in wrap(n, chars + 10) {
             area.draw(&Text::new(line, (14, y), small.clone()))?;
             y += 20;
         }

@@ -89,13 +89,14 @@ pub fn configurations(base: &HairConfig) -> Vec<HairConfig> {
     out
 }
 
-/// Runs every configuration and measures it. After a stop request
-/// ([`crate::interrupt::requested`]) the rows of the configurations that ran to the end: one cut
-/// short has no stretch or cost to show, and the rest never ran.
-pub fn hair_trade(configs: &[HairConfig]) -> Vec<HairRow> {
+/// Runs every configuration and measures it, calling `done(i)` after configuration i. After a
+/// stop request ([`crate::interrupt::requested`]) the rows of the configurations that ran to the
+/// end: one cut short has no stretch or cost to show, and the rest never ran.
+pub fn hair_trade(configs: &[HairConfig], mut done: impl FnMut(usize)) -> Vec<HairRow> {
     configs
         .iter()
-        .map_while(|c| {
+        .enumerate()
+        .map_while(|(i, c)| {
             if crate::interrupt::requested() {
                 return None;
             }
@@ -106,6 +107,7 @@ pub fn hair_trade(configs: &[HairConfig]) -> Vec<HairRow> {
                 return None;
             }
             let (lane, stats) = (&r.lanes[0], &r.stats[0]);
+            done(i);
             Some(HairRow {
                 method,
                 solver: (method == HairMethod::Verlet).then_some(c.params.solver),
@@ -117,6 +119,25 @@ pub fn hair_trade(configs: &[HairConfig]) -> Vec<HairRow> {
             })
         })
         .collect()
+}
+
+/// A configuration's expected cost, in units of one Gauss–Seidel sweep of one substep: what the
+/// study's progress goes by. A model whose weights are ratios this study measures (a frame of
+/// the direct solver or FTL costs about two sweeps, an inner spring step about four, an
+/// implicit Newton iteration about 1400), not a measurement; it only has to rank the
+/// configurations' costs within a factor of about two.
+pub fn expected_cost(c: &HairConfig) -> f64 {
+    let iterations = f64::from(c.params.iterations);
+    let per_substep = match (c.methods[0], c.params.solver) {
+        (HairMethod::Verlet, Solver::GaussSeidel) => iterations + 1.0,
+        (HairMethod::Verlet, Solver::Direct) | (HairMethod::Ftl, _) => 2.0,
+        (HairMethod::SemiImplicitEuler, _) => {
+            let h = 1.0 / (c.rate * f64::from(c.substeps));
+            4.0 * (h / c.params.spring_step_limit()).ceil().max(1.0)
+        }
+        (HairMethod::ImplicitEuler, _) => 1400.0 * iterations,
+    };
+    c.duration * c.rate * f64::from(c.substeps) * per_substep
 }
 
 /// The cheapest row (by wall time per frame) whose stretch is within `target`.

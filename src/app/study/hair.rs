@@ -16,9 +16,21 @@ pub(super) fn hair_study(a: &StudyArgs) -> anyhow::Result<()> {
         ..HairConfig::default()
     };
     base.validate()?;
-    let outputs = check_outputs(a, &[])?;
+    let outputs = check_outputs(a, &["hair-trade".to_string()])?;
     let configs = crate::study::hair::configurations(&base);
-    let rows = crate::study::hair::hair_trade(&configs);
+    // Minutes of work: a progress bar with an ETA, paced by each configuration's expected cost.
+    let costs: Vec<f64> = configs
+        .iter()
+        .map(crate::study::hair::expected_cost)
+        .collect();
+    let mut progress = crate::app::progress::Progress::new(a.quiet, None);
+    progress.stage("study hair", costs.iter().sum(), None);
+    let mut reached = 0.0;
+    let rows = crate::study::hair::hair_trade(&configs, |i| {
+        reached += costs[i];
+        progress.at(reached);
+    });
+    progress.finish();
     // Ctrl-C or SIGTERM: only the configurations that ran to the end are shown, written and
     // compared; with none, nothing is.
     let interrupted = crate::interrupt::requested();
@@ -56,6 +68,19 @@ pub(super) fn hair_study(a: &StudyArgs) -> anyhow::Result<()> {
             eprintln!("wrote {}", csv_out.given.display());
         }
     }
+    let mut images: Vec<(String, Vec<u8>)> = Vec::new();
+    if let Some(dir) = &outputs.plots {
+        let d = crate::diagram::hair_trade(
+            &rows,
+            &format!(
+                "wall times measured on {} threads; machine-dependent.",
+                rayon::current_num_threads()
+            ),
+        );
+        let w = d.write(dir)?;
+        eprintln!("wrote {} and {}", w.svg.display(), w.png.display());
+        images.push((d.title.clone(), w.png_bytes));
+    }
     if let Some(path) = &a.output {
         let d = crate::record::Destinations::output(path);
         // Provenance: the study's base scene (every configuration varies the solver settings of
@@ -68,7 +93,8 @@ pub(super) fn hair_study(a: &StudyArgs) -> anyhow::Result<()> {
             .iter()
             .map(|m| m.name())
             .collect();
-        let bytes = crate::record::study::record_study(&d, "hair", &[], &out, (&config, &methods))?;
+        let bytes =
+            crate::record::study::record_study(&d, "hair", &images, &out, (&config, &methods))?;
         report_recording(path, bytes, to_stdout);
     }
     if interrupted {

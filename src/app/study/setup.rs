@@ -242,8 +242,7 @@ pub(super) fn kind_name(kind: StudyKind) -> &'static str {
 /// Every flag of `physlab study` that only some kinds use, whether it was given, and the kinds
 /// that use it (`-o`, `--csv` and `-q` serve every kind). Stability measures the linearised
 /// problem (θ0 = 1e-8 rad at rest, an undamped rope) for `--steps` steps, so it takes no start,
-/// damping or schedule; the hair study runs the hair scene's defaults over `--duration` and
-/// draws no diagram.
+/// damping or schedule; the hair study runs the hair scene's defaults over `--duration`.
 pub(super) fn flag_uses(a: &StudyArgs) -> [(&'static str, bool, &'static [StudyKind]); 17] {
     use StudyKind::{Convergence as C, Hair as H, Stability as S, WorkPrecision as W};
     const SWEEP: &[StudyKind] = &[C, W];
@@ -265,7 +264,7 @@ pub(super) fn flag_uses(a: &StudyArgs) -> [(&'static str, bool, &'static [StudyK
         ("--rtol", a.rtol.is_some(), SWEEP),
         ("--repeats", a.repeats.is_some(), SWEEP),
         ("--steps", a.steps.is_some(), &[S]),
-        ("--plots", a.plots.is_some(), MEASURED),
+        ("--plots", a.plots.is_some(), &[C, W, S, H]),
     ]
 }
 
