@@ -448,7 +448,10 @@ mod hair {
         ] {
             // (The legend wraps long names at a space.)
             let words: Vec<&str> = family.split(' ').collect();
-            assert!(words.iter().all(|w| svg.contains(w)), "{family} not in the diagram");
+            assert!(
+                words.iter().all(|w| svg.contains(w)),
+                "{family} not in the diagram"
+            );
         }
         let (code, inspected, err) = physlab(&["inspect", rrd.to_str().unwrap()]);
         assert_eq!(code, 0, "{err}");

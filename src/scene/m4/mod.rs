@@ -85,40 +85,36 @@ struct Extremes {
 }
 
 impl Extremes {
-    /// Takes in the block's extremes `lo` and `hi` of value `q` of consecutive rows whose values
-    /// q are all present and not NaN, looking up where they are only when they beat the
-    /// column's.
-    fn add_plain(&mut self, rows: &[Sample], q: usize, lo: f64, hi: f64) {
+    /// Takes in value `q` of consecutive rows whose values q are all present and not NaN,
+    /// given their extremes per chunk of [`CHUNK`] rows: where the rows' extremes are is looked
+    /// up only when they beat the column's, in the first chunk that holds them.
+    fn add_plain(&mut self, rows: &[Sample], q: usize, chunks: &[(Row, Row)]) {
         let point = |k: usize| Point {
             step: rows[k].0,
             value: rows[k].1[q],
         };
         self.first.get_or_insert(point(0));
         self.last = Some(point(rows.len() - 1));
-        let new_min = self.min.is_none_or(|m| lo < m.value);
-        let new_max = self.max.is_none_or(|m| hi > m.value);
-        if !(new_min || new_max) {
-            return;
+        let lo = chunks.iter().fold(f64::INFINITY, |m, c| m.min(c.0[q]));
+        let hi = chunks.iter().fold(f64::NEG_INFINITY, |m, c| m.max(c.1[q]));
+        let at = |x: f64, of: fn(&(Row, Row)) -> &Row| {
+            let c = chunks
+                .iter()
+                .position(|c| of(c)[q] == x)
+                .expect("an extreme is a value");
+            let start = c * CHUNK;
+            let end = (start + CHUNK).min(rows.len());
+            start
+                + rows[start..end]
+                    .iter()
+                    .position(|r| r.1[q] == x)
+                    .expect("in its chunk")
+        };
+        if self.min.is_none_or(|m| lo < m.value) {
+            self.min = Some(point(at(lo, |c| &c.0)));
         }
-        // Where the new extremes first are, in one scan that stops once it has them.
-        let (mut lo_at, mut hi_at) = (None, None);
-        for (k, row) in rows.iter().enumerate() {
-            let v = row.1[q];
-            if new_min && lo_at.is_none() && v == lo {
-                lo_at = Some(k);
-            }
-            if new_max && hi_at.is_none() && v == hi {
-                hi_at = Some(k);
-            }
-            if (lo_at.is_some() || !new_min) && (hi_at.is_some() || !new_max) {
-                break;
-            }
-        }
-        if new_min {
-            self.min = Some(point(lo_at.expect("an extreme is a value")));
-        }
-        if new_max {
-            self.max = Some(point(hi_at.expect("an extreme is a value")));
+        if self.max.is_none_or(|m| hi > m.value) {
+            self.max = Some(point(at(hi, |c| &c.1)));
         }
     }
 
@@ -212,6 +208,8 @@ struct Open {
     first: Option<(u64, Row)>,
     last: (u64, Row),
     extremes: Vec<Extremes>,
+    /// Scratch of [`extremes_of`].
+    chunks: Vec<(Row, Row)>,
 }
 
 /// Values per row at most: a row is a fixed-size array, so that keeping one is a move the
@@ -230,23 +228,32 @@ pub fn row_of(values: &[f64]) -> Row {
     std::array::from_fn(|q| values.get(q).copied().unwrap_or(0.0))
 }
 
-/// Per value q < W of the rows: the smallest and largest value, and whether any is NaN or an
-/// absent zero (then the two are meaningless).
+/// Rows per chunk of the extremes pass: where an extreme is is looked up in one chunk.
+const CHUNK: usize = 64;
+
+/// Per chunk of [`CHUNK`] rows, per value q < W: the smallest and largest value; and per value
+/// whether any is NaN or an absent zero (then its extremes are meaningless). Written into
+/// `chunks` (cleared first).
 fn extremes_of<const W: usize>(
     rows: &[Sample],
     absent: &[bool; MAX_VALUES],
-) -> (Row, Row, [bool; MAX_VALUES]) {
-    let (mut lo, mut hi) = ([f64::INFINITY; MAX_VALUES], [f64::NEG_INFINITY; MAX_VALUES]);
+    chunks: &mut Vec<(Row, Row)>,
+) -> [bool; MAX_VALUES] {
+    chunks.clear();
     let mut odd = [false; MAX_VALUES];
-    for (_, row) in rows {
-        for q in 0..W {
-            let v = row[q];
-            lo[q] = if v < lo[q] { v } else { lo[q] };
-            hi[q] = if v > hi[q] { v } else { hi[q] };
-            odd[q] |= v.is_nan() | (absent[q] & (v == 0.0));
+    for chunk in rows.chunks(CHUNK) {
+        let (mut lo, mut hi) = ([f64::INFINITY; MAX_VALUES], [f64::NEG_INFINITY; MAX_VALUES]);
+        for (_, row) in chunk {
+            for q in 0..W {
+                let v = row[q];
+                lo[q] = if v < lo[q] { v } else { lo[q] };
+                hi[q] = if v > hi[q] { v } else { hi[q] };
+                odd[q] |= v.is_nan() | (absent[q] & (v == 0.0));
+            }
         }
+        chunks.push((lo, hi));
     }
-    (lo, hi, odd)
+    odd
 }
 
 impl Open {
@@ -256,6 +263,7 @@ impl Open {
             first: None,
             last: (0, [0.0; MAX_VALUES]),
             extremes: vec![Extremes::default(); width],
+            chunks: Vec::new(),
         }
     }
 
@@ -275,18 +283,19 @@ impl Open {
     /// those take the slower way.
     fn add(&mut self, rows: &[Sample], absent: &[bool; MAX_VALUES]) {
         // The pass over the values the rows have, not all MAX_VALUES.
-        let (lo, hi, odd) = match self.width() {
-            0..=2 => extremes_of::<2>(rows, absent),
-            3..=4 => extremes_of::<4>(rows, absent),
-            5..=6 => extremes_of::<6>(rows, absent),
-            _ => extremes_of::<MAX_VALUES>(rows, absent),
+        let chunks = &mut self.chunks;
+        let odd = match self.extremes.len() {
+            0..=2 => extremes_of::<2>(rows, absent, chunks),
+            3..=4 => extremes_of::<4>(rows, absent, chunks),
+            5..=6 => extremes_of::<6>(rows, absent, chunks),
+            _ => extremes_of::<MAX_VALUES>(rows, absent, chunks),
         };
         self.first.get_or_insert(rows[0]);
         for (q, e) in self.extremes.iter_mut().enumerate() {
             if odd[q] {
                 e.add_any(rows, q, absent[q]);
             } else {
-                e.add_plain(rows, q, lo[q], hi[q]);
+                e.add_plain(rows, q, &self.chunks);
             }
         }
         self.last = rows[rows.len() - 1];
