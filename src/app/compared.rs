@@ -1,13 +1,14 @@
 //! What `reproduce` and `diff` share: reading a recording's provenance, checking `-o` and the
 //! tolerance, and reporting series differences entity by entity.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use super::Error;
 use crate::record::compare::{SeriesDiff, time_text};
 use crate::record::inspect::{RecordingInfo, read_recording};
+use crate::report::table::{sig, sig_pair};
 
 /// Entities whose values depend on the wall clock, so that no re-run can match them: the
 /// --timings plots, and with --timings the summaries (which then hold wall times, ns/step).
@@ -131,7 +132,27 @@ impl EntityReport {
         self.diffs.iter().map(|d| d.1.rows_a).max().unwrap_or(0)
     }
 
-    /// `first at t = …: A x, B y; largest |Δ| …` with the given names for A and B.
+    /// Rows at times the other side lacks, over its components.
+    pub(super) fn unpaired(&self) -> usize {
+        self.diffs.iter().map(|d| d.1.unpaired).max().unwrap_or(0)
+    }
+
+    /// Whether its values differ where both have a row (not only rows at other times).
+    pub(super) fn values_differ(&self) -> bool {
+        self.diffs
+            .iter()
+            .any(|d| d.1.first.is_some() || d.1.first_other.is_some())
+    }
+
+    /// The first time anything differs, `i64::MAX` when no paired value does.
+    pub(super) fn first_time(&self) -> i64 {
+        self.first()
+            .and_then(|d| d.1.first_time().flatten())
+            .unwrap_or(i64::MAX)
+    }
+
+    /// `first differs at t = …: A x, B y; largest |Δ| …` with the given names for A and B, the
+    /// numbers to the digits that tell them apart.
     pub(super) fn describe(&self, a: &str, b: &str) -> String {
         let mut out = String::new();
         if let Some((component, d)) = self.first() {
@@ -141,12 +162,12 @@ impl EntityReport {
                         .as_ref()
                         .is_none_or(|o| o.0.is_none_or(|t| v.time.is_some_and(|vt| vt <= t))) =>
                 {
+                    let (x, y) = sig_pair(v.a, v.b);
                     let _ = write!(
                         out,
-                        "first differs at {} ({component}): {a} {:e}, {b} {:e}",
+                        "first differs at {} ({}): {a} {x}, {b} {y}",
                         time_text(v.time),
-                        v.a,
-                        v.b
+                        value_name(component, v.index),
                     );
                 }
                 (_, Some((t, what))) => {
@@ -168,23 +189,127 @@ impl EntityReport {
         if let Some((component, l, scale)) = self.largest()
             && l.abs() != 0.0
         {
+            // The component named again only when it is another than the first parting's.
+            let named = value_name(component, l.index);
+            let named = if out.contains(&format!("({named})")) {
+                String::new()
+            } else {
+                format!("{named}; ")
+            };
             let _ = write!(
                 out,
-                "{}largest |Δ| = {:.3e} at {} ({component}: {a} {:e}, {b} {:e}; {:.2e} of the series' largest magnitude)",
+                "{}largest |Δ| {} at {} ({named}{} of the series' largest magnitude)",
                 if out.is_empty() { "" } else { "; " },
-                l.abs(),
+                sig(l.abs(), 2),
                 time_text(l.time),
-                l.a,
-                l.b,
                 if scale > 0.0 {
-                    l.abs() / scale
+                    sig(l.abs() / scale, 2)
                 } else {
-                    f64::INFINITY
+                    "∞".to_string()
                 }
             );
         }
         out
     }
+}
+
+/// A value of a component named for a reader: a point's coordinate as `Points3D:positions x`
+/// (`of point 3` when the row holds several points), another value of several by its index.
+pub(super) fn value_name(component: &str, index: usize) -> String {
+    let vectors = ["positions", "strips", "vectors", "origins"]
+        .iter()
+        .any(|c| component.ends_with(c));
+    let dim = if component.contains("3D") { 3 } else { 2 };
+    if vectors {
+        let axis = ["x", "y", "z"][index % dim];
+        match index / dim {
+            0 => format!("{component} {axis}"),
+            point => format!("{component} {axis} of point {point}"),
+        }
+    } else if index > 0 {
+        format!("{component}[{index}]")
+    } else {
+        component.to_string()
+    }
+}
+
+/// An entity's path with every method's segment (and the references') as `*`: the entities of
+/// one quantity or one drawing across methods, reported as one group.
+pub(super) fn entity_group(entity: &str, methods: &BTreeSet<String>) -> String {
+    entity
+        .split('/')
+        .map(|part| if methods.contains(part) { "*" } else { part })
+        .collect::<Vec<_>>()
+        .join("/")
+}
+
+/// The method names of the recordings (their `methods` properties) and the references' lanes.
+pub(super) fn lane_names(infos: &[&RecordingInfo]) -> BTreeSet<String> {
+    let mut names: BTreeSet<String> = ["exact", "reference"].map(String::from).into();
+    for info in infos {
+        if let Some(m) = info.properties.get("methods") {
+            names.extend(m.split(',').filter(|m| !m.is_empty()).map(String::from));
+        }
+    }
+    names
+}
+
+/// The lines that say what differs: with `verbose` one per entity (identical ones too), else one
+/// per group of entities ([`entity_group`]), the earliest parting first, at most `cap` groups.
+/// Each entry: (entity, whether it differs, its text).
+pub(super) fn difference_lines(
+    entries: &[(String, bool, String, i64)],
+    methods: &BTreeSet<String>,
+    verbose: bool,
+    cap: usize,
+) -> Vec<String> {
+    if verbose {
+        return entries
+            .iter()
+            .map(|(entity, _, text, _)| format!("  {entity}: {text}"))
+            .collect();
+    }
+    // group → (entities, differing, the first parting's entity and text and time)
+    let mut groups: BTreeMap<String, (usize, usize, String, String, i64)> = BTreeMap::new();
+    for (entity, differs, text, first) in entries {
+        let g = groups.entry(entity_group(entity, methods)).or_insert((
+            0,
+            0,
+            String::new(),
+            String::new(),
+            i64::MAX,
+        ));
+        g.0 += 1;
+        if *differs {
+            g.1 += 1;
+            if g.2.is_empty() || *first < g.4 {
+                (g.2, g.3, g.4) = (entity.clone(), text.clone(), *first);
+            }
+        }
+    }
+    let mut differing: Vec<(String, (usize, usize, String, String, i64))> =
+        groups.into_iter().filter(|g| g.1.1 > 0).collect();
+    differing.sort_by_key(|g| g.1.4);
+    let mut lines: Vec<String> = differing
+        .iter()
+        .take(cap)
+        .map(|(group, (n, k, entity, text, _))| {
+            if *n == 1 {
+                format!("  {entity}: {text}")
+            } else {
+                let lane = entity.rsplit('/').find(|p| methods.contains(*p));
+                let which = lane.map(|l| format!(", earliest {l}")).unwrap_or_default();
+                format!("  {group} ({k} of {n} differ{which}): {text}")
+            }
+        })
+        .collect();
+    if differing.len() > cap {
+        lines.push(format!(
+            "  … and {} more groups (-v lists every entity)",
+            differing.len() - cap
+        ));
+    }
+    lines
 }
 
 /// Groups per-component comparisons by entity.

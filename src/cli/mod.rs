@@ -170,6 +170,9 @@ pub struct ReproduceArgs {
     /// Also write the re-run's recording here (a file: the re-run is read back to compare)
     #[arg(short, long, value_name = "PATH")]
     pub output: Option<PathBuf>,
+    /// List every entity compared, identical ones too
+    #[arg(short, long)]
+    pub verbose: bool,
 }
 
 #[derive(Args, Debug, Clone)]
@@ -182,10 +185,14 @@ pub struct DiffArgs {
     /// magnitude in that series [default: 0, any difference]
     #[arg(long, value_name = "REL", allow_negative_numbers = true)]
     pub tolerance: Option<f64>,
-    /// Write a recording of the differences B − A, one series per entity, to see where they part
-    /// (`-` for standard output; the report then goes to stderr)
+    /// Write a recording to read the difference at a glance: per plotted quantity B − A for
+    /// every method, both runs' 3D overlaid, the configuration change and the first parting as
+    /// text (`-` for standard output; the report then goes to stderr)
     #[arg(short, long, value_name = "D.rrd")]
     pub output: Option<PathBuf>,
+    /// List every entity compared, identical ones too, instead of one line per group
+    #[arg(short, long)]
+    pub verbose: bool,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]

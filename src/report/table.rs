@@ -85,6 +85,23 @@ pub fn sig(x: f64, digits: usize) -> String {
     }
 }
 
+/// Two values to the digits that tell them apart, and one more: 1.0471975512 and
+/// 1.0471975522 for a difference of 1e-9, 0.52 and 0.61 for one of 0.09 (at least three
+/// digits; at most seventeen, which tell any two doubles apart).
+pub fn sig_pair(a: f64, b: f64) -> (String, String) {
+    let scale = a.abs().max(b.abs());
+    let apart = (b - a).abs();
+    let mut digits = if apart > 0.0 && scale.is_finite() && apart.is_finite() {
+        ((scale / apart).log10().ceil() as usize + 1).clamp(3, 17)
+    } else {
+        3
+    };
+    while digits < 17 && a.to_bits() != b.to_bits() && sig(a, digits) == sig(b, digits) {
+        digits += 1;
+    }
+    (sig(a, digits), sig(b, digits))
+}
+
 /// In exponent form with four significant digits.
 pub fn sci(x: f64) -> String {
     format!("{x:.3e}")
@@ -149,5 +166,17 @@ mod tests {
             t.render(),
             "| a   | long |\n|-----|------|\n| xyz | 1    |\n"
         );
+    }
+
+    #[test]
+    fn a_pair_shows_the_digits_that_tell_it_apart() {
+        assert_eq!(
+            sig_pair(1.0471975511965976, 1.0471975521965976),
+            ("1.0471975512".to_string(), "1.0471975522".to_string())
+        );
+        assert_eq!(sig_pair(0.52, 0.61), ("0.520".to_string(), "0.610".to_string()));
+        let (a, b) = sig_pair(1.0, 1.0 + f64::EPSILON);
+        assert_ne!(a, b);
+        assert_eq!(sig_pair(2.0, 2.0), ("2.00".to_string(), "2.00".to_string()));
     }
 }
