@@ -68,6 +68,42 @@ pub(super) fn physlab_recording(path: &Path) -> anyhow::Result<RecordingInfo> {
     Ok(info)
 }
 
+/// The command line a recording was made with, its program named `physlab`.
+pub(super) fn recorded_command(info: &RecordingInfo) -> Option<String> {
+    let line = info.properties.get("command_line")?;
+    let args = line.split_once(' ').map_or("", |(_, rest)| rest);
+    Some(format!("physlab {args}").trim_end().to_string())
+}
+
+/// The command that runs a scene recording again on its scene file `config`: its scene
+/// subcommand (`all` for every scene), with `--timings` if it recorded them.
+pub(super) fn scene_command(info: &RecordingInfo, config: &Path) -> Option<String> {
+    let scenes = info.properties.get("scenes")?;
+    if scenes == "diff" || scenes.starts_with("study") || !info.properties.contains_key("config") {
+        return None;
+    }
+    let subcommand = if scenes.contains(',') { "all" } else { scenes };
+    let timings = info.entities.iter().any(|e| e.contains("/plots/frame_cost/"));
+    Some(format!(
+        "physlab {subcommand} --config {}{}",
+        config.display(),
+        if timings { " --timings" } else { "" }
+    ))
+}
+
+/// The commands that make a recording again: a scene run's scene file written out by `inspect
+/// --config-out`, then [`scene_command`]; a diff's or a study's own command line.
+pub(super) fn remake_commands(info: &RecordingInfo, file: &Path, config: &Path) -> Option<String> {
+    match scene_command(info, config) {
+        Some(run) => Some(format!(
+            "physlab inspect {} --config-out {} && {run}",
+            file.display(),
+            config.display()
+        )),
+        None => recorded_command(info),
+    }
+}
+
 pub(super) fn version_line(info: &RecordingInfo) -> String {
     let p = |k: &str| {
         info.properties

@@ -69,6 +69,8 @@ fn all_plan(c: &AllArgs) -> Result<Plan, Error> {
         None => (None, None),
     };
     let all = AllFlags {
+        dt: c.dt,
+        duration: c.duration,
         fps: c.fps,
         plot_every: c.plot_every,
         registry,

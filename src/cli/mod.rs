@@ -107,6 +107,15 @@ pub struct AllArgs {
     #[command(flatten)]
     pub run: RunArgs,
 
+    /// Time step dt [s] of every scene (overrides the scene file); in hair it is
+    /// 1/(rate·substeps), so it must divide hair's frame
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
+    pub dt: Option<f64>,
+
+    /// Simulated time [s] of every scene (overrides the scene file)
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
+    pub duration: Option<f64>,
+
     /// 3D frames logged per simulated second, for every scene (overrides the scene file)
     #[arg(long, value_name = "HZ", allow_negative_numbers = true)]
     pub fps: Option<f64>,
