@@ -83,7 +83,10 @@ pub(super) fn scene_command(info: &RecordingInfo, config: &Path) -> Option<Strin
         return None;
     }
     let subcommand = if scenes.contains(',') { "all" } else { scenes };
-    let timings = info.entities.iter().any(|e| e.contains("/plots/frame_cost/"));
+    let timings = info
+        .entities
+        .iter()
+        .any(|e| e.contains("/plots/frame_cost/"));
     Some(format!(
         "physlab {subcommand} --config {}{}",
         config.display(),

@@ -254,7 +254,10 @@ pub fn diff_command(args: &DiffArgs) -> anyhow::Result<()> {
         line(format!("  only in B: {e}"));
     }
     if !args.verbose && identical > 0 {
-        line(format!("identical: {} (-v lists them)", entities_text(identical)));
+        line(format!(
+            "identical: {} (-v lists them)",
+            entities_text(identical)
+        ));
     }
     if let (Some(w), Some(out)) = (writer, &args.output) {
         let n = w.finish(&report)?;

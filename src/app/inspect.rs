@@ -32,11 +32,7 @@ pub fn inspect_command(args: &InspectArgs) -> anyhow::Result<()> {
     };
     println!("recording: {}", args.file.display());
     let what = match p("scenes") {
-        "diff" => format!(
-            " (a diff recording of {} and {})",
-            p("diff_a"),
-            p("diff_b")
-        ),
+        "diff" => format!(" (a diff recording of {} and {})", p("diff_a"), p("diff_b")),
         _ => String::new(),
     };
     println!(

@@ -209,7 +209,10 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
         .collect();
     let started = Instant::now();
     simulate(plan, &run, None, &replay).map_err(|e| rerun_failed(e, &args.file, &config.0))?;
-    header.push(format!("re-ran in {:.1} s", started.elapsed().as_secs_f64()));
+    header.push(format!(
+        "re-ran in {:.1} s",
+        started.elapsed().as_secs_f64()
+    ));
     if args.output.is_some() {
         header.push(format!("wrote the re-run to {}", output.display()));
     }
@@ -250,10 +253,7 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
             format!("identical ({} rows)", r.rows())
         } else if r.same() {
             within += 1;
-            format!(
-                "within tolerance: {}",
-                r.describe("recorded", "recomputed")
-            )
+            format!("within tolerance: {}", r.describe("recorded", "recomputed"))
         } else {
             differing += 1;
             format!("DIFFERS: {}", r.describe("recorded", "recomputed"))
@@ -306,7 +306,11 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
             if args.verbose {
                 format!(
                     ": {}",
-                    skipped.iter().map(|s| s.as_str()).collect::<Vec<_>>().join(", ")
+                    skipped
+                        .iter()
+                        .map(|s| s.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
                 )
             } else {
                 String::new()

@@ -140,6 +140,8 @@ pub trait ReadyScene: Send {
     fn memory_bytes(&self) -> f64 {
         0.0
     }
+    /// Why its step is too large for its shortest time scale, if it is.
+    fn step_warning(&self) -> Option<String>;
     fn run(self: Box<Self>, ctx: &mut RunContext) -> anyhow::Result<Ran>;
 }
 
@@ -399,6 +401,9 @@ impl<C: Runs> ReadyScene for Ready<C> {
     }
     fn memory_bytes(&self) -> f64 {
         self.0.memory_bytes()
+    }
+    fn step_warning(&self) -> Option<String> {
+        self.0.step_warning()
     }
     fn run(self: Box<Self>, ctx: &mut RunContext) -> anyhow::Result<Ran> {
         self.0.run(ctx)

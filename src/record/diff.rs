@@ -204,7 +204,10 @@ impl DiffWriter {
         self.push(series, time, distance)?;
         if n <= MAX_OVERLAID_COORDINATES {
             let rec = self.recording.stream();
-            rec.set_time("sim_time", std::time::Duration::from_nanos(time.max(0) as u64));
+            rec.set_time(
+                "sim_time",
+                std::time::Duration::from_nanos(time.max(0) as u64),
+            );
             for (side, pts, color) in [("A", pa, A_COLOR), ("B", pb, B_COLOR)] {
                 rec.log(
                     format!("diff/3d/{side}/{entity}"),

@@ -28,7 +28,8 @@ pub fn send_diff_provenance(
     a: &std::path::Path,
     b: &std::path::Path,
 ) -> anyhow::Result<()> {
-    let path = |p: &std::path::Path| shell_word(std::os::unix::ffi::OsStrExt::as_bytes(p.as_os_str()));
+    let path =
+        |p: &std::path::Path| shell_word(std::os::unix::ffi::OsStrExt::as_bytes(p.as_os_str()));
     send_properties(
         rec,
         build_properties("diff")

@@ -174,7 +174,10 @@ mod tests {
             sig_pair(1.0471975511965976, 1.0471975521965976),
             ("1.0471975512".to_string(), "1.0471975522".to_string())
         );
-        assert_eq!(sig_pair(0.52, 0.61), ("0.520".to_string(), "0.610".to_string()));
+        assert_eq!(
+            sig_pair(0.52, 0.61),
+            ("0.520".to_string(), "0.610".to_string())
+        );
         let (a, b) = sig_pair(1.0, 1.0 + f64::EPSILON);
         assert_ne!(a, b);
         assert_eq!(sig_pair(2.0, 2.0), ("2.00".to_string(), "2.00".to_string()));
