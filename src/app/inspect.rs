@@ -54,7 +54,9 @@ pub fn inspect_command(args: &InspectArgs) -> anyhow::Result<()> {
         "  scenes: {}",
         info.scenes().into_iter().collect::<Vec<_>>().join(", ")
     );
-    println!("  methods: {}", p("methods"));
+    if p("scenes") != "diff" {
+        println!("  methods: {}", p("methods"));
+    }
     match info.time_range {
         Some((a, b)) => println!("  sim_time: {a:.6} s to {b:.6} s"),
         None => println!("  sim_time: (no timed data)"),
@@ -89,9 +91,13 @@ pub fn inspect_command(args: &InspectArgs) -> anyhow::Result<()> {
     for e in &info.entities {
         println!("    {e}");
     }
-    println!("  config:");
-    for line in p("config").lines() {
-        println!("    {line}");
+    if p("scenes") == "diff" {
+        println!("  config: none (a diff recording compares two runs; each holds its own)");
+    } else {
+        println!("  config:");
+        for line in p("config").lines() {
+            println!("    {line}");
+        }
     }
     if let Some(out) = &config_out {
         let config = info.properties.get("config").ok_or_else(|| {
