@@ -7,14 +7,17 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use super::Error;
+use super::SceneFile;
 use super::compared::{
     by_entity, check_output, config_keys, difference_lines, lane_names, physlab_made,
     single_method, tolerance, version_line,
 };
-use super::scenes::SCENES;
-use crate::cli::DiffArgs;
+use super::scenes::{AllFlags, SCENES};
+use crate::cli::{DiffArgs, RunArgs};
+use crate::record::Framing;
 use crate::record::compare::{Key, SeriesIndex, StreamSpec, compare_files};
 use crate::record::diff::{DiffPlan, DiffWriter};
+use crate::record::inspect::RecordingInfo;
 
 /// Group lines shown without `-v`: with the verdict, configuration and times, under 15 lines.
 const GROUPS_SHOWN: usize = 6;
@@ -53,6 +56,7 @@ pub fn diff_command(args: &DiffArgs) -> anyhow::Result<()> {
         lanes: &lanes,
         scenes: &views,
         paired: rename.clone(),
+        framings: framings(&ia),
     };
     let mut writer = args
         .output
@@ -280,4 +284,25 @@ pub(super) fn entities_text(n: usize) -> String {
     } else {
         format!("{n} entities")
     }
+}
+
+/// Each scene's 3D framing as the recording's configuration draws it (none when it holds no
+/// configuration this build runs).
+fn framings(info: &RecordingInfo) -> Vec<(&'static str, Framing)> {
+    let Some(text) = info.properties.get("config") else {
+        return Vec::new();
+    };
+    let names: Vec<&str> = SCENES.iter().map(|s| s.name()).collect();
+    let Ok(file) = SceneFile::parse(text, &names) else {
+        return Vec::new();
+    };
+    SCENES
+        .iter()
+        .filter(|s| file.table(s.name()).is_some())
+        .filter_map(|s| {
+            let ready = s.flags(&AllFlags::default());
+            let ready = ready.resolve(&file, &RunArgs::default()).ok()?;
+            Some((s.name(), ready.framing()))
+        })
+        .collect()
 }

@@ -1,6 +1,6 @@
 //! `physlab diff --output D.rrd`: a recording that shows where two runs part at a glance. Per
 //! plotted quantity one plot of B − A with a line per method, both runs' 3D points overlaid (A
-//! grey, B orange), the largest distance between their points over time, and the printed
+//! as grey rings, B as orange points), the largest distance between their points over time, and the printed
 //! report (the configuration change and the first parting) as text.
 
 use std::collections::{BTreeMap, BTreeSet};
@@ -14,7 +14,7 @@ use rerun::blueprint::{
 };
 
 use super::compare::{Key, PairedRow};
-use super::{Destinations, Recording, SceneViews, ViewProperties, method_color};
+use super::{Destinations, Framing, Recording, SceneViews, ViewProperties, method_color};
 
 /// Rows held per series before they are sent: the writer's memory does not grow with the file.
 const BATCH: usize = 4096;
@@ -38,6 +38,8 @@ pub struct DiffPlan<'a> {
     pub scenes: &'a [&'a SceneViews],
     /// B's lane paired with A's, when each ran one method: its series are named "B − A".
     pub paired: Option<(String, String)>,
+    /// Each scene's 3D framing, as A's configuration draws it: one overlay view per scene.
+    pub framings: Vec<(&'static str, Framing)>,
 }
 
 impl DiffPlan<'_> {
@@ -95,14 +97,30 @@ impl DiffPlan<'_> {
             1 => plots.remove(0),
             _ => Tabs::new(plots).into(),
         };
-        let top = Horizontal::new([
+        let mut top: Vec<ContainerLike> = vec![
             TextDocumentView::new("what differs")
                 .with_origin("/diff/report")
                 .into(),
-            Spatial3DView::new("3D: A grey, B orange")
+        ];
+        // The report and the scenes' overlays share the top third of the window.
+        let aspect = (3.0 / (1.0 + self.framings.len().max(1) as f32)) * 1.6;
+        for (scene, framing) in &self.framings {
+            let view = Spatial3DView::new(format!("{scene} 3D: A grey rings, B orange points"))
                 .with_origin("/diff/3d")
-                .into(),
-        ]);
+                .with_contents([
+                    format!("+ $origin/A/{scene}/**"),
+                    format!("+ $origin/B/{scene}/**"),
+                ]);
+            top.push(props.eye(view, *framing, aspect));
+        }
+        if self.framings.is_empty() {
+            top.push(
+                Spatial3DView::new("3D: A grey, B orange")
+                    .with_origin("/diff/3d")
+                    .into(),
+            );
+        }
+        let top = Horizontal::new(top);
         let blueprint = super::views::panels_collapsed(
             Blueprint::new(Vertical::new([top.into(), plots]).with_row_shares([1.0, 2.0]))
                 .with_auto_views(false),
@@ -114,7 +132,7 @@ impl DiffPlan<'_> {
 
 /// Writes, as the comparison pairs the rows of both recordings at the same times: b − a of every
 /// plotted series under `diff/<scene>/plots/<quantity>/<lane>`, each 3D entity's points of both
-/// runs under `diff/3d/A|B/<entity>` and the largest distance between them under
+/// runs under `diff/3d/A|B/<entity>` (A's as rings) and the largest distance between them under
 /// `diff/distance/<entity>`; and at the end the printed report as `diff/report`.
 pub struct DiffWriter {
     recording: Recording,
@@ -123,6 +141,24 @@ pub struct DiffWriter {
     styled: BTreeSet<String>,
     lanes: BTreeSet<String>,
     paired: Option<(String, String)>,
+    /// Per scene, the offsets of a ring around a point, facing the scene's eye, 2 % of its
+    /// framed box across.
+    rings: BTreeMap<&'static str, Vec<[f32; 3]>>,
+}
+
+/// A closed ring of 24 segments around the origin, facing `toward_eye`, of radius `r`.
+fn ring(framing: &Framing) -> Vec<[f32; 3]> {
+    let v = glam::Vec3::from_array;
+    let r = 0.02 * (v(framing.max) - v(framing.min)).length();
+    let back = v(framing.toward_eye).normalize();
+    let right = glam::Vec3::Z.cross(back).normalize();
+    let up = back.cross(right);
+    (0..=24)
+        .map(|k| {
+            let a = k as f32 / 24.0 * std::f32::consts::TAU;
+            (r * (a.cos() * right + a.sin() * up)).to_array()
+        })
+        .collect()
 }
 
 impl DiffWriter {
@@ -137,6 +173,7 @@ impl DiffWriter {
             styled: BTreeSet::new(),
             lanes: plan.lanes.clone(),
             paired: plan.paired.clone(),
+            rings: plan.framings.iter().map(|(s, f)| (*s, ring(f))).collect(),
         })
     }
 
@@ -208,14 +245,38 @@ impl DiffWriter {
                 "sim_time",
                 std::time::Duration::from_nanos(time.max(0) as u64),
             );
-            for (side, pts, color) in [("A", pa, A_COLOR), ("B", pb, B_COLOR)] {
-                rec.log(
-                    format!("diff/3d/{side}/{entity}"),
-                    &rerun::Points3D::new(pts)
-                        .with_colors([color])
-                        .with_radii([rerun::Radius::new_ui_points(6.0)]),
-                )?;
+            // A as rings facing the eye, B as points: where they coincide A rings B.
+            let scene = entity.split('/').next().unwrap_or_default();
+            match self.rings.get(scene) {
+                Some(ring) => {
+                    let strips: Vec<Vec<[f32; 3]>> = pa
+                        .iter()
+                        .map(|p| {
+                            ring.iter()
+                                .map(|r| [p[0] + r[0], p[1] + r[1], p[2] + r[2]])
+                                .collect()
+                        })
+                        .collect();
+                    rec.log(
+                        format!("diff/3d/A/{entity}"),
+                        &rerun::LineStrips3D::new(strips)
+                            .with_colors([A_COLOR])
+                            .with_radii([rerun::Radius::new_ui_points(1.5)]),
+                    )?;
+                }
+                None => rec.log(
+                    format!("diff/3d/A/{entity}"),
+                    &rerun::Points3D::new(pa.clone())
+                        .with_colors([A_COLOR])
+                        .with_radii([rerun::Radius::new_ui_points(8.0)]),
+                )?,
             }
+            rec.log(
+                format!("diff/3d/B/{entity}"),
+                &rerun::Points3D::new(pb)
+                    .with_colors([B_COLOR])
+                    .with_radii([rerun::Radius::new_ui_points(5.0)]),
+            )?;
         }
         Ok(())
     }
