@@ -18,10 +18,19 @@ use crate::scene::hair::run::HairConfig;
 use crate::scene::pendulum::run::PendulumConfig;
 use crate::scene::rope::run::RopeConfig;
 
+/// `physlab --version`: the version and the git commit the binary is built from (`-dirty` with
+/// modified sources, `unknown` outside a git checkout).
+const VERSION: &str = concat!(
+    env!("CARGO_PKG_VERSION"),
+    " (commit ",
+    env!("PHYSLAB_GIT_COMMIT"),
+    ")"
+);
+
 #[derive(Parser, Debug)]
 #[command(
     name = "physlab",
-    version,
+    version = VERSION,
     about = "A lab for numerical integration: physics scenes stepped by several integrators side by side, \
              recorded to Rerun .rrd files",
     after_help = "Open a recording with the Rerun viewer 0.36: `rerun recordings/all.rrd` \
@@ -261,8 +270,8 @@ pub struct StudyArgs {
     #[arg(long, value_delimiter = ',', value_name = "LIST")]
     pub methods: Option<Vec<Method>>,
 
-    /// The adaptive methods' tolerances, comma-separated (convergence and work-precision, with
-    /// an adaptive method among --methods)
+    /// Relative tolerances, comma-separated (convergence and work-precision, with an adaptive
+    /// method among --methods)
     #[arg(
         long,
         value_delimiter = ',',
@@ -307,19 +316,49 @@ pub fn command() -> clap::Command {
         .mut_subcommand("rope", |c| {
             with_defaults(with_method_names(c), &RopeConfig::default())
         })
-        .mut_subcommand("hair", |c| with_defaults(c, &HairConfig::default()))
+        .mut_subcommand("hair", |c| {
+            with_defaults(with_head_motions(c), &HairConfig::default())
+        })
         .mut_subcommand("study", |c| {
             with_shown_defaults(with_method_names(c), &study_defaults())
         })
 }
 
-/// `--methods` help naming every registry method, read from the registry.
+/// `--head-motion` help listing its values, read from the scene.
+fn with_head_motions(cmd: clap::Command) -> clap::Command {
+    let names: Vec<&str> = crate::scene::hair::HeadMotion::ALL
+        .iter()
+        .map(|(name, _)| *name)
+        .collect();
+    cmd.mut_arg("head_motion", |a| {
+        let help = a.get_help().map(|h| h.to_string()).unwrap_or_default();
+        a.help(format!("{help}: one of {}", names.join(", ")))
+    })
+}
+
+/// The registry's adaptive methods, the ones `--rtol` drives.
+fn adaptive_names() -> String {
+    Method::ALL
+        .iter()
+        .filter(|m| matches!(m.info().evals_per_step, crate::integrate::EvalsPerStep::Adaptive(_)))
+        .map(|m| m.name())
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// `--methods` help naming every registry method, and `--rtol` help naming the adaptive ones
+/// it drives, read from the registry.
 fn with_method_names(cmd: clap::Command) -> clap::Command {
     let names = Method::names().collect::<Vec<_>>().join(", ");
+    let adaptive = adaptive_names();
     cmd.mut_arg("methods", |a| {
         a.help(format!(
             "Methods to run, comma-separated, any of: {names} (`physlab methods` describes them)"
         ))
+    })
+    .mut_arg("rtol", |a| {
+        let help = a.get_help().map(|h| h.to_string()).unwrap_or_default();
+        a.help(format!("{help}; it drives the adaptive methods: {adaptive}"))
     })
 }
 
