@@ -340,7 +340,12 @@ fn with_head_motions(cmd: clap::Command) -> clap::Command {
 fn adaptive_names() -> String {
     Method::ALL
         .iter()
-        .filter(|m| matches!(m.info().evals_per_step, crate::integrate::EvalsPerStep::Adaptive(_)))
+        .filter(|m| {
+            matches!(
+                m.info().evals_per_step,
+                crate::integrate::EvalsPerStep::Adaptive(_)
+            )
+        })
         .map(|m| m.name())
         .collect::<Vec<_>>()
         .join(", ")
@@ -358,7 +363,9 @@ fn with_method_names(cmd: clap::Command) -> clap::Command {
     })
     .mut_arg("rtol", |a| {
         let help = a.get_help().map(|h| h.to_string()).unwrap_or_default();
-        a.help(format!("{help}; it drives the adaptive methods: {adaptive}"))
+        a.help(format!(
+            "{help}; it drives the adaptive methods: {adaptive}"
+        ))
     })
 }
 

@@ -121,6 +121,39 @@ pub fn figure(s: &LaneStats, text: String) -> String {
 pub const ADAPTIVE_STEPS_NOTE: &str = "adaptive methods: \"steps\" counts the dt grid they are sampled on (by their dense \
      output); their own accepted and rejected steps are in brackets, and ns/step is per own step\n";
 
+/// Text broken into lines of at most `width` characters at spaces (a longer word stands alone).
+pub fn wrap(text: &str, width: usize) -> Vec<String> {
+    let mut lines = vec![String::new()];
+    for word in text.split_whitespace() {
+        let last = lines.last_mut().expect("one line");
+        if !last.is_empty() && last.chars().count() + 1 + word.chars().count() > width {
+            lines.push(word.to_string());
+        } else {
+            if !last.is_empty() {
+                last.push(' ');
+            }
+            last.push_str(word);
+        }
+    }
+    lines
+}
+
+/// `- name: text` wrapped to `width` columns, its continuation lines indented by two.
+pub fn list_item(name: &str, text: &str, width: usize) -> String {
+    let mut out = String::new();
+    for (k, line) in wrap(&format!("- {name}: {text}"), width - 2)
+        .into_iter()
+        .enumerate()
+    {
+        if k > 0 {
+            out.push_str("  ");
+        }
+        out.push_str(&line);
+        out.push('\n');
+    }
+    out
+}
+
 /// A count with its noun: "1 substep", "2 substeps".
 pub fn plural(n: impl Into<u64>, noun: &str) -> String {
     let n = n.into();
