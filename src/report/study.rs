@@ -213,11 +213,9 @@ pub fn cheapest_table(rows: &[Row], targets: &[f64]) -> String {
     for &target in targets {
         let (by_wall, by_evals) = cheapest(rows, target);
         let name = |r: Option<&Row>| {
-            r.map_or("none reached it".to_string(), |r| {
-                match r.rtol {
-                    Some(t) => format!("{} (rtol {t:.0e})", r.method.name()),
-                    None => format!("{} (dt {})", r.method.name(), sci(r.dt)),
-                }
+            r.map_or("none reached it".to_string(), |r| match r.rtol {
+                Some(t) => format!("{} (rtol {t:.0e})", r.method.name()),
+                None => format!("{} (dt {})", r.method.name(), sci(r.dt)),
             })
         };
         t.row([
