@@ -35,7 +35,7 @@ fn the_documented_recording_sizes_are_what_the_default_runs_write() {
     let text = text.split_whitespace().collect::<Vec<_>>().join(" ");
     let dir = std::env::temp_dir().join(format!("physlab-docs-sizes-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let mut size = |command: &str| -> String {
+    let size = |command: &str| -> String {
         let out = dir.join(format!("{command}.rrd"));
         let status = std::process::Command::new(env!("CARGO_BIN_EXE_physlab"))
             .args([command, "-q", "-o", out.to_str().unwrap()])

@@ -293,11 +293,27 @@ pub(super) fn lane_names(infos: &[&RecordingInfo]) -> BTreeSet<String> {
     names
 }
 
+/// One entity's line of a report: whether it differs, what is said of it, when it first parts
+/// (`i64::MAX` when at no time).
+#[derive(Clone)]
+pub(super) struct EntityLine {
+    pub(super) entity: String,
+    pub(super) differs: bool,
+    pub(super) text: String,
+    pub(super) first: i64,
+}
+
+/// The entities of one group and the one of them that parts first.
+struct Group {
+    entities: usize,
+    differing: usize,
+    earliest: Option<EntityLine>,
+}
+
 /// The lines that say what differs: with `verbose` one per entity (identical ones too), else one
 /// per group of entities ([`entity_group`]), the earliest parting first, at most `cap` groups.
-/// Each entry: (entity, whether it differs, its text).
 pub(super) fn difference_lines(
-    entries: &[(String, bool, String, i64)],
+    entries: &[EntityLine],
     methods: &BTreeSet<String>,
     verbose: bool,
     cap: usize,
@@ -305,40 +321,44 @@ pub(super) fn difference_lines(
     if verbose {
         return entries
             .iter()
-            .map(|(entity, _, text, _)| format!("  {entity}: {text}"))
+            .map(|e| format!("  {}: {}", e.entity, e.text))
             .collect();
     }
-    // group → (entities, differing, the first parting's entity and text and time)
-    let mut groups: BTreeMap<String, (usize, usize, String, String, i64)> = BTreeMap::new();
-    for (entity, differs, text, first) in entries {
-        let g = groups.entry(entity_group(entity, methods)).or_insert((
-            0,
-            0,
-            String::new(),
-            String::new(),
-            i64::MAX,
-        ));
-        g.0 += 1;
-        if *differs {
-            g.1 += 1;
-            if g.2.is_empty() || *first < g.4 {
-                (g.2, g.3, g.4) = (entity.clone(), text.clone(), *first);
+    let mut groups: BTreeMap<String, Group> = BTreeMap::new();
+    for e in entries {
+        let g = groups
+            .entry(entity_group(&e.entity, methods))
+            .or_insert(Group {
+                entities: 0,
+                differing: 0,
+                earliest: None,
+            });
+        g.entities += 1;
+        if e.differs {
+            g.differing += 1;
+            if g.earliest.as_ref().is_none_or(|x| e.first < x.first) {
+                g.earliest = Some(e.clone());
             }
         }
     }
-    let mut differing: Vec<(String, (usize, usize, String, String, i64))> =
-        groups.into_iter().filter(|g| g.1.1 > 0).collect();
-    differing.sort_by_key(|g| g.1.4);
+    let mut differing: Vec<(String, Group, EntityLine)> = groups
+        .into_iter()
+        .filter_map(|(name, mut g)| g.earliest.take().map(|e| (name, g, e)))
+        .collect();
+    differing.sort_by_key(|g| g.2.first);
     let mut lines: Vec<String> = differing
         .iter()
         .take(cap)
-        .map(|(group, (n, k, entity, text, _))| {
-            if *n == 1 {
-                format!("  {entity}: {text}")
+        .map(|(name, g, e)| {
+            if g.entities == 1 {
+                format!("  {}: {}", e.entity, e.text)
             } else {
-                let lane = entity.rsplit('/').find(|p| methods.contains(*p));
+                let lane = e.entity.rsplit('/').find(|p| methods.contains(*p));
                 let which = lane.map(|l| format!(", earliest {l}")).unwrap_or_default();
-                format!("  {group} ({k} of {n} differ{which}): {text}")
+                format!(
+                    "  {name} ({} of {} differ{which}): {}",
+                    g.differing, g.entities, e.text
+                )
             }
         })
         .collect();

@@ -9,7 +9,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use super::Error;
 use super::SceneFile;
 use super::compared::{
-    by_entity, check_output, config_keys, difference_lines, lane_names, physlab_made,
+    EntityLine, by_entity, check_output, config_keys, difference_lines, lane_names, physlab_made,
     single_method, tolerance, version_line,
 };
 use super::scenes::{AllFlags, SCENES};
@@ -128,7 +128,7 @@ pub fn diff_command(args: &DiffArgs) -> anyhow::Result<()> {
     let reports = by_entity(diffs);
 
     // Per entity: whether it differs, its text, when it first parts.
-    let mut entries: Vec<(String, bool, String, i64)> = Vec::new();
+    let mut entries: Vec<EntityLine> = Vec::new();
     // Entities that differ only by rows at times the other lacks, and those that also do.
     let (mut only_times, mut with_times) = (0usize, 0usize);
     let mut times_example: Option<(usize, String)> = None;
@@ -169,16 +169,26 @@ pub fn diff_command(args: &DiffArgs) -> anyhow::Result<()> {
                 components.join(", ")
             ));
         }
-        entries.push((r.entity.clone(), differs, text, r.first_time()));
+        entries.push(EntityLine {
+            entity: r.entity.clone(),
+            differs,
+            text,
+            first: r.first_time(),
+        });
     }
     for (entity, components) in &static_differs {
         if !reports.iter().any(|r| &r.entity == entity) {
             let text = format!("static data differs: {}", components.join(", "));
             // After the series' partings: static data (summaries, about texts) follows from them.
-            entries.push((entity.clone(), true, text, i64::MAX));
+            entries.push(EntityLine {
+                entity: entity.clone(),
+                differs: true,
+                text,
+                first: i64::MAX,
+            });
         }
     }
-    let differing = entries.iter().filter(|e| e.1).count();
+    let differing = entries.iter().filter(|e| e.differs).count();
     let identical = ea.intersection(&eb).count() - differing;
     let shared = ea.intersection(&eb).count();
 
@@ -243,9 +253,9 @@ pub fn diff_command(args: &DiffArgs) -> anyhow::Result<()> {
             }
         ));
     }
-    let shown: Vec<(String, bool, String, i64)> = entries
+    let shown: Vec<EntityLine> = entries
         .iter()
-        .filter(|e| args.verbose || e.1)
+        .filter(|e| args.verbose || e.differs)
         .cloned()
         .collect();
     for l in difference_lines(&shown, &lanes, args.verbose, GROUPS_SHOWN) {

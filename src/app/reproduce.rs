@@ -6,8 +6,8 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use super::compared::{
-    by_entity, check_output, difference_lines, lane_names, physlab_made, physlab_recording,
-    recorded_command, tolerance, version_line, wall_clock,
+    EntityLine, by_entity, check_output, difference_lines, lane_names, physlab_made,
+    physlab_recording, recorded_command, tolerance, version_line, wall_clock,
 };
 use super::diff::entities_text;
 use super::scenes::{AllFlags, SCENES};
@@ -247,7 +247,7 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
     let reports = by_entity(diffs);
     let (mut differing, mut within) = (0, 0);
     // Per entity: whether it differs, its text, when it first parts.
-    let mut entries: Vec<(String, bool, String, i64)> = Vec::new();
+    let mut entries: Vec<EntityLine> = Vec::new();
     for r in &reports {
         let text = if r.bit_identical() {
             format!("identical ({} rows)", r.rows())
@@ -258,12 +258,22 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
             differing += 1;
             format!("DIFFERS: {}", r.describe("recorded", "recomputed"))
         };
-        entries.push((r.entity.clone(), !r.same(), text, r.first_time()));
+        entries.push(EntityLine {
+            entity: r.entity.clone(),
+            differs: !r.same(),
+            text,
+            first: r.first_time(),
+        });
     }
     for e in &only_recomputed {
         differing += 1;
         let text = "DIFFERS: only in the re-run, not in the recording".to_string();
-        entries.push((e.to_string(), true, text, i64::MAX));
+        entries.push(EntityLine {
+            entity: e.to_string(),
+            differs: true,
+            text,
+            first: i64::MAX,
+        });
     }
     let n = reports.len() + only_recomputed.len();
     let verdict = if differing > 0 {
@@ -289,7 +299,7 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
     let lanes = lane_names(&[&info]);
     let shown: Vec<_> = entries
         .iter()
-        .filter(|e| args.verbose || e.1 || e.2.starts_with("within"))
+        .filter(|e| args.verbose || e.differs || e.text.starts_with("within"))
         .cloned()
         .collect();
     for l in difference_lines(&shown, &lanes, args.verbose, GROUPS_SHOWN) {

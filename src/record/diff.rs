@@ -211,7 +211,7 @@ impl DiffWriter {
             }
             return self.push(series, time, value);
         }
-        if !key.1.ends_with("positions") || n % 3 != 0 {
+        if !key.1.ends_with("positions") || !n.is_multiple_of(3) {
             return Ok(());
         }
         let points = |row: &dyn PairedRow| -> Vec<[f32; 3]> {
