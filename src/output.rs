@@ -125,11 +125,13 @@ pub fn check(flag: &str, path: &Path, dash: Dash) -> anyhow::Result<Output> {
         Ok(m) if m.is_file() => {}
         Ok(m) => {
             let t = m.file_type();
+            // Bad input like any other (exit 2): the path names something that is no file.
             let what = if t.is_dir() {
-                return Err(anyhow::anyhow!(
+                return Err(Error::Usage(format!(
                     "{named}: is a folder; give a file path such as {}/out",
                     path.display()
-                ));
+                ))
+                .into());
             } else if t.is_fifo() {
                 "a FIFO"
             } else if t.is_char_device() || t.is_block_device() {
@@ -137,9 +139,10 @@ pub fn check(flag: &str, path: &Path, dash: Dash) -> anyhow::Result<Output> {
             } else {
                 "a socket"
             };
-            return Err(anyhow::anyhow!(
+            return Err(Error::Usage(format!(
                 "{named}: is {what}; physlab writes only regular files (`-` is standard output)"
-            ));
+            ))
+            .into());
         }
         // Not there (or under a file): making its folder below says why it cannot be.
         Err(_) => {}

@@ -611,6 +611,13 @@ const REFUSALS: &[(&[&str], i32, &[&str])] = &[
     ),
     // files
     (&["inspect", "/nonexistent/run.rrd"], 2, &["cannot read it"]),
+    (&["pendulum", "-o", "."], 2, &["-o .: is a folder"]),
+    // `all --dt` is every scene's step: hair takes it only as a whole number of substeps.
+    (
+        &["all", "--dt", "0.005", "--print-config"],
+        2,
+        &["--dt 0.005", "3 substeps", "4 substeps"],
+    ),
 ];
 
 #[test]
@@ -1034,7 +1041,7 @@ mod commands {
     fn folders_and_unwritable_paths_are_refused_before_simulating() {
         let dir = scratch_dir("bad-outputs");
         let (code, _, err) = physlab(&["pendulum", "-o", dir.to_str().unwrap()]);
-        assert_eq!(code, 1);
+        assert_eq!(code, 2);
         assert!(err.contains("is a folder"), "{err}");
         let blocked = dir.join("file");
         std::fs::write(&blocked, b"x").unwrap();

@@ -24,3 +24,34 @@ fn documents_show_the_figures_the_code_produces() {
         stale.join("\n")
     );
 }
+
+/// The sizes docs/results.md gives for the default recordings are what the runs write today
+/// (recordings are deterministic, so the sizes are too), to the 0.1 MB it shows.
+#[cfg(feature = "rerun")]
+#[test]
+fn the_documented_recording_sizes_are_what_the_default_runs_write() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(root.join("docs/results.md")).unwrap();
+    let text = text.split_whitespace().collect::<Vec<_>>().join(" ");
+    let dir = std::env::temp_dir().join(format!("physlab-docs-sizes-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let size = |command: &str| -> String {
+        let out = dir.join(format!("{command}.rrd"));
+        let status = std::process::Command::new(env!("CARGO_BIN_EXE_physlab"))
+            .args([command, "-q", "-o", out.to_str().unwrap()])
+            .stdout(std::process::Stdio::null())
+            .status()
+            .unwrap();
+        assert!(status.success(), "{command}");
+        format!(
+            "{:.1} MB",
+            std::fs::metadata(&out).unwrap().len() as f64 / 1e6
+        )
+    };
+    let (all, pendulum, rope, hair) = (size("all"), size("pendulum"), size("rope"), size("hair"));
+    let said = format!(
+        "The default `physlab all` takes 0.5 s and writes {all} (pendulum {pendulum}, rope {rope}, hair {hair};"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert!(text.contains(&said), "docs/results.md should say: {said}");
+}

@@ -805,6 +805,55 @@ mod cli {
 
     use crate::common::{decode, physlab, scratch_dir};
 
+    /// The exact period at 60° (g = 9.81, L = 3.521) from the mpmath table.
+    const PERIOD_60: f64 = 4.039724609;
+
+    /// A step beyond a tenth of the period (a unit mistake: `--dt 10` meant 10 ms) runs (exit 0)
+    /// but is said up front on stderr with the period, and the summary marks the run; a step
+    /// just under a tenth is not warned about.
+    #[test]
+    fn a_step_beyond_a_tenth_of_the_period_is_warned_with_the_period() {
+        let base = [
+            "pendulum",
+            "--theta0",
+            "60",
+            "--gravity",
+            "9.81",
+            "--length",
+            "3.521",
+            "-q",
+            "--no-record",
+            "--duration",
+            "20",
+        ];
+        let run = |dt: String| {
+            let mut args = base.to_vec();
+            args.extend(["--dt", dt.as_str()]);
+            physlab(&args)
+        };
+        let (code, stdout, stderr) = run("10".into());
+        assert_eq!(code, 0, "{stderr}");
+        let warning = stderr
+            .lines()
+            .find(|l| l.starts_with("warning: pendulum: --dt 10 s exceeds a tenth"))
+            .unwrap_or_else(|| panic!("no warning:\n{stderr}"));
+        let said: f64 = warning
+            .split("period ")
+            .nth(1)
+            .and_then(|r| r.split(' ').next())
+            .and_then(|t| t.parse().ok())
+            .unwrap_or_else(|| panic!("no period in {warning}"));
+        assert!((said - PERIOD_60).abs() < 0.005, "{said} vs {PERIOD_60}");
+        assert!(stdout.contains("warning: --dt 10 s exceeds"), "{stdout}");
+        // Just above and just below a tenth of the period.
+        let (_, _, stderr) = run(format!("{}", PERIOD_60 / 10.0 * 1.001));
+        assert!(stderr.contains("exceeds a tenth"), "{stderr}");
+        let (code, stdout, stderr) = run(format!("{}", PERIOD_60 / 10.0 * 0.999));
+        assert_eq!(code, 0, "{stderr}");
+        assert!(!stderr.contains("warning"), "{stderr}");
+        assert!(!stdout.contains("warning"), "{stdout}");
+    }
+
     /// Collects each lane's θ series, and its |θ − θref| where it has one, as the library reports
     /// them.
     #[derive(Default)]

@@ -148,7 +148,8 @@ mod outputs {
             }
             for (path, message) in &refused {
                 let (code, stdout, err) = run(&with_out(&args, path, &plots));
-                assert_eq!(code, 1, "{name} {path:?}: {err}");
+                // Bad input like any other: exit 2.
+                assert_eq!(code, 2, "{name} {path:?}: {err}");
                 assert!(
                     err.contains(message) && err.contains(s(path)),
                     "{name}: {err}"
@@ -330,11 +331,11 @@ mod outputs {
             ),
             (cat(&["--plots", s(&file)]), 1, "is not a folder"),
             (cat(&["--plots", "-"]), 2, "--plots -"),
-            (cat(&["-o", s(&dir)]), 1, "is a folder"),
-            (cat(&["--csv", s(&dir)]), 1, "is a folder"),
+            (cat(&["-o", s(&dir)]), 2, "is a folder"),
+            (cat(&["--csv", s(&dir)]), 2, "is a folder"),
             (
                 vec!["diff".into(), g.clone(), g.clone(), "-o".into(), ".".into()],
-                1,
+                2,
                 "is a folder",
             ),
             (
@@ -355,7 +356,7 @@ mod outputs {
             ),
             (
                 vec!["reproduce".into(), g.clone(), "-o".into(), s(&dir).into()],
-                1,
+                2,
                 "is a folder",
             ),
             (
@@ -365,7 +366,7 @@ mod outputs {
                     "--config-out".into(),
                     s(&dir).into(),
                 ],
-                1,
+                2,
                 "is a folder",
             ),
         ];

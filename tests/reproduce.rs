@@ -29,15 +29,20 @@ fn a_run_reproduces_itself_bit_identically() {
     assert_eq!(code, 0, "{err}");
     let (code, report, err) = physlab(&["reproduce", s(&out)]);
     assert_eq!(code, 0, "{report}\n{err}");
-    assert!(report.contains("verdict: bit-identical"), "{report}");
+    // The verdict first, then only what differs (nothing): under 15 lines.
+    assert!(report.starts_with("verdict: bit-identical"), "{report}");
+    assert!(report.lines().count() < 15, "{report}");
+    assert!(!report.contains("/pendulum/plots"), "{report}");
+    let (code, report, err) = physlab(&["reproduce", "-v", s(&out)]);
+    assert_eq!(code, 0, "{report}\n{err}");
     for entity in [
-        "identical  /pendulum/plots/theta/verlet",
-        "identical  /pendulum/rk4/bob",
-        "identical  /rope/plots/max_strain/explicit-euler",
-        "identical  /hair/ftl/strands",
-        "identical  /pendulum/events",
-        "identical  /pendulum/summary",
-        "identical  /rope/summary",
+        "/pendulum/plots/theta/verlet: identical",
+        "/pendulum/rk4/bob: identical",
+        "/rope/plots/max_strain/explicit-euler: identical",
+        "/hair/ftl/strands: identical",
+        "/pendulum/events: identical",
+        "/pendulum/summary: identical",
+        "/rope/summary: identical",
     ] {
         assert!(report.contains(entity), "lacks {entity:?}:\n{report}");
     }
@@ -126,16 +131,32 @@ fn an_altered_value_is_caught_at_its_entity_and_time() {
     assert_eq!(code, 1, "{report}\n{err}");
     let line = report
         .lines()
-        .find(|l| l.contains("DIFFERS"))
+        .find(|l| l.contains("DIFFERS") && l.contains("/pendulum/"))
         .unwrap_or_else(|| panic!("no DIFFERS line:\n{report}"));
     assert!(
-        line.contains("/pendulum/plots/theta/rk4: first differs at t = 1.5 s"),
+        line.contains(
+            "/pendulum/plots/theta/rk4: DIFFERS: first differs at t = 1.5 s (Scalars:scalars)"
+        ),
         "{line}"
     );
-    assert!(
-        line.contains(&format!("recorded {:e}, recomputed {:e}", was + 1e-9, was)),
-        "{line}"
-    );
+    // Both values to the digits that tell them apart (a change of 1e-9 in about 1: 11 digits).
+    let value = |name: &str| -> String {
+        let after = line.split(&format!("{name} ")).nth(1).unwrap_or("");
+        after.split([',', ';']).next().unwrap_or("").to_string()
+    };
+    let (recorded, recomputed) = (value("recorded"), value("recomputed"));
+    for (text, expected) in [(&recorded, was + 1e-9), (&recomputed, was)] {
+        let v: f64 = text
+            .parse()
+            .unwrap_or_else(|_| panic!("{text:?} in {line}"));
+        assert!((v - expected).abs() < 1e-10, "{text} vs {expected}: {line}");
+        let digits = text.chars().filter(char::is_ascii_digit).count();
+        assert!(
+            digits <= 12,
+            "{text}: more digits than tell the values apart"
+        );
+    }
+    assert!(report.starts_with("verdict: DIFFERS in 1 of"), "{report}");
     assert_eq!(
         report.matches("DIFFERS").count(),
         2,
@@ -143,7 +164,11 @@ fn an_altered_value_is_caught_at_its_entity_and_time() {
     );
     assert!(report.contains("verdict: DIFFERS in 1 of"), "{report}");
     // The summary table is recomputed from the true values: it agrees with the recording.
-    assert!(report.contains("identical  /pendulum/summary"), "{report}");
+    let (_, verbose, _) = physlab(&["reproduce", "-v", s(&bad)]);
+    assert!(
+        verbose.contains("/pendulum/summary: identical"),
+        "{verbose}"
+    );
     assert!(err.contains("does not reproduce"), "{err}");
     // Within a tolerance larger than the change (relative to max |θ| ≈ 1.05 rad), it passes.
     let (code, report, _) = physlab(&["reproduce", s(&bad), "--tolerance", "1e-8"]);
@@ -204,7 +229,16 @@ fn diff_of_euler_and_verlet_reports_their_first_parting() {
         ]);
         assert_eq!(code, 0, "{err}");
     }
-    let (code, report, err) = physlab(&["diff", s(&e), s(&v), "--tolerance", "0.01", "-o", s(&d)]);
+    let (code, report, err) = physlab(&[
+        "diff",
+        s(&e),
+        s(&v),
+        "--tolerance",
+        "0.01",
+        "-v",
+        "-o",
+        s(&d),
+    ]);
     assert_eq!(code, 1, "they differ:\n{report}\n{err}");
     assert!(report.contains("pendulum.methods"), "{report}");
     assert!(
@@ -238,9 +272,131 @@ fn diff_of_euler_and_verlet_reports_their_first_parting() {
     );
     // The difference recording holds θ_verlet − θ_euler over time.
     let decoded = common::decode(&d);
-    let dtheta = &decoded.scalars["/diff/pendulum/plots/theta/explicit-euler/scalars"];
+    let dtheta = &decoded.scalars["/diff/pendulum/plots/theta/explicit-euler"];
     assert_eq!(dtheta.len(), 401);
     assert_eq!(dtheta[0].1, 0.0);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The views of a recording's blueprint: (class, origin) of each.
+fn blueprint_views(path: &Path) -> Vec<(String, String)> {
+    use rerun::external::re_sdk_types::blueprint::archetypes::ViewBlueprint;
+    let origin = ViewBlueprint::descriptor_space_origin().component;
+    let class = ViewBlueprint::descriptor_class_identifier().component;
+    let file = std::io::BufReader::new(std::fs::File::open(path).unwrap());
+    let mut views = Vec::new();
+    for msg in DecoderApp::decode_lazy(file) {
+        let LogMsg::ArrowMsg(store_id, arrow_msg) = msg.unwrap() else {
+            continue;
+        };
+        if !store_id.is_blueprint() {
+            continue;
+        }
+        let chunk = Chunk::from_arrow_msg(&arrow_msg).unwrap();
+        let (Some(c), Some(o)) = (
+            chunk.iter_slices::<String>(class).next(),
+            chunk.iter_slices::<String>(origin).next(),
+        ) else {
+            continue;
+        };
+        if let (Some(c), Some(o)) = (c.first(), o.first()) {
+            views.push((c.to_string(), o.to_string()));
+        }
+    }
+    views
+}
+
+/// A one-parameter change (`--dt 0.01` → `0.005`) reads as one change: `diff` says the verdict
+/// on line 1, the configuration change on line 2, the rows at times the other run lacks as one
+/// line, in under 15 lines; `reproduce` says its verdict on line 1 in under 15 lines. The
+/// difference recording opens on a plot of B − A per quantity, both runs' 3D overlaid and the
+/// report, holds θ_B − θ_A at the times both have, and says what wrote it.
+#[test]
+fn a_step_change_reads_as_one_change_and_its_diff_recording_shows_it_as_plots() {
+    let dir = scratch_dir("diff-dt");
+    let (a, b, d) = (dir.join("a.rrd"), dir.join("b.rrd"), dir.join("d.rrd"));
+    for (dt, out) in [("0.01", &a), ("0.005", &b)] {
+        let (code, _, err) = physlab(&[
+            "pendulum",
+            "--dt",
+            dt,
+            "--duration",
+            "2",
+            "--methods",
+            "rk4,verlet,explicit-euler",
+            "-q",
+            "-o",
+            s(out),
+        ]);
+        assert_eq!(code, 0, "{err}");
+    }
+    let (code, report, err) = physlab(&["diff", s(&a), s(&b), "-o", s(&d)]);
+    assert_eq!(code, 1, "{report}\n{err}");
+    let lines: Vec<&str> = report.lines().collect();
+    assert!(lines.len() < 15, "{} lines:\n{report}", lines.len());
+    assert!(lines[0].starts_with("verdict: they differ"), "{report}");
+    assert_eq!(
+        lines[1], "configuration: pendulum.dt: 0.01 → 0.005",
+        "{report}"
+    );
+    assert_eq!(
+        lines.iter().filter(|l| l.starts_with("times: ")).count(),
+        1,
+        "{report}"
+    );
+    assert!(!report.contains("without a partner"), "{report}");
+    assert!(
+        report.contains("/pendulum/plots/theta/* (4 of 4 differ"),
+        "{report}"
+    );
+    let (code, again, err) = physlab(&["reproduce", s(&a)]);
+    assert_eq!(code, 0, "{again}\n{err}");
+    assert!(again.lines().count() < 15, "{again}");
+    assert!(again.starts_with("verdict: bit-identical"), "{again}");
+
+    // Its views: B − A per quantity, the 3D overlay, the report.
+    let views = blueprint_views(&d);
+    for (class, origin) in [
+        ("TimeSeries", "/diff/pendulum/plots/theta"),
+        ("TimeSeries", "/diff/pendulum/plots/omega"),
+        ("3D", "/diff/3d"),
+        ("TextDocument", "/diff/report"),
+    ] {
+        assert!(
+            views.iter().any(|v| v.0 == class && v.1 == origin),
+            "no {class} view of {origin}: {views:?}"
+        );
+    }
+    // θ_B − θ_A at every time of A (B has each of A's times and one between), as the two
+    // recordings hold them.
+    let (da, db, dd) = (decode(&a), decode(&b), decode(&d));
+    for lane in ["rk4", "verlet", "explicit-euler"] {
+        let theta = format!("/pendulum/plots/theta/{lane}");
+        let b_at: std::collections::BTreeMap<i64, f64> =
+            db.scalars[&theta].iter().copied().collect();
+        let expected: Vec<(i64, f64)> = da.scalars[&theta]
+            .iter()
+            .filter_map(|&(t, x)| b_at.get(&t).map(|y| (t, y - x)))
+            .collect();
+        assert_eq!(expected.len(), 201, "{lane}: A's times in B");
+        assert_eq!(dd.scalars[&format!("/diff{theta}")], expected, "{lane}");
+    }
+    for side in ["A", "B"] {
+        let bob = format!("/diff/3d/{side}/pendulum/rk4/bob");
+        assert!(dd.entities.contains(&bob), "{bob}: {:?}", dd.entities);
+    }
+    // Its provenance: inspect names it, reproduce refuses it with the command that wrote it.
+    let (code, info, err) = physlab(&["inspect", s(&d)]);
+    assert_eq!(code, 0, "{err}");
+    assert!(info.contains("(a diff recording of "), "{info}");
+    assert!(!info.contains("(not recorded)"), "{info}");
+    let (code, _, err) = physlab(&["reproduce", s(&d)]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("a diff recording"), "{err}");
+    assert!(
+        err.contains(&format!("physlab diff {} {} -o {}", s(&a), s(&b), s(&d))),
+        "{err}"
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -508,6 +664,7 @@ mod readers {
                     b: b.to_path_buf(),
                     tolerance: None,
                     output: None,
+                    verbose: false,
                 }),
             };
             if let Err(e) = physlab::app::run(cli)
@@ -862,7 +1019,7 @@ mod readers {
         assert!(summary.contains("threads: 1 "), "{summary}");
         for threads in [None, Some("3"), Some("2")] {
             let mut cmd = Command::new(env!("CARGO_BIN_EXE_physlab"));
-            cmd.args(["reproduce", s(&out)]);
+            cmd.args(["reproduce", "-v", s(&out)]);
             if let Some(n) = threads {
                 cmd.env("RAYON_NUM_THREADS", n);
             }
@@ -870,7 +1027,7 @@ mod readers {
             let report = String::from_utf8_lossy(&result.stdout);
             assert_eq!(result.status.code(), Some(0), "{threads:?}: {report}");
             assert!(report.contains("verdict: bit-identical"), "{report}");
-            assert!(report.contains("identical  /hair/summary"), "{report}");
+            assert!(report.contains("/hair/summary: identical"), "{report}");
         }
         std::fs::remove_dir_all(&dir).unwrap();
     }

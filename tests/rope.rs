@@ -509,6 +509,46 @@ mod cli {
         "verlet",
     ];
 
+    /// A step beyond 2/ω_max of the default rope (16 nodes, k = 5000 N/m, m = 0.1 kg, node 0
+    /// pinned: ω_max = 2√(k/m) sin(29π/62), the pinned-free chain's top mode) is said up front
+    /// with that scale for the methods stable only below some ω·dt; implicit Euler alone is not.
+    #[test]
+    fn a_step_beyond_the_stiffest_modes_scale_is_warned_with_it() {
+        let omega_max = 2.0 * (5000.0f64 / 0.1).sqrt() * (29.0 * std::f64::consts::PI / 62.0).sin();
+        let limit = 2.0 / omega_max;
+        let run = |dt: f64, methods: &str| {
+            physlab(&[
+                "rope",
+                "--dt",
+                &dt.to_string(),
+                "--duration",
+                "0.05",
+                "--methods",
+                methods,
+                "-q",
+                "--no-record",
+            ])
+        };
+        let (code, _, stderr) = run(limit * 1.01, "rk4,implicit-euler");
+        assert_eq!(code, 0, "{stderr}");
+        let warning = stderr
+            .lines()
+            .find(|l| l.starts_with("warning: rope: --dt"))
+            .unwrap_or_else(|| panic!("no warning:\n{stderr}"));
+        let said: f64 = warning
+            .split("2/ω_max = ")
+            .nth(1)
+            .and_then(|r| r.split(' ').next())
+            .and_then(|t| t.parse().ok())
+            .unwrap_or_else(|| panic!("no scale in {warning}"));
+        assert!((said / limit - 1.0).abs() < 0.005, "{said} vs {limit}");
+        assert!(warning.contains(": rk4 are stable only"), "{warning}");
+        let (_, _, stderr) = run(limit * 0.99, "rk4");
+        assert!(!stderr.contains("warning"), "{stderr}");
+        let (_, _, stderr) = run(limit * 1.5, "implicit-euler");
+        assert!(!stderr.contains("warning"), "{stderr}");
+    }
+
     #[test]
     fn rope_run_writes_a_recording_with_every_method() {
         let dir = scratch_dir("rope-e2e");

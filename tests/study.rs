@@ -459,3 +459,59 @@ mod hair {
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }
+
+/// `physlab study KIND --help` is a page of that kind: what it measures and only the flags it
+/// uses (from what each study measures: a sweep takes a start, steps and tolerances; stability
+/// its trial length; hair its duration), the others left out.
+#[cfg(feature = "rerun")]
+#[test]
+fn each_study_kind_has_a_help_page_of_its_own() {
+    let pages: [(&str, &str, &[&str], &[&str]); 4] = [
+        (
+            "convergence",
+            "fits each method's order",
+            &["--levels", "--dt", "--theta0", "--rtol"],
+            &["--steps"],
+        ),
+        (
+            "work-precision",
+            "median wall time",
+            &["--repeats", "--rtol", "--levels"],
+            &["--steps"],
+        ),
+        (
+            "stability",
+            "bisection",
+            &["--steps", "--methods"],
+            &["--levels", "--dt", "--theta0", "--rtol", "--repeats"],
+        ),
+        (
+            "hair",
+            "stretch",
+            &["--duration", "[default: 4]"],
+            &["--methods", "--scene", "--levels", "--steps"],
+        ),
+    ];
+    for (kind, measures, shown, left_out) in pages {
+        let (code, help, err) = physlab(&["study", kind, "--help"]);
+        assert_eq!(code, 0, "{err}");
+        assert!(
+            help.contains(&format!("Usage: physlab study {kind} [OPTIONS]")),
+            "{help}"
+        );
+        assert!(help.contains(measures), "{kind}: {help}");
+        for flag in shown {
+            assert!(help.contains(flag), "{kind} lacks {flag}: {help}");
+        }
+        for flag in left_out {
+            assert!(
+                !help.contains(&format!("{flag} <")),
+                "{kind} shows {flag}: {help}"
+            );
+        }
+        // The short page too.
+        let (code, short, _) = physlab(&["study", kind, "-h"]);
+        assert_eq!(code, 0);
+        assert!(short.len() < help.len(), "{kind}");
+    }
+}

@@ -1,13 +1,14 @@
 //! What `reproduce` and `diff` share: reading a recording's provenance, checking `-o` and the
 //! tolerance, and reporting series differences entity by entity.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use super::Error;
 use crate::record::compare::{SeriesDiff, time_text};
 use crate::record::inspect::{RecordingInfo, read_recording};
+use crate::report::table::{sig, sig_pair};
 
 /// Entities whose values depend on the wall clock, so that no re-run can match them: the
 /// --timings plots, and with --timings the summaries (which then hold wall times, ns/step).
@@ -65,6 +66,45 @@ pub(super) fn physlab_recording(path: &Path) -> anyhow::Result<RecordingInfo> {
         .into());
     }
     Ok(info)
+}
+
+/// The command line a recording was made with, its program named `physlab`.
+pub(super) fn recorded_command(info: &RecordingInfo) -> Option<String> {
+    let line = info.properties.get("command_line")?;
+    let args = line.split_once(' ').map_or("", |(_, rest)| rest);
+    Some(format!("physlab {args}").trim_end().to_string())
+}
+
+/// The command that runs a scene recording again on its scene file `config`: its scene
+/// subcommand (`all` for every scene), with `--timings` if it recorded them.
+pub(super) fn scene_command(info: &RecordingInfo, config: &Path) -> Option<String> {
+    let scenes = info.properties.get("scenes")?;
+    if scenes == "diff" || scenes.starts_with("study") || !info.properties.contains_key("config") {
+        return None;
+    }
+    let subcommand = if scenes.contains(',') { "all" } else { scenes };
+    let timings = info
+        .entities
+        .iter()
+        .any(|e| e.contains("/plots/frame_cost/"));
+    Some(format!(
+        "physlab {subcommand} --config {}{}",
+        config.display(),
+        if timings { " --timings" } else { "" }
+    ))
+}
+
+/// The commands that make a recording again: a scene run's scene file written out by `inspect
+/// --config-out`, then [`scene_command`]; a diff's or a study's own command line.
+pub(super) fn remake_commands(info: &RecordingInfo, file: &Path, config: &Path) -> Option<String> {
+    match scene_command(info, config) {
+        Some(run) => Some(format!(
+            "physlab inspect {} --config-out {} && {run}",
+            file.display(),
+            config.display()
+        )),
+        None => recorded_command(info),
+    }
 }
 
 pub(super) fn version_line(info: &RecordingInfo) -> String {
@@ -131,7 +171,27 @@ impl EntityReport {
         self.diffs.iter().map(|d| d.1.rows_a).max().unwrap_or(0)
     }
 
-    /// `first at t = …: A x, B y; largest |Δ| …` with the given names for A and B.
+    /// Rows at times the other side lacks, over its components.
+    pub(super) fn unpaired(&self) -> usize {
+        self.diffs.iter().map(|d| d.1.unpaired).max().unwrap_or(0)
+    }
+
+    /// Whether its values differ where both have a row (not only rows at other times).
+    pub(super) fn values_differ(&self) -> bool {
+        self.diffs
+            .iter()
+            .any(|d| d.1.first.is_some() || d.1.first_other.is_some())
+    }
+
+    /// The first time anything differs, `i64::MAX` when no paired value does.
+    pub(super) fn first_time(&self) -> i64 {
+        self.first()
+            .and_then(|d| d.1.first_time().flatten())
+            .unwrap_or(i64::MAX)
+    }
+
+    /// `first differs at t = …: A x, B y; largest |Δ| …` with the given names for A and B, the
+    /// numbers to the digits that tell them apart.
     pub(super) fn describe(&self, a: &str, b: &str) -> String {
         let mut out = String::new();
         if let Some((component, d)) = self.first() {
@@ -141,12 +201,12 @@ impl EntityReport {
                         .as_ref()
                         .is_none_or(|o| o.0.is_none_or(|t| v.time.is_some_and(|vt| vt <= t))) =>
                 {
+                    let (x, y) = sig_pair(v.a, v.b);
                     let _ = write!(
                         out,
-                        "first differs at {} ({component}): {a} {:e}, {b} {:e}",
+                        "first differs at {} ({}): {a} {x}, {b} {y}",
                         time_text(v.time),
-                        v.a,
-                        v.b
+                        value_name(component, v.index),
                     );
                 }
                 (_, Some((t, what))) => {
@@ -168,23 +228,147 @@ impl EntityReport {
         if let Some((component, l, scale)) = self.largest()
             && l.abs() != 0.0
         {
+            // The component named again only when it is another than the first parting's.
+            let named = value_name(component, l.index);
+            let named = if out.contains(&format!("({named})")) {
+                String::new()
+            } else {
+                format!("{named}; ")
+            };
             let _ = write!(
                 out,
-                "{}largest |Δ| = {:.3e} at {} ({component}: {a} {:e}, {b} {:e}; {:.2e} of the series' largest magnitude)",
+                "{}largest |Δ| {} at {} ({named}{} of the series' largest magnitude)",
                 if out.is_empty() { "" } else { "; " },
-                l.abs(),
+                sig(l.abs(), 2),
                 time_text(l.time),
-                l.a,
-                l.b,
                 if scale > 0.0 {
-                    l.abs() / scale
+                    sig(l.abs() / scale, 2)
                 } else {
-                    f64::INFINITY
+                    "∞".to_string()
                 }
             );
         }
         out
     }
+}
+
+/// A value of a component named for a reader: a point's coordinate as `Points3D:positions x`
+/// (`of point 3` when the row holds several points), another value of several by its index.
+pub(super) fn value_name(component: &str, index: usize) -> String {
+    let vectors = ["positions", "strips", "vectors", "origins"]
+        .iter()
+        .any(|c| component.ends_with(c));
+    let dim = if component.contains("3D") { 3 } else { 2 };
+    if vectors {
+        let axis = ["x", "y", "z"][index % dim];
+        match index / dim {
+            0 => format!("{component} {axis}"),
+            point => format!("{component} {axis} of point {point}"),
+        }
+    } else if index > 0 {
+        format!("{component}[{index}]")
+    } else {
+        component.to_string()
+    }
+}
+
+/// An entity's path with every method's segment (and the references') as `*`: the entities of
+/// one quantity or one drawing across methods, reported as one group.
+pub(super) fn entity_group(entity: &str, methods: &BTreeSet<String>) -> String {
+    entity
+        .split('/')
+        .map(|part| if methods.contains(part) { "*" } else { part })
+        .collect::<Vec<_>>()
+        .join("/")
+}
+
+/// The method names of the recordings (their `methods` properties) and the references' lanes.
+pub(super) fn lane_names(infos: &[&RecordingInfo]) -> BTreeSet<String> {
+    let mut names: BTreeSet<String> = ["exact", "reference"].map(String::from).into();
+    for info in infos {
+        if let Some(m) = info.properties.get("methods") {
+            names.extend(m.split(',').filter(|m| !m.is_empty()).map(String::from));
+        }
+    }
+    names
+}
+
+/// One entity's line of a report: whether it differs, what is said of it, when it first parts
+/// (`i64::MAX` when at no time).
+#[derive(Clone)]
+pub(super) struct EntityLine {
+    pub(super) entity: String,
+    pub(super) differs: bool,
+    pub(super) text: String,
+    pub(super) first: i64,
+}
+
+/// The entities of one group and the one of them that parts first.
+struct Group {
+    entities: usize,
+    differing: usize,
+    earliest: Option<EntityLine>,
+}
+
+/// The lines that say what differs: with `verbose` one per entity (identical ones too), else one
+/// per group of entities ([`entity_group`]), the earliest parting first, at most `cap` groups.
+pub(super) fn difference_lines(
+    entries: &[EntityLine],
+    methods: &BTreeSet<String>,
+    verbose: bool,
+    cap: usize,
+) -> Vec<String> {
+    if verbose {
+        return entries
+            .iter()
+            .map(|e| format!("  {}: {}", e.entity, e.text))
+            .collect();
+    }
+    let mut groups: BTreeMap<String, Group> = BTreeMap::new();
+    for e in entries {
+        let g = groups
+            .entry(entity_group(&e.entity, methods))
+            .or_insert(Group {
+                entities: 0,
+                differing: 0,
+                earliest: None,
+            });
+        g.entities += 1;
+        if e.differs {
+            g.differing += 1;
+            if g.earliest.as_ref().is_none_or(|x| e.first < x.first) {
+                g.earliest = Some(e.clone());
+            }
+        }
+    }
+    let mut differing: Vec<(String, Group, EntityLine)> = groups
+        .into_iter()
+        .filter_map(|(name, mut g)| g.earliest.take().map(|e| (name, g, e)))
+        .collect();
+    differing.sort_by_key(|g| g.2.first);
+    let mut lines: Vec<String> = differing
+        .iter()
+        .take(cap)
+        .map(|(name, g, e)| {
+            if g.entities == 1 {
+                format!("  {}: {}", e.entity, e.text)
+            } else {
+                let lane = e.entity.rsplit('/').find(|p| methods.contains(*p));
+                let which = lane.map(|l| format!(", earliest {l}")).unwrap_or_default();
+                format!(
+                    "  {name} ({} of {} differ{which}): {}",
+                    g.differing, g.entities, e.text
+                )
+            }
+        })
+        .collect();
+    if differing.len() > cap {
+        lines.push(format!(
+            "  … and {} more groups (-v lists every entity)",
+            differing.len() - cap
+        ));
+    }
+    lines
 }
 
 /// Groups per-component comparisons by entity.

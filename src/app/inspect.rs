@@ -31,18 +31,32 @@ pub fn inspect_command(args: &InspectArgs) -> anyhow::Result<()> {
             .unwrap_or("(not recorded)")
     };
     println!("recording: {}", args.file.display());
+    let what = match p("scenes") {
+        "diff" => format!(" (a diff recording of {} and {})", p("diff_a"), p("diff_b")),
+        _ => String::new(),
+    };
     println!(
-        "  written by: physlab {} (commit {}), Rerun SDK {}",
+        "  written by: physlab {} (commit {}), Rerun SDK {}{what}",
         p("physlab_version"),
         p("git_commit"),
         p("rerun_sdk_version")
     );
     println!("  command line: {}", p("command_line"));
+    let scene_file = args
+        .config_out
+        .clone()
+        .filter(|o| o.as_os_str() != "-")
+        .unwrap_or_else(|| "scene.toml".into());
+    if let Some(again) = super::compared::remake_commands(&info, &args.file, &scene_file) {
+        println!("  made again by: {again}");
+    }
     println!(
         "  scenes: {}",
         info.scenes().into_iter().collect::<Vec<_>>().join(", ")
     );
-    println!("  methods: {}", p("methods"));
+    if p("scenes") != "diff" {
+        println!("  methods: {}", p("methods"));
+    }
     match info.time_range {
         Some((a, b)) => println!("  sim_time: {a:.6} s to {b:.6} s"),
         None => println!("  sim_time: (no timed data)"),
@@ -77,9 +91,13 @@ pub fn inspect_command(args: &InspectArgs) -> anyhow::Result<()> {
     for e in &info.entities {
         println!("    {e}");
     }
-    println!("  config:");
-    for line in p("config").lines() {
-        println!("    {line}");
+    if p("scenes") == "diff" {
+        println!("  config: none (a diff recording compares two runs; each holds its own)");
+    } else {
+        println!("  config:");
+        for line in p("config").lines() {
+            println!("    {line}");
+        }
     }
     if let Some(out) = &config_out {
         let config = info.properties.get("config").ok_or_else(|| {
@@ -90,10 +108,11 @@ pub fn inspect_command(args: &InspectArgs) -> anyhow::Result<()> {
         })?;
         out.write(config.as_bytes())?;
         if !out.is_stdout() {
+            let run = super::compared::scene_command(&info, &out.given)
+                .unwrap_or_else(|| format!("--config {}", out.given.display()));
             eprintln!(
-                "wrote the scene file to {} (run it again with --config {})",
+                "wrote the scene file to {} (run it again with: {run})",
                 out.given.display(),
-                out.given.display()
             );
         }
     }

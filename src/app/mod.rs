@@ -69,6 +69,8 @@ fn all_plan(c: &AllArgs) -> Result<Plan, Error> {
         None => (None, None),
     };
     let all = AllFlags {
+        dt: c.dt,
+        duration: c.duration,
         fps: c.fps,
         plot_every: c.plot_every,
         registry,
@@ -272,6 +274,15 @@ fn simulate(
         )?;
         Some(recording)
     };
+    // Said up front, before any work: a step too large for a scene is most often a unit mistake.
+    let warnings: Vec<Option<String>> = resolved.scenes.iter().map(|s| s.step_warning()).collect();
+    if !replay.silent {
+        for (scene, w) in resolved.scenes.iter().zip(&warnings) {
+            if let Some(w) = w {
+                eprintln!("warning: {}: {w}", scene.kind().name());
+            }
+        }
+    }
     let mut progress = Progress::new(run.quiet, recording.as_ref().and_then(|r| r.written()));
     let mut summaries = Vec::new();
     let mut diverged = Vec::new();
@@ -288,7 +299,7 @@ fn simulate(
     };
     // Scenes run one after another; after an interruption the remaining ones are skipped.
     let mut ends: Vec<SceneEnd> = Vec::new();
-    for scene in resolved.scenes {
+    for (scene, warning) in resolved.scenes.into_iter().zip(warnings) {
         let name = scene.kind().name();
         if crate::interrupt::requested() || replay.skips(name) {
             continue;
@@ -305,7 +316,10 @@ fn simulate(
                     .unwrap_or_default()
             );
         }
-        let ran = scene.run(&mut ctx)?;
+        let mut ran = scene.run(&mut ctx)?;
+        if let Some(w) = warning {
+            ran.summary.push_str(&format!("\nwarning: {w}\n"));
+        }
         if let Some(s) = &ctx.stream {
             record::log_summary(s, ran.end.scene, &ran.summary, &ran.end.text, run.timings)?;
         }

@@ -6,8 +6,10 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use super::compared::{
-    by_entity, check_output, physlab_recording, tolerance, version_line, wall_clock,
+    EntityLine, by_entity, check_output, difference_lines, lane_names, physlab_made,
+    physlab_recording, recorded_command, tolerance, version_line, wall_clock,
 };
+use super::diff::entities_text;
 use super::scenes::{AllFlags, SCENES};
 use super::{Error, Plan, Replay, simulate};
 use crate::cli::{ReproduceArgs, RunArgs};
@@ -85,8 +87,19 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
         ),
         &[&args.file],
     )?;
-    let info = physlab_recording(&args.file)?;
+    let info = physlab_made(&args.file)?;
     let scenes_property = info.properties.get("scenes").cloned().unwrap_or_default();
+    if scenes_property == "diff" {
+        return Err(Error::Usage(format!(
+            "{}: a diff recording (of {} and {}), not a run; write it again with: {}",
+            args.file.display(),
+            info.properties.get("diff_a").map_or("?", String::as_str),
+            info.properties.get("diff_b").map_or("?", String::as_str),
+            recorded_command(&info).unwrap_or_else(|| "physlab diff A.rrd B.rrd -o D.rrd".into())
+        ))
+        .into());
+    }
+    let info = physlab_recording(&args.file)?;
     if scenes_property.starts_with("study") {
         return Err(Error::Usage(format!(
             "{}: a study recording ({scenes_property}); its numbers include wall-clock timings, so \
@@ -120,13 +133,18 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
         .iter()
         .any(|e| e.contains("/plots/frame_cost/"));
 
-    println!("reproducing {}", args.file.display());
+    // Said before the re-run (which takes the run's time); the report comes after it, verdict
+    // first.
+    eprintln!("re-running {} …", args.file.display());
+    let mut header: Vec<String> = Vec::new();
     let (then, now) = (version_line(&info), this_version());
-    println!("  recorded by {then}");
     if then == now {
-        println!("  re-run by the same build");
+        header.push(format!("recorded and re-run by the same build: {then}"));
     } else {
-        println!("  re-run by {now}  (a different build: differences may come from it)");
+        header.push(format!("recorded by {then}"));
+        header.push(format!(
+            "re-run by {now}  (a different build: differences may come from it)"
+        ));
     }
 
     // Where each scene ended: the re-run stops at the same tick.
@@ -155,14 +173,15 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
             _ => {}
         }
         if let Some(ended) = info.run.get(&format!("{scene}_ended")) {
-            println!("  {scene}: {ended}");
+            header.push(format!("{scene}: {ended}"));
         }
     }
     if killed {
         // No end record (an older physlab): compare each series as far as it goes.
-        println!(
-            "  the recording does not say where it ended: each series is compared up to its last \
+        header.push(
+            "the recording does not say where it ended: each series is compared up to its last \
              recorded row"
+                .into(),
         );
     }
 
@@ -190,9 +209,12 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
         .collect();
     let started = Instant::now();
     simulate(plan, &run, None, &replay).map_err(|e| rerun_failed(e, &args.file, &config.0))?;
-    println!("  re-ran in {:.1} s", started.elapsed().as_secs_f64());
+    header.push(format!(
+        "re-ran in {:.1} s",
+        started.elapsed().as_secs_f64()
+    ));
     if args.output.is_some() {
-        println!("  wrote the re-run to {}", output.display());
+        header.push(format!("wrote the re-run to {}", output.display()));
     }
     let skip = |entity: &str| wall_clock(entity, timings);
     let spec = StreamSpec {
@@ -223,53 +245,93 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
         .map(|k| &k.0)
         .collect();
     let reports = by_entity(diffs);
-    let mut differing = 0;
-    let mut within = 0;
+    let (mut differing, mut within) = (0, 0);
+    // Per entity: whether it differs, its text, when it first parts.
+    let mut entries: Vec<EntityLine> = Vec::new();
     for r in &reports {
-        if r.bit_identical() {
-            println!("  identical  {} ({} rows)", r.entity, r.rows());
+        let text = if r.bit_identical() {
+            format!("identical ({} rows)", r.rows())
         } else if r.same() {
             within += 1;
-            println!(
-                "  within tolerance  {}: {}",
-                r.entity,
-                r.describe("recorded", "recomputed")
-            );
+            format!("within tolerance: {}", r.describe("recorded", "recomputed"))
         } else {
             differing += 1;
-            println!(
-                "  DIFFERS    {}: {}",
-                r.entity,
-                r.describe("recorded", "recomputed")
-            );
-        }
+            format!("DIFFERS: {}", r.describe("recorded", "recomputed"))
+        };
+        entries.push(EntityLine {
+            entity: r.entity.clone(),
+            differs: !r.same(),
+            text,
+            first: r.first_time(),
+        });
     }
     for e in &only_recomputed {
         differing += 1;
-        println!("  DIFFERS    {e}: only in the re-run, not in the recording");
-    }
-    for e in &skipped {
-        println!("  skipped    {e} (wall-clock timings)");
+        let text = "DIFFERS: only in the re-run, not in the recording".to_string();
+        entries.push(EntityLine {
+            entity: e.to_string(),
+            differs: true,
+            text,
+            first: i64::MAX,
+        });
     }
     let n = reports.len() + only_recomputed.len();
-    if differing > 0 {
-        let verdict = format!(
+    let verdict = if differing > 0 {
+        format!(
             "verdict: DIFFERS in {differing} of {n} entities{}",
             if tol > 0.0 {
                 format!(" (beyond --tolerance {tol})")
             } else {
                 String::new()
             }
-        );
-        println!("{verdict}");
-        return Err(Error::Differs(format!("{}: does not reproduce", args.file.display())).into());
-    }
-    if within > 0 {
-        println!(
+        )
+    } else if within > 0 {
+        format!(
             "verdict: reproduces within --tolerance {tol} ({within} of {n} entities not bit-identical)"
-        );
+        )
     } else {
-        println!("verdict: bit-identical ({n} entities)");
+        format!("verdict: bit-identical ({})", entities_text(n))
+    };
+    println!("{verdict}");
+    for h in &header {
+        println!("{h}");
+    }
+    let lanes = lane_names(&[&info]);
+    let shown: Vec<_> = entries
+        .iter()
+        .filter(|e| args.verbose || e.differs || e.text.starts_with("within"))
+        .cloned()
+        .collect();
+    for l in difference_lines(&shown, &lanes, args.verbose, GROUPS_SHOWN) {
+        println!("{l}");
+    }
+    let identical = n - differing - within;
+    if !args.verbose && identical > 0 {
+        println!("identical: {} (-v lists them)", entities_text(identical));
+    }
+    if !skipped.is_empty() {
+        println!(
+            "skipped: {} (wall-clock timings){}",
+            entities_text(skipped.len()),
+            if args.verbose {
+                format!(
+                    ": {}",
+                    skipped
+                        .iter()
+                        .map(|s| s.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                )
+            } else {
+                String::new()
+            }
+        );
+    }
+    if differing > 0 {
+        return Err(Error::Differs(format!("{}: does not reproduce", args.file.display())).into());
     }
     Ok(())
 }
+
+/// Group lines shown without `-v`, so that the report stays under 15 lines.
+const GROUPS_SHOWN: usize = 6;

@@ -78,6 +78,8 @@ static HAIR: SceneKind = SceneKind {
     views: &record::hair::VIEWS,
     flags: |all| {
         Box::new(HairArgs {
+            dt: all.dt,
+            duration: all.duration,
             fps: all.fps,
             methods: all.hair.clone(),
             ..HairArgs::default()
@@ -89,6 +91,8 @@ static HAIR: SceneKind = SceneKind {
 /// supports).
 #[derive(Default)]
 pub struct AllFlags {
+    pub dt: Option<f64>,
+    pub duration: Option<f64>,
     pub fps: Option<f64>,
     pub plot_every: Option<u64>,
     pub registry: Option<Vec<Method>>,
@@ -99,6 +103,8 @@ impl AllFlags {
     /// As the step flags of the scenes that take the registry's methods.
     fn step(&self) -> StepFlags {
         StepFlags {
+            dt: self.dt,
+            duration: self.duration,
             fps: self.fps,
             plot_every: self.plot_every,
             methods: self.registry.clone(),
@@ -134,6 +140,8 @@ pub trait ReadyScene: Send {
     fn memory_bytes(&self) -> f64 {
         0.0
     }
+    /// Why its step is too large for its shortest time scale, if it is.
+    fn step_warning(&self) -> Option<String>;
     fn run(self: Box<Self>, ctx: &mut RunContext) -> anyhow::Result<Ran>;
 }
 
@@ -393,6 +401,9 @@ impl<C: Runs> ReadyScene for Ready<C> {
     }
     fn memory_bytes(&self) -> f64 {
         self.0.memory_bytes()
+    }
+    fn step_warning(&self) -> Option<String> {
+        self.0.step_warning()
     }
     fn run(self: Box<Self>, ctx: &mut RunContext) -> anyhow::Result<Ran> {
         self.0.run(ctx)

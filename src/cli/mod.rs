@@ -18,10 +18,19 @@ use crate::scene::hair::run::HairConfig;
 use crate::scene::pendulum::run::PendulumConfig;
 use crate::scene::rope::run::RopeConfig;
 
+/// `physlab --version`: the version and the git commit the binary is built from (`-dirty` with
+/// modified sources, `unknown` outside a git checkout).
+const VERSION: &str = concat!(
+    env!("CARGO_PKG_VERSION"),
+    " (commit ",
+    env!("PHYSLAB_GIT_COMMIT"),
+    ")"
+);
+
 #[derive(Parser, Debug)]
 #[command(
     name = "physlab",
-    version,
+    version = VERSION,
     about = "A lab for numerical integration: physics scenes stepped by several integrators side by side, \
              recorded to Rerun .rrd files",
     after_help = "Open a recording with the Rerun viewer 0.36: `rerun recordings/all.rrd` \
@@ -107,6 +116,15 @@ pub struct AllArgs {
     #[command(flatten)]
     pub run: RunArgs,
 
+    /// Time step dt [s] of every scene (overrides the scene file); in hair it is
+    /// 1/(rate·substeps), so it must divide hair's frame
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
+    pub dt: Option<f64>,
+
+    /// Simulated time [s] of every scene (overrides the scene file)
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
+    pub duration: Option<f64>,
+
     /// 3D frames logged per simulated second, for every scene (overrides the scene file)
     #[arg(long, value_name = "HZ", allow_negative_numbers = true)]
     pub fps: Option<f64>,
@@ -170,6 +188,9 @@ pub struct ReproduceArgs {
     /// Also write the re-run's recording here (a file: the re-run is read back to compare)
     #[arg(short, long, value_name = "PATH")]
     pub output: Option<PathBuf>,
+    /// List every entity compared, identical ones too
+    #[arg(short, long)]
+    pub verbose: bool,
 }
 
 #[derive(Args, Debug, Clone)]
@@ -182,10 +203,14 @@ pub struct DiffArgs {
     /// magnitude in that series [default: 0, any difference]
     #[arg(long, value_name = "REL", allow_negative_numbers = true)]
     pub tolerance: Option<f64>,
-    /// Write a recording of the differences B − A, one series per entity, to see where they part
-    /// (`-` for standard output; the report then goes to stderr)
+    /// Write a recording to read the difference at a glance: per plotted quantity B − A for
+    /// every method, both runs' 3D overlaid, the configuration change and the first parting as
+    /// text (`-` for standard output; the report then goes to stderr)
     #[arg(short, long, value_name = "D.rrd")]
     pub output: Option<PathBuf>,
+    /// List every entity compared, identical ones too, instead of one line per group
+    #[arg(short, long)]
+    pub verbose: bool,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -199,6 +224,111 @@ pub enum StudyKind {
     /// Hair: largest stretch against wall time per frame over solvers, Newton steps, sweeps,
     /// substeps and spring stiffness (200 strands; --duration, default 4 s); cheapest per target
     Hair,
+}
+
+impl StudyKind {
+    /// What the kind measures and prints, for its own `--help` page.
+    pub fn measures(self) -> &'static str {
+        match self {
+            StudyKind::Convergence => {
+                "Runs each method at --levels step sizes, from --dt halving each time (the \
+                 adaptive methods over --rtol instead), against the scene's reference (the exact \
+                 elliptic pendulum, or a converged fine-step rope), and fits each method's order \
+                 from the slope of its error above the reference's floor. Prints the runs and the \
+                 fitted orders; with -o, --csv or --plots also draws error against dt, log-log."
+            }
+            StudyKind::WorkPrecision => {
+                "Runs each method over the same step sizes (the adaptive ones over --rtol), \
+                 --repeats times each, and sets the error against the median wall time and \
+                 against force evaluations. Prints the runs, how the adaptive methods' error \
+                 follows rtol, and the cheapest run reaching each target error; with -o, --csv or \
+                 --plots also draws error against cost, log-log."
+            }
+            StudyKind::Stability => {
+                "Finds each method's largest stable step by bisection on the linearised problem \
+                 (the pendulum at θ0 = 1e-8 rad from rest, or the undamped rope), each trial \
+                 stepping --steps steps, and sets it against the theory's limit on ω·dt \
+                 (`physlab methods`). Prints measured against theory; with -o, --csv or --plots \
+                 also draws the limits."
+            }
+            StudyKind::Hair => {
+                "Runs the hair scene (200 strands, --duration of simulated time) over its solvers, \
+                 Newton steps, Gauss–Seidel sweeps, substeps and spring stiffness, and sets the \
+                 largest stretch against the wall time per frame. Prints every setting and the \
+                 cheapest reaching each stretch target; with -o, --csv or --plots also draws \
+                 stretch against cost, log-log. Takes minutes: a progress bar shows its ETA."
+            }
+        }
+    }
+}
+
+/// Which study kinds use each flag that only some kinds use (`-o`, `--csv` and `-q` serve
+/// every kind): the refusals of the flags a kind does not use and each kind's help page read it.
+pub const STUDY_FLAG_KINDS: [(&str, &[StudyKind]); 17] = {
+    use StudyKind::{Convergence as C, Hair as H, Stability as S, WorkPrecision as W};
+    const SWEEP: &[StudyKind] = &[C, W];
+    const MEASURED: &[StudyKind] = &[C, W, S];
+    [
+        ("--scene", MEASURED),
+        ("--config", MEASURED),
+        ("--theta0", SWEEP),
+        ("--omega0", SWEEP),
+        ("--nodes", MEASURED),
+        ("--mass", MEASURED),
+        ("--stiffness", MEASURED),
+        ("--spring-damping", SWEEP),
+        ("--air-drag", SWEEP),
+        ("--duration", &[C, W, H]),
+        ("--dt", SWEEP),
+        ("--levels", SWEEP),
+        ("--methods", MEASURED),
+        ("--rtol", SWEEP),
+        ("--repeats", SWEEP),
+        ("--steps", &[S]),
+        ("--plots", &[C, W, S, H]),
+    ]
+};
+
+/// `physlab study KIND --help`: the study's page with only the flags that kind uses, and what
+/// it measures.
+fn study_kind_help(kind: StudyKind) -> clap::Command {
+    use clap::ValueEnum as _;
+    let name = kind
+        .to_possible_value()
+        .map_or(String::new(), |v| v.get_name().to_string());
+    let mut cmd = command()
+        .find_subcommand("study")
+        .cloned()
+        .unwrap_or_else(|| clap::Command::new("study"));
+    for (flag, kinds) in STUDY_FLAG_KINDS {
+        if kinds.contains(&kind) {
+            continue;
+        }
+        let id = cmd
+            .get_arguments()
+            .find(|a| a.get_long().is_some_and(|l| format!("--{l}") == flag))
+            .map(|a| a.get_id().to_string());
+        if let Some(id) = id {
+            cmd = cmd.mut_arg(id, |a| a.hide(true));
+        }
+    }
+    let short = kind
+        .to_possible_value()
+        .and_then(|v| v.get_help().map(|h| h.to_string()))
+        .unwrap_or_default();
+    if kind == StudyKind::Hair {
+        // The hair study's own duration, not the measured scenes'.
+        let duration = crate::study::hair::DEFAULT_DURATION;
+        cmd = cmd.mut_arg("duration", |a| {
+            a.help(format!(
+                "Simulated time of each run [s] [default: {duration}]"
+            ))
+        });
+    }
+    cmd.mut_arg("kind", |a| a.hide(true))
+        .override_usage(format!("physlab study {name} [OPTIONS]"))
+        .about(short.clone())
+        .long_about(format!("{short}\n\n{}", kind.measures()))
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -245,8 +375,8 @@ pub struct StudyArgs {
     #[arg(long, value_delimiter = ',', value_name = "LIST")]
     pub methods: Option<Vec<Method>>,
 
-    /// The adaptive methods' tolerances, comma-separated (convergence and work-precision, with
-    /// an adaptive method among --methods)
+    /// Relative tolerances, comma-separated (convergence and work-precision, with an adaptive
+    /// method among --methods)
     #[arg(
         long,
         value_delimiter = ',',
@@ -291,18 +421,55 @@ pub fn command() -> clap::Command {
         .mut_subcommand("rope", |c| {
             with_defaults(with_method_names(c), &RopeConfig::default())
         })
-        .mut_subcommand("hair", |c| with_defaults(c, &HairConfig::default()))
+        .mut_subcommand("hair", |c| {
+            with_defaults(with_head_motions(c), &HairConfig::default())
+        })
         .mut_subcommand("study", |c| {
             with_shown_defaults(with_method_names(c), &study_defaults())
         })
 }
 
-/// `--methods` help naming every registry method, read from the registry.
+/// `--head-motion` help listing its values, read from the scene.
+fn with_head_motions(cmd: clap::Command) -> clap::Command {
+    let names: Vec<&str> = crate::scene::hair::HeadMotion::ALL
+        .iter()
+        .map(|(name, _)| *name)
+        .collect();
+    cmd.mut_arg("head_motion", |a| {
+        let help = a.get_help().map(|h| h.to_string()).unwrap_or_default();
+        a.help(format!("{help}: one of {}", names.join(", ")))
+    })
+}
+
+/// The registry's adaptive methods, the ones `--rtol` drives.
+fn adaptive_names() -> String {
+    Method::ALL
+        .iter()
+        .filter(|m| {
+            matches!(
+                m.info().evals_per_step,
+                crate::integrate::EvalsPerStep::Adaptive(_)
+            )
+        })
+        .map(|m| m.name())
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// `--methods` help naming every registry method, and `--rtol` help naming the adaptive ones
+/// it drives, read from the registry.
 fn with_method_names(cmd: clap::Command) -> clap::Command {
     let names = Method::names().collect::<Vec<_>>().join(", ");
+    let adaptive = adaptive_names();
     cmd.mut_arg("methods", |a| {
         a.help(format!(
             "Methods to run, comma-separated, any of: {names} (`physlab methods` describes them)"
+        ))
+    })
+    .mut_arg("rtol", |a| {
+        let help = a.get_help().map(|h| h.to_string()).unwrap_or_default();
+        a.help(format!(
+            "{help}; it drives the adaptive methods: {adaptive}"
         ))
     })
 }
@@ -311,6 +478,15 @@ fn with_method_names(cmd: clap::Command) -> clap::Command {
 pub fn parse() -> Cli {
     use clap::FromArgMatches as _;
     let args = join_negative_values(std::env::args_os());
+    if let Some((kind, long)) = study_help_asked(&args) {
+        let mut help = study_kind_help(kind);
+        let shown = if long {
+            help.print_long_help()
+        } else {
+            help.print_help()
+        };
+        std::process::exit(if shown.is_ok() { 0 } else { 1 });
+    }
     let matches = command().try_get_matches_from(args).unwrap_or_else(|e| {
         if let Some(message) = negative_count(&e) {
             eprintln!("error: {message}");
@@ -319,6 +495,26 @@ pub fn parse() -> Cli {
         e.exit()
     });
     Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit())
+}
+
+/// `physlab study KIND ... -h|--help`: the kind, and whether the long help (`--help`) is asked.
+fn study_help_asked(args: &[std::ffi::OsString]) -> Option<(StudyKind, bool)> {
+    use clap::ValueEnum as _;
+    let words: Vec<&str> = args.iter().skip(1).filter_map(|a| a.to_str()).collect();
+    let [command, kind, rest @ ..] = &words[..] else {
+        return None;
+    };
+    let kind = (*command == "study").then(|| StudyKind::from_str(kind, false).ok())??;
+    let before_dashes = rest.iter().take_while(|w| **w != "--");
+    let mut asked = None;
+    for w in before_dashes {
+        match *w {
+            "--help" => asked = Some(true),
+            "-h" => asked = asked.or(Some(false)),
+            _ => {}
+        }
+    }
+    asked.map(|long| (kind, long))
 }
 
 /// A negative number given to a count or an index (`--pinned -1`), which clap reports only as

@@ -82,7 +82,7 @@ pub struct StepFlags {
     #[arg(long, value_name = "D", allow_negative_numbers = true)]
     pub verlet_damping: Option<f64>,
 
-    /// dopri5's relative tolerance per substep (the absolute one equals it)
+    /// Relative tolerance per substep (the absolute one equals it)
     #[arg(long, value_name = "TOL", allow_negative_numbers = true)]
     pub rtol: Option<f64>,
 }

@@ -7,6 +7,8 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
+use crate::report::table::wrap;
+
 /// One log-log panel: decades on both axes, the given series (x, y in linear units; points
 /// outside (0, ∞) dropped), plus extra dashed lines with labels.
 pub(super) struct Panel<'a> {
@@ -118,20 +120,4 @@ where
         y += 8;
     }
     Ok(())
-}
-
-pub(super) fn wrap(text: &str, width: usize) -> Vec<String> {
-    let mut lines = vec![String::new()];
-    for word in text.split_whitespace() {
-        let last = lines.last_mut().expect("one line");
-        if !last.is_empty() && last.chars().count() + 1 + word.chars().count() > width {
-            lines.push(word.to_string());
-        } else {
-            if !last.is_empty() {
-                last.push(' ');
-            }
-            last.push_str(word);
-        }
-    }
-    lines
 }

@@ -388,9 +388,10 @@ impl Pairing {
             };
             out.first_other = Some((ra.time(), what));
         }
-        for (x, y) in ra.nums().zip(rb.nums()) {
+        for (index, (x, y)) in ra.nums().zip(rb.nums()).enumerate() {
             let d = Difference {
                 time: ra.time(),
+                index,
                 a: x,
                 b: y,
             };
@@ -439,6 +440,9 @@ pub struct SeriesDiff {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Difference {
     pub time: Option<i64>,
+    /// Which of the row's values (a point's coordinate: index / 3 is the point, index % 3 the
+    /// axis).
+    pub index: usize,
     pub a: f64,
     pub b: f64,
 }

@@ -1,35 +1,179 @@
-//! `physlab diff --output D.rrd`: the differences B − A of two recordings as series, so that the
-//! viewer shows where they part.
+//! `physlab diff --output D.rrd`: a recording that shows where two runs part at a glance. Per
+//! plotted quantity one plot of B − A with a line per method, both runs' 3D points overlaid (A
+//! as grey rings, B as orange points), the largest distance between their points over time, and the printed
+//! report (the configuration change and the first parting) as text.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 
 use rerun::TimeColumn;
-use rerun::blueprint::{Blueprint, TextDocumentView};
+use rerun::blueprint::components::Corner2D;
+use rerun::blueprint::{
+    Blueprint, ContainerLike, Grid, Horizontal, Spatial3DView, Tabs, TextDocumentView, TimePanel,
+    TimeSeriesView, Vertical,
+};
 
 use super::compare::{Key, PairedRow};
-use super::{Destinations, Recording};
+use super::{Destinations, Framing, Recording, SceneViews, ViewProperties, method_color};
 
 /// Rows held per series before they are sent: the writer's memory does not grow with the file.
 const BATCH: usize = 4096;
 
-/// Writes one series per timed numeric component both recordings hold, at the times both hold,
-/// as the comparison pairs their rows: b − a for one value per row, max |b − a| over the row's
-/// values otherwise, under `diff/<entity>/<component>`; and at the end the printed report as
-/// `diff/report`.
+/// A 3D row with more coordinates than this is not redrawn (a dense hair frame): its distance
+/// plot still shows where the runs part.
+const MAX_OVERLAID_COORDINATES: usize = 3 * 4096;
+
+/// A's points and B's in the overlay: A as a grey reference, B in a colour of its own.
+const A_COLOR: [u8; 3] = [150, 150, 150];
+const B_COLOR: [u8; 3] = [255, 140, 0];
+
+/// What the two recordings hold in common, read before the difference recording is opened:
+/// its views are laid out from it.
+pub struct DiffPlan<'a> {
+    /// The entities both recordings hold (B's renamed onto A's lanes when paired).
+    pub shared: BTreeSet<String>,
+    /// The lanes (methods and references): the last segment of a plotted series.
+    pub lanes: &'a BTreeSet<String>,
+    /// The scenes' plots, for their titles.
+    pub scenes: &'a [&'a SceneViews],
+    /// B's lane paired with A's, when each ran one method: its series are named "B − A".
+    pub paired: Option<(String, String)>,
+    /// Each scene's 3D framing, as A's configuration draws it: one overlay view per scene.
+    pub framings: Vec<(&'static str, Framing)>,
+}
+
+impl DiffPlan<'_> {
+    /// (scene, quantity) of every plotted series both hold, with the lanes plotted.
+    fn quantities(&self) -> BTreeMap<(String, String), Vec<String>> {
+        let mut out: BTreeMap<(String, String), Vec<String>> = BTreeMap::new();
+        for entity in &self.shared {
+            let parts: Vec<&str> = entity.trim_start_matches('/').split('/').collect();
+            if let [scene, "plots", quantity, lane] = parts[..]
+                && self.lanes.contains(lane)
+            {
+                out.entry((scene.to_string(), quantity.to_string()))
+                    .or_default()
+                    .push(lane.to_string());
+            }
+        }
+        out
+    }
+
+    fn title(&self, scene: &str, quantity: &str) -> String {
+        self.scenes
+            .iter()
+            .filter(|v| v.name == scene)
+            .flat_map(|v| v.plots.iter())
+            .find(|(name, _)| *name == quantity)
+            .map_or(quantity.to_string(), |(_, title)| title.to_string())
+    }
+
+    /// The report beside the 3D overlay, above the plots of B − A (a tab per scene, and one of the
+    /// 3D distances).
+    fn layout(&self) -> super::Layout {
+        let mut props = ViewProperties::default();
+        let mut by_scene: BTreeMap<String, Vec<ContainerLike>> = BTreeMap::new();
+        for (scene, quantity) in self.quantities().keys() {
+            let view = TimeSeriesView::new(format!("{}: B − A", self.title(scene, quantity)))
+                .with_origin(format!("/diff/{scene}/plots/{quantity}"));
+            // Every B − A starts at 0 at the first time, mid-height: the top left stays free.
+            by_scene
+                .entry(scene.clone())
+                .or_default()
+                .push(props.legend(view, Some(Corner2D::LeftTop)));
+        }
+        // Three plots a row: each tall enough for a legend of eight methods at 1600×1000.
+        let grid = |views: Vec<ContainerLike>| Grid::new(views).with_grid_columns(3);
+        let mut plots: Vec<ContainerLike> = by_scene
+            .into_iter()
+            .map(|(scene, views)| grid(views).with_name(scene).into())
+            .collect();
+        plots.push(
+            TimeSeriesView::new("3D: largest distance between A's and B's points [m]")
+                .with_origin("/diff/distance")
+                .into(),
+        );
+        let plots: ContainerLike = match plots.len() {
+            1 => plots.remove(0),
+            _ => Tabs::new(plots).into(),
+        };
+        let mut top: Vec<ContainerLike> = vec![
+            TextDocumentView::new("what differs")
+                .with_origin("/diff/report")
+                .into(),
+        ];
+        // The report and the scenes' overlays share the top third of the window.
+        let aspect = (3.0 / (1.0 + self.framings.len().max(1) as f32)) * 1.6;
+        for (scene, framing) in &self.framings {
+            let view = Spatial3DView::new(format!("{scene} 3D: A grey rings, B orange points"))
+                .with_origin("/diff/3d")
+                .with_contents([
+                    format!("+ $origin/A/{scene}/**"),
+                    format!("+ $origin/B/{scene}/**"),
+                ]);
+            top.push(props.eye(view, *framing, aspect));
+        }
+        if self.framings.is_empty() {
+            top.push(
+                Spatial3DView::new("3D: A grey, B orange")
+                    .with_origin("/diff/3d")
+                    .into(),
+            );
+        }
+        let top = Horizontal::new(top);
+        let blueprint = super::views::panels_collapsed(
+            Blueprint::new(Vertical::new([top.into(), plots]).with_row_shares([1.0, 2.0]))
+                .with_auto_views(false),
+            TimePanel::new().with_timeline("sim_time"),
+        );
+        props.layout(blueprint)
+    }
+}
+
+/// Writes, as the comparison pairs the rows of both recordings at the same times: b − a of every
+/// plotted series under `diff/<scene>/plots/<quantity>/<lane>`, each 3D entity's points of both
+/// runs under `diff/3d/A|B/<entity>` (A's as rings) and the largest distance between them under
+/// `diff/distance/<entity>`; and at the end the printed report as `diff/report`.
 pub struct DiffWriter {
     recording: Recording,
-    pending: BTreeMap<Key, (Vec<i64>, Vec<f64>)>,
+    pending: BTreeMap<String, (Vec<i64>, Vec<f64>)>,
+    /// Series whose style is logged.
+    styled: BTreeSet<String>,
+    lanes: BTreeSet<String>,
+    paired: Option<(String, String)>,
+    /// Per scene, the offsets of a ring around a point, facing the scene's eye, 2 % of its
+    /// framed box across.
+    rings: BTreeMap<&'static str, Vec<[f32; 3]>>,
+}
+
+/// A closed ring of 24 segments around the origin, facing `toward_eye`, of radius `r`.
+fn ring(framing: &Framing) -> Vec<[f32; 3]> {
+    let v = glam::Vec3::from_array;
+    let r = 0.02 * (v(framing.max) - v(framing.min)).length();
+    let back = v(framing.toward_eye).normalize();
+    let right = glam::Vec3::Z.cross(back).normalize();
+    let up = back.cross(right);
+    (0..=24)
+        .map(|k| {
+            let a = k as f32 / 24.0 * std::f32::consts::TAU;
+            (r * (a.cos() * right + a.sin() * up)).to_array()
+        })
+        .collect()
 }
 
 impl DiffWriter {
-    pub fn create(path: &Path) -> anyhow::Result<Self> {
+    /// `a` and `b` are named in the recording's provenance, with the command line that wrote it.
+    pub fn create(path: &Path, plan: &DiffPlan, a: &Path, b: &Path) -> anyhow::Result<Self> {
         let d = Destinations::output(path);
-        let blueprint = Blueprint::new(TextDocumentView::new("report").with_origin("/diff/report"))
-            .with_auto_views(true);
+        let recording = Recording::create(&d, "physlab-diff", "diff", plan.layout())?;
+        super::provenance::send_diff_provenance(recording.stream(), a, b)?;
         Ok(DiffWriter {
-            recording: Recording::create(&d, "physlab-diff", "diff", blueprint)?,
+            recording,
             pending: BTreeMap::new(),
+            styled: BTreeSet::new(),
+            lanes: plan.lanes.clone(),
+            paired: plan.paired.clone(),
+            rings: plan.framings.iter().map(|(s, f)| (*s, ring(f))).collect(),
         })
     }
 
@@ -42,31 +186,120 @@ impl DiffWriter {
         if n == 0 || n != b.count() {
             return Ok(());
         }
-        let mut differences = a.nums().zip(b.nums()).map(|(x, y)| y - x);
-        let value = if n == 1 {
-            differences.next().unwrap_or(0.0)
-        } else {
-            differences.map(f64::abs).fold(0.0, f64::max)
+        let entity = key.0.trim_start_matches('/');
+        let plotted = entity.split('/').nth(1) == Some("plots");
+        let lane = entity.rsplit('/').next().unwrap_or_default();
+        if n == 1 && plotted && self.lanes.contains(lane) {
+            let (x, y) = (a.nums().next(), b.nums().next());
+            let value = y.unwrap_or(0.0) - x.unwrap_or(0.0);
+            let series = format!("diff/{entity}");
+            if self.styled.insert(series.clone()) {
+                // The legend names the method, in its colour (the paired B's: what changed).
+                let (name, colored) = match &self.paired {
+                    Some((b_lane, a_lane)) if a_lane == lane => {
+                        (format!("{b_lane} − {a_lane}"), b_lane.as_str())
+                    }
+                    _ => (lane.to_string(), lane),
+                };
+                self.recording.stream().log_static(
+                    series.clone(),
+                    &rerun::SeriesLines::new()
+                        .with_names([name.as_str()])
+                        .with_colors([method_color(colored)])
+                        .with_widths([1.5]),
+                )?;
+            }
+            return self.push(series, time, value);
+        }
+        if !key.1.ends_with("positions") || !n.is_multiple_of(3) {
+            return Ok(());
+        }
+        let points = |row: &dyn PairedRow| -> Vec<[f32; 3]> {
+            let v: Vec<f64> = row.nums().collect();
+            v.chunks_exact(3)
+                .map(|p| [p[0] as f32, p[1] as f32, p[2] as f32])
+                .collect()
         };
-        let (times, values) = self.pending.entry(key.clone()).or_default();
-        times.push(time);
-        values.push(value);
-        if times.len() >= BATCH {
-            self.send(key)?;
+        let (pa, pb) = (points(a), points(b));
+        let distance = pa
+            .iter()
+            .zip(&pb)
+            .map(|(p, q)| {
+                let d: f64 = (0..3).map(|i| (q[i] as f64 - p[i] as f64).powi(2)).sum();
+                d.sqrt()
+            })
+            .fold(0.0, f64::max);
+        let series = format!("diff/distance/{entity}");
+        if self.styled.insert(series.clone()) {
+            self.recording.stream().log_static(
+                series.clone(),
+                &rerun::SeriesLines::new()
+                    .with_names([entity])
+                    .with_widths([1.5]),
+            )?;
+        }
+        self.push(series, time, distance)?;
+        if n <= MAX_OVERLAID_COORDINATES {
+            let rec = self.recording.stream();
+            rec.set_time(
+                "sim_time",
+                std::time::Duration::from_nanos(time.max(0) as u64),
+            );
+            // A as rings facing the eye, B as points: where they coincide A rings B.
+            let scene = entity.split('/').next().unwrap_or_default();
+            match self.rings.get(scene) {
+                Some(ring) => {
+                    let strips: Vec<Vec<[f32; 3]>> = pa
+                        .iter()
+                        .map(|p| {
+                            ring.iter()
+                                .map(|r| [p[0] + r[0], p[1] + r[1], p[2] + r[2]])
+                                .collect()
+                        })
+                        .collect();
+                    rec.log(
+                        format!("diff/3d/A/{entity}"),
+                        &rerun::LineStrips3D::new(strips)
+                            .with_colors([A_COLOR])
+                            .with_radii([rerun::Radius::new_ui_points(1.5)]),
+                    )?;
+                }
+                None => rec.log(
+                    format!("diff/3d/A/{entity}"),
+                    &rerun::Points3D::new(pa.clone())
+                        .with_colors([A_COLOR])
+                        .with_radii([rerun::Radius::new_ui_points(8.0)]),
+                )?,
+            }
+            rec.log(
+                format!("diff/3d/B/{entity}"),
+                &rerun::Points3D::new(pb)
+                    .with_colors([B_COLOR])
+                    .with_radii([rerun::Radius::new_ui_points(5.0)]),
+            )?;
         }
         Ok(())
     }
 
-    fn send(&mut self, key: &Key) -> anyhow::Result<()> {
-        let Some((times, values)) = self.pending.get_mut(key) else {
+    fn push(&mut self, series: String, time: i64, value: f64) -> anyhow::Result<()> {
+        let (times, values) = self.pending.entry(series.clone()).or_default();
+        times.push(time);
+        values.push(value);
+        if times.len() >= BATCH {
+            self.send(&series)?;
+        }
+        Ok(())
+    }
+
+    fn send(&mut self, series: &str) -> anyhow::Result<()> {
+        let Some((times, values)) = self.pending.get_mut(series) else {
             return Ok(());
         };
         if times.is_empty() {
             return Ok(());
         }
-        let component = key.1.rsplit(':').next().unwrap_or(&key.1);
         self.recording.stream().send_columns(
-            format!("diff{}/{component}", key.0),
+            series,
             [TimeColumn::new_duration_nanos(
                 "sim_time",
                 std::mem::take(times),
@@ -78,15 +311,15 @@ impl DiffWriter {
 
     /// Sends what is left and the report, and completes the file. Returns the number of series.
     pub fn finish(mut self, report: &str) -> anyhow::Result<usize> {
-        let keys: Vec<Key> = self.pending.keys().cloned().collect();
-        for key in &keys {
-            self.send(key)?;
+        let series: Vec<String> = self.pending.keys().cloned().collect();
+        for s in &series {
+            self.send(s)?;
         }
         self.recording.stream().log_static(
             "diff/report",
             &rerun::TextDocument::from_markdown(format!("```text\n{report}```\n")),
         )?;
         self.recording.commit()?;
-        Ok(keys.len())
+        Ok(series.len())
     }
 }

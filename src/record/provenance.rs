@@ -12,21 +12,45 @@ pub fn send_provenance(
     config_toml: &str,
     methods: &[&str],
 ) -> anyhow::Result<()> {
-    let command_line = command_line();
-    rec.send_property(
-        "physlab",
-        &rerun::AnyValues::default()
-            .with_component::<rerun::components::Text>("scenes", [scenes])
-            .with_component::<rerun::components::Text>(
-                "physlab_version",
-                [env!("CARGO_PKG_VERSION")],
-            )
-            .with_component::<rerun::components::Text>("git_commit", [GIT_COMMIT])
-            .with_component::<rerun::components::Text>("rerun_sdk_version", [RERUN_SDK_VERSION])
-            .with_component::<rerun::components::Text>("command_line", [command_line])
+    send_properties(
+        rec,
+        build_properties(scenes)
             .with_component::<rerun::components::Text>("methods", [methods.join(",")])
             .with_component::<rerun::components::Text>("config", [config_toml]),
-    )?;
+    )
+}
+
+/// A difference recording's provenance: the build and command line that wrote it (`scenes` is
+/// `diff`) and the two recordings it compares (`diff_a`, `diff_b`); no scene file, since it
+/// is no run.
+pub fn send_diff_provenance(
+    rec: &rerun::RecordingStream,
+    a: &std::path::Path,
+    b: &std::path::Path,
+) -> anyhow::Result<()> {
+    let path =
+        |p: &std::path::Path| shell_word(std::os::unix::ffi::OsStrExt::as_bytes(p.as_os_str()));
+    send_properties(
+        rec,
+        build_properties("diff")
+            .with_component::<rerun::components::Text>("diff_a", [path(a)])
+            .with_component::<rerun::components::Text>("diff_b", [path(b)]),
+    )
+}
+
+/// What every physlab recording says of itself: what it holds (`scenes`), physlab's version and
+/// git commit, the Rerun SDK's version and the command line.
+fn build_properties(scenes: &str) -> rerun::AnyValues {
+    rerun::AnyValues::default()
+        .with_component::<rerun::components::Text>("scenes", [scenes])
+        .with_component::<rerun::components::Text>("physlab_version", [env!("CARGO_PKG_VERSION")])
+        .with_component::<rerun::components::Text>("git_commit", [GIT_COMMIT])
+        .with_component::<rerun::components::Text>("rerun_sdk_version", [RERUN_SDK_VERSION])
+        .with_component::<rerun::components::Text>("command_line", [command_line()])
+}
+
+fn send_properties(rec: &rerun::RecordingStream, values: rerun::AnyValues) -> anyhow::Result<()> {
+    rec.send_property("physlab", &values)?;
     // Written out now, not with the first batch of data, so that even a run cut short carries it.
     rec.flush_blocking()
         .context("cannot write the recording's properties")?;

@@ -165,6 +165,15 @@ pub fn proportionality_table(rows: &[Row], floor: f64) -> String {
     t.render()
 }
 
+/// A run's step: its dt, or "adaptive" for a method that chooses its own (its `dt` is only the
+/// interval it is sampled at; its own steps are counted under "steps accepted").
+fn step_text(r: &Row) -> String {
+    match r.rtol {
+        Some(_) => "adaptive".into(),
+        None => sci(r.dt),
+    }
+}
+
 /// Every measured run.
 pub fn rows_table(rows: &[Row]) -> String {
     let mut t = Table::new([
@@ -180,7 +189,7 @@ pub fn rows_table(rows: &[Row]) -> String {
     for r in rows {
         t.row([
             r.method.name().to_string(),
-            sci(r.dt),
+            step_text(r),
             r.rtol.map_or("—".into(), sci),
             r.error.map_or("diverged".into(), sci),
             r.evals.to_string(),
@@ -204,13 +213,9 @@ pub fn cheapest_table(rows: &[Row], targets: &[f64]) -> String {
     for &target in targets {
         let (by_wall, by_evals) = cheapest(rows, target);
         let name = |r: Option<&Row>| {
-            r.map_or("none reached it".to_string(), |r| {
-                format!(
-                    "{} (dt {}{})",
-                    r.method.name(),
-                    sci(r.dt),
-                    r.rtol.map_or(String::new(), |t| format!(", rtol {t:.0e}"))
-                )
+            r.map_or("none reached it".to_string(), |r| match r.rtol {
+                Some(t) => format!("{} (rtol {t:.0e})", r.method.name()),
+                None => format!("{} (dt {})", r.method.name(), sci(r.dt)),
             })
         };
         t.row([

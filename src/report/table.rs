@@ -85,6 +85,23 @@ pub fn sig(x: f64, digits: usize) -> String {
     }
 }
 
+/// Two values to the digits that tell them apart, and one more: 1.0471975512 and
+/// 1.0471975522 for a difference of 1e-9, 0.52 and 0.61 for one of 0.09 (at least three
+/// digits; at most seventeen, which tell any two doubles apart).
+pub fn sig_pair(a: f64, b: f64) -> (String, String) {
+    let scale = a.abs().max(b.abs());
+    let apart = (b - a).abs();
+    let mut digits = if apart > 0.0 && scale.is_finite() && apart.is_finite() {
+        ((scale / apart).log10().ceil() as usize + 1).clamp(3, 17)
+    } else {
+        3
+    };
+    while digits < 17 && a.to_bits() != b.to_bits() && sig(a, digits) == sig(b, digits) {
+        digits += 1;
+    }
+    (sig(a, digits), sig(b, digits))
+}
+
 /// In exponent form with four significant digits.
 pub fn sci(x: f64) -> String {
     format!("{x:.3e}")
@@ -103,6 +120,39 @@ pub fn figure(s: &LaneStats, text: String) -> String {
 /// Said under a summary table that holds an adaptive method.
 pub const ADAPTIVE_STEPS_NOTE: &str = "adaptive methods: \"steps\" counts the dt grid they are sampled on (by their dense \
      output); their own accepted and rejected steps are in brackets, and ns/step is per own step\n";
+
+/// Text broken into lines of at most `width` characters at spaces (a longer word stands alone).
+pub fn wrap(text: &str, width: usize) -> Vec<String> {
+    let mut lines = vec![String::new()];
+    for word in text.split_whitespace() {
+        let last = lines.last_mut().expect("one line");
+        if !last.is_empty() && last.chars().count() + 1 + word.chars().count() > width {
+            lines.push(word.to_string());
+        } else {
+            if !last.is_empty() {
+                last.push(' ');
+            }
+            last.push_str(word);
+        }
+    }
+    lines
+}
+
+/// `- name: text` wrapped to `width` columns, its continuation lines indented by two.
+pub fn list_item(name: &str, text: &str, width: usize) -> String {
+    let mut out = String::new();
+    for (k, line) in wrap(&format!("- {name}: {text}"), width - 2)
+        .into_iter()
+        .enumerate()
+    {
+        if k > 0 {
+            out.push_str("  ");
+        }
+        out.push_str(&line);
+        out.push('\n');
+    }
+    out
+}
 
 /// A count with its noun: "1 substep", "2 substeps".
 pub fn plural(n: impl Into<u64>, noun: &str) -> String {
@@ -149,5 +199,20 @@ mod tests {
             t.render(),
             "| a   | long |\n|-----|------|\n| xyz | 1    |\n"
         );
+    }
+
+    #[test]
+    fn a_pair_shows_the_digits_that_tell_it_apart() {
+        assert_eq!(
+            sig_pair(1.0471975511965976, 1.0471975521965976),
+            ("1.0471975512".to_string(), "1.0471975522".to_string())
+        );
+        assert_eq!(
+            sig_pair(0.52, 0.61),
+            ("0.520".to_string(), "0.610".to_string())
+        );
+        let (a, b) = sig_pair(1.0, 1.0 + f64::EPSILON);
+        assert_ne!(a, b);
+        assert_eq!(sig_pair(2.0, 2.0), ("2.00".to_string(), "2.00".to_string()));
     }
 }

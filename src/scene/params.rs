@@ -323,4 +323,18 @@ pub trait SceneConfig: Clone + Default + serde::Serialize + serde::de::Deseriali
     }
     /// Every value in range, or the first that is not, named by its flag.
     fn validate(&self) -> Result<(), Invalid>;
+    /// Why the step is too large for the scene's shortest time scale, naming the scale: allowed
+    /// (a study of instability wants it), but most often a unit mistake (`--dt 10` for 10 ms).
+    fn step_warning(&self) -> Option<String> {
+        None
+    }
+}
+
+/// A time scale [s] to three significant digits: 4.04, 0.00447.
+pub fn seconds(t: f64) -> String {
+    if !t.is_finite() || t <= 0.0 {
+        return format!("{t}");
+    }
+    let decimals = (2 - t.log10().floor() as i32).max(0) as usize;
+    format!("{t:.decimals$}")
 }

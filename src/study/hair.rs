@@ -8,6 +8,9 @@ use crate::scene::hair::run::{HairConfig, HairScene};
 use crate::scene::hair::{HairMethod, Solver};
 use crate::scene::harness::{NoObserver, run};
 
+/// Simulated time of each run of the hair study by default [s]: one tour's sway and turn.
+pub const DEFAULT_DURATION: f64 = 4.0;
+
 /// One measured configuration.
 #[derive(Clone, Debug)]
 pub struct HairRow {

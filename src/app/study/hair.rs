@@ -10,7 +10,7 @@ use crate::cli::StudyArgs;
 /// defaults (200 strands, tour), over `--duration` (default 4 s).
 pub(super) fn hair_study(a: &StudyArgs) -> anyhow::Result<()> {
     use crate::scene::hair::run::HairConfig;
-    let duration = a.duration.unwrap_or(4.0);
+    let duration = a.duration.unwrap_or(crate::study::hair::DEFAULT_DURATION);
     let base = HairConfig {
         duration,
         ..HairConfig::default()

@@ -6,7 +6,7 @@ use super::SceneFile;
 use crate::app::layers::table_of;
 use crate::app::load_scene_file;
 use crate::app::scenes::given;
-use crate::cli::{PendulumArgs, RopeArgs, StudyArgs, StudyKind, StudyScene};
+use crate::cli::{PendulumArgs, RopeArgs, STUDY_FLAG_KINDS, StudyArgs, StudyKind, StudyScene};
 use crate::integrate::{Method, MethodOptions};
 use crate::scene::params::{MAX_NODE_STEPS, MAX_STEPS};
 use crate::scene::pendulum::run::PendulumConfig;
@@ -240,32 +240,36 @@ pub(super) fn kind_name(kind: StudyKind) -> &'static str {
 }
 
 /// Every flag of `physlab study` that only some kinds use, whether it was given, and the kinds
-/// that use it (`-o`, `--csv` and `-q` serve every kind). Stability measures the linearised
-/// problem (θ0 = 1e-8 rad at rest, an undamped rope) for `--steps` steps, so it takes no start,
-/// damping or schedule; the hair study runs the hair scene's defaults over `--duration`.
-pub(super) fn flag_uses(a: &StudyArgs) -> [(&'static str, bool, &'static [StudyKind]); 17] {
-    use StudyKind::{Convergence as C, Hair as H, Stability as S, WorkPrecision as W};
-    const SWEEP: &[StudyKind] = &[C, W];
-    const MEASURED: &[StudyKind] = &[C, W, S];
-    [
-        ("--scene", a.scene.is_some(), MEASURED),
-        ("--config", a.config.is_some(), MEASURED),
-        ("--theta0", a.pendulum.theta0.is_some(), SWEEP),
-        ("--omega0", a.pendulum.omega0.is_some(), SWEEP),
-        ("--nodes", a.rope.nodes.is_some(), MEASURED),
-        ("--mass", a.rope.mass.is_some(), MEASURED),
-        ("--stiffness", a.rope.stiffness.is_some(), MEASURED),
-        ("--spring-damping", a.rope.spring_damping.is_some(), SWEEP),
-        ("--air-drag", a.rope.air_drag.is_some(), SWEEP),
-        ("--duration", a.duration.is_some(), &[C, W, H]),
-        ("--dt", a.dt.is_some(), SWEEP),
-        ("--levels", a.levels.is_some(), SWEEP),
-        ("--methods", a.methods.is_some(), MEASURED),
-        ("--rtol", a.rtol.is_some(), SWEEP),
-        ("--repeats", a.repeats.is_some(), SWEEP),
-        ("--steps", a.steps.is_some(), &[S]),
-        ("--plots", a.plots.is_some(), &[C, W, S, H]),
-    ]
+/// that use it (`cli::STUDY_FLAG_KINDS`). Stability measures the linearised problem (θ0 = 1e-8
+/// rad at rest, an undamped rope) for `--steps` steps, so it takes no start, damping or
+/// schedule; the hair study runs the hair scene's defaults over `--duration`.
+pub(super) fn flag_uses(a: &StudyArgs) -> Vec<(&'static str, bool, &'static [StudyKind])> {
+    let given = [
+        ("--scene", a.scene.is_some()),
+        ("--config", a.config.is_some()),
+        ("--theta0", a.pendulum.theta0.is_some()),
+        ("--omega0", a.pendulum.omega0.is_some()),
+        ("--nodes", a.rope.nodes.is_some()),
+        ("--mass", a.rope.mass.is_some()),
+        ("--stiffness", a.rope.stiffness.is_some()),
+        ("--spring-damping", a.rope.spring_damping.is_some()),
+        ("--air-drag", a.rope.air_drag.is_some()),
+        ("--duration", a.duration.is_some()),
+        ("--dt", a.dt.is_some()),
+        ("--levels", a.levels.is_some()),
+        ("--methods", a.methods.is_some()),
+        ("--rtol", a.rtol.is_some()),
+        ("--repeats", a.repeats.is_some()),
+        ("--steps", a.steps.is_some()),
+        ("--plots", a.plots.is_some()),
+    ];
+    STUDY_FLAG_KINDS
+        .iter()
+        .map(|&(flag, kinds)| {
+            let was = given.iter().any(|&(f, g)| f == flag && g);
+            (flag, was, kinds)
+        })
+        .collect()
 }
 
 /// Refuses a flag the study kind would ignore, naming the flag, the kind and the kinds that

@@ -101,6 +101,27 @@ impl params::SceneConfig for PendulumConfig {
         params::windows(&self.schedule(), &self.window)?;
         params::plot_and_options(self.plot_every, &self.options)
     }
+
+    /// A step beyond a tenth of the period (the exact one for the start given; the small-angle
+    /// 2π/ωn at rest) follows a swing with fewer than ten steps.
+    fn step_warning(&self) -> Option<String> {
+        let (period, what) = match exact_period(&self.params) {
+            Some(t) => (t, "period"),
+            None => (
+                std::f64::consts::TAU / self.params.omega_n(),
+                "small-angle period",
+            ),
+        };
+        (self.dt > period / 10.0).then(|| {
+            format!(
+                "--dt {} s exceeds a tenth of the pendulum's {what} {} s: fewer than ten steps \
+                 a swing, so every method's error is of the order of the motion (milliseconds \
+                 are --dt 0.001)",
+                params::shown(self.dt),
+                params::seconds(period)
+            )
+        })
+    }
 }
 
 impl PendulumConfig {

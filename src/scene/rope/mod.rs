@@ -80,6 +80,17 @@ impl RopeParams {
             .collect()
     }
 
+    /// Highest angular frequency of the linearised springs [rad/s], and whether it is exact:
+    /// the pinned-free chain's exact value when only node 0 is pinned, otherwise the bound
+    /// 2 sqrt(k/m) that holds for any pinning.
+    pub fn omega_max(&self) -> (f64, bool) {
+        if self.pinned == [0] {
+            (self.omega_max_pinned_free(), true)
+        } else {
+            (2.0 * (self.stiffness / self.mass).sqrt(), false)
+        }
+    }
+
     /// Highest angular frequency of the linearised chain with its first node pinned and the last
     /// free (N-1 moving masses): 2 sqrt(k/m) sin((2M-1)π / (2(2M+1))), M = N-1
     /// (oscillator_theory.md). Always below 2 sqrt(k/m).

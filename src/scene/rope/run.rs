@@ -221,6 +221,29 @@ impl params::SceneConfig for RopeConfig {
         params::windows(&self.schedule(), &self.window)?;
         params::plot_and_options(self.plot_every, &self.options)
     }
+
+    /// A step beyond 2/ω_max, the stiffest spring mode's scale, for the methods stable only
+    /// below some ω dt (or never): they are expected to blow up.
+    fn step_warning(&self) -> Option<String> {
+        use crate::integrate::Stability;
+        let (omega_max, _) = self.params.omega_max();
+        let limit = 2.0 / omega_max;
+        let bounded: Vec<&str> = (self.methods.iter())
+            .filter(|m| matches!(m.info().stability, Stability::Below(_) | Stability::Never))
+            .map(|m| m.name())
+            .collect();
+        (self.dt > limit && !bounded.is_empty()).then(|| {
+            format!(
+                "--dt {} s exceeds 2/ω_max = {} s, the scale of the rope's stiffest spring mode \
+                 (ω_max = {} rad/s): {} are stable only below about that step and are expected \
+                 to diverge",
+                params::shown(self.dt),
+                params::seconds(limit),
+                params::seconds(omega_max),
+                bounded.join(", ")
+            )
+        })
+    }
 }
 
 impl RopeConfig {
@@ -297,12 +320,8 @@ impl RopeScene {
             initial_energy: rope.energy(&x0, &v0),
             energy_scale: energy_scale(&rope, &x0, &v0),
             strain_bound: strain_bound(&config.params),
-            omega_max: if config.params.pinned == [0] {
-                config.params.omega_max_pinned_free()
-            } else {
-                2.0 * (config.params.stiffness / config.params.mass).sqrt()
-            },
-            omega_max_is_exact: config.params.pinned == [0],
+            omega_max: config.params.omega_max().0,
+            omega_max_is_exact: config.params.omega_max().1,
             damping_rate_max: (4.0 * config.params.spring_damping + config.params.air_drag)
                 / config.params.mass,
             initial_positions: x0,
