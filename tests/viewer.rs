@@ -25,11 +25,12 @@ mod layout {
     /// panel (measured on a screenshot), and the title bar (or tab bar) above each view.
     const WINDOW: [f32; 2] = [1600.0, 943.0];
     const TITLE_PX: f32 = 24.0;
-    /// A plot's time axis labels below its curves [px].
-    const TICKS_PX: f32 = 18.0;
     /// A legend on a screenshot: 22.5 px a line, 104 px for the 19 characters of
-    /// "semi-implicit-euler", 31 px more for its colour swatch and margins, 12 px above and below.
+    /// "semi-implicit-euler", 31 px more for its colour swatch and margins; a plot 232 px tall
+    /// below its title shows 7 of 8 lines, one of 244 px all 8 (its time axis' labels, the
+    /// legend's margins).
     const LEGEND_LINE_PX: f32 = 22.5;
+    const LEGEND_ROOM_PX: f32 = 64.0;
     const LEGEND_CHAR_PX: f32 = 104.0 / 19.0;
     const LEGEND_FRAME_PX: f32 = 31.0;
     /// The value axis' labels left of a plot's curves [px].
@@ -281,12 +282,12 @@ mod layout {
                 "'{}': {band:.0} px past the last value, the legend takes {legend_width:.0}",
                 plot.title
             );
-            let lines = LEGEND_LINE_PX * series.len() as f32 + 24.0;
+            let needed = LEGEND_LINE_PX * series.len() as f32 + LEGEND_ROOM_PX;
             assert!(
-                plot.size[1] - TICKS_PX >= lines,
-                "'{}': {:.0} px tall, its legend of {} lines {lines:.0}",
+                plot.size[1] >= needed,
+                "'{}': {:.0} px tall, its legend of {} lines needs {needed:.0}",
                 plot.title,
-                plot.size[1] - TICKS_PX,
+                plot.size[1],
                 series.len()
             );
         }
@@ -497,5 +498,87 @@ mod layout {
         check_legends(&rope, &blueprint);
         assert_eq!(check_framing(&rope, &blueprint, 1.0 / 3.0).len(), 1);
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
+
+mod palette {
+    //! One colour per method that a person tells apart from every other on the viewer's dark
+    //! background, by the CIE L*a*b* distance of sRGB colours (D65).
+
+    use physlab::integrate::Method;
+    use physlab::palette::method_color;
+
+    /// CIE L*a*b* of an sRGB colour.
+    fn lab([r, g, b]: [u8; 3]) -> [f64; 3] {
+        let linear = |c: u8| {
+            let c = f64::from(c) / 255.0;
+            if c > 0.04045 {
+                ((c + 0.055) / 1.055).powf(2.4)
+            } else {
+                c / 12.92
+            }
+        };
+        let (r, g, b) = (linear(r), linear(g), linear(b));
+        let x = (0.4124 * r + 0.3576 * g + 0.1805 * b) / 0.95047;
+        let y = 0.2126 * r + 0.7152 * g + 0.0722 * b;
+        let z = (0.0193 * r + 0.1192 * g + 0.9505 * b) / 1.08883;
+        let f = |t: f64| {
+            if t > 0.008856 {
+                t.cbrt()
+            } else {
+                7.787 * t + 16.0 / 116.0
+            }
+        };
+        [
+            116.0 * f(y) - 16.0,
+            500.0 * (f(x) - f(y)),
+            200.0 * (f(y) - f(z)),
+        ]
+    }
+
+    fn distance(a: [u8; 3], b: [u8; 3]) -> f64 {
+        let (a, b) = (lab(a), lab(b));
+        ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+    }
+
+    /// The hue angle between two colours [degrees], 0 to 180.
+    fn hue_apart(a: [u8; 3], b: [u8; 3]) -> f64 {
+        let hue = |c: [u8; 3]| {
+            let [_, a, b] = lab(c);
+            b.atan2(a).to_degrees()
+        };
+        let d = (hue(a) - hue(b)).rem_euclid(360.0);
+        d.min(360.0 - d)
+    }
+
+    #[test]
+    fn each_method_has_a_colour_apart_from_every_other() {
+        let mut lanes: Vec<&str> = Method::ALL.iter().map(|m| m.name()).collect();
+        lanes.extend(["ftl", "exact", "reference"]);
+        for (i, a) in lanes.iter().enumerate() {
+            // Bright enough on the 3D views' background and the plots' black.
+            assert!(distance(method_color(a), [24, 24, 28]) > 60.0, "{a}");
+            for b in &lanes[i + 1..] {
+                if [*a, *b] == ["exact", "reference"] {
+                    continue; // one lane under two names, never both in a run
+                }
+                let d = distance(method_color(a), method_color(b));
+                assert!(d >= 30.0, "{a} and {b}: ΔE = {d:.0}");
+            }
+        }
+        // The methods a scene runs by default differ in hue as well (orange and brown, red and
+        // pink were told apart by lightness alone).
+        let defaults: Vec<&str> = Method::ALL
+            .iter()
+            .filter(|m| m.info().default)
+            .map(|m| m.name())
+            .collect();
+        assert!(defaults.len() >= 7, "{defaults:?}");
+        for (i, a) in defaults.iter().enumerate() {
+            for b in &defaults[i + 1..] {
+                let h = hue_apart(method_color(a), method_color(b));
+                assert!(h >= 25.0, "{a} and {b}: hues {h:.0}° apart");
+            }
+        }
     }
 }

@@ -71,7 +71,7 @@ const BACKGROUND: [u8; 3] = [24, 24, 28];
 
 /// A legend line's height and a name's width per character in the viewer [logical px], measured
 /// on screenshots, and what a legend adds around its names (colour swatch, margins).
-pub const LEGEND_ROW_PX: f32 = 23.0;
+pub const LEGEND_ROW_PX: f32 = 22.5;
 const LEGEND_CHAR_PX: f32 = 5.6;
 const LEGEND_FRAME_PX: f32 = 40.0;
 

@@ -129,7 +129,7 @@ pub fn stacked_plots(plots: &[Plot], height: f32) -> usize {
 
 /// What a plot's height holds besides its legend's lines [logical px]: its title bar, time axis
 /// labels and the legend's margins, measured on screenshots.
-const PLOT_CHROME_PX: f32 = 72.0;
+const PLOT_CHROME_PX: f32 = 88.0;
 
 /// The plots' column of a scene, of `size` [px].
 pub fn plot_column(
@@ -166,8 +166,11 @@ pub fn slot_grid(
     Grid::new(views).with_grid_columns(columns as u32).into()
 }
 
-/// The number of columns that draws `slots` largest in `size` [px], and the width / height of
-/// each view's drawing area then.
+/// A grid's subjects drawn at this share of the largest they could be are nearly as large.
+const NEARLY: f32 = 0.9;
+
+/// The number of columns that draws `slots` (nearly) largest in `size` [px], and the width /
+/// height of each view's drawing area then.
 pub fn grid_columns(slots: &[Slot], size: [f32; 2]) -> (usize, f32) {
     let n = slots.len().max(1);
     // The widest slot's width / height, as its eye sees it from the front.
@@ -186,9 +189,10 @@ pub fn grid_columns(slots: &[Slot], size: [f32; 2]) -> (usize, f32) {
         let (w, h) = view(c);
         (w / subject).min(h)
     };
-    let best = (1..=n)
-        .max_by(|&a, &b| scale(a).total_cmp(&scale(b)))
-        .unwrap_or(1);
+    // The fewest columns that draw the subjects nearly as large as any: wider views keep the
+    // lanes' names in their titles whole.
+    let largest = (1..=n).map(scale).fold(0.0f32, f32::max);
+    let best = (1..=n).find(|&c| scale(c) >= NEARLY * largest).unwrap_or(1);
     let (w, h) = view(best);
     (best, w / h)
 }
@@ -236,7 +240,7 @@ const ALL_PLOTS: [&str; 6] = [
 ];
 
 /// `physlab all`'s rows: 3D views, plots, event log [shares of the height].
-const ALL_ROWS: [f32; 3] = [3.0, 5.0, 0.8];
+const ALL_ROWS: [f32; 3] = [3.2, 5.0, 0.5];
 
 /// `physlab all`: the scenes side by side, each one's 3D views above its plots and its event log.
 pub fn all_layout(timings: bool, scenes: &[(&SceneViews, Staging, Vec<&'static str>)]) -> Layout {
