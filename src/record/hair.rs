@@ -41,7 +41,9 @@ fn reach_and_spacing(c: &HairConfig) -> (f64, f64) {
 }
 
 /// What the layout needs of a run: a 3D view per method framing its head with the strands
-/// hanging down, from the front, a little to the side and above, so the head's depth shows; the
+/// hanging down or swinging within their reach of it (a nod throws them towards the eye; the
+/// sway and the wind carry them towards +x, so the box reaches further that way), from
+/// the front, a little to the side and above, so the head's depth shows; the
 /// plots whose values sit at round-off open on axes that show it as a floor: stretch from 1e-17
 /// (below f64's resolution of a length ratio) to 10 (divergence), penetration from 0 to the
 /// collision margin's thickness.
@@ -55,8 +57,8 @@ pub fn staging(c: &HairConfig) -> Staging {
         (
             m,
             Framing {
-                min: [f(x - 1.15 * reach), f(-0.35 * reach), f(-0.85 * reach)],
-                max: [f(x + 1.15 * reach), f(0.35 * reach), f(1.2 * p.head_radius)],
+                min: [f(x - 0.75 * reach), f(-reach), f(-0.85 * reach)],
+                max: [f(x + 1.15 * reach), f(reach), f(1.2 * p.head_radius)],
                 toward_eye: [0.1, -1.0, 0.35],
             },
         )

@@ -173,21 +173,24 @@ const NEARLY: f32 = 0.9;
 /// height of each view's drawing area then.
 pub fn grid_columns(slots: &[Slot], size: [f32; 2]) -> (usize, f32) {
     let n = slots.len().max(1);
-    // The widest slot's width / height, as its eye sees it from the front.
-    let subject = slots
-        .iter()
-        .map(|s| (s.framing.max[0] - s.framing.min[0]) / (s.framing.max[2] - s.framing.min[2]))
-        .fold(0.0f32, f32::max)
-        .max(0.1);
     let view = |c: usize| {
         let rows = n.div_ceil(c);
         let w = size[0] / c as f32;
         let h = (size[1] / rows as f32 - TITLE_PX).max(1.0);
         (w, h)
     };
+    // Pixels per metre at the subjects' centres: the view's height over the eye's distance
+    // (the same field of view in every view).
     let scale = |c: usize| {
         let (w, h) = view(c);
-        (w / subject).min(h)
+        let distance = slots
+            .iter()
+            .map(|s| {
+                let (eye, target) = s.framing.eye(w / h);
+                glam::Vec3::from_array(eye).distance(glam::Vec3::from_array(target))
+            })
+            .fold(f32::MIN_POSITIVE, f32::max);
+        h / distance
     };
     // The fewest columns that draw the subjects nearly as large as any: wider views keep the
     // lanes' names in their titles whole.
