@@ -2,21 +2,24 @@
 //! diagrams, so a method has the same colour everywhere.
 
 /// One colour per method, the same in 3D, in every plot of every scene and in every diagram.
-/// (ColorBrewer Set1, which stays distinguishable on the viewer's dark background.)
+/// The default methods of the pendulum and the rope take seven hues far apart on the colour
+/// wheel (red, orange, yellow, green, cyan, blue, violet), bright enough for the viewer's dark
+/// background; the others differ from those in lightness as well as hue, and the hair's two
+/// defaults (verlet, ftl) are green and pink.
 pub fn method_color(name: &str) -> [u8; 3] {
     match name {
-        "explicit-euler" => [228, 26, 28],
-        "semi-implicit-euler" => [255, 127, 0],
-        "implicit-euler" => [152, 78, 163],
-        "midpoint" => [166, 86, 40],
-        "trapezoid" => [247, 129, 191],
-        "rk4" => [55, 126, 184],
-        "verlet" => [77, 175, 74],
-        "ftl" => [0, 190, 190],
-        "yoshida4" => [188, 189, 34],
-        "dopri5" => [255, 215, 0],
-        "dop853" => [90, 110, 255],
-        "vern9" => [0, 128, 110],
+        "explicit-euler" => [235, 50, 50],
+        "semi-implicit-euler" => [255, 145, 0],
+        "midpoint" => [235, 220, 40],
+        "verlet" => [60, 190, 60],
+        "trapezoid" => [0, 205, 215],
+        "rk4" => [70, 125, 255],
+        "implicit-euler" => [190, 90, 240],
+        "ftl" => [255, 105, 180],
+        "yoshida4" => [150, 150, 60],
+        "dopri5" => [255, 190, 150],
+        "dop853" => [160, 200, 255],
+        "vern9" => [130, 255, 170],
         "exact" | "reference" => [220, 220, 220],
         // A name without a colour of its own still gets a distinct, stable one.
         other => {

@@ -57,6 +57,10 @@ pub fn diff_command(args: &DiffArgs) -> anyhow::Result<()> {
         scenes: &views,
         paired: rename.clone(),
         framings: framings(&ia),
+        end_time: [&ia, &ib]
+            .iter()
+            .filter_map(|i| i.time_range.map(|(_, end)| end))
+            .fold(0.0, f64::max),
     };
     let mut writer = args
         .output
@@ -312,7 +316,14 @@ fn framings(info: &RecordingInfo) -> Vec<(&'static str, Framing)> {
         .filter_map(|s| {
             let ready = s.flags(&AllFlags::default());
             let ready = ready.resolve(&file, &RunArgs::default()).ok()?;
-            Some((s.name(), ready.framing()))
+            // One overlay view per scene: the box around every lane's slot.
+            let framing = ready
+                .staging()
+                .slots
+                .iter()
+                .map(|slot| slot.framing)
+                .reduce(Framing::union)?;
+            Some((s.name(), framing))
         })
         .collect()
 }

@@ -254,12 +254,17 @@ fn simulate(
         None
     } else {
         let layout = match single {
-            Some(one) => record::scene_layout(one.kind().views(), run.timings, one.framing()),
+            Some(one) => record::scene_layout(
+                one.kind().views(),
+                run.timings,
+                &one.staging(),
+                &one.methods(),
+            ),
             None => {
                 let views: Vec<_> = resolved
                     .scenes
                     .iter()
-                    .map(|s| (s.kind().views(), s.framing()))
+                    .map(|s| (s.kind().views(), s.staging(), s.methods()))
                     .collect();
                 record::all_layout(run.timings, &views)
             }

@@ -10,7 +10,7 @@ use crate::cli::{HairArgs, PendulumArgs, RopeArgs, RunArgs, StepFlags};
 use crate::error::Error;
 use crate::integrate::{EvalsPerStep, Method};
 use crate::record::scene::{Draw, SceneRecorder};
-use crate::record::{self, Framing, SceneViews};
+use crate::record::{self, SceneViews, Staging};
 use crate::report;
 use crate::scene::hair::HairMethod;
 use crate::scene::hair::run::{HairConfig, HairScene};
@@ -128,8 +128,8 @@ pub trait Flags {
 /// A scene with its validated configuration, ready to run.
 pub trait ReadyScene: Send {
     fn kind(&self) -> &'static SceneKind;
-    /// The box its 3D view frames.
-    fn framing(&self) -> Framing;
+    /// What its layout needs: its 3D views' slots, its plots and its end.
+    fn staging(&self) -> Staging;
     /// Its 3D frames per simulated second.
     fn fps(&self) -> f64;
     /// Its methods' names, in the order they are shown.
@@ -373,7 +373,7 @@ impl RunContext<'_> {
 /// What the commands need of a scene's configuration besides its layering.
 trait Runs: SceneConfig + Send {
     const KIND: &'static SceneKind;
-    fn framing(&self) -> Framing;
+    fn staging(&self) -> Staging;
     fn fps(&self) -> f64;
     fn methods(&self) -> Vec<&'static str>;
     fn memory_bytes(&self) -> f64 {
@@ -386,8 +386,8 @@ impl<C: Runs> ReadyScene for Ready<C> {
     fn kind(&self) -> &'static SceneKind {
         C::KIND
     }
-    fn framing(&self) -> Framing {
-        self.0.framing()
+    fn staging(&self) -> Staging {
+        self.0.staging()
     }
     fn fps(&self) -> f64 {
         self.0.fps()
@@ -412,8 +412,8 @@ impl<C: Runs> ReadyScene for Ready<C> {
 
 impl Runs for PendulumConfig {
     const KIND: &'static SceneKind = &PENDULUM;
-    fn framing(&self) -> Framing {
-        record::pendulum::framing(self)
+    fn staging(&self) -> Staging {
+        record::pendulum::staging(self)
     }
     fn fps(&self) -> f64 {
         self.fps
@@ -440,8 +440,8 @@ impl Runs for PendulumConfig {
 
 impl Runs for RopeConfig {
     const KIND: &'static SceneKind = &ROPE;
-    fn framing(&self) -> Framing {
-        record::rope::framing(self)
+    fn staging(&self) -> Staging {
+        record::rope::staging(self)
     }
     fn fps(&self) -> f64 {
         self.fps
@@ -463,8 +463,8 @@ impl Runs for RopeConfig {
 
 impl Runs for HairConfig {
     const KIND: &'static SceneKind = &HAIR;
-    fn framing(&self) -> Framing {
-        record::hair::framing(self)
+    fn staging(&self) -> Staging {
+        record::hair::staging(self)
     }
     fn fps(&self) -> f64 {
         self.fps

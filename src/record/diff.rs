@@ -7,7 +7,6 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 
 use rerun::TimeColumn;
-use rerun::blueprint::components::Corner2D;
 use rerun::blueprint::{
     Blueprint, ContainerLike, Grid, Horizontal, Spatial3DView, Tabs, TextDocumentView, TimePanel,
     TimeSeriesView, Vertical,
@@ -40,6 +39,8 @@ pub struct DiffPlan<'a> {
     pub paired: Option<(String, String)>,
     /// Each scene's 3D framing, as A's configuration draws it: one overlay view per scene.
     pub framings: Vec<(&'static str, Framing)>,
+    /// The later of the two runs' ends [s] (the plots' legends stand past it).
+    pub end_time: f64,
 }
 
 impl DiffPlan<'_> {
@@ -73,14 +74,16 @@ impl DiffPlan<'_> {
     fn layout(&self) -> super::Layout {
         let mut props = ViewProperties::default();
         let mut by_scene: BTreeMap<String, Vec<ContainerLike>> = BTreeMap::new();
-        for (scene, quantity) in self.quantities().keys() {
+        for ((scene, quantity), lanes) in &self.quantities() {
             let view = TimeSeriesView::new(format!("{}: B − A", self.title(scene, quantity)))
                 .with_origin(format!("/diff/{scene}/plots/{quantity}"));
-            // Every B − A starts at 0 at the first time, mid-height: the top left stays free.
+            // Each plot's legend in a band past the run's end, as in the scenes' own plots; the
+            // plots are a third of the window wide.
+            let lanes: Vec<&str> = lanes.iter().map(String::as_str).collect();
             by_scene
                 .entry(scene.clone())
                 .or_default()
-                .push(props.legend(view, Some(Corner2D::LeftTop)));
+                .push(props.legend_beside(view, &lanes, self.end_time, 1600.0 / 3.0));
         }
         // Three plots a row: each tall enough for a legend of eight methods at 1600×1000.
         let grid = |views: Vec<ContainerLike>| Grid::new(views).with_grid_columns(3);

@@ -7,7 +7,7 @@
 use rerun::RecordingStream;
 
 use super::scene::{Draw, SceneRecorder, clear_diverged};
-use super::{Framing, log_stage, method_color, view_above_text};
+use super::{Framing, Staging, method_color, view_above_text};
 use crate::scene::hair::Hair;
 use crate::scene::hair::run::{HairConfig, HairLane, HairScene};
 use crate::scene::harness::{Event, Frame};
@@ -15,11 +15,11 @@ use crate::scene::harness::{Event, Frame};
 pub const PLOTS: [(&str, &str); 3] = [
     (
         "log10_max_stretch",
-        "log10 max |ℓ − ℓ0| / ℓ0: largest relative stretch",
+        "log10 max |ℓ − ℓ0|/ℓ0: largest stretch (−17 to −14: round-off)",
     ),
     (
         "max_penetration",
-        "maximum penetration of non-root nodes into R(1 + margin) [m]",
+        "max penetration into R(1 + margin) [m] (~1e-17: round-off)",
     ),
     (
         "specific_kinetic_energy",
@@ -31,8 +31,7 @@ pub const PLOTS: [(&str, &str); 3] = [
 pub const VIEWS: super::SceneViews = super::SceneViews {
     name: "hair",
     plots: &PLOTS,
-    exclude_in_all: &[],
-    blueprint: |t, f, p| view_above_text("hair", &PLOTS, t, f, p),
+    blueprint: |t, s, m, p| view_above_text("hair", s, t, m, p),
 };
 
 /// The strands' reach from the head's centre [m], and the spacing of the slots along x.
@@ -42,17 +41,41 @@ fn reach_and_spacing(c: &HairConfig) -> (f64, f64) {
     (reach, 2.6 * reach + 2.0 * 2.0 * p.head_radius) // room for the sway
 }
 
-/// What the 3D view frames: every head with its strands hanging down, from the front, a little
-/// to the side and above, so the heads' depth shows.
-pub fn framing(c: &HairConfig) -> Framing {
+/// What the layout needs of a run: a 3D view per method framing its head with the strands
+/// hanging down or swinging within their reach of it (a nod throws them towards the eye; the
+/// sway and the wind carry them towards +x, so the box reaches further that way), from
+/// the front, a little to the side and above, so the head's depth shows; the
+/// plots whose values sit at round-off open on axes that show it as a floor: stretch from 1e-17
+/// (below f64's resolution of a length ratio) to 10 (divergence), penetration from 0 to the
+/// collision margin's thickness.
+pub fn staging(c: &HairConfig) -> Staging {
+    let p = &c.params;
     let (reach, spacing) = reach_and_spacing(c);
-    let x_max = spacing * (c.methods.len().max(1) - 1) as f64;
-    let top = 1.3 * c.params.head_radius;
     let f = |v: f64| v as f32;
-    Framing {
-        min: [f(-0.8 * reach), f(-0.5 * reach), f(-reach)],
-        max: [f(x_max + 0.8 * reach), f(0.5 * reach), f(top)],
-        toward_eye: [0.1, -1.0, 0.35],
+    let methods: Vec<&'static str> = c.methods.iter().map(|m| m.name()).collect();
+    let slots = Staging::per_lane(methods.iter().enumerate().map(|(i, &m)| {
+        let x = spacing * i as f64;
+        (
+            m,
+            Framing {
+                min: [f(x - 0.75 * reach), f(-reach), f(-0.85 * reach)],
+                max: [f(x + 1.15 * reach), f(reach), f(1.2 * p.head_radius)],
+                toward_eye: [0.1, -1.0, 0.35],
+            },
+        )
+    }));
+    let mut plots = Staging::plots(&PLOTS, |_| methods.clone());
+    for plot in &mut plots {
+        plot.range = match plot.name {
+            "log10_max_stretch" => Some((-17.0, 1.0)),
+            "max_penetration" => Some((0.0, p.margin * p.head_radius)),
+            _ => None,
+        };
+    }
+    Staging {
+        slots,
+        plots,
+        end_time: c.schedule().end_time(),
     }
 }
 
@@ -170,29 +193,11 @@ impl Draw<HairScene> for HairDraw {
         self.names = lanes.iter().map(|l| l.0).collect();
         let plan = strand_plan(config, self.requested);
         self.shown = spread(plan.drawn, plan.strands);
-        let (reach, spacing) = reach_and_spacing(config);
+        let (_, spacing) = reach_and_spacing(config);
         self.offsets = (0..self.names.len())
             .map(|i| glam::DVec3::new(spacing * i as f64, 0.0, 0.0))
             .collect();
         rec.log_static("hair", &rerun::ViewCoordinates::RIGHT_HAND_Z_UP())?;
-        let x_max = spacing * (self.names.len().max(1) - 1) as f64;
-        // A stage just past the strands' reach (the view's eye frames [`framing`]).
-        let (a, b, floor) = (
-            (-1.1 * reach) as f32,
-            (x_max + 1.1 * reach) as f32,
-            (-1.05 * reach) as f32,
-        );
-        let depth = (1.1 * reach) as f32;
-        log_stage(
-            rec,
-            "hair/stage",
-            [
-                [a, -depth, floor],
-                [b, -depth, floor],
-                [b, depth, floor],
-                [a, depth, floor],
-            ],
-        )?;
         let r = p.head_radius as f32;
         for name in &self.names {
             let color = method_color(name);
@@ -214,7 +219,6 @@ impl Draw<HairScene> for HairDraw {
                     .with_half_sizes([[r, r, r]])
                     .with_colors([[150, 150, 160]])
                     .with_fill_mode(rerun::components::FillMode::MajorWireframe)
-                    .with_labels([*name])
                     .with_show_labels(true),
             )?;
         }

@@ -1,6 +1,6 @@
 //! The viewer layout a recording opens with, and the view properties the Rust SDK's view builders
-//! do not take in Rerun 0.36.3: a time series' legend (`PlotLegend`) and a 3D view's eye
-//! (`EyeControls3D`).
+//! do not take in Rerun 0.36.3: a time series' legend (`PlotLegend`) and axes (`TimeAxis`,
+//! `ScalarAxis`), a 3D view's eye (`EyeControls3D`) and background (`Background`).
 //!
 //! Both are plain blueprint archetypes, stored in the blueprint store at
 //! `view/<view id>/<archetype>` (where `View::log_to_stream` puts the properties it does take,
@@ -13,9 +13,12 @@
 //! screenshots (legends moved or hidden, 3D views opened on the eye) and by
 //! `tests/recording.rs`, which reads the properties back from a written recording.
 
-use rerun::blueprint::components::Corner2D;
+use rerun::blueprint::components::{BackgroundKind, Corner2D};
 use rerun::blueprint::{Blueprint, BlueprintActivation, ContainerLike};
-use rerun::external::re_sdk_types::blueprint::archetypes::{EyeControls3D, PlotLegend};
+use rerun::external::re_sdk_types::blueprint::archetypes::{
+    Background, EyeControls3D, LineGrid3D, PlotLegend, ScalarAxis, TimeAxis,
+};
+use rerun::external::re_sdk_types::datatypes::{TimeInt, TimeRange, TimeRangeBoundary};
 use rerun::log::LogMsg;
 use rerun::{AsComponents, SerializedComponentBatch};
 
@@ -28,16 +31,21 @@ pub struct Framing {
     pub toward_eye: [f32; 3],
 }
 
-/// Width / height of a 3D view in `all` at 1600×1000 (a third of the width, 3/8 of the height),
-/// measured on a screenshot.
-pub const ALL_VIEW_ASPECT: f32 = 1.62;
-
 /// The viewer's vertical field of view for a 3D eye (Rerun's default, 55°).
 const FOV_Y_DEGREES: f32 = 55.0;
 /// The share of the view's half-width or half-height the framed box fills.
 const FILL: f32 = 0.95;
 
 impl Framing {
+    /// The box around both (the eye's direction `self`'s).
+    pub fn union(self, other: Framing) -> Framing {
+        Framing {
+            min: std::array::from_fn(|i| self.min[i].min(other.min[i])),
+            max: std::array::from_fn(|i| self.max[i].max(other.max[i])),
+            toward_eye: self.toward_eye,
+        }
+    }
+
     /// An orbit eye looking at the box's centre from `toward_eye`, z up, as close as it can be
     /// with every corner of the box inside [`FILL`] of a view of width/height `aspect`.
     pub fn eye(&self, aspect: f32) -> ([f32; 3], [f32; 3]) {
@@ -66,6 +74,28 @@ impl Framing {
         ((center + distance * back).to_array(), center.to_array())
     }
 }
+
+/// The 3D views' background colour.
+const BACKGROUND: [u8; 3] = [24, 24, 28];
+
+/// A legend line's height and a name's width per character in the viewer [logical px], measured
+/// on screenshots, and what a legend adds around its names (colour swatch, margins).
+pub const LEGEND_ROW_PX: f32 = 22.5;
+const LEGEND_CHAR_PX: f32 = 5.6;
+const LEGEND_FRAME_PX: f32 = 40.0;
+
+/// How far a plot's time axis reaches, as a multiple of the run's end, so that a legend naming
+/// `series` fits to the right of the curves in a plot `width` px wide (its value axis labels
+/// included).
+pub fn legend_band(series: &[&str], width: f32) -> f32 {
+    let longest = series.iter().map(|s| s.chars().count()).max().unwrap_or(0);
+    let legend = LEGEND_FRAME_PX + LEGEND_CHAR_PX * longest as f32;
+    let curves = (width - PLOT_AXIS_PX - legend).max(0.25 * width);
+    (curves + legend) / curves
+}
+
+/// The part of a plot's width its value axis' labels take [logical px].
+const PLOT_AXIS_PX: f32 = 40.0;
 
 /// A recording's layout: the SDK's blueprint and the view properties gathered while building it.
 pub struct Layout {
@@ -102,17 +132,47 @@ impl ViewProperties {
         view
     }
 
-    /// A time series with its legend in `corner`, or hidden (`None`).
-    pub fn legend(
+    /// A time series whose legend names `series` in a band of its own at the right, past the
+    /// run's end (`end_time` [s]) where no curve reaches, in a plot `width` px wide; a single
+    /// series needs no legend (the title names it), and an empty plot none either.
+    pub fn legend_beside(
         &mut self,
         view: impl Into<ContainerLike>,
-        corner: Option<Corner2D>,
+        series: &[&str],
+        end_time: f64,
+        width: f32,
     ) -> ContainerLike {
-        let legend = match corner {
-            Some(c) => PlotLegend::new().with_corner(c).with_visible(true),
-            None => PlotLegend::new().with_visible(false),
+        if series.len() < 2 {
+            return self.add(view, "PlotLegend", &PlotLegend::new().with_visible(false));
+        }
+        let view = self.add(
+            view,
+            "PlotLegend",
+            &PlotLegend::new()
+                .with_corner(Corner2D::RightTop)
+                .with_visible(true),
+        );
+        let end = end_time * f64::from(legend_band(series, width));
+        let at = |t: f64| TimeRangeBoundary::Absolute(TimeInt((t * 1e9).round() as i64));
+        let range = TimeRange {
+            start: at(0.0),
+            end: at(end),
         };
-        self.add(view, "PlotLegend", &legend)
+        self.add(view, "TimeAxis", &TimeAxis::new().with_view_range(range))
+    }
+
+    /// A plot whose value axis opens on `lo..hi` (a floor a round-off level sits on, say).
+    pub fn value_range(
+        &mut self,
+        view: impl Into<ContainerLike>,
+        lo: f64,
+        hi: f64,
+    ) -> ContainerLike {
+        self.add(
+            view,
+            "ScalarAxis",
+            &ScalarAxis::new().with_range(rerun::components::Range1D::new(lo, hi)),
+        )
     }
 
     /// A 3D view opening on the eye that frames `framing` in a view of width/height `aspect`.
@@ -128,7 +188,15 @@ impl ViewProperties {
             .with_position(position)
             .with_look_target(target)
             .with_eye_up([0.0, 0.0, 1.0]);
-        self.add(view, "EyeControls3D", &eye)
+        let view = self.add(view, "EyeControls3D", &eye);
+        // A plain dark background and no grid: the default gradient tints the floor green under
+        // green hair, and the grid's plane at z = 0 cuts through the heads.
+        let view = self.add(
+            view,
+            "Background",
+            &Background::new(BackgroundKind::SolidColor).with_color(BACKGROUND),
+        );
+        self.add(view, "LineGrid3D", &LineGrid3D::new().with_visible(false))
     }
 
     pub fn layout(self, blueprint: Blueprint) -> Layout {

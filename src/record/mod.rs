@@ -31,8 +31,8 @@ pub use recording::{
     BATCHING, CHUNK_BYTES, Destinations, Recording, check_destinations, find_on_path,
 };
 pub use views::{
-    SceneViews, about_and_events, all_layout, plot_column, plots_shown, scene_blueprint,
-    scene_layout, scene_view, summary_view, view_above_text,
+    Plot, SceneViews, Slot, Staging, WINDOW, about_and_events, all_layout, grid_columns,
+    plot_column, scene_blueprint, scene_layout, slot_grid, summary_view, view_above_text,
 };
 
 /// One colour per method (the palette is shared with the diagrams: `crate::palette`).
@@ -50,23 +50,6 @@ pub fn log_series_style(
             .with_names([name])
             .with_colors([method_color(name)])
             .with_widths([1.5]),
-    )?;
-    Ok(())
-}
-
-/// A faint floor outline through four corners (static): the ground the slots stand on.
-pub fn log_stage(
-    rec: &rerun::RecordingStream,
-    entity: &str,
-    corners: [[f32; 3]; 4],
-) -> anyhow::Result<()> {
-    let mut outline = corners.to_vec();
-    outline.push(corners[0]);
-    rec.log_static(
-        entity,
-        &rerun::LineStrips3D::new([outline])
-            .with_colors([[90, 90, 90]])
-            .with_radii([rerun::Radius::new_ui_points(1.0)]),
     )?;
     Ok(())
 }

@@ -4,7 +4,8 @@
 //! - `pendulum/<lane>/{pivot,rod,bob}`: the lanes side by side along x, one slot each, labelled
 //!   on the (static) pivot, which a divergence relabels;
 //!   `pendulum/<method>/<reference lane>_ghost` (`exact_ghost`, or `reference_ghost` when the
-//!   reference is a fine-step RK4 run): the reference bob as a translucent ghost in each slot.
+//!   reference is a fine-step RK4 run): the reference bob as a grey disc behind each method's
+//!   bob (a ring around it while the method keeps to the reference).
 //! - `pendulum/plots/<quantity>/<lane>`: one plot per quantity with every lane's series.
 //! - `pendulum/phase/<lane>/{path,state}`: the phase portrait, one curve per lane.
 //! - `pendulum/events`: divergence and solver warnings at the moment they happened.
@@ -13,13 +14,15 @@
 use rerun::RecordingStream;
 use rerun::blueprint::{Blueprint, Horizontal, Spatial2DView, Vertical};
 
-use super::scene::{Draw, SceneRecorder, clear_diverged};
+use super::scene::{Draw, SceneRecorder, clear_diverged, plotted};
 use super::{
-    Framing, ViewProperties, about_and_events, log_stage, method_color, plot_column, plots_shown,
-    scene_blueprint, scene_view, slot_cells,
+    Framing, Staging, ViewProperties, WINDOW, about_and_events, method_color, plot_column,
+    scene_blueprint, slot_cells, slot_grid,
 };
+use crate::integrate::EvalsPerStep;
 use crate::scene::harness::{Event, Frame, Run, Scene as _, SeriesBatch, WHOLE};
-use crate::scene::pendulum::run::{PendulumConfig, PendulumLane, PendulumScene};
+use crate::scene::pendulum::reference::ExactPendulum;
+use crate::scene::pendulum::run::{PendulumConfig, PendulumLane, PendulumScene, QUANTITIES};
 
 /// The plotted quantities: entity name and plot title (with units).
 pub const PLOTS: [(&str, &str); 6] = [
@@ -43,28 +46,24 @@ pub const PLOTS: [(&str, &str); 6] = [
 /// At most this many points per phase-portrait curve.
 const MAX_PHASE_POINTS: usize = 5_000;
 
-/// Width / height of the single-scene 3D view at 1600×1000 (left half, 3/5 of the height, above the phase portrait), measured on a
-/// screenshot.
-const VIEW_ASPECT: f32 = 1.49;
-
 /// The pendulum's views, for the layouts.
 pub const VIEWS: super::SceneViews = super::SceneViews {
     name: "pendulum",
     plots: &PLOTS,
-    exclude_in_all: &["phase/**"],
     blueprint,
 };
 
-/// The pendulum's layout: the 3D slots, phase portrait and events on the left, the plots on
-/// the right, every plot holding all lanes.
-pub fn blueprint(timings: bool, framing: Framing, props: &mut ViewProperties) -> Blueprint {
-    let view = scene_view(
-        "pendulum",
-        "pendulum: methods side by side (grey ghost = reference)",
-        &["phase/**"],
-    );
+/// The pendulum's layout: a 3D view per lane, phase portrait and events on the left, the plots
+/// on the right, every plot holding all lanes.
+pub fn blueprint(
+    timings: bool,
+    staging: &Staging,
+    methods: &[&'static str],
+    props: &mut ViewProperties,
+) -> Blueprint {
+    let half = 0.5 * WINDOW[0];
     let left = Vertical::new([
-        props.eye(view, framing, VIEW_ASPECT),
+        slot_grid("pendulum", &staging.slots, [half, 0.6 * WINDOW[1]], props),
         Horizontal::new([
             Spatial2DView::new("phase portrait: x = θ [rad], y = ω [rad/s] (y axis points down)")
                 .with_origin("/pendulum/phase")
@@ -77,23 +76,110 @@ pub fn blueprint(timings: bool, framing: Framing, props: &mut ViewProperties) ->
     .with_row_shares([3.0, 2.0]);
     scene_blueprint(
         left,
-        plot_column("pendulum", &plots_shown(&PLOTS, timings), props),
+        plot_column(
+            "pendulum",
+            staging,
+            timings,
+            methods,
+            [half, WINDOW[1]],
+            props,
+        ),
     )
 }
 
-/// What the 3D view frames: every slot's swing below its pivot, the pivot labels and the stage,
-/// seen from the front and a little above (the slots are a wall in the x–z plane).
-pub fn framing(c: &PendulumConfig) -> Framing {
-    let l = c.params.length as f32;
-    let pivots = slot_pivots(c.methods.len() + 1, l); // the reference lane and every method
-    let x_max = pivots.iter().fold(0.0f32, |x, p| x.max(p[0]));
-    let z_max = pivots.iter().fold(0.0f32, |z, p| z.max(p[2]));
-    Framing {
-        min: [-1.1 * l, -0.2 * l, 0.0],
-        max: [x_max + 1.1 * l, 0.2 * l, z_max + 0.4 * l],
-        toward_eye: [0.0, -1.0, 0.25],
+/// The reference lane's name: `exact` where the closed form applies, else `reference`.
+fn reference_name(c: &PendulumConfig) -> &'static str {
+    if ExactPendulum::new(&c.params).is_some() {
+        "exact"
+    } else {
+        "reference"
     }
 }
+
+/// What the layout needs of a run: a 3D view per lane, each framing its slot's swing, and the
+/// plots with their series (the step-size plot only when an adaptive method runs: a fixed step
+/// draws a flat line).
+pub fn staging(c: &PendulumConfig) -> Staging {
+    let reference = reference_name(c);
+    let methods: Vec<&'static str> = c.methods.iter().map(|m| m.name()).collect();
+    let lanes: Vec<&'static str> = std::iter::once(reference)
+        .chain(methods.iter().copied())
+        .collect();
+    let l = c.params.length as f32;
+    let pivots = slot_pivots(lanes.len(), l);
+    let reach = swing(c);
+    let slots = Staging::per_lane(lanes.iter().zip(&pivots).map(|(&lane, p)| {
+        (
+            lane,
+            Framing {
+                // Depth: the bob, and the ghost set back behind it.
+                min: [p[0] - reach.width, -0.12 * l, p[2] - 1.15 * l],
+                max: [p[0] + reach.width, 0.3 * l, p[2] + reach.top],
+                toward_eye: TOWARD_EYE,
+            },
+        )
+    }));
+    let mut slots = slots;
+    slots[0].title = format!("{reference} = grey rings");
+    let adaptive = c
+        .methods
+        .iter()
+        .any(|m| matches!(m.info().evals_per_step, EvalsPerStep::Adaptive(_)));
+    let plots = Staging::plots(&PLOTS, |name| {
+        let q = QUANTITIES
+            .iter()
+            .position(|&q| plotted(q) == name)
+            .unwrap_or(0);
+        match name {
+            "step_size" if !adaptive => Vec::new(),
+            // The reference has no error of its own and no step of its own.
+            _ if q >= 4 => methods.clone(),
+            _ => lanes.clone(),
+        }
+    });
+    Staging {
+        slots,
+        plots,
+        end_time: c.schedule().end_time(),
+    }
+}
+
+/// From where the 3D views look: the front and a little above (the slots are a wall in the x–z
+/// plane).
+const TOWARD_EYE: [f32; 3] = [0.0, -1.0, 0.25];
+
+/// How far a swing reaches from its pivot [m]: sideways, and above it.
+struct Reach {
+    width: f32,
+    top: f32,
+}
+
+/// The reference's swing from its energy: its amplitude θm (cos θm = 1 − E0/(gL)), over the top
+/// when E0 ≥ 2gL; with room for the bob and a ring around it.
+fn swing(c: &PendulumConfig) -> Reach {
+    let p = &c.params;
+    let l = p.length;
+    let e0 = 0.5 * l * l * p.omega0 * p.omega0 + p.gravity * l * (1.0 - p.theta0.cos());
+    let cos_max = 1.0 - e0 / (p.gravity * l);
+    let (side, up) = if cos_max <= -1.0 {
+        (1.0, 1.0)
+    } else if cos_max <= 0.0 {
+        (1.0, -cos_max)
+    } else {
+        ((1.0 - cos_max * cos_max).sqrt(), 0.0)
+    };
+    let ring = 0.15 * l;
+    Reach {
+        width: (side * l + ring) as f32,
+        top: (up * l + ring) as f32,
+    }
+}
+
+/// The reference's ghost: its radius over a bob's, how far behind the bob it is set (in bob
+/// radii: enough for the bob's whole disc to stay in front), and its colour.
+const GHOST_SCALE: f32 = 1.45;
+const GHOST_SETBACK: f32 = 1.4;
+const GHOST: [u8; 3] = [150, 150, 150];
 
 /// Pivots for `n` lanes: slots 2.2 L apart (a full swing spans 2 L) in rows 2.6 L apart (room
 /// for the label), 1.2 L above the ground grid.
@@ -176,29 +262,16 @@ impl Draw<PendulumScene> for PendulumDraw {
                 .div_ceil(MAX_PHASE_POINTS as u64);
 
         rec.log_static("pendulum", &rerun::ViewCoordinates::RIGHT_HAND_Z_UP())?;
-        let l = c.params.length as f32;
-        let x_max = self.pivots.iter().fold(0.0f32, |x, p| x.max(p[0]));
-        // A floor just past the outer swings and barely deeper than a bob, within [`framing`].
-        let half_depth = 0.3 * l;
-        log_stage(
-            rec,
-            "pendulum/stage",
-            [
-                [-1.15 * l, -half_depth, 0.0],
-                [x_max + 1.15 * l, -half_depth, 0.0],
-                [x_max + 1.15 * l, half_depth, 0.0],
-                [-1.15 * l, half_depth, 0.0],
-            ],
-        )?;
         let bob_radius = 0.1 * c.params.length as f32;
         for (i, name) in self.lanes.iter().enumerate() {
             let color = method_color(name);
+            // Each lane's 3D view is titled with its name, so the pivot carries no label until
+            // a divergence says why the lane stopped.
             rec.log_static(
                 format!("pendulum/{name}/pivot"),
                 &rerun::Points3D::new([self.pivot(i)])
                     .with_radii([0.3 * bob_radius])
                     .with_colors([[128, 128, 128]])
-                    .with_labels([*name])
                     .with_show_labels(true),
             )?;
             // Styles that never change are logged once, static; per frame only positions move.
@@ -215,11 +288,21 @@ impl Draw<PendulumScene> for PendulumDraw {
                     .with_colors([color]),
             )?;
             if i > 0 {
+                // The reference bob a size larger and set back along the line of sight: a grey
+                // ring around the method's bob while the method keeps to the reference, a grey
+                // disc where it should be once it parts; the method's colour always in front.
+                let ghost = format!("pendulum/{name}/{}_ghost", self.lanes[0]);
+                let back =
+                    glam::Vec3::from_array(TOWARD_EYE).normalize() * (-GHOST_SETBACK * bob_radius);
                 rec.log_static(
-                    format!("pendulum/{name}/{}_ghost", self.lanes[0]),
+                    ghost.as_str(),
+                    &rerun::Transform3D::from_translation(back.to_array()),
+                )?;
+                rec.log_static(
+                    ghost,
                     &rerun::Points3D::update_fields()
-                        .with_radii([bob_radius])
-                        .with_colors([rerun::Color::from_unmultiplied_rgba(220, 220, 220, 70)]),
+                        .with_radii([GHOST_SCALE * bob_radius])
+                        .with_colors([GHOST]),
                 )?;
             }
             rec.log_static(

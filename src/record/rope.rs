@@ -9,7 +9,7 @@
 use rerun::RecordingStream;
 
 use super::scene::{Draw, SceneRecorder, clear_diverged};
-use super::{Framing, log_stage, method_color, slot_cells, view_above_text};
+use super::{Framing, Slot, Staging, method_color, slot_cells, view_above_text};
 use crate::report::rope::cost_per_step;
 use crate::report::table::trim_number;
 use crate::scene::harness::{Event, Frame};
@@ -30,8 +30,7 @@ pub const PLOTS: [(&str, &str); 3] = [
 pub const VIEWS: super::SceneViews = super::SceneViews {
     name: "rope",
     plots: &PLOTS,
-    exclude_in_all: &[],
-    blueprint: |t, f, p| view_above_text("rope", &PLOTS, t, f, p),
+    blueprint: |t, s, m, p| view_above_text("rope", s, t, m, p),
 };
 
 /// Each lane's slot offset [m]: rows of four stacked upwards (see `slot_cells`), or all at one
@@ -52,29 +51,47 @@ fn rope_span(c: &RopeConfig) -> f64 {
     (c.params.end - c.params.start).length().max(1e-9)
 }
 
-/// What the 3D view frames: every slot's rope swinging within one span of its first node, from
-/// the floor up to the highest node, seen from the front and a little above.
-pub fn framing(c: &RopeConfig) -> Framing {
+/// What the layout needs of a run: a 3D view per method framing its slot (one for all with
+/// `--layout overlay`), each rope swinging within one span of its first node, from the floor
+/// up to its highest node, seen from the front and a little above; every plot holds every
+/// method.
+pub fn staging(c: &RopeConfig) -> Staging {
     let p = &c.params;
     let span = rope_span(c);
-    let offsets = slot_offsets(c);
-    let x_max = offsets.iter().fold(0.0f64, |x, o| x.max(o[0]));
-    let z_max = offsets.iter().fold(0.0f64, |z, o| z.max(o[2]));
-    let top = p.start.z.max(p.end.z) + z_max + 0.1 * span;
+    let top = p.start.z.max(p.end.z) + 0.1 * span;
     let floor = p.start.z.min(p.end.z) - 1.05 * span;
     let f = |v: f64| v as f32;
-    Framing {
+    let slot = |o: [f64; 3]| Framing {
         min: [
-            f(p.start.x - 1.1 * span),
-            f(p.start.y - 0.3 * span),
-            f(floor),
+            f(o[0] + p.start.x - 1.1 * span),
+            f(o[1] + p.start.y - 0.3 * span),
+            f(o[2] + floor),
         ],
         max: [
-            f(p.start.x + x_max + 1.1 * span),
-            f(p.start.y + 0.3 * span),
-            f(top),
+            f(o[0] + p.start.x + 1.1 * span),
+            f(o[1] + p.start.y + 0.3 * span),
+            f(o[2] + top),
         ],
         toward_eye: [0.0, -1.0, 0.3],
+    };
+    let methods: Vec<&'static str> = c.methods.iter().map(|m| m.name()).collect();
+    let slots = match c.layout {
+        RopeLayout::Overlay => vec![Slot {
+            title: "rope: every method from the same pin".to_string(),
+            lanes: methods.clone(),
+            framing: slot([0.0; 3]),
+        }],
+        RopeLayout::SideBySide => Staging::per_lane(
+            methods
+                .iter()
+                .zip(slot_offsets(c))
+                .map(|(&m, o)| (m, slot(o))),
+        ),
+    };
+    Staging {
+        slots,
+        plots: Staging::plots(&PLOTS, |_| methods.clone()),
+        end_time: c.schedule().end_time(),
     }
 }
 
@@ -122,29 +139,6 @@ impl Draw<RopeScene> for RopeDraw {
         let span = rope_span(c);
         self.offsets = slot_offsets(c);
         rec.log_static("rope", &rerun::ViewCoordinates::RIGHT_HAND_Z_UP())?;
-        // Floor below the lowest hanging rope, reaching past the outer slots on every side.
-        let x_max = self.offsets.iter().fold(0.0f64, |x, o| x.max(o[0]));
-        let floor = (p.start.z.min(p.end.z) - 1.05 * span) as f32;
-        // The rope swings about its first pinned node, within one span of it. The floor reaches
-        // half a span past that on each side and is shallower than the slots are wide; the view's
-        // eye frames [`framing`], and `tests/recording.rs` checks the floor stays in view.
-        let pin_x = p.start.x;
-        let (x0, x1) = (
-            (pin_x - 1.5 * span) as f32,
-            (pin_x + x_max + 1.5 * span) as f32,
-        );
-        let half_depth = 0.75 * span;
-        let (x0, x1, floor) = (f64::from(x0), f64::from(x1), f64::from(floor));
-        log_stage(
-            rec,
-            "rope/stage",
-            [
-                f32_point([x0, half_depth, floor]),
-                f32_point([x1, half_depth, floor]),
-                f32_point([x1, -half_depth, floor]),
-                f32_point([x0, -half_depth, floor]),
-            ],
-        )?;
         let node_radius = (0.02 * span) as f32;
         for (i, name) in self.names.iter().enumerate() {
             let color = method_color(name);
@@ -169,17 +163,13 @@ impl Draw<RopeScene> for RopeDraw {
                     f32_point([q.x + o[0], q.y + o[1], q.z + o[2]])
                 })
                 .collect();
-            // One label per rope (on its first pinned node), not one per pin.
-            let mut labels = vec![String::new(); pinned.len()];
-            if let Some(first) = labels.first_mut() {
-                *first = name.to_string();
-            }
+            // Each 3D view is titled with its method; a pin is labelled only when its rope
+            // diverges, to say when.
             rec.log_static(
                 format!("rope/{name}/pinned"),
                 &rerun::Points3D::new(pinned)
                     .with_radii([2.5 * node_radius])
                     .with_colors([[235, 235, 235]])
-                    .with_labels(labels)
                     .with_show_labels(true),
             )?;
         }

@@ -1,165 +1,308 @@
 //! The viewer's layouts: one plot per quantity with its legend, a scene's views, `all`'s grid,
 //! and the blueprint that shows only them.
 
-use rerun::blueprint::components::{Corner2D, PanelState};
+use rerun::blueprint::components::PanelState;
 use rerun::blueprint::{
-    Blueprint, BlueprintPanel, ContainerLike, Horizontal, SelectionPanel, Spatial3DView, Tabs,
-    TextDocumentView, TextLogView, TimePanel, TimeSeriesView, Vertical,
+    Blueprint, BlueprintPanel, ContainerLike, Grid, Horizontal, SelectionPanel, Spatial3DView,
+    Tabs, TextDocumentView, TextLogView, TimePanel, TimeSeriesView, Vertical,
 };
 
-use super::{Framing, Layout, ViewProperties, layout, scene};
+use super::layout::LEGEND_ROW_PX;
+use super::{Framing, Layout, ViewProperties, scene};
 
-/// One plot per quantity, `/<scene>/plots/<name>/*`, every method in each, its legend placed by
-/// [`legend_corner`].
+/// The viewer's room for views at 1600×1000 [logical px]: the window less its top bar and the
+/// collapsed time panel, measured on a screenshot.
+pub const WINDOW: [f32; 2] = [1600.0, 943.0];
+/// A view's title bar [logical px].
+const TITLE_PX: f32 = 24.0;
+
+/// One 3D view of a scene: a title, the lanes (subtrees of `/<scene>`) it shows, and the box
+/// its eye frames.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Slot {
+    pub title: String,
+    pub lanes: Vec<&'static str>,
+    pub framing: Framing,
+}
+
+/// One plot of a run: its entity name under `/<scene>/plots`, title, and the series it holds.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Plot {
+    pub name: &'static str,
+    pub title: &'static str,
+    pub series: Vec<&'static str>,
+    /// Where its value axis opens, when a fixed floor says more than the data's own range.
+    pub range: Option<(f64, f64)>,
+}
+
+/// What a scene's layout needs of its run: its 3D views, its plots and its end [s].
+#[derive(Clone, Debug, PartialEq)]
+pub struct Staging {
+    pub slots: Vec<Slot>,
+    pub plots: Vec<Plot>,
+    pub end_time: f64,
+}
+
+impl Staging {
+    /// One 3D view per lane (titled with its name), each framed on its own slot.
+    pub fn per_lane(lanes: impl IntoIterator<Item = (&'static str, Framing)>) -> Vec<Slot> {
+        lanes
+            .into_iter()
+            .map(|(lane, framing)| Slot {
+                title: lane.to_string(),
+                lanes: vec![lane],
+                framing,
+            })
+            .collect()
+    }
+
+    /// The plots of `titles` that some lane plots: each with the lanes `series` gives it.
+    pub fn plots(
+        titles: &[(&'static str, &'static str)],
+        series: impl Fn(&str) -> Vec<&'static str>,
+    ) -> Vec<Plot> {
+        titles
+            .iter()
+            .map(|&(name, title)| Plot {
+                name,
+                title,
+                series: series(name),
+                range: None,
+            })
+            .filter(|p| !p.series.is_empty())
+            .collect()
+    }
+
+    /// The plots shown: the run's, and the wall-clock cost plot of its methods when timings are
+    /// recorded.
+    fn shown(&self, timings: bool, methods: &[&'static str]) -> Vec<Plot> {
+        let mut shown = self.plots.clone();
+        if timings {
+            shown.push(Plot {
+                name: scene::FRAME_COST.0,
+                title: scene::FRAME_COST.1,
+                series: methods.to_vec(),
+                range: None,
+            });
+        }
+        shown
+    }
+}
+
+/// A scene's plots in a column of `size` [px], each legend beside its curves. Each plot gets
+/// the height its legend needs: as many as fit are stacked, and when some do not, the last
+/// place holds the rest as tabs.
 fn plot_views(
     scene: &str,
-    plots: &[(&str, &str)],
-    in_all: bool,
+    plots: &[Plot],
+    end_time: f64,
+    size: [f32; 2],
     props: &mut ViewProperties,
 ) -> Vec<ContainerLike> {
-    plots
+    let mut views: Vec<ContainerLike> = plots
         .iter()
-        .map(|(name, title)| {
-            let view = TimeSeriesView::new(*title).with_origin(format!("/{scene}/plots/{name}"));
-            props.legend(view, legend_corner(scene, name, in_all))
+        .map(|p| {
+            let view =
+                TimeSeriesView::new(p.title).with_origin(format!("/{scene}/plots/{}", p.name));
+            let view = props.legend_beside(view, &p.series, end_time, size[0]);
+            match p.range {
+                Some((lo, hi)) => props.value_range(view, lo, hi),
+                None => view,
+            }
         })
-        .collect()
-}
-
-/// Where a plot's legend goes: a corner its curves leave empty in the default run (read from
-/// viewer screenshots at 1600×1000), or `None` (hidden) where every corner holds data or the
-/// legend (about 20 px per method) is taller than the free space, as in `all`'s short plots of
-/// seven or more lanes and the pendulum's nine-lane plots. The 3D views label every method in
-/// the same colour.
-fn legend_corner(scene: &str, plot: &str, in_all: bool) -> Option<Corner2D> {
-    match (scene, plot, in_all) {
-        // Energy and strain rise where midpoint and trapezoid diverge (≈ 7.5 s) and stop there.
-        ("rope", "energy" | "max_strain", false) => Some(Corner2D::RightTop),
-        // After the first second every curve sits above 10⁰ J.
-        ("rope", "log10_energy_change", false) => Some(Corner2D::RightBottom),
-        // Two lanes; after the first frames no curve comes down to the bottom right.
-        ("hair", "max_penetration", _) => Some(Corner2D::RightBottom),
-        // Kinetic energy decays towards 0 after the head stops.
-        ("hair", "specific_kinetic_energy", false) => Some(Corner2D::RightTop),
-        _ => None,
+        .collect();
+    let places = stacked_plots(plots, size[1]);
+    if views.len() > places {
+        let rest = views.split_off(places - 1);
+        views.push(Tabs::new(rest).into());
     }
+    views
 }
 
-/// A scene's plots, and the wall-clock cost plot when timings are recorded.
-pub fn plots_shown(
-    plots: &[(&'static str, &'static str)],
+/// How many plots a column `height` px tall stacks, each tall enough for its legend (at least
+/// one).
+pub fn stacked_plots(plots: &[Plot], height: f32) -> usize {
+    let rows = plots.iter().map(|p| p.series.len()).max().unwrap_or(0);
+    let needed = PLOT_CHROME_PX + LEGEND_ROW_PX * rows as f32;
+    ((height / needed).floor() as usize).clamp(1, plots.len().max(1))
+}
+
+/// What a plot's height holds besides its legend's lines [logical px]: its title bar, time axis
+/// labels and the legend's margins, measured on screenshots.
+const PLOT_CHROME_PX: f32 = 88.0;
+
+/// The plots' column of a scene, of `size` [px].
+pub fn plot_column(
+    scene: &str,
+    staging: &Staging,
     timings: bool,
-) -> Vec<(&'static str, &'static str)> {
-    let mut shown = plots.to_vec();
-    if timings {
-        shown.push(scene::FRAME_COST);
+    methods: &[&'static str],
+    size: [f32; 2],
+    props: &mut ViewProperties,
+) -> Vertical {
+    let plots = staging.shown(timings, methods);
+    Vertical::new(plot_views(scene, &plots, staging.end_time, size, props))
+}
+
+/// The scene's 3D views in a grid filling `size` [px]: as many columns as make the subjects
+/// largest, each view's eye framing its slot.
+pub fn slot_grid(
+    scene: &str,
+    slots: &[Slot],
+    size: [f32; 2],
+    props: &mut ViewProperties,
+) -> ContainerLike {
+    let (columns, aspect) = grid_columns(slots, size);
+    let views: Vec<ContainerLike> = slots
+        .iter()
+        .map(|slot| {
+            let view = slot_view(scene, slot);
+            props.eye(view, slot.framing, aspect)
+        })
+        .collect();
+    if views.len() == 1 {
+        return views.into_iter().next().expect("one view");
     }
-    shown
+    Grid::new(views).with_grid_columns(columns as u32).into()
 }
 
-/// The scene's plots stacked.
-pub fn plot_column(scene: &str, plots: &[(&str, &str)], props: &mut ViewProperties) -> Vertical {
-    Vertical::new(plot_views(scene, plots, false, props))
+/// A grid's subjects drawn at this share of the largest they could be are nearly as large.
+const NEARLY: f32 = 0.9;
+
+/// The number of columns that draws `slots` (nearly) largest in `size` [px], and the width /
+/// height of each view's drawing area then.
+pub fn grid_columns(slots: &[Slot], size: [f32; 2]) -> (usize, f32) {
+    let n = slots.len().max(1);
+    let view = |c: usize| {
+        let rows = n.div_ceil(c);
+        let w = size[0] / c as f32;
+        let h = (size[1] / rows as f32 - TITLE_PX).max(1.0);
+        (w, h)
+    };
+    // Pixels per metre at the subjects' centres: the view's height over the eye's distance
+    // (the same field of view in every view).
+    let scale = |c: usize| {
+        let (w, h) = view(c);
+        let distance = slots
+            .iter()
+            .map(|s| {
+                let (eye, target) = s.framing.eye(w / h);
+                glam::Vec3::from_array(eye).distance(glam::Vec3::from_array(target))
+            })
+            .fold(f32::MIN_POSITIVE, f32::max);
+        h / distance
+    };
+    // The fewest columns that draw the subjects nearly as large as any: wider views keep the
+    // lanes' names in their titles whole.
+    let largest = (1..=n).map(scale).fold(0.0f32, f32::max);
+    let best = (1..=n).find(|&c| scale(c) >= NEARLY * largest).unwrap_or(1);
+    let (w, h) = view(best);
+    (best, w / h)
 }
 
-/// What the layouts need of a scene: its views alone, and its column in `physlab all`.
+/// A 3D view of some of a scene's lanes: `/<scene>/<lane>/**` for each.
+fn slot_view(scene: &str, slot: &Slot) -> Spatial3DView {
+    let contents: Vec<String> = slot
+        .lanes
+        .iter()
+        .map(|lane| format!("+ $origin/{lane}/**"))
+        .collect();
+    Spatial3DView::new(slot.title.as_str())
+        .with_origin(format!("/{scene}"))
+        .with_contents(contents)
+}
+
+/// What the layouts need of a scene: its layout alone, given its staging and the lanes whose
+/// wall-clock cost is plotted.
 pub struct SceneViews {
     pub name: &'static str,
-    /// Its plots: entity name and title.
+    /// Every plot the scene can draw: (entity name under `/<scene>/plots`, title).
     pub plots: &'static [(&'static str, &'static str)],
-    /// Subtrees its 3D view leaves out in `all` (drawn in views of their own when alone).
-    pub exclude_in_all: &'static [&'static str],
-    /// Its layout when it runs alone, its 3D view framed on the given box.
-    pub blueprint: fn(bool, Framing, &mut ViewProperties) -> Blueprint,
+    pub blueprint: fn(bool, &Staging, &[&'static str], &mut ViewProperties) -> Blueprint,
 }
 
-/// A single scene's layout, its 3D view framed on `framing`.
-pub fn scene_layout(scene: &SceneViews, timings: bool, framing: Framing) -> Layout {
+/// A single scene's layout.
+pub fn scene_layout(
+    scene: &SceneViews,
+    timings: bool,
+    staging: &Staging,
+    methods: &[&'static str],
+) -> Layout {
     let mut props = ViewProperties::default();
-    let blueprint = (scene.blueprint)(timings, framing, &mut props);
+    let blueprint = (scene.blueprint)(timings, staging, methods, &mut props);
     props.layout(blueprint)
 }
 
-/// The plots `physlab all` shows (fewer and wider than a single scene's, so that each stays
-/// readable at 1600×1000); the recording holds every series all the same.
-const ALL_PLOTS: [&str; 7] = [
+/// The plots `physlab all` shows (fewer than a single scene's, so that each stays tall enough
+/// for its legend at 1600×1000); the recording holds every series all the same.
+const ALL_PLOTS: [&str; 6] = [
     "theta",
     "log10_theta_error",
-    "log10_energy_error",
     "log10_energy_change",
     "max_strain",
     "log10_max_stretch",
     "max_penetration",
 ];
 
-/// `physlab all`: the scenes side by side, each 3D view above its plots and its event log,
-/// each 3D view framed on its scene's framing.
-pub fn all_layout(timings: bool, scenes: &[(&SceneViews, Framing)]) -> Layout {
+/// `physlab all`'s rows: 3D views, plots, event log [shares of the height].
+const ALL_ROWS: [f32; 3] = [3.2, 5.0, 0.5];
+
+/// `physlab all`: the scenes side by side, each one's 3D views above its plots and its event log.
+pub fn all_layout(timings: bool, scenes: &[(&SceneViews, Staging, Vec<&'static str>)]) -> Layout {
     let mut props = ViewProperties::default();
-    let mut column = |views: &SceneViews, framing: Framing| -> ContainerLike {
+    let width = WINDOW[0] / scenes.len().max(1) as f32;
+    let share = |row: usize| WINDOW[1] * ALL_ROWS[row] / ALL_ROWS.iter().sum::<f32>();
+    let (height, plots_height) = (share(0), share(1));
+    let mut column = |views: &SceneViews, staging: &Staging, methods: &[&'static str]| {
         let scene = views.name;
-        let shown: Vec<(&str, &str)> = plots_shown(views.plots, timings)
+        let shown: Vec<Plot> = staging
+            .shown(timings, methods)
             .into_iter()
-            .filter(|(name, _)| ALL_PLOTS.contains(name) || *name == scene::FRAME_COST.0)
+            .filter(|p| ALL_PLOTS.contains(&p.name) || p.name == scene::FRAME_COST.0)
             .collect();
-        let view = scene_view(scene, scene, views.exclude_in_all);
-        let view = props.eye(view, framing, layout::ALL_VIEW_ASPECT);
-        Vertical::new([
-            view,
-            Vertical::new(plot_views(scene, &shown, true, &mut props)).into(),
-            Tabs::new([
-                TextLogView::new(format!("{scene} events"))
-                    .with_origin(format!("/{scene}/events"))
-                    .into(),
-                summary_view(scene).into(),
+        let grid = slot_grid(scene, &staging.slots, [width, height], &mut props);
+        ContainerLike::from(
+            Vertical::new([
+                grid,
+                Vertical::new(plot_views(
+                    scene,
+                    &shown,
+                    staging.end_time,
+                    [width, plots_height],
+                    &mut props,
+                ))
+                .into(),
+                Tabs::new([
+                    TextLogView::new(format!("{scene} events"))
+                        .with_origin(format!("/{scene}/events"))
+                        .into(),
+                    summary_view(scene).into(),
+                ])
+                .into(),
             ])
-            .into(),
-        ])
-        .with_row_shares([3.0, 4.0, 1.0])
-        .into()
+            .with_row_shares(ALL_ROWS),
+        )
     };
-    let columns: Vec<ContainerLike> = scenes.iter().map(|(v, f)| column(v, *f)).collect();
+    let columns: Vec<ContainerLike> = scenes.iter().map(|(v, s, m)| column(v, s, m)).collect();
     let blueprint = only_these_views(Blueprint::new(Horizontal::new(columns)));
     props.layout(blueprint)
 }
 
-/// Width / height of the single-scene 3D view above the text panels at 1600×1000 (the left
-/// half, 3/4 of the height), measured on a screenshot.
-const ABOVE_TEXT_ASPECT: f32 = 1.19;
-
-/// A single scene's layout: its 3D view of the methods side by side, framed on `framing`, above
-/// its about text and events, beside its plots.
+/// A single scene's layout: its 3D views (3/4 of the left half) above its about text and
+/// events, beside its plots.
 pub fn view_above_text(
     scene: &str,
-    plots: &[(&'static str, &'static str)],
+    staging: &Staging,
     timings: bool,
-    framing: Framing,
+    methods: &[&'static str],
     props: &mut ViewProperties,
 ) -> Blueprint {
-    let title = format!("{scene}: methods side by side");
-    let view = props.eye(scene_view(scene, &title, &[]), framing, ABOVE_TEXT_ASPECT);
-    let left = Vertical::new([view, Horizontal::new(about_and_events(scene)).into()])
+    let half = 0.5 * WINDOW[0];
+    let grid = slot_grid(scene, &staging.slots, [half, 0.75 * WINDOW[1]], props);
+    let left = Vertical::new([grid, Horizontal::new(about_and_events(scene)).into()])
         .with_row_shares([3.0, 1.0]);
-    scene_blueprint(
-        left,
-        plot_column(scene, &plots_shown(plots, timings), props),
-    )
-}
-
-/// The scene's 3D view: everything under `/<scene>` except its plots, events, about text,
-/// summary and the given subtrees.
-pub fn scene_view(scene: &str, title: &str, exclude: &[&str]) -> Spatial3DView {
-    let mut contents = vec![
-        "+ $origin/**".to_string(),
-        "- $origin/plots/**".to_string(),
-        "- $origin/events".to_string(),
-        "- $origin/about".to_string(),
-        "- $origin/summary".to_string(),
-    ];
-    contents.extend(exclude.iter().map(|e| format!("- $origin/{e}")));
-    Spatial3DView::new(title)
-        .with_origin(format!("/{scene}"))
-        .with_contents(contents)
+    let plots = plot_column(scene, staging, timings, methods, [half, WINDOW[1]], props);
+    scene_blueprint(left, plots)
 }
 
 /// The run description (`/<scene>/about`) with the summary (`/<scene>/summary`) in a tab beside

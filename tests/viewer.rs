@@ -1,0 +1,584 @@
+//! What the viewer shows on opening a recording, read back from the written file: the blueprint's
+//! containers laid out on a 1600×1000 window as the viewer lays them out, every plot with two or
+//! more series naming them in a legend that covers no curve, no plot without data or purpose,
+//! and every 3D view's eye framing its subject large and whole.
+
+#[cfg(feature = "rerun")]
+mod common;
+
+#[cfg(feature = "rerun")]
+mod layout {
+    use std::collections::BTreeMap;
+    use std::path::Path;
+
+    use rerun::external::re_log_encoding::DecoderApp;
+    use rerun::external::re_sdk_types::blueprint::archetypes::{
+        ContainerBlueprint, EyeControls3D, PlotLegend, TimeAxis, ViewBlueprint, ViewContents,
+    };
+    use rerun::external::re_sdk_types::blueprint::components::TimeRange;
+    use rerun::external::re_sdk_types::datatypes::{TimeInt, TimeRangeBoundary};
+    use rerun::log::{Chunk, LogMsg};
+
+    use crate::common::{decode, drawn_rows, physlab, scratch_dir};
+
+    /// The viewer's room for views at 1600×1000: the window less its top bar and collapsed time
+    /// panel (measured on a screenshot), and the title bar (or tab bar) above each view.
+    const WINDOW: [f32; 2] = [1600.0, 943.0];
+    const TITLE_PX: f32 = 24.0;
+    /// A legend on a screenshot: 22.5 px a line, 104 px for the 19 characters of
+    /// "semi-implicit-euler", 31 px more for its colour swatch and margins; a plot 232 px tall
+    /// below its title shows 7 of 8 lines, one of 244 px all 8 (its time axis' labels, the
+    /// legend's margins).
+    const LEGEND_LINE_PX: f32 = 22.5;
+    const LEGEND_ROOM_PX: f32 = 64.0;
+    const LEGEND_CHAR_PX: f32 = 104.0 / 19.0;
+    const LEGEND_FRAME_PX: f32 = 31.0;
+    /// The value axis' labels left of a plot's curves [px].
+    const VALUE_AXIS_PX: f32 = 30.0;
+    /// Rerun's default vertical field of view for a 3D eye.
+    const FOV_Y_DEGREES: f32 = 55.0;
+
+    #[derive(Debug, Default)]
+    struct Container {
+        kind: u8,
+        children: Vec<String>,
+        columns: Vec<f32>,
+        rows: Vec<f32>,
+        grid_columns: Option<u32>,
+    }
+
+    #[derive(Debug, Default)]
+    struct View {
+        class: String,
+        title: String,
+        origin: String,
+        contents: Vec<String>,
+        properties: BTreeMap<String, Chunk>,
+        /// Width and height of its drawing area [px], once laid out.
+        size: [f32; 2],
+    }
+
+    /// A recording's blueprint: its containers and views by entity path (`container/<id>`,
+    /// `view/<id>`).
+    struct Blueprint {
+        containers: BTreeMap<String, Container>,
+        views: BTreeMap<String, View>,
+    }
+
+    fn strings(chunk: &Chunk, descriptor: rerun::ComponentDescriptor) -> Vec<String> {
+        chunk
+            .iter_slices::<String>(descriptor.component)
+            .flat_map(|s| s.iter().map(|x| x.to_string()).collect::<Vec<_>>())
+            .collect()
+    }
+
+    fn floats(chunk: &Chunk, descriptor: rerun::ComponentDescriptor) -> Vec<f32> {
+        chunk
+            .iter_slices::<f32>(descriptor.component)
+            .flat_map(|s| s.to_vec())
+            .collect()
+    }
+
+    fn read_blueprint(path: &Path) -> Blueprint {
+        let file = std::io::BufReader::new(std::fs::File::open(path).unwrap());
+        let mut containers: BTreeMap<String, Container> = BTreeMap::new();
+        let mut views: BTreeMap<String, View> = BTreeMap::new();
+        for msg in DecoderApp::decode_lazy(file) {
+            let LogMsg::ArrowMsg(store_id, arrow_msg) = msg.unwrap() else {
+                continue;
+            };
+            if !store_id.is_blueprint() {
+                continue;
+            }
+            let chunk = Chunk::from_arrow_msg(&arrow_msg).unwrap();
+            let entity = chunk.entity_path().to_string();
+            let parts: Vec<&str> = entity.trim_start_matches('/').split('/').collect();
+            match parts[..] {
+                ["container", id] => {
+                    let c = containers.entry(format!("container/{id}")).or_default();
+                    let kind = ContainerBlueprint::descriptor_container_kind().component;
+                    if let Some(k) = chunk.iter_slices::<u8>(kind).next() {
+                        c.kind = k[0];
+                    }
+                    let children = strings(&chunk, ContainerBlueprint::descriptor_contents());
+                    if !children.is_empty() {
+                        c.children = children
+                            .iter()
+                            .map(|p| p.trim_start_matches('/').to_string())
+                            .collect();
+                    }
+                    c.columns
+                        .extend(floats(&chunk, ContainerBlueprint::descriptor_col_shares()));
+                    c.rows
+                        .extend(floats(&chunk, ContainerBlueprint::descriptor_row_shares()));
+                    let grid = ContainerBlueprint::descriptor_grid_columns().component;
+                    if let Some(g) = chunk.iter_slices::<u32>(grid).next() {
+                        c.grid_columns = Some(g[0]);
+                    }
+                }
+                ["view", id] => {
+                    let v = views.entry(format!("view/{id}")).or_default();
+                    if let Some(c) =
+                        strings(&chunk, ViewBlueprint::descriptor_class_identifier()).pop()
+                    {
+                        v.class = c;
+                    }
+                    if let Some(o) = strings(&chunk, ViewBlueprint::descriptor_space_origin()).pop()
+                    {
+                        v.origin = o;
+                    }
+                    if let Some(t) = strings(&chunk, ViewBlueprint::descriptor_display_name()).pop()
+                    {
+                        v.title = t;
+                    }
+                }
+                ["view", id, "ViewContents"] => {
+                    let v = views.entry(format!("view/{id}")).or_default();
+                    v.contents = strings(&chunk, ViewContents::descriptor_query());
+                }
+                ["view", id, property] => {
+                    let v = views.entry(format!("view/{id}")).or_default();
+                    v.properties.insert(property.to_string(), chunk);
+                }
+                _ => {}
+            }
+        }
+        let mut blueprint = Blueprint { containers, views };
+        let children: Vec<&String> = blueprint
+            .containers
+            .values()
+            .flat_map(|c| &c.children)
+            .collect();
+        let roots: Vec<String> = blueprint
+            .containers
+            .keys()
+            .filter(|k| !children.contains(k))
+            .cloned()
+            .collect();
+        assert_eq!(roots.len(), 1, "one root container: {roots:?}");
+        blueprint.place(&roots[0], WINDOW);
+        blueprint
+    }
+
+    impl Blueprint {
+        /// Lays `node` out in a rectangle of `size` [px] as the viewer does: shares along a row or
+        /// column (equal when none are given), a grid's cells equal, a tab's views the whole
+        /// rectangle; every view's drawing area is its rectangle less its title bar.
+        fn place(&mut self, node: &str, size: [f32; 2]) {
+            if let Some(view) = self.views.get_mut(node) {
+                view.size = [size[0], size[1] - TITLE_PX];
+                return;
+            }
+            let c = &self.containers[node];
+            let n = c.children.len();
+            let shares = |given: &[f32]| -> Vec<f32> {
+                let s = if given.len() == n {
+                    given.to_vec()
+                } else {
+                    vec![1.0; n]
+                };
+                let total: f32 = s.iter().sum();
+                s.iter().map(|x| x / total).collect()
+            };
+            let sizes: Vec<[f32; 2]> = match c.kind {
+                // Tabs: each child has the whole rectangle (the tab bar is its title bar).
+                1 => vec![size; n],
+                2 => shares(&c.columns)
+                    .iter()
+                    .map(|f| [size[0] * f, size[1]])
+                    .collect(),
+                3 => shares(&c.rows)
+                    .iter()
+                    .map(|f| [size[0], size[1] * f])
+                    .collect(),
+                4 => {
+                    let columns = c
+                        .grid_columns
+                        .map_or_else(|| (n as f32).sqrt().ceil() as usize, |g| g as usize);
+                    let rows = n.div_ceil(columns);
+                    vec![[size[0] / columns as f32, size[1] / rows as f32]; n]
+                }
+                k => panic!("container kind {k}"),
+            };
+            for (child, size) in c.children.clone().iter().zip(sizes) {
+                self.place(child, size);
+            }
+        }
+
+        fn views_of(&self, class: &str) -> impl Iterator<Item = &View> {
+            self.views.values().filter(move |v| v.class == class)
+        }
+    }
+
+    fn vec3(chunk: &Chunk, descriptor: rerun::ComponentDescriptor) -> glam::Vec3 {
+        let v = chunk
+            .iter_slices::<[f32; 3]>(descriptor.component)
+            .next()
+            .unwrap_or_else(|| panic!("{} missing", descriptor.component));
+        glam::Vec3::from_array(v[0])
+    }
+
+    /// Every plot with two or more series names them in a legend in a band of the time axis past
+    /// the last value, wide enough for its longest name, and the plot is tall enough for every
+    /// line of it; a plot with one series needs none; no plot is laid out without a series.
+    fn check_legends(path: &Path, blueprint: &Blueprint) {
+        let data = decode(path);
+        let corner = PlotLegend::descriptor_corner().component;
+        let visible = PlotLegend::descriptor_visible().component;
+        let range = TimeAxis::descriptor_view_range().component;
+        let plots: Vec<&View> = blueprint.views_of("TimeSeries").collect();
+        assert!(!plots.is_empty());
+        for plot in plots {
+            let series: Vec<(&str, i64)> = data
+                .scalars
+                .iter()
+                .filter(|(e, rows)| e.starts_with(&format!("{}/", plot.origin)) && !rows.is_empty())
+                .map(|(e, rows)| {
+                    let name = e.rsplit('/').next().unwrap();
+                    (name, rows.iter().map(|r| r.0).max().unwrap())
+                })
+                .collect();
+            assert!(
+                !series.is_empty(),
+                "'{}' is laid out without data",
+                plot.title
+            );
+            let legend = &plot.properties["PlotLegend"];
+            let shown = legend.iter_slices::<bool>(visible).next().unwrap().value(0);
+            if series.len() < 2 {
+                assert!(!shown, "'{}': a legend for one series", plot.title);
+                continue;
+            }
+            assert!(
+                shown,
+                "'{}' names none of its {} series",
+                plot.title,
+                series.len()
+            );
+            assert_eq!(
+                legend.iter_slices::<u8>(corner).next().map(|c| c[0]),
+                Some(2), // right top
+                "'{}'",
+                plot.title
+            );
+            let axis = plot
+                .properties
+                .get("TimeAxis")
+                .unwrap_or_else(|| panic!("'{}' has no time range", plot.title));
+            let view_range = axis
+                .component_mono::<TimeRange>(range, 0)
+                .unwrap_or_else(|| panic!("'{}': no time range", plot.title))
+                .unwrap();
+            let TimeRangeBoundary::Absolute(TimeInt(end)) = view_range.0.end else {
+                panic!("'{}': {view_range:?}", plot.title);
+            };
+            let last = series.iter().map(|s| s.1).max().unwrap();
+            let longest = series.iter().map(|s| s.0.chars().count()).max().unwrap();
+            let legend_width = LEGEND_FRAME_PX + LEGEND_CHAR_PX * longest as f32;
+            let curves = plot.size[0] - VALUE_AXIS_PX;
+            let band = curves * (end - last) as f32 / end as f32;
+            assert!(
+                band >= legend_width,
+                "'{}': {band:.0} px past the last value, the legend takes {legend_width:.0}",
+                plot.title
+            );
+            let needed = LEGEND_LINE_PX * series.len() as f32 + LEGEND_ROOM_PX;
+            assert!(
+                plot.size[1] >= needed,
+                "'{}': {:.0} px tall, its legend of {} lines needs {needed:.0}",
+                plot.title,
+                plot.size[1],
+                series.len()
+            );
+        }
+    }
+
+    /// A point's place in a view `aspect` wide per height, (−1, −1) to (1, 1) from corner to
+    /// corner when visible.
+    fn project(p: glam::Vec3, eye: glam::Vec3, target: glam::Vec3, aspect: f32) -> glam::Vec2 {
+        let back = (eye - target).normalize();
+        let right = glam::Vec3::Z.cross(back).normalize();
+        let up = back.cross(right);
+        let d = p - eye;
+        let depth = -d.dot(back);
+        assert!(depth > 0.0, "{p} is behind the eye");
+        let tan = (0.5 * FOV_Y_DEGREES.to_radians()).tan();
+        glam::Vec2::new(
+            d.dot(right) / depth / (tan * aspect),
+            d.dot(up) / depth / tan,
+        )
+    }
+
+    /// The text of every event logged (warnings of divergence among them).
+    fn event_text(path: &Path) -> String {
+        let file = std::io::BufReader::new(std::fs::File::open(path).unwrap());
+        let mut text = String::new();
+        for msg in DecoderApp::decode_lazy(file) {
+            let LogMsg::ArrowMsg(store_id, arrow_msg) = msg.unwrap() else {
+                continue;
+            };
+            let chunk = Chunk::from_arrow_msg(&arrow_msg).unwrap();
+            if store_id.is_recording() && chunk.entity_path().to_string().ends_with("/events") {
+                for t in strings(&chunk, rerun::TextLog::descriptor_text()) {
+                    text.push_str(&t);
+                    text.push('\n');
+                }
+            }
+        }
+        text
+    }
+
+    /// Every 3D view shows the lanes it names, z up, with all of their drawing inside it (a lane
+    /// that diverged may leave before it is stopped), and its subject (the pendulum's rod,
+    /// the rope, the strands) spanning at least `fraction` of the view's height, across or down,
+    /// at some frame. Returns the views' titles.
+    fn check_framing(path: &Path, blueprint: &Blueprint, fraction: f32) -> Vec<String> {
+        let diverged = event_text(path);
+        let mut titles = Vec::new();
+        for view in blueprint.views_of("3D") {
+            let eye = &view.properties["EyeControls3D"];
+            let position = vec3(eye, EyeControls3D::descriptor_position());
+            let target = vec3(eye, EyeControls3D::descriptor_look_target());
+            assert_eq!(vec3(eye, EyeControls3D::descriptor_eye_up()), glam::Vec3::Z);
+            let aspect = view.size[0] / view.size[1];
+            let lanes: Vec<&str> = view
+                .contents
+                .iter()
+                .filter_map(|q| q.strip_prefix("+ $origin/")?.strip_suffix("/**"))
+                .collect();
+            assert!(
+                !lanes.is_empty(),
+                "'{}' shows no lane: {:?}",
+                view.title,
+                view.contents
+            );
+            for lane in lanes {
+                let rows = drawn_rows(path, &format!("{}/{lane}/", view.origin));
+                assert!(
+                    !rows.is_empty(),
+                    "'{}': nothing drawn for {lane}",
+                    view.title
+                );
+                let (mut inside, mut all) = (0usize, 0usize);
+                let mut span = 0.0f32;
+                let mut far = glam::Vec2::ZERO; // the farthest point from the centre, per axis
+                for (entity, points) in &rows {
+                    let projected: Vec<glam::Vec2> = points
+                        .iter()
+                        .map(|p| project(glam::Vec3::from_array(*p), position, target, aspect))
+                        .collect();
+                    all += projected.len();
+                    inside += projected
+                        .iter()
+                        .filter(|q| q.x.abs() <= 1.0 && q.y.abs() <= 1.0)
+                        .count();
+                    far = projected.iter().fold(far, |f, q| {
+                        let q = q.abs();
+                        glam::Vec2::new(f.x.max(q.x), f.y.max(q.y))
+                    });
+                    if ["/rod", "/strip", "/strands"]
+                        .iter()
+                        .any(|s| entity.ends_with(s))
+                    {
+                        // Its size on screen, in view heights: across or down, whichever is
+                        // larger (a rope released level spans the view across).
+                        let (lo, hi) = projected.iter().fold(
+                            (glam::Vec2::splat(f32::MAX), glam::Vec2::splat(f32::MIN)),
+                            |(lo, hi), q| (lo.min(*q), hi.max(*q)),
+                        );
+                        let size = 0.5 * (hi - lo);
+                        span = span.max(size.y).max(size.x * aspect);
+                    }
+                }
+                // A lane that diverged may fly off before it is stopped.
+                assert!(
+                    diverged.contains(&format!("{lane} diverged")) || inside == all,
+                    "'{}': {lane} has {} of {all} points outside its view, as far as {far}",
+                    view.title,
+                    all - inside
+                );
+                assert!(
+                    span >= fraction,
+                    "'{}': {lane} spans {:.0}% of its view's height ({:.0}×{:.0} px)",
+                    view.title,
+                    100.0 * span,
+                    view.size[0],
+                    view.size[1]
+                );
+            }
+            titles.push(view.title.clone());
+        }
+        titles
+    }
+
+    fn record(dir: &Path, name: &str, args: &[&str]) -> std::path::PathBuf {
+        let out = dir.join(name);
+        let mut all: Vec<&str> = args.to_vec();
+        all.extend(["-q", "-o", out.to_str().unwrap()]);
+        let (code, stdout, stderr) = physlab(&all);
+        assert_eq!(code, 0, "{args:?}\n{stdout}\n{stderr}");
+        out
+    }
+
+    #[test]
+    fn all_opens_with_every_plot_named_and_every_subject_a_third_of_its_view_or_more() {
+        let dir = scratch_dir("viewer-all");
+        let out = record(&dir, "all.rrd", &["all"]);
+        let blueprint = read_blueprint(&out);
+        check_legends(&out, &blueprint);
+        let titles = check_framing(&out, &blueprint, 1.0 / 3.0);
+        // One view per lane: the reference and seven methods, seven ropes, two heads.
+        assert_eq!(titles.len(), 8 + 7 + 2, "{titles:?}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn other_method_sets_get_legends_and_framing_by_the_same_rule() {
+        let dir = scratch_dir("viewer-methods");
+        // Adaptive methods, the names of unequal length, a scene each of its own.
+        let out = record(
+            &dir,
+            "all.rrd",
+            &[
+                "all",
+                "--methods",
+                "rk4,dop853,yoshida4,semi-implicit-euler,ftl",
+            ],
+        );
+        let blueprint = read_blueprint(&out);
+        check_legends(&out, &blueprint);
+        let titles = check_framing(&out, &blueprint, 1.0 / 3.0);
+        // The pendulum's reference and four methods, the rope's four, the hair's two.
+        assert_eq!(titles.len(), 5 + 4 + 2, "{titles:?}");
+
+        // Alone, every method of the registry with the reference: plots that cannot all hold
+        // their legend share a place as tabs; an adaptive method's step sizes are laid out.
+        let methods: Vec<&str> = physlab::integrate::Method::ALL
+            .iter()
+            .map(|m| m.name())
+            .collect();
+        let pendulum = record(
+            &dir,
+            "pendulum.rrd",
+            &[
+                "pendulum",
+                "--methods",
+                &methods.join(","),
+                "--duration",
+                "4",
+            ],
+        );
+        let blueprint = read_blueprint(&pendulum);
+        check_legends(&pendulum, &blueprint);
+        check_framing(&pendulum, &blueprint, 1.0 / 3.0);
+        let step = blueprint
+            .views_of("TimeSeries")
+            .filter(|v| v.origin.ends_with("/step_size"))
+            .count();
+        assert_eq!(step, 1, "the step-size plot with adaptive methods");
+
+        // The default pendulum runs no adaptive method: its step sizes are all dt, not laid out.
+        let default = record(&dir, "default.rrd", &["pendulum", "--duration", "4"]);
+        let blueprint = read_blueprint(&default);
+        check_legends(&default, &blueprint);
+        check_framing(&default, &blueprint, 1.0 / 3.0);
+        assert!(
+            blueprint
+                .views_of("TimeSeries")
+                .all(|v| !v.origin.ends_with("/step_size"))
+        );
+
+        // The rope overlaid: one view, every rope in it.
+        let rope = record(
+            &dir,
+            "rope.rrd",
+            &["rope", "--layout", "overlay", "--duration", "2"],
+        );
+        let blueprint = read_blueprint(&rope);
+        check_legends(&rope, &blueprint);
+        assert_eq!(check_framing(&rope, &blueprint, 1.0 / 3.0).len(), 1);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
+
+mod palette {
+    //! One colour per method that a person tells apart from every other on the viewer's dark
+    //! background, by the CIE L*a*b* distance of sRGB colours (D65).
+
+    use physlab::integrate::Method;
+    use physlab::palette::method_color;
+
+    /// CIE L*a*b* of an sRGB colour.
+    fn lab([r, g, b]: [u8; 3]) -> [f64; 3] {
+        let linear = |c: u8| {
+            let c = f64::from(c) / 255.0;
+            if c > 0.04045 {
+                ((c + 0.055) / 1.055).powf(2.4)
+            } else {
+                c / 12.92
+            }
+        };
+        let (r, g, b) = (linear(r), linear(g), linear(b));
+        let x = (0.4124 * r + 0.3576 * g + 0.1805 * b) / 0.95047;
+        let y = 0.2126 * r + 0.7152 * g + 0.0722 * b;
+        let z = (0.0193 * r + 0.1192 * g + 0.9505 * b) / 1.08883;
+        let f = |t: f64| {
+            if t > 0.008856 {
+                t.cbrt()
+            } else {
+                7.787 * t + 16.0 / 116.0
+            }
+        };
+        [
+            116.0 * f(y) - 16.0,
+            500.0 * (f(x) - f(y)),
+            200.0 * (f(y) - f(z)),
+        ]
+    }
+
+    fn distance(a: [u8; 3], b: [u8; 3]) -> f64 {
+        let (a, b) = (lab(a), lab(b));
+        ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+    }
+
+    /// The hue angle between two colours [degrees], 0 to 180.
+    fn hue_apart(a: [u8; 3], b: [u8; 3]) -> f64 {
+        let hue = |c: [u8; 3]| {
+            let [_, a, b] = lab(c);
+            b.atan2(a).to_degrees()
+        };
+        let d = (hue(a) - hue(b)).rem_euclid(360.0);
+        d.min(360.0 - d)
+    }
+
+    #[test]
+    fn each_method_has_a_colour_apart_from_every_other() {
+        let mut lanes: Vec<&str> = Method::ALL.iter().map(|m| m.name()).collect();
+        lanes.extend(["ftl", "exact", "reference"]);
+        for (i, a) in lanes.iter().enumerate() {
+            // Bright enough on the 3D views' background and the plots' black.
+            assert!(distance(method_color(a), [24, 24, 28]) > 60.0, "{a}");
+            for b in &lanes[i + 1..] {
+                if [*a, *b] == ["exact", "reference"] {
+                    continue; // one lane under two names, never both in a run
+                }
+                let d = distance(method_color(a), method_color(b));
+                assert!(d >= 30.0, "{a} and {b}: ΔE = {d:.0}");
+            }
+        }
+        // The methods a scene runs by default differ in hue as well (orange and brown, red and
+        // pink were told apart by lightness alone).
+        let defaults: Vec<&str> = Method::ALL
+            .iter()
+            .filter(|m| m.info().default)
+            .map(|m| m.name())
+            .collect();
+        assert!(defaults.len() >= 7, "{defaults:?}");
+        for (i, a) in defaults.iter().enumerate() {
+            for b in &defaults[i + 1..] {
+                let h = hue_apart(method_color(a), method_color(b));
+                assert!(h >= 25.0, "{a} and {b}: hues {h:.0}° apart");
+            }
+        }
+    }
+}
