@@ -1,6 +1,6 @@
-//! Rewrites every table of figures in README.md and docs/ from real runs:
-//! `cargo run --release --example figures` (add `--deterministic` to skip the timed ones).
-//! Each table sits between `<!-- figure: NAME -->` and `<!-- /figure -->`.
+//! Rewrites every table of figures in README.md and docs/ from real runs, and the pictures drawn
+//! from the same runs: `cargo run --release --example figures` (add `--deterministic` to skip
+//! the timed ones). Each table sits between `<!-- figure: NAME -->` and `<!-- /figure -->`.
 
 use std::path::Path;
 
@@ -10,7 +10,12 @@ fn main() -> anyhow::Result<()> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut all: Vec<Figure> = figures::deterministic();
     if !std::env::args().any(|a| a == "--deterministic") {
-        all.extend(figures::timed());
+        let runs = figures::work_precision_pendulum_runs(physlab::study::DEFAULT_REPEATS);
+        all.extend(figures::timed_from(&runs));
+        let written = figures::work_precision_pendulum_picture(&runs).write(&root.join("docs"))?;
+        // The README shows the PNG; the SVG beside it would only be a second copy to keep.
+        std::fs::remove_file(&written.svg)?;
+        println!("wrote {}", written.png.display());
     }
     for f in &all {
         let path = root.join(f.document);

@@ -55,3 +55,27 @@ fn the_documented_recording_sizes_are_what_the_default_runs_write() {
     std::fs::remove_dir_all(&dir).unwrap();
     assert!(text.contains(&said), "docs/results.md should say: {said}");
 }
+
+/// The pictures in docs/ show what the code draws today: each PNG carries what it draws (methods,
+/// settings, evaluation counts and errors; no wall times) as a text chunk, and that is what the
+/// same runs give now (`cargo run --release --example figures` redraws them).
+#[test]
+fn pictures_show_what_the_code_draws() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let png = std::fs::read(root.join("docs/pendulum-work-precision.png")).unwrap();
+    let shown = physlab::diagram::stamp::text(&png, physlab::diagram::stamp::KEY)
+        .expect("docs/pendulum-work-precision.png carries what it draws: redraw it");
+    // One timing per run: what is drawn besides the wall times does not depend on it.
+    let runs = figures::work_precision_pendulum_runs(1);
+    let drawn = figures::work_precision_pendulum_picture(&runs).data();
+    assert_eq!(
+        shown, drawn,
+        "docs/pendulum-work-precision.png is stale: run `cargo run --release --example figures`"
+    );
+    for method in physlab::integrate::Method::ALL {
+        assert!(
+            shown.contains(&format!("\n{} dt=", method.name())),
+            "{method:?} not drawn"
+        );
+    }
+}

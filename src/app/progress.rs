@@ -31,9 +31,9 @@ pub struct Progress {
 /// frame grows evenly with its simulated time. A long one draws its frames at its two ends only
 /// ([`crate::scene::harness::Schedule::gap`]): its first window (dense frames, short blocks of
 /// steps) costs more per simulated second than its gap, and its last window costs what its first
-/// did, so its pace is taken from each part. Its size is bounded by the frame budget and is not
-/// estimated: the bytes written lag what was logged by the time Rerun holds chunks back, which
-/// over a gap's first second misleads by far.
+/// did, so its pace is taken from each part. Its size is twice what its first window wrote, read a
+/// second into the gap (before then, the bytes written lag what was logged by the time Rerun
+/// holds chunks back).
 struct Pace {
     started: Instant,
     /// Bytes written when the stage started.
@@ -61,12 +61,15 @@ impl Pace {
         }
         let window = *self.window.get_or_insert(elapsed);
         if t <= t2 {
-            // A second into the gap: its first blocks also wait for the window's chunks.
+            // A second into the gap: its first blocks also wait for the window's chunks, which
+            // Rerun has written by then. The last window writes what the first did, and the
+            // gap's plots are bounded and small beside them.
             if elapsed - window < 1.0 {
                 return None;
             }
             let gap = (elapsed - window) / (t - t1) * (t2 - t1);
-            Some((2.0 * window + gap, None))
+            let bytes = 2.0 * bytes.saturating_sub(self.bytes0) as f64;
+            Some((2.0 * window + gap, Some(bytes)))
         } else {
             Some((elapsed + window * (self.end - t) / (self.end - t2), None))
         }
@@ -130,8 +133,8 @@ impl Progress {
                     None => "its pace so far, extrapolated",
                     Some(_) => {
                         "the pace of its first 3D window and of its gap so far, extrapolated, \
-                         its last window like its first; its recording is bounded by the 3D \
-                         frame budget"
+                         its last window like its first; its recording twice what its first \
+                         window wrote, the 3D frame budget's two ends"
                     }
                 };
                 if let Some(notice) = long_run_notice(&self.label, done, seconds, bytes, how) {

@@ -25,6 +25,7 @@ use crate::study::Row;
 mod axes;
 mod kinds;
 mod panel;
+pub mod stamp;
 
 pub use axes::decade_label;
 use axes::{Ticks, decades, label_of};
@@ -135,14 +136,59 @@ impl Diagram {
                 )
             })?;
         }
-        let png_bytes = std::fs::read(hidden)
+        let drawn = std::fs::read(hidden)
             .with_context(|| format!("{}: cannot read it back", png_out.named()))?;
+        let png_bytes = stamp::with_text(&drawn, stamp::KEY, &self.data());
+        std::fs::write(hidden, &png_bytes)
+            .with_context(|| format!("{}: cannot write it", png_out.named()))?;
         partial.commit()?;
         Ok(Written {
             svg,
             png,
             png_bytes,
         })
+    }
+
+    /// What it draws, without wall times: a line per point (method or series, settings,
+    /// deterministic values), stamped into its PNG ([`stamp`]).
+    pub fn data(&self) -> String {
+        let runs = |rows: &[Row]| -> String {
+            rows.iter()
+                .map(|r| {
+                    format!(
+                        "{} dt={:e} rtol={:?} evals={} error={:?}\n",
+                        r.method.name(),
+                        r.dt,
+                        r.rtol,
+                        r.evals,
+                        r.error
+                    )
+                })
+                .collect()
+        };
+        let title = format!("{}\n", self.title);
+        match &self.content {
+            Content::WorkPrecision { rows, floor, .. }
+            | Content::Convergence { rows, floor, .. } => {
+                format!("{title}floor={floor:e}\n{}", runs(rows))
+            }
+            Content::Stability { limits, omega, .. } => {
+                let lines: String = limits
+                    .iter()
+                    .map(|(m, measured, theory)| {
+                        format!("{} measured={measured:?} theory={theory:?}\n", m.name())
+                    })
+                    .collect();
+                format!("{title}omega={omega:e}\n{lines}")
+            }
+            Content::HairTrade { rows, .. } => {
+                let lines: String = rows
+                    .iter()
+                    .map(|r| format!("{} stretch={:?}\n", r.flags(), r.stretch))
+                    .collect();
+                format!("{title}{lines}")
+            }
+        }
     }
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Res
