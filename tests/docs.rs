@@ -35,7 +35,7 @@ fn the_documented_recording_sizes_are_what_the_default_runs_write() {
     let text = text.split_whitespace().collect::<Vec<_>>().join(" ");
     let dir = std::env::temp_dir().join(format!("physlab-docs-sizes-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let size = |command: &str| -> String {
+    let bytes = |command: &str| -> u64 {
         let out = dir.join(format!("{command}.rrd"));
         let status = std::process::Command::new(env!("CARGO_BIN_EXE_physlab"))
             .args([command, "-q", "-o", out.to_str().unwrap()])
@@ -43,12 +43,21 @@ fn the_documented_recording_sizes_are_what_the_default_runs_write() {
             .status()
             .unwrap();
         assert!(status.success(), "{command}");
-        format!(
-            "{:.1} MB",
-            std::fs::metadata(&out).unwrap().len() as f64 / 1e6
-        )
+        std::fs::metadata(&out).unwrap().len()
     };
-    let (all, pendulum, rope, hair) = (size("all"), size("pendulum"), size("rope"), size("hair"));
+    let all_bytes = bytes("all");
+    // The budget the default `all` keeps to (its 3D frames, plots and layout together).
+    assert!(
+        all_bytes <= 25_000_000,
+        "the default `all` writes {all_bytes} B, over 25 MB"
+    );
+    let mb = |b: u64| format!("{:.1} MB", b as f64 / 1e6);
+    let (all, pendulum, rope, hair) = (
+        mb(all_bytes),
+        mb(bytes("pendulum")),
+        mb(bytes("rope")),
+        mb(bytes("hair")),
+    );
     let said = format!(
         "The default `physlab all` takes 0.5 s and writes {all} (pendulum {pendulum}, rope {rope}, hair {hair};"
     );

@@ -53,7 +53,7 @@ pub fn staging(c: &HairConfig) -> Staging {
     let (reach, spacing) = reach_and_spacing(c);
     let f = |v: f64| v as f32;
     let methods: Vec<&'static str> = c.methods.iter().map(|m| m.name()).collect();
-    let slots = Staging::per_lane(methods.iter().enumerate().map(|(i, &m)| {
+    let mut slots = Staging::per_lane(methods.iter().enumerate().map(|(i, &m)| {
         let x = spacing * i as f64;
         (
             m,
@@ -64,6 +64,7 @@ pub fn staging(c: &HairConfig) -> Staging {
             },
         )
     }));
+    slots.iter_mut().for_each(|s| s.plain = true);
     let mut plots = Staging::plots(&PLOTS, |_| methods.clone());
     for plot in &mut plots {
         plot.range = match plot.name {

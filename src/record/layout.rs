@@ -188,9 +188,12 @@ impl ViewProperties {
             .with_position(position)
             .with_look_target(target)
             .with_eye_up([0.0, 0.0, 1.0]);
-        let view = self.add(view, "EyeControls3D", &eye);
-        // A plain dark background and no grid: the default gradient tints the floor green under
-        // green hair, and the grid's plane at z = 0 cuts through the heads.
+        self.add(view, "EyeControls3D", &eye)
+    }
+
+    /// A 3D view on a plain dark background without the grid: the default gradient tints the
+    /// floor green under green hair, and the grid's plane at z = 0 cuts through the heads.
+    pub fn plain_backdrop(&mut self, view: impl Into<ContainerLike>) -> ContainerLike {
         let view = self.add(
             view,
             "Background",

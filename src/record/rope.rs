@@ -80,6 +80,7 @@ pub fn staging(c: &RopeConfig) -> Staging {
             title: "rope: every method from the same pin".to_string(),
             lanes: methods.clone(),
             framing: slot([0.0; 3]),
+            plain: false,
         }],
         RopeLayout::SideBySide => Staging::per_lane(
             methods

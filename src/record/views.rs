@@ -23,6 +23,10 @@ pub struct Slot {
     pub title: String,
     pub lanes: Vec<&'static str>,
     pub framing: Framing,
+    /// A plain dark backdrop without the grid, for a subject the viewer's default hides (its
+    /// floor's tint under green hair, its grid plane through a head). Each view property is a
+    /// chunk of its own in the recording, so it is set only where it is needed.
+    pub plain: bool,
 }
 
 /// One plot of a run: its entity name under `/<scene>/plots`, title, and the series it holds.
@@ -52,6 +56,7 @@ impl Staging {
                 title: lane.to_string(),
                 lanes: vec![lane],
                 framing,
+                plain: false,
             })
             .collect()
     }
@@ -156,8 +161,12 @@ pub fn slot_grid(
     let views: Vec<ContainerLike> = slots
         .iter()
         .map(|slot| {
-            let view = slot_view(scene, slot);
-            props.eye(view, slot.framing, aspect)
+            let view = props.eye(slot_view(scene, slot), slot.framing, aspect);
+            if slot.plain {
+                props.plain_backdrop(view)
+            } else {
+                view
+            }
         })
         .collect();
     if views.len() == 1 {
