@@ -12,7 +12,8 @@ fn main() -> anyhow::Result<()> {
     if !std::env::args().any(|a| a == "--deterministic") {
         let runs = figures::work_precision_pendulum_runs(physlab::study::DEFAULT_REPEATS);
         all.extend(figures::timed_from(&runs));
-        let written = figures::work_precision_pendulum_picture(&runs).write(&root.join("docs"))?;
+        let written =
+            physlab::diagram::pendulum_work_precision_picture(&runs).write(&root.join("docs"))?;
         // The README shows the PNG; the SVG beside it would only be a second copy to keep.
         std::fs::remove_file(&written.svg)?;
         println!("wrote {}", written.png.display());

@@ -76,7 +76,7 @@ fn pictures_show_what_the_code_draws() {
         .expect("docs/pendulum-work-precision.png carries what it draws: redraw it");
     // One timing per run: what is drawn besides the wall times does not depend on it.
     let runs = figures::work_precision_pendulum_runs(1);
-    let drawn = figures::work_precision_pendulum_picture(&runs).data();
+    let drawn = physlab::diagram::pendulum_work_precision_picture(&runs).data();
     assert_eq!(
         shown, drawn,
         "docs/pendulum-work-precision.png is stale: run `cargo run --release --example figures`"

@@ -55,6 +55,17 @@ pub fn work_precision(scene: &str, rows: &[Row], floor: f64, note: &str) -> Diag
     }
 }
 
+/// The picture `docs/pendulum-work-precision.png` shows: [`work_precision`] of the pendulum's
+/// runs and reference error as `report::figures::work_precision_pendulum_runs` gives them.
+pub fn pendulum_work_precision_picture(runs: &(Vec<Row>, f64)) -> Diagram {
+    work_precision(
+        "pendulum",
+        &runs.0,
+        crate::study::error_floor(runs.1),
+        "wall times: median of the repeats on a two-core machine; machine-dependent.",
+    )
+}
+
 /// A work-precision panel: title, x axis description, and the cost it plots.
 type Axis = (&'static str, &'static str, fn(&Row) -> f64);
 

@@ -30,7 +30,9 @@ pub mod stamp;
 pub use axes::decade_label;
 use axes::{Ticks, decades, label_of};
 use kinds::{LimitRow, convergence_on, hair_trade_on, stability_on, work_precision_on};
-pub use kinds::{convergence, hair_trade, stability, work_precision};
+pub use kinds::{
+    convergence, hair_trade, pendulum_work_precision_picture, stability, work_precision,
+};
 use panel::{Panel, draw_legend, draw_panel};
 
 const FONT: &str = "sans-serif";

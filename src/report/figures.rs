@@ -69,18 +69,6 @@ pub fn timed_from(runs: &(Vec<study::Row>, f64)) -> Vec<Figure> {
     }]
 }
 
-/// The picture of the pendulum's work-precision runs, as `docs/pendulum-work-precision.png`
-/// shows it (`cargo run --release --example figures` writes it).
-#[cfg(feature = "diagrams")]
-pub fn work_precision_pendulum_picture(runs: &(Vec<study::Row>, f64)) -> crate::diagram::Diagram {
-    crate::diagram::work_precision(
-        "pendulum",
-        &runs.0,
-        error_floor(runs.1),
-        "wall times: median of the repeats on a two-core machine; machine-dependent.",
-    )
-}
-
 /// The pendulum's work-precision runs (every method, 20 s from 60°), each timed `repeats`
 /// times, and the reference's error.
 pub fn work_precision_pendulum_runs(repeats: u32) -> (Vec<study::Row>, f64) {
