@@ -294,16 +294,13 @@ impl Draw<PendulumScene> for PendulumDraw {
                 let ghost = format!("pendulum/{name}/{}_ghost", self.lanes[0]);
                 let back =
                     glam::Vec3::from_array(TOWARD_EYE).normalize() * (-GHOST_SETBACK * bob_radius);
-                rec.log_static(
-                    ghost.as_str(),
-                    &rerun::Transform3D::from_translation(back.to_array()),
-                )?;
-                rec.log_static(
-                    ghost,
-                    &rerun::Points3D::update_fields()
-                        .with_radii([GHOST_SCALE * bob_radius])
-                        .with_colors([GHOST]),
-                )?;
+                // One call: two static logs to one entity may land in one chunk or two,
+                // as the batcher's timing has it, and identical runs must write the same chunks.
+                let transform = rerun::Transform3D::from_translation(back.to_array());
+                let style = rerun::Points3D::update_fields()
+                    .with_radii([GHOST_SCALE * bob_radius])
+                    .with_colors([GHOST]);
+                rec.log_static(ghost, &[&transform as &dyn rerun::AsComponents, &style])?;
             }
             rec.log_static(
                 format!("pendulum/phase/{name}/path"),
