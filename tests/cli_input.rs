@@ -612,6 +612,11 @@ const REFUSALS: &[(&[&str], i32, &[&str])] = &[
     // files
     (&["inspect", "/nonexistent/run.rrd"], 2, &["cannot read it"]),
     (&["pendulum", "-o", "."], 2, &["-o .: is a folder"]),
+    (
+        &["study", "stability", "--plots", "Cargo.toml"],
+        2,
+        &["--plots Cargo.toml: is not a folder"],
+    ),
     // `all --dt` is every scene's step: hair takes it only as a whole number of substeps.
     (
         &["all", "--dt", "0.005", "--print-config"],

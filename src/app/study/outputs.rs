@@ -112,10 +112,11 @@ pub(super) fn check_outputs(a: &StudyArgs, stems: &[String]) -> anyhow::Result<O
     let mut diagrams = Vec::new();
     if let Some(dir) = &plots {
         if dir.exists() && !dir.is_dir() {
-            anyhow::bail!(
+            return Err(Error::Usage(format!(
                 "--plots {}: is not a folder; --plots names the folder the diagrams go to",
                 dir.display()
-            );
+            ))
+            .into());
         }
         let no_dash = Dash::Refused("is not a folder");
         for stem in stems {
