@@ -1398,7 +1398,7 @@ mod files {
 
     #[test]
     fn an_empty_method_list_in_a_scene_file_is_refused_like_an_empty_flag() {
-        let dir = scratch_dir("cli-input-methods");
+        let dir = scratch_dir("cli-input-empty-methods");
         let out = dir.join("x.rrd");
         let out = out.to_str().unwrap();
         // Every table, and the study reading the same file.
