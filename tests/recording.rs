@@ -330,7 +330,7 @@ mod outputs {
                 1,
                 "cannot create the folder",
             ),
-            (cat(&["--plots", s(&file)]), 1, "is not a folder"),
+            (cat(&["--plots", s(&file)]), 2, "is not a folder"),
             (cat(&["--plots", "-"]), 2, "--plots -"),
             (cat(&["-o", s(&dir)]), 2, "is a folder"),
             (cat(&["--csv", s(&dir)]), 2, "is a folder"),
