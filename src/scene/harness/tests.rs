@@ -90,6 +90,11 @@ impl Observer<Counter> for Collect {
 /// one tick when i is odd; it notes the pool thread that stepped each of its blocks.
 struct SideBySide {
     schedule: Schedule,
+    /// Pool threads that have stepped a first block, one bit each. In a pool of more than
+    /// one thread a lane's first block waits (at most 5 s) until two threads have come:
+    /// the lanes are so cheap that one thread could otherwise take every block before
+    /// another wakes, and "both threads stepped lanes" would hold only by luck.
+    arrived: std::sync::atomic::AtomicU64,
 }
 
 struct SideLane {
@@ -156,6 +161,17 @@ impl Scene for SideBySide {
     }
     fn advance(&self, lane: &mut SideLane, first: u64, len: usize) {
         lane.threads.push(rayon::current_thread_index());
+        if first <= 1 && rayon::current_num_threads() > 1 {
+            use std::sync::atomic::Ordering;
+            let me = rayon::current_thread_index().unwrap_or(63).min(63);
+            self.arrived.fetch_or(1 << me, Ordering::SeqCst);
+            let started = std::time::Instant::now();
+            while self.arrived.load(Ordering::SeqCst).count_ones() < 2
+                && started.elapsed() < std::time::Duration::from_secs(5)
+            {
+                std::thread::yield_now();
+            }
+        }
         let mut x = *lane.x.last().unwrap();
         lane.x.clear();
         lane.misses.clear();
@@ -239,6 +255,7 @@ fn lanes_side_by_side_give_the_same_run_on_any_number_of_threads() {
         let runs = [1, 2].map(|threads| {
             let mut scene = SideBySide {
                 schedule: Schedule::fixed_step(0.01, total as f64 * 0.01, 30.0, 1),
+                arrived: Default::default(),
             };
             let mut seen = Transcript::default();
             let pool = rayon::ThreadPoolBuilder::new()
