@@ -208,6 +208,23 @@ impl Integrator {
     pub fn velocity(&self) -> &[f64] {
         &self.v
     }
+    /// Sets every coordinate of x and v whose magnitude is below `tiny` to zero; returns how
+    /// many it changed. A scene calls it where a quantity decays exponentially towards zero
+    /// forever (a damped swing about x = 0): the products of such values reach the subnormal
+    /// range, where arithmetic costs several times a normal operation, so a long run would
+    /// slow down as it goes for the sake of digits below any the scene reports. The steppers'
+    /// cached stages are left as they are: they differ from a fresh evaluation by terms of the
+    /// order of `tiny`.
+    pub fn zero_below(&mut self, tiny: f64) -> usize {
+        let mut changed = 0;
+        for c in self.x.iter_mut().chain(self.v.iter_mut()) {
+            if *c != 0.0 && c.abs() < tiny {
+                *c = 0.0;
+                changed += 1;
+            }
+        }
+        changed
+    }
     /// Force evaluations spent so far (including Verlet's start): calls of
     /// [`SecondOrderSystem::acceleration`], or for the implicit method the evaluations its solve
     /// reports ([`ImplicitSolve::evals`]).
