@@ -208,8 +208,8 @@ impl Integrator {
     pub fn velocity(&self) -> &[f64] {
         &self.v
     }
-    /// Sets every coordinate of x and v whose magnitude is below `tiny` to zero; returns how
-    /// many it changed. A scene calls it where a quantity decays exponentially towards zero
+    /// Sets every coordinate of x and v whose magnitude is below `tiny` to zero of its sign
+    /// (a drawn -1e-95 m is -0.0 in single precision either way); returns how many it changed. A scene calls it where a quantity decays exponentially towards zero
     /// forever (a damped swing about x = 0): the products of such values reach the subnormal
     /// range, where arithmetic costs several times a normal operation, so a long run would
     /// slow down as it goes for the sake of digits below any the scene reports. The steppers'
@@ -219,7 +219,7 @@ impl Integrator {
         let mut changed = 0;
         for c in self.x.iter_mut().chain(self.v.iter_mut()) {
             if *c != 0.0 && c.abs() < tiny {
-                *c = 0.0;
+                *c = 0.0f64.copysign(*c);
                 changed += 1;
             }
         }
