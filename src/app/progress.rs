@@ -44,8 +44,6 @@ struct Pace {
     gap: Option<(f64, f64)>,
     /// Wall time of the first window, once it is over [s].
     window: Option<f64>,
-    /// (wall time [s], simulated time) read in the gap, a few a second: how its pace changes.
-    readings: Vec<(f64, f64)>,
 }
 
 impl Pace {
@@ -69,45 +67,16 @@ impl Pace {
             if elapsed - window < 1.0 {
                 return None;
             }
-            if self.readings.last().is_none_or(|r| elapsed - r.0 >= 0.2) {
-                self.readings.push((elapsed, t));
-            }
-            let gap = elapsed - window + gap_left(&self.readings, (window, t1), (elapsed, t), t2);
+            // The gap's pace so far, over all of it: steps cost the same throughout (the rope
+            // zeroes the negligible coordinates that made its late steps dearer), and the
+            // whole gap's pace is the one least shaken by other work on the machine.
+            let gap = (elapsed - window) * (t2 - t1) / (t - t1);
             let bytes = 2.0 * bytes.saturating_sub(self.bytes0) as f64;
             Some((2.0 * window + gap, Some(bytes)))
         } else {
             Some((elapsed + window * (self.end - t) / (self.end - t2), None))
         }
     }
-}
-
-/// The wall time the rest of a gap takes, from (wall, simulated) time `now` to simulated time
-/// `end`, given where it started and `readings` along it. A run's steps can grow dearer as it
-/// goes (a rope coming to rest computes with ever smaller numbers): the pace over the last
-/// quarter of the gap so far is set against the pace over all of it, and a growth between the
-/// two is extrapolated (a falling pace is taken as it is now).
-fn gap_left(readings: &[(f64, f64)], start: (f64, f64), now: (f64, f64), end: f64) -> f64 {
-    let pace = |a: (f64, f64), b: (f64, f64)| (b.0 - a.0) / (b.1 - a.1);
-    let overall = pace(start, now);
-    let quarter = now.0 - 0.25 * (now.0 - start.0);
-    let Some(&from) = readings
-        .iter()
-        .rev()
-        .find(|r| r.0 <= quarter && r.1 < now.1)
-    else {
-        return overall * (end - now.1);
-    };
-    let lately = pace(from, now);
-    // Each pace belongs to the middle of the simulated time it covers.
-    let (t_all, t_late) = (0.5 * (start.1 + now.1), 0.5 * (from.1 + now.1));
-    let growth = if t_late > t_all {
-        ((lately - overall) / (t_late - t_all)).max(0.0)
-    } else {
-        0.0
-    };
-    // ∫ from now to end of (lately + growth·(s − t_late)) ds
-    let (a, b) = (now.1 - t_late, end - t_late);
-    lately * (end - now.1) + 0.5 * growth * (b * b - a * a)
 }
 
 impl Progress {
@@ -127,7 +96,6 @@ impl Progress {
                 end: 1.0,
                 gap: None,
                 window: None,
-                readings: Vec::new(),
             },
         }
     }
@@ -142,7 +110,6 @@ impl Progress {
             end: end.max(1e-12),
             gap,
             window: None,
-            readings: Vec::new(),
         };
         self.noticed = false;
         if let Some(bar) = &self.bar {
@@ -355,7 +322,6 @@ mod tests {
             end: 10_000.0,
             gap: Some((100.0, 9_900.0)),
             window: None,
-            readings: Vec::new(),
         };
         assert_eq!(pace.estimate(50.0, 5_000_000), None, "in the first window");
         assert_eq!(pace.estimate(100.5, 8_000_000), None, "just out of it");
@@ -367,33 +333,6 @@ mod tests {
         even.started = at(2.0);
         let (seconds, bytes) = even.estimate(1_000.0, 1_000_000).unwrap();
         assert!((seconds - 20.0).abs() < 0.02 && bytes == Some(1e7));
-    }
-
-    /// A gap whose pace grows linearly with simulated time (wall = a·s + b·s²/2) is foreseen to
-    /// its end exactly: each measured pace is the true pace at the middle of what it covers. A
-    /// steady pace is foreseen as it is, and a falling one is not extrapolated below zero.
-    #[test]
-    fn a_gap_whose_steps_grow_dearer_is_foreseen() {
-        let (a, b) = (1e-3, 2e-7);
-        let wall = |s: f64| a * s + 0.5 * b * s * s;
-        let readings: Vec<(f64, f64)> = (1..=60)
-            .map(|k| (wall(100.0 * k as f64), 100.0 * k as f64))
-            .collect();
-        let now = (wall(6000.0), 6000.0);
-        let left = gap_left(&readings, (0.0, 0.0), now, 10_000.0);
-        let exact = wall(10_000.0) - wall(6000.0);
-        assert!(
-            (left - exact).abs() < 1e-9 * exact,
-            "{left} against {exact}"
-        );
-        let steady: Vec<(f64, f64)> = (1..=60).map(|k| (k as f64, 100.0 * k as f64)).collect();
-        let left = gap_left(&steady, (0.0, 0.0), (60.0, 6000.0), 10_000.0);
-        assert!((left - 40.0).abs() < 1e-9, "{left}");
-        let falling: Vec<(f64, f64)> = (1..=60)
-            .map(|k| ((k as f64).sqrt(), 100.0 * k as f64))
-            .collect();
-        let left = gap_left(&falling, (0.0, 0.0), (60f64.sqrt(), 6000.0), 10_000.0);
-        assert!(left > 0.0, "{left}");
     }
 
     #[test]
