@@ -432,6 +432,42 @@ mod layout {
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
+    /// A study's diagram has the window to itself (a tab each, the tables in another): the
+    /// viewer draws the picture at 90 % of its own size or more, so its tick labels keep their
+    /// size. Beside the tables it was drawn at about two thirds.
+    #[test]
+    fn a_study_diagram_is_drawn_near_its_own_size() {
+        let dir = scratch_dir("viewer-study");
+        let plots = dir.to_str().unwrap().to_string();
+        let out = record(
+            &dir,
+            "s.rrd",
+            &[
+                "study",
+                "work-precision",
+                "--scene",
+                "pendulum",
+                "--repeats",
+                "1",
+                "--plots",
+                &plots,
+            ],
+        );
+        let blueprint = read_blueprint(&out);
+        let png = std::fs::read(dir.join("pendulum-work-precision.png")).unwrap();
+        let dimension = |at: usize| u32::from_be_bytes(png[at..at + 4].try_into().unwrap()) as f32;
+        let (width, height) = (dimension(16), dimension(20));
+        let views: Vec<&View> = blueprint.views_of("2D").collect();
+        assert_eq!(views.len(), 1, "one diagram");
+        let [w, h] = views[0].size;
+        let scale = (w / width).min(h / height);
+        assert!(
+            scale >= 0.9,
+            "a {width}×{height} picture in a {w}×{h} view is drawn at {scale:.2}"
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
     #[test]
     fn other_method_sets_get_legends_and_framing_by_the_same_rule() {
         let dir = scratch_dir("viewer-methods");

@@ -1,13 +1,13 @@
 //! A study as a recording: its diagrams (log-log PNGs drawn by `crate::diagram`, the scenes'
-//! colours) beside its tables as a rendered markdown document.
+//! colours), each in a tab of its own, and its tables as a rendered markdown document in the last.
 
 use rerun::blueprint::{
-    Blueprint, ContainerLike, Horizontal, Spatial2DView, TextDocumentView, TimePanel, Vertical,
+    Blueprint, ContainerLike, Spatial2DView, Tabs, TextDocumentView, TimePanel,
 };
 
 use super::{Destinations, Recording};
 
-/// Writes the study recording: one 2D view per diagram (title, PNG bytes), the tables beside.
+/// Writes the study recording: one 2D view per diagram (title, PNG bytes), the tables after.
 pub fn record_study(
     d: &Destinations,
     scene: &str,
@@ -31,17 +31,16 @@ pub fn record_study(
                 .into(),
         );
     }
-    // The diagrams (wide pictures) across the top, the tables below; the side and time panels
-    // collapsed, since everything is static: the picture gets the window.
-    let n = views.len() as f32;
-    let table_view = TextDocumentView::new("tables").with_origin("/study/tables");
-    let blueprint = super::views::panels_collapsed(
-        Blueprint::new(
-            Vertical::new([Horizontal::new(views).into(), table_view.into()])
-                .with_row_shares([2.0 + n, 2.0]),
-        ),
-        TimePanel::new(),
+    // One tab per diagram, the first shown, and the tables in the last; the side and time
+    // panels collapsed, since everything is static. A diagram gets the whole window, so its
+    // labels are drawn near their own size: beside the tables it was shrunk to about half.
+    views.push(
+        TextDocumentView::new("tables")
+            .with_origin("/study/tables")
+            .into(),
     );
+    let blueprint =
+        super::views::panels_collapsed(Blueprint::new(Tabs::new(views)), TimePanel::new());
     let recording = Recording::create(d, "physlab-study", &format!("study {scene}"), blueprint)?;
     let rec = recording.stream();
     super::send_provenance(rec, &format!("study {scene}"), config, methods)?;

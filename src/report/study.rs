@@ -146,7 +146,7 @@ pub fn stalled_note(rows: &[Row], floor: f64) -> String {
 pub fn proportionality_table(rows: &[Row], floor: f64) -> String {
     let mut t = Table::new([
         "method",
-        "error ∝ rtol^slope, fitted",
+        "error = C·rtol^slope, fitted",
         "slope range",
         "rtols fitted",
     ]);
