@@ -126,6 +126,38 @@ const REFUSALS: &[(&[&str], i32, &[&str])] = &[
         &["reference steps; at most 1e9"],
     ),
     (
+        &["study", "drift", "--scene", "rope"],
+        2,
+        &["--scene rope: `study drift` runs on the pendulum"],
+    ),
+    (
+        &["study", "drift", "--theta0", "180"],
+        2,
+        &["--theta0 180: `study drift` needs a release from rest with |θ0| < 180°"],
+    ),
+    (
+        &["study", "drift", "--omega0", "1"],
+        2,
+        &["--omega0: `study drift` does not use it"],
+    ),
+    (
+        &[
+            "study",
+            "drift",
+            "--methods",
+            "dopri5",
+            "--rtol",
+            "1e-6,1e-8",
+        ],
+        2,
+        &["`study drift` runs each adaptive method at one tolerance"],
+    ),
+    (
+        &["study", "drift", "--dt", "1e-9", "--duration", "1e6"],
+        2,
+        &["steps; between 10 per method and 1e10 in all are allowed"],
+    ),
+    (
         &["study", "work-precision", "--rtol", "1e-300"],
         2,
         &["--rtol 1e-300: must be between 1e-14 and 0.1", "!00000000"],

@@ -515,3 +515,64 @@ fn each_study_kind_has_a_help_page_of_its_own() {
         assert!(short.len() < help.len(), "{kind}");
     }
 }
+
+/// `study drift` on its defaults (the pendulum at 60°, dt = 0.01 s, 10⁵ periods): growth
+/// exponents fitted here, from its CSV, over the last two decades, against the theory for an
+/// integrable system (Hairer, Lubich & Wanner, GNI ch. IX–X): the symplectic methods keep
+/// their energy error bounded (0) and their phase error grows linearly (1); the others let the
+/// energy drift linearly (1) and the phase quadratically (2); each within 0.1. The printed
+/// table's exponents agree with these fits.
+#[test]
+fn drift_exponents_match_the_theory_of_symplectic_and_other_methods() {
+    let dir = scratch_dir("study-drift");
+    let csv = dir.join("drift.csv");
+    let (code, out, err) = physlab(&["study", "drift", "--csv", csv.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let expected = [
+        ("semi-implicit-euler", 0.0, 1.0),
+        ("verlet", 0.0, 1.0),
+        ("yoshida4", 0.0, 1.0),
+        ("midpoint", 1.0, 2.0),
+        ("trapezoid", 1.0, 2.0),
+        ("rk4", 1.0, 2.0),
+    ];
+    for (method, energy_theory, phase_theory) in expected {
+        let rows: Vec<Vec<f64>> = text
+            .lines()
+            .filter(|l| l.split(',').nth(1) == Some(method))
+            .map(|l| l.split(',').skip(3).map(|v| v.parse().unwrap()).collect())
+            .collect();
+        let end = rows.last().unwrap()[0];
+        let slope = |column: usize| {
+            let pts: Vec<(f64, f64)> = (rows.iter())
+                .filter(|r| r[0] >= end / 100.0)
+                .map(|r| (r[0].ln(), r[column].ln()))
+                .collect();
+            let n = pts.len() as f64;
+            let (mx, my) = pts
+                .iter()
+                .fold((0.0, 0.0), |(a, b), p| (a + p.0 / n, b + p.1 / n));
+            let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+            let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
+            sxy / sxx
+        };
+        let (energy, phase) = (slope(1), slope(2));
+        assert!(
+            (energy - energy_theory).abs() <= 0.1 && (phase - phase_theory).abs() <= 0.1,
+            "{method}: energy t^{energy:.3} (theory {energy_theory}), phase t^{phase:.3} \
+             (theory {phase_theory})"
+        );
+        let row = out
+            .lines()
+            .find(|l| l.starts_with(&format!("| {method} ")))
+            .unwrap();
+        let cells: Vec<&str> = row.split('|').map(str::trim).collect();
+        let printed = |i: usize| cells[i].parse::<f64>().unwrap();
+        assert!(
+            (printed(3) - energy).abs() < 2e-3 && (printed(5) - phase).abs() < 2e-3,
+            "{row}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

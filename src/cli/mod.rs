@@ -224,6 +224,9 @@ pub enum StudyKind {
     /// Hair: largest stretch against wall time per frame over solvers, Newton steps, sweeps,
     /// substeps and spring stiffness (200 strands; --duration, default 4 s); cheapest per target
     Hair,
+    /// Pendulum: energy and phase error against time over many periods, growth exponents fitted
+    /// against theory (symplectic or not)
+    Drift,
 }
 
 impl StudyKind {
@@ -258,6 +261,9 @@ impl StudyKind {
                  cheapest reaching each stretch target; with -o, --csv or --plots also draws \
                  stretch against cost, log-log. Takes minutes: a progress bar shows its ETA."
             }
+            StudyKind::Drift => {
+                "Runs each method on the pendulum released from rest at --theta0 at step --dt                  for --duration (default 10⁵ periods at dt = 0.01 s; the fixed-step methods                  unless --methods names others), every step checked: the energy error of each                  step and the time of every upward crossing of θ = 0 against the closed form's.                  Fits how both grow with time over the run's last two decades and sets the                  exponents against theory (symplectic: energy bounded, phase ∝ t; others: energy                  ∝ t, phase ∝ t²). Prints the exponents; with -o, --csv or --plots also draws                  both errors against time, log-log."
+            }
         }
     }
 }
@@ -265,27 +271,27 @@ impl StudyKind {
 /// Which study kinds use each flag that only some kinds use (`-o`, `--csv` and `-q` serve
 /// every kind): the refusals of the flags a kind does not use and each kind's help page read it.
 pub const STUDY_FLAG_KINDS: [(&str, &[StudyKind]); 17] = {
-    use StudyKind::{Convergence as C, Hair as H, Stability as S, WorkPrecision as W};
+    use StudyKind::{Convergence as C, Drift as D, Hair as H, Stability as S, WorkPrecision as W};
     const SWEEP: &[StudyKind] = &[C, W];
-    const MEASURED: &[StudyKind] = &[C, W, S];
+    const MEASURED: &[StudyKind] = &[C, W, S, D];
     [
         ("--scene", MEASURED),
         ("--config", MEASURED),
-        ("--theta0", SWEEP),
+        ("--theta0", &[C, W, D]),
         ("--omega0", SWEEP),
         ("--nodes", MEASURED),
         ("--mass", MEASURED),
         ("--stiffness", MEASURED),
         ("--spring-damping", SWEEP),
         ("--air-drag", SWEEP),
-        ("--duration", &[C, W, H]),
-        ("--dt", SWEEP),
+        ("--duration", &[C, W, H, D]),
+        ("--dt", &[C, W, D]),
         ("--levels", SWEEP),
         ("--methods", MEASURED),
-        ("--rtol", SWEEP),
+        ("--rtol", &[C, W, D]),
         ("--repeats", SWEEP),
         ("--steps", &[S]),
-        ("--plots", &[C, W, S, H]),
+        ("--plots", &[C, W, S, H, D]),
     ]
 };
 

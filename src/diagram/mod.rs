@@ -23,12 +23,14 @@ use crate::palette::method_color;
 use crate::study::Row;
 
 mod axes;
+mod drift;
 mod kinds;
 mod panel;
 pub mod stamp;
 
 pub use axes::decade_label;
 use axes::{Ticks, decades, label_of};
+pub use drift::drift;
 use kinds::{LimitRow, convergence_on, hair_trade_on, stability_on, work_precision_on};
 pub use kinds::{
     convergence, hair_trade, pendulum_work_precision_picture, stability, work_precision,
@@ -71,6 +73,10 @@ enum Content {
     },
     HairTrade {
         rows: Vec<crate::study::hair::HairRow>,
+        note: String,
+    },
+    Drift {
+        runs: Vec<crate::study::drift::Drift>,
         note: String,
     },
 }
@@ -190,6 +196,20 @@ impl Diagram {
                     .collect();
                 format!("{title}{lines}")
             }
+            Content::Drift { runs, .. } => {
+                let lines: String = (runs.iter())
+                    .flat_map(|r| {
+                        r.checkpoints.iter().map(|c| {
+                            let m = r.method.name();
+                            format!(
+                                "{m} dt={:e} t={:e} energy={:e} phase={:?}\n",
+                                r.dt, c.t, c.energy, c.phase
+                            )
+                        })
+                    })
+                    .collect();
+                format!("{title}{lines}")
+            }
         }
     }
 
@@ -216,6 +236,7 @@ impl Diagram {
                 omega,
             } => stability_on(root, scene, limits, *omega),
             Content::HairTrade { rows, note } => hair_trade_on(root, rows, note),
+            Content::Drift { runs, note } => drift::drift_on(root, runs, note),
         }
     }
 }

@@ -12,6 +12,7 @@
 //! [`stability`] then return the rows and limits complete so far (a run cut short is dropped,
 //! never shown), and the caller says the study was interrupted.
 
+pub mod drift;
 pub mod hair;
 mod limits;
 mod orders;

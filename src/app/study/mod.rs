@@ -24,6 +24,7 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
     let stems: Vec<String> = match a.kind {
         StudyKind::Convergence => vec!["convergence", "convergence-damped"],
         StudyKind::WorkPrecision => vec!["work-precision"],
+        StudyKind::Drift => vec!["drift"],
         _ => vec!["stability"],
     }
     .into_iter()
@@ -129,6 +130,54 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
                 problem.name(),
                 &limits,
                 problem.omega(),
+            ));
+        }
+        StudyKind::Drift => {
+            let Problem::Pendulum(p) = &problem else {
+                unreachable!("setup refuses the rope")
+            };
+            let period = crate::scene::pendulum::reference::ExactPendulum::new(p)
+                .map_or(f64::NAN, |e| e.period());
+            let mut runs = Vec::new();
+            for &m in &sw.methods {
+                if crate::interrupt::requested() {
+                    break;
+                }
+                let started = std::time::Instant::now();
+                let run =
+                    crate::study::drift::pendulum_drift(p, m, sw.dt0, sw.duration, sw.options);
+                // A run cut short by Ctrl-C is not complete: it is left out.
+                if let Some(run) = run.filter(|_| !crate::interrupt::requested()) {
+                    if !a.quiet {
+                        eprintln!(
+                            "drift: {} done ({} of {}, {:.1} s)",
+                            m.name(),
+                            runs.len() + 1,
+                            sw.methods.len(),
+                            started.elapsed().as_secs_f64()
+                        );
+                    }
+                    runs.push(run);
+                }
+            }
+            done = runs.len();
+            // θ0 as given in degrees (its radians turned back carry a last-digit residue).
+            let degrees = (p.theta0.to_degrees() * 1e9).round() / 1e9;
+            out.push_str(&crate::report::drift::drift_header(
+                degrees,
+                period,
+                sw.dt0,
+                sw.duration,
+            ));
+            out.push_str(&crate::report::drift::drift_table(
+                &runs,
+                degrees,
+                sw.options.rtol,
+            ));
+            csv = crate::report::drift::drift_csv(&runs);
+            diagrams.push(crate::diagram::drift(
+                &runs,
+                &format!("dt = {} s, θ0 = {degrees}°.", sw.dt0),
             ));
         }
         StudyKind::Hair => unreachable!("hair_study runs it"),

@@ -108,11 +108,15 @@ pub(super) fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), E
     let file_dt = from_file("dt").and_then(|v| v.as_float());
     let file_duration = from_file("duration").and_then(|v| v.as_float());
     let file_methods: Option<Vec<Method>> = from_file("methods").and_then(|v| v.try_into().ok());
-    let methods = a
-        .methods
-        .clone()
-        .or(file_methods)
-        .unwrap_or_else(|| Method::ALL.to_vec());
+    let methods = a.methods.clone().or(file_methods).unwrap_or_else(|| {
+        // The drift study's default: the fixed-step methods (the adaptive ones are named).
+        let fixed = |m: &Method| m.info().family != crate::integrate::Family::Adaptive;
+        let drift = a.kind == StudyKind::Drift;
+        Method::ALL
+            .into_iter()
+            .filter(|m| !drift || fixed(m))
+            .collect()
+    });
     if methods.is_empty() {
         let origin = match &a.config {
             Some(path) if a.methods.is_none() => {
@@ -139,6 +143,9 @@ pub(super) fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), E
                 .collect::<Vec<_>>()
                 .join(",")
         )));
+    }
+    if a.kind == StudyKind::Drift {
+        return drift_setup(a, problem, (file_dt, file_duration), methods, table);
     }
     let (default_dt, default_duration) = crate::study::default_schedule(&problem);
     let (dt0, duration) = (
@@ -217,6 +224,7 @@ pub(super) fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), E
             work
         }
         StudyKind::Hair => unreachable!("the hair study has its own setup (hair_study)"),
+        StudyKind::Drift => unreachable!("drift_setup returned above"),
     };
     warn_if_long(work);
     // The schedule and methods the sweep starts from, in the scene's table.
@@ -229,6 +237,82 @@ pub(super) fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), E
     Ok((problem, sweep, steps, effective))
 }
 
+/// The drift study's problem and schedule: the pendulum released from rest (the closed form
+/// gives the exact crossings), one tolerance for the adaptive methods, and its steps within the
+/// study's limit.
+fn drift_setup(
+    a: &StudyArgs,
+    problem: Problem,
+    (file_dt, file_duration): (Option<f64>, Option<f64>),
+    methods: Vec<Method>,
+    mut table: toml::Table,
+) -> Result<(Problem, Sweep, u64, SceneFile), Error> {
+    let Problem::Pendulum(p) = &problem else {
+        return Err(Error::Usage(
+            "--scene rope: `study drift` runs on the pendulum, whose closed form gives the exact \
+             phase; the rope has none to measure a phase error against"
+                .into(),
+        ));
+    };
+    let Some(exact) = crate::scene::pendulum::reference::ExactPendulum::new(p) else {
+        return Err(Error::Usage(format!(
+            "--theta0 {}: `study drift` needs a release from rest with |θ0| < 180° (the closed \
+             form's crossings are the reference)",
+            crate::scene::params::shown(p.theta0.to_degrees())
+        )));
+    };
+    let dt = a.dt.or(file_dt).unwrap_or(crate::study::drift::DEFAULT_DT);
+    let duration = (a.duration.or(file_duration))
+        .unwrap_or(crate::study::drift::DEFAULT_PERIODS * exact.period());
+    crate::scene::params::positive("--dt", dt, "s")?;
+    crate::scene::params::positive("--duration", duration, "s")?;
+    let rtol = match a.rtol.as_deref() {
+        None => MethodOptions::default().rtol,
+        Some([one]) => *one,
+        Some(more) => {
+            return Err(Error::Usage(format!(
+                "--rtol {}: `study drift` runs each adaptive method at one tolerance; give one",
+                more.iter()
+                    .map(|r| format!("{r:e}"))
+                    .collect::<Vec<_>>()
+                    .join(",")
+            )));
+        }
+    };
+    crate::scene::params::rtol(rtol)?;
+    let steps = methods.len() as f64 * duration / dt;
+    if steps > STUDY_MAX_STEPS || duration / dt < 10.0 {
+        return Err(Error::Usage(format!(
+            "--dt {} over --duration {} s with {} methods is {steps:.2e} steps; between 10 per \
+             method and {STUDY_MAX_STEPS:.0e} in all are allowed (raise --dt, shorten --duration \
+             or choose fewer --methods)",
+            crate::scene::params::shown(dt),
+            crate::scene::params::shown(duration),
+            methods.len()
+        )));
+    }
+    warn_if_long(steps);
+    let sweep = Sweep {
+        dt0: dt,
+        levels: 1,
+        duration,
+        methods,
+        options: MethodOptions {
+            rtol,
+            ..MethodOptions::default()
+        },
+        repeats: 1,
+        rtols: vec![rtol],
+    };
+    table.insert("dt".into(), dt.into());
+    table.insert("duration".into(), duration.into());
+    let listed = toml::Value::try_from(&sweep.methods).map_err(|e| Error::Runtime(e.into()))?;
+    table.insert("methods".into(), listed);
+    let mut effective = SceneFile::default();
+    effective.set("pendulum", table);
+    Ok((problem, sweep, 0, effective))
+}
+
 /// The study kinds, as `physlab study KIND` spells them.
 pub(super) fn kind_name(kind: StudyKind) -> &'static str {
     match kind {
@@ -236,6 +320,7 @@ pub(super) fn kind_name(kind: StudyKind) -> &'static str {
         StudyKind::WorkPrecision => "work-precision",
         StudyKind::Stability => "stability",
         StudyKind::Hair => "hair",
+        StudyKind::Drift => "drift",
     }
 }
 

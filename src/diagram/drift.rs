@@ -1,0 +1,96 @@
+//! The drift diagram: energy error and phase error against time, log-log, one series per
+//! method, with dashed guides of slopes 0, 1 and 2 (what the theory says they grow like).
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use super::{BACKGROUND, Content, Diagram, Key, LEGEND_WIDTH, Res, decades, draw_legend};
+use super::{Panel, draw_panel};
+use crate::study::drift::Drift;
+
+/// Energy error (left) and phase error (right) against simulated time, per method.
+pub fn drift(runs: &[Drift], note: &str) -> Diagram {
+    Diagram {
+        stem: "pendulum-drift".into(),
+        title: "pendulum drift".into(),
+        size: (1600, 820),
+        content: Content::Drift {
+            runs: runs.to_vec(),
+            note: note.to_string(),
+        },
+    }
+}
+
+/// A quantity of a checkpoint, positive where it was measured.
+type Quantity = fn(&crate::study::drift::Checkpoint) -> Option<f64>;
+
+pub(super) fn drift_on<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    runs: &[Drift],
+    note: &str,
+) -> Res
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&BACKGROUND)?;
+    let (body, legend) = root.split_horizontally(root.dim_in_pixel().0 - LEGEND_WIDTH);
+    let panels = body.split_evenly((1, 2));
+    let quantities: [(&str, &str, Quantity); 2] = [
+        (
+            "energy error",
+            "max |E − E0| / E0 since the last point",
+            |c| Some(c.energy),
+        ),
+        (
+            "phase error",
+            "|phase error| at the last upward crossing [rad]",
+            |c| c.phase,
+        ),
+    ];
+    let times = || runs.iter().flat_map(|r| r.checkpoints.iter().map(|c| c.t));
+    let x = decades(times());
+    let (x0, x1) = (10f64.powf(x.start), 10f64.powf(x.end));
+    for (area, (title, y_desc, quantity)) in panels.iter().zip(quantities) {
+        let series: Vec<(Key, Vec<(f64, f64)>)> = runs
+            .iter()
+            .map(|r| {
+                let points = (r.checkpoints.iter())
+                    .filter_map(|c| quantity(c).filter(|v| *v > 0.0).map(|v| (c.t, v)))
+                    .collect();
+                (Key::of(r.method), points)
+            })
+            .collect();
+        let y = decades(series.iter().flat_map(|s| s.1.iter().map(|p| p.1)));
+        // Guides through the panel's middle value at the first time: t⁰, t¹, t².
+        let mid = 10f64.powf(0.5 * (y.start + y.end));
+        let guides = [(0, "t⁰"), (1, "t¹"), (2, "t²")]
+            .iter()
+            .map(|&(p, name)| {
+                let end = mid * (x1 / x0).powi(p);
+                (vec![(x0, mid), (x1, end)], name.to_string())
+            })
+            .collect();
+        draw_panel(
+            &area.margin(6, 6, 6, 6),
+            &Panel {
+                title: &format!("pendulum: {title} against time"),
+                x_desc: "simulated time [s]",
+                y_desc,
+                x: x.clone(),
+                y,
+                series,
+                guides,
+            },
+        )?;
+    }
+    let keys: Vec<Key> = runs.iter().map(|r| Key::of(r.method)).collect();
+    draw_legend(
+        &legend,
+        &keys,
+        &[
+            "symplectic: energy bounded, phase ∝ t; others: energy ∝ t, phase ∝ t².".into(),
+            "dashed: slopes 0, 1 and 2.".into(),
+            note.to_string(),
+        ],
+    )
+}

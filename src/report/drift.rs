@@ -1,0 +1,110 @@
+//! What `study drift` prints: how it measured, and per method the fitted growth exponents of
+//! its energy and phase errors against theory, each row with the command that measures it.
+
+use super::table::Table;
+use crate::scene::params::shown;
+use crate::study::drift::{Drift, FIT_SPAN, exponent, theory};
+
+/// The study's first lines: the problem, the schedule and how the errors are measured.
+pub fn drift_header(theta0_degrees: f64, period: f64, dt: f64, duration: f64) -> String {
+    format!(
+        "pendulum drift: released from rest at θ0 = {}°, period T = {period:.6} s; dt = {} s \
+         over {} s ({:.3e} periods, {:.3e} steps per method). Every step is checked: energy \
+         error |E − E0|/E0 (its largest since the previous point, 10 points a decade) and phase \
+         error 2π·|t_k − t_k,exact|/T at each upward crossing of θ = 0 (the k-th against the \
+         closed form's). Exponents: least-squares slopes of log error against log t over the \
+         last {} decades (t ≥ end/{FIT_SPAN}).\n\n",
+        shown(theta0_degrees),
+        shown(dt),
+        shown(duration),
+        duration / period,
+        duration / dt,
+        FIT_SPAN.log10(),
+    )
+}
+
+/// An exponent to three decimals, or why there is none.
+fn exponent_text(e: Option<f64>) -> String {
+    e.map_or("—".into(), |e| format!("{e:.3}"))
+}
+
+/// What the theory says, or why it says nothing.
+fn theory_text(t: Option<f64>, method: crate::integrate::Method) -> String {
+    match (t, method) {
+        (Some(t), _) => format!("{t}"),
+        (None, crate::integrate::Method::ExplicitEuler) => "none (grows geometrically)".into(),
+        (None, _) => "none (decays to rest)".into(),
+    }
+}
+
+pub fn drift_table(runs: &[Drift], theta0_degrees: f64, rtol: f64) -> String {
+    let mut t = Table::new([
+        "method",
+        "symplectic",
+        "energy exponent",
+        "theory",
+        "phase exponent",
+        "theory",
+        "energy error at end",
+        "phase error at end [rad]",
+        "force evals",
+        "measured by",
+    ]);
+    for r in runs {
+        let energy: Vec<(f64, f64)> = r.checkpoints.iter().map(|c| (c.t, c.energy)).collect();
+        let phase: Vec<(f64, f64)> = (r.checkpoints.iter())
+            .filter_map(|c| c.phase.map(|p| (c.t, p)))
+            .collect();
+        let (energy_theory, phase_theory) = theory(r.method);
+        let last = r.checkpoints.last();
+        let end = r.lost_at.map_or_else(
+            || last.map_or("—".into(), |c| format!("{:.2e}", c.energy)),
+            |t| format!("lost at t = {} s", shown(t)),
+        );
+        let info = r.method.info();
+        let adaptive = info.family == crate::integrate::Family::Adaptive;
+        t.row([
+            r.method.name().to_string(),
+            if info.symplectic { "yes" } else { "no" }.into(),
+            exponent_text(r.lost_at.map_or(exponent(&energy), |_| None)),
+            theory_text(energy_theory, r.method),
+            exponent_text(r.lost_at.map_or(exponent(&phase), |_| None)),
+            theory_text(phase_theory, r.method),
+            end,
+            last.and_then(|c| c.phase)
+                .map_or("—".into(), |p| format!("{p:.2e}")),
+            r.evals.to_string(),
+            format!(
+                "`physlab study drift --methods {} --theta0 {} --dt {} --duration {}{}`",
+                r.method.name(),
+                shown(theta0_degrees),
+                shown(r.dt),
+                shown(r.duration),
+                if adaptive {
+                    format!(" --rtol {rtol:e}")
+                } else {
+                    String::new()
+                }
+            ),
+        ]);
+    }
+    t.render()
+}
+
+/// One row per checkpoint: method, dt, t, energy error, phase error.
+pub fn drift_csv(runs: &[Drift]) -> String {
+    let mut out = String::from("scene,method,dt,t,energy_error,phase_error\n");
+    for r in runs {
+        for c in &r.checkpoints {
+            out.push_str(&format!(
+                "pendulum,{},{:e},{:e},{:e},{}\n",
+                r.method.name(),
+                r.dt,
+                c.t,
+                c.energy,
+                c.phase.map_or(String::new(), |p| format!("{p:e}"))
+            ));
+        }
+    }
+    out
+}
