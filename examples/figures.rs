@@ -18,6 +18,11 @@ fn main() -> anyhow::Result<()> {
         std::fs::remove_file(&written.svg)?;
         println!("wrote {}", written.png.display());
     }
+    // Deterministic: drawn in either mode.
+    let drift = figures::drift_pendulum_runs();
+    let written = physlab::diagram::pendulum_drift_picture(&drift).write(&root.join("docs"))?;
+    std::fs::remove_file(&written.svg)?;
+    println!("wrote {}", written.png.display());
     for f in &all {
         let path = root.join(f.document);
         let text = std::fs::read_to_string(&path)?;

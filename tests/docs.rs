@@ -87,4 +87,12 @@ fn pictures_show_what_the_code_draws() {
             "{method:?} not drawn"
         );
     }
+    let png = std::fs::read(root.join("docs/pendulum-drift.png")).unwrap();
+    let shown = physlab::diagram::stamp::text(&png, physlab::diagram::stamp::KEY)
+        .expect("docs/pendulum-drift.png carries what it draws: redraw it");
+    let drawn = physlab::diagram::pendulum_drift_picture(&figures::drift_pendulum_runs()).data();
+    assert_eq!(
+        shown, drawn,
+        "docs/pendulum-drift.png is stale: run `cargo run --release --example figures`"
+    );
 }

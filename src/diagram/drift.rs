@@ -21,6 +21,12 @@ pub fn drift(runs: &[Drift], note: &str) -> Diagram {
     }
 }
 
+/// The picture `docs/pendulum-drift.png` shows: [`drift`] of the runs
+/// `report::figures::drift_pendulum_runs` gives.
+pub fn pendulum_drift_picture(runs: &[Drift]) -> Diagram {
+    drift(runs, "dt = 0.01 s, θ0 = 60°, 10⁵ periods.")
+}
+
 /// A quantity of a checkpoint, positive where it was measured.
 type Quantity = fn(&crate::study::drift::Checkpoint) -> Option<f64>;
 

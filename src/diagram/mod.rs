@@ -30,7 +30,7 @@ pub mod stamp;
 
 pub use axes::decade_label;
 use axes::{Ticks, decades, label_of};
-pub use drift::drift;
+pub use drift::{drift, pendulum_drift_picture};
 use kinds::{LimitRow, convergence_on, hair_trade_on, stability_on, work_precision_on};
 pub use kinds::{
     convergence, hair_trade, pendulum_work_precision_picture, stability, work_precision,

@@ -37,8 +37,10 @@ fn theory_text(t: Option<f64>, method: crate::integrate::Method) -> String {
     }
 }
 
-pub fn drift_table(runs: &[Drift], theta0_degrees: f64, rtol: f64) -> String {
-    let mut t = Table::new([
+/// The exponents against theory per method; with `theta0_degrees` and `rtol`, each row ends
+/// with the command that measures it alone (the README's table gives one command for all).
+pub fn drift_table(runs: &[Drift], command: Option<(f64, f64)>) -> String {
+    let mut header = vec![
         "method",
         "symplectic",
         "energy exponent",
@@ -48,8 +50,11 @@ pub fn drift_table(runs: &[Drift], theta0_degrees: f64, rtol: f64) -> String {
         "energy error at end",
         "phase error at end [rad]",
         "force evals",
-        "measured by",
-    ]);
+    ];
+    if command.is_some() {
+        header.push("measured by");
+    }
+    let mut t = Table::new(header);
     for r in runs {
         let energy: Vec<(f64, f64)> = r.checkpoints.iter().map(|c| (c.t, c.energy)).collect();
         let phase: Vec<(f64, f64)> = (r.checkpoints.iter())
@@ -63,7 +68,7 @@ pub fn drift_table(runs: &[Drift], theta0_degrees: f64, rtol: f64) -> String {
         );
         let info = r.method.info();
         let adaptive = info.family == crate::integrate::Family::Adaptive;
-        t.row([
+        let mut row = vec![
             r.method.name().to_string(),
             if info.symplectic { "yes" } else { "no" }.into(),
             exponent_text(r.lost_at.map_or(exponent(&energy), |_| None)),
@@ -74,7 +79,9 @@ pub fn drift_table(runs: &[Drift], theta0_degrees: f64, rtol: f64) -> String {
             last.and_then(|c| c.phase)
                 .map_or("—".into(), |p| format!("{p:.2e}")),
             r.evals.to_string(),
-            format!(
+        ];
+        if let Some((theta0_degrees, rtol)) = command {
+            row.push(format!(
                 "`physlab study drift --methods {} --theta0 {} --dt {} --duration {}{}`",
                 r.method.name(),
                 shown(theta0_degrees),
@@ -85,8 +92,9 @@ pub fn drift_table(runs: &[Drift], theta0_degrees: f64, rtol: f64) -> String {
                 } else {
                     String::new()
                 }
-            ),
-        ]);
+            ));
+        }
+        t.row(row);
     }
     t.render()
 }

@@ -39,6 +39,7 @@ pub fn deterministic() -> Vec<Figure> {
         fig("pendulum-default", "README.md", pendulum_default()),
         fig("rope-default", "README.md", rope_default()),
         fig("hair-default", "README.md", hair_default()),
+        fig("drift-pendulum", "README.md", drift_pendulum()),
         results("convergence-pendulum", convergence(&pendulum)),
         results(
             "convergence-rope-undamped",
@@ -166,6 +167,26 @@ fn hair_default() -> String {
 }
 
 /// `physlab study convergence` on `problem` at the study's defaults: fitted orders.
+/// `physlab study drift` on its defaults: the fixed-step methods on the pendulum at 60°,
+/// dt = 0.01 s, over 10⁵ periods.
+fn drift_pendulum() -> String {
+    crate::report::drift::drift_table(&drift_pendulum_runs(), None)
+}
+
+/// The runs of [`drift_pendulum`]'s table, which `docs/pendulum-drift.png` draws.
+pub fn drift_pendulum_runs() -> Vec<study::drift::Drift> {
+    let p = crate::scene::pendulum::PendulumParams::default();
+    let exact = crate::scene::pendulum::reference::ExactPendulum::new(&p);
+    let duration = study::drift::DEFAULT_PERIODS * exact.map_or(f64::NAN, |e| e.period());
+    study::drift::default_methods()
+        .into_iter()
+        .filter_map(|m| {
+            let options = crate::integrate::MethodOptions::default();
+            study::drift::pendulum_drift(&p, m, study::drift::DEFAULT_DT, duration, options)
+        })
+        .collect()
+}
+
 fn convergence(problem: &Problem) -> String {
     let sweep = Sweep {
         repeats: 1,

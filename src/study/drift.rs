@@ -21,6 +21,14 @@ pub const DEFAULT_DT: f64 = 0.01;
 /// the quadratic phase term of the non-symplectic methods has overtaken their linear one.
 pub const DEFAULT_PERIODS: f64 = 1e5;
 
+/// The methods it runs unless told otherwise: the fixed-step ones (the adaptive ones' growth
+/// depends on their tolerance; name them to see it).
+pub fn default_methods() -> Vec<Method> {
+    (Method::ALL.into_iter())
+        .filter(|m| m.info().family != crate::integrate::Family::Adaptive)
+        .collect()
+}
+
 /// How many checkpoints per decade of simulated time the growth is sampled at.
 pub const PER_DECADE: usize = 10;
 

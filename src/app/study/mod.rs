@@ -171,8 +171,7 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
             ));
             out.push_str(&crate::report::drift::drift_table(
                 &runs,
-                degrees,
-                sw.options.rtol,
+                Some((degrees, sw.options.rtol)),
             ));
             csv = crate::report::drift::drift_csv(&runs);
             diagrams.push(crate::diagram::drift(
