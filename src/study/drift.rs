@@ -171,7 +171,7 @@ pub fn pendulum_drift(
             energy_max = 0.0;
             next += 1;
         }
-        if n % 65_536 == 0 && crate::interrupt::requested() {
+        if n % 4096 == 0 && crate::interrupt::requested() {
             break;
         }
     }
