@@ -224,8 +224,8 @@ pub enum StudyKind {
     /// Hair: largest stretch against wall time per frame over solvers, Newton steps, sweeps,
     /// substeps and spring stiffness (200 strands; --duration, default 4 s); cheapest per target
     Hair,
-    /// Pendulum: energy and phase error against time over many periods, growth exponents fitted
-    /// against theory (symplectic or not)
+    /// Energy and phase error against time over many periods (pendulum; the rope: energy),
+    /// growth exponents fitted against theory (symplectic or not)
     Drift,
 }
 
@@ -262,7 +262,16 @@ impl StudyKind {
                  stretch against cost, log-log. Takes minutes: a progress bar shows its ETA."
             }
             StudyKind::Drift => {
-                "Runs each method on the pendulum released from rest at --theta0 at step --dt                  for --duration (default 10⁵ periods at dt = 0.01 s; the fixed-step methods                  unless --methods names others), every step checked: the energy error of each                  step and the time of every upward crossing of θ = 0 against the closed form's.                  Fits how both grow with time over the run's last two decades and sets the                  exponents against theory (symplectic: energy bounded, phase ∝ t; others: energy                  ∝ t, phase ∝ t²). Prints the exponents; with -o, --csv or --plots also draws                  both errors against time, log-log."
+                "Runs each method on the pendulum released from rest at --theta0 at step --dt \
+                 for --duration (default 10⁵ periods at dt = 0.01 s; the fixed-step methods \
+                 unless --methods names others), every step checked: the energy error of each \
+                 step and the time of every upward crossing of θ = 0 against the closed form's. \
+                 Fits how both grow with time over the run's last two decades and sets the \
+                 exponents against theory (symplectic: energy bounded, phase ∝ t; others: energy \
+                 ∝ t, phase ∝ t²). With --scene rope: the undamped study rope's energy error over \
+                 10⁴ s at dt = 1 ms, and its shortest spring (no phase: no closed form). Prints \
+                 the exponents; with -o, --csv or --plots also draws the errors against time, \
+                 log-log."
             }
         }
     }

@@ -8,13 +8,15 @@ use super::{BACKGROUND, Content, Diagram, Key, LEGEND_WIDTH, Res, decades, draw_
 use super::{Panel, draw_panel};
 use crate::study::drift::Drift;
 
-/// Energy error (left) and phase error (right) against simulated time, per method.
-pub fn drift(runs: &[Drift], note: &str) -> Diagram {
+/// Energy error (left) and phase error (right, where a run measured one) against simulated
+/// time, per method.
+pub fn drift(scene: &str, runs: &[Drift], note: &str) -> Diagram {
     Diagram {
-        stem: "pendulum-drift".into(),
-        title: "pendulum drift".into(),
+        stem: format!("{scene}-drift"),
+        title: format!("{scene} drift"),
         size: (1600, 820),
         content: Content::Drift {
+            scene: scene.to_string(),
             runs: runs.to_vec(),
             note: note.to_string(),
         },
@@ -24,7 +26,7 @@ pub fn drift(runs: &[Drift], note: &str) -> Diagram {
 /// The picture `docs/pendulum-drift.png` shows: [`drift`] of the runs
 /// `report::figures::drift_pendulum_runs` gives.
 pub fn pendulum_drift_picture(runs: &[Drift]) -> Diagram {
-    drift(runs, "dt = 0.01 s, θ0 = 60°, 10⁵ periods.")
+    drift("pendulum", runs, "dt = 0.01 s, θ0 = 60°, 10⁵ periods.")
 }
 
 /// A quantity of a checkpoint, positive where it was measured.
@@ -32,6 +34,7 @@ type Quantity = fn(&crate::study::drift::Checkpoint) -> Option<f64>;
 
 pub(super) fn drift_on<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
+    scene: &str,
     runs: &[Drift],
     note: &str,
 ) -> Res
@@ -40,13 +43,16 @@ where
 {
     root.fill(&BACKGROUND)?;
     let (body, legend) = root.split_horizontally(root.dim_in_pixel().0 - LEGEND_WIDTH);
-    let panels = body.split_evenly((1, 2));
+    // The rope has no phase: its energy alone, over the whole width.
+    let phased = (runs.iter().flat_map(|r| &r.checkpoints)).any(|c| c.phase.is_some());
+    let panels = body.split_evenly((1, if phased { 2 } else { 1 }));
+    let energy_desc = if scene == "pendulum" {
+        "max |E − E0| / E0 since the last point"
+    } else {
+        "max |E − E0| / energy scale since the last point"
+    };
     let quantities: [(&str, &str, Quantity); 2] = [
-        (
-            "energy error",
-            "max |E − E0| / E0 since the last point",
-            |c| Some(c.energy),
-        ),
+        ("energy error", energy_desc, |c| Some(c.energy)),
         (
             "phase error",
             "|phase error| at the last upward crossing [rad]",
@@ -79,7 +85,7 @@ where
         draw_panel(
             &area.margin(6, 6, 6, 6),
             &Panel {
-                title: &format!("pendulum: {title} against time"),
+                title: &format!("{scene}: {title} against time"),
                 x_desc: "simulated time [s]",
                 y_desc,
                 x: x.clone(),

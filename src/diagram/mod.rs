@@ -76,6 +76,7 @@ enum Content {
         note: String,
     },
     Drift {
+        scene: String,
         runs: Vec<crate::study::drift::Drift>,
         note: String,
     },
@@ -236,7 +237,7 @@ impl Diagram {
                 omega,
             } => stability_on(root, scene, limits, *omega),
             Content::HairTrade { rows, note } => hair_trade_on(root, rows, note),
-            Content::Drift { runs, note } => drift::drift_on(root, runs, note),
+            Content::Drift { scene, runs, note } => drift::drift_on(root, scene, runs, note),
         }
     }
 }

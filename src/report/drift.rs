@@ -3,10 +3,11 @@
 
 use super::table::Table;
 use crate::scene::params::shown;
+use crate::scene::rope::RopeParams;
 use crate::study::drift::{Drift, FIT_SPAN, exponent, theory};
 
-/// The study's first lines: the problem, the schedule and how the errors are measured.
-pub fn drift_header(theta0_degrees: f64, period: f64, dt: f64, duration: f64) -> String {
+/// The pendulum study's first lines: the problem, the schedule and how the errors are measured.
+pub fn pendulum_header(theta0_degrees: f64, period: f64, dt: f64, duration: f64) -> String {
     format!(
         "pendulum drift: released from rest at θ0 = {}°, period T = {period:.6} s; dt = {} s \
          over {} s ({:.3e} periods, {:.3e} steps per method). Every step is checked: energy \
@@ -18,6 +19,24 @@ pub fn drift_header(theta0_degrees: f64, period: f64, dt: f64, duration: f64) ->
         shown(dt),
         shown(duration),
         duration / period,
+        duration / dt,
+        FIT_SPAN.log10(),
+    )
+}
+
+/// The rope study's first lines.
+pub fn rope_header(p: &RopeParams, dt: f64, duration: f64) -> String {
+    format!(
+        "rope drift: {} nodes, ks = {} N/m, undamped, released horizontal; dt = {} s over {} s \
+         ({:.3e} steps per method). Every step is checked: energy error |E − E0| over the \
+         rope's energy scale (its largest since the previous point, 10 points a decade). No \
+         phase: no closed form gives the rope's. Exponents: least-squares slopes of log error \
+         against log t over the last {} decades (t ≥ end/{FIT_SPAN}); a method whose energy \
+         left the scene's bound is marked lost.\n\n",
+        p.nodes,
+        shown(p.stiffness),
+        shown(dt),
+        shown(duration),
         duration / dt,
         FIT_SPAN.log10(),
     )
@@ -37,9 +56,9 @@ fn theory_text(t: Option<f64>, method: crate::integrate::Method) -> String {
     }
 }
 
-/// The exponents against theory per method; with `theta0_degrees` and `rtol`, each row ends
+/// The exponents against theory per method; with the scene's flags and `rtol`, each row ends
 /// with the command that measures it alone (the README's table gives one command for all).
-pub fn drift_table(runs: &[Drift], command: Option<(f64, f64)>) -> String {
+pub fn drift_table(runs: &[Drift], command: Option<(&str, f64)>) -> String {
     let mut header = vec![
         "method",
         "symplectic",
@@ -51,6 +70,10 @@ pub fn drift_table(runs: &[Drift], command: Option<(f64, f64)>) -> String {
         "phase error at end [rad]",
         "force evals",
     ];
+    let rope = runs.iter().any(|r| r.shortest_spring.is_some());
+    if rope {
+        header.push("shortest spring / rest");
+    }
     if command.is_some() {
         header.push("measured by");
     }
@@ -61,6 +84,8 @@ pub fn drift_table(runs: &[Drift], command: Option<(f64, f64)>) -> String {
             .filter_map(|c| c.phase.map(|p| (c.t, p)))
             .collect();
         let (energy_theory, phase_theory) = theory(r.method);
+        // A run without a single crossing measured has no phase to speak of (the rope).
+        let phased = !phase.is_empty();
         let last = r.checkpoints.last();
         let end = r.lost_at.map_or_else(
             || last.map_or("—".into(), |c| format!("{:.2e}", c.energy)),
@@ -74,17 +99,23 @@ pub fn drift_table(runs: &[Drift], command: Option<(f64, f64)>) -> String {
             exponent_text(r.lost_at.map_or(exponent(&energy), |_| None)),
             theory_text(energy_theory, r.method),
             exponent_text(r.lost_at.map_or(exponent(&phase), |_| None)),
-            theory_text(phase_theory, r.method),
+            if phased || r.lost_at.is_some() {
+                theory_text(phase_theory, r.method)
+            } else {
+                "none (no closed form)".into()
+            },
             end,
             last.and_then(|c| c.phase)
                 .map_or("—".into(), |p| format!("{p:.2e}")),
             r.evals.to_string(),
         ];
-        if let Some((theta0_degrees, rtol)) = command {
+        if rope {
+            row.push(r.shortest_spring.map_or("—".into(), |s| format!("{s:.2e}")));
+        }
+        if let Some((flags, rtol)) = command {
             row.push(format!(
-                "`physlab study drift --methods {} --theta0 {} --dt {} --duration {}{}`",
+                "`physlab study drift --methods {} {flags} --dt {} --duration {}{}`",
                 r.method.name(),
-                shown(theta0_degrees),
                 shown(r.dt),
                 shown(r.duration),
                 if adaptive {
@@ -100,12 +131,12 @@ pub fn drift_table(runs: &[Drift], command: Option<(f64, f64)>) -> String {
 }
 
 /// One row per checkpoint: method, dt, t, energy error, phase error.
-pub fn drift_csv(runs: &[Drift]) -> String {
+pub fn drift_csv(scene: &str, runs: &[Drift]) -> String {
     let mut out = String::from("scene,method,dt,t,energy_error,phase_error\n");
     for r in runs {
         for c in &r.checkpoints {
             out.push_str(&format!(
-                "pendulum,{},{:e},{:e},{:e},{}\n",
+                "{scene},{},{:e},{:e},{:e},{}\n",
                 r.method.name(),
                 r.dt,
                 c.t,

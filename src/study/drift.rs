@@ -13,9 +13,15 @@ use super::orders::fit;
 use crate::integrate::{Integrator, Method, MethodOptions};
 use crate::scene::pendulum::reference::ExactPendulum;
 use crate::scene::pendulum::{Pendulum, PendulumParams};
+use crate::scene::rope::{Rope, RopeParams};
 
-/// The step the study runs at unless told otherwise [s].
+/// The step the study runs the pendulum at unless told otherwise [s].
 pub const DEFAULT_DT: f64 = 0.01;
+
+/// The rope's step and simulated time unless told otherwise [s]: 10⁷ steps of the study's
+/// soft rope (ω_max·dt ≈ 0.06).
+pub const ROPE_DT: f64 = 1e-3;
+pub const ROPE_DURATION: f64 = 1e4;
 
 /// The periods it runs for unless told otherwise: long enough that over the last two decades
 /// the quadratic phase term of the non-symplectic methods has overtaken their linear one.
@@ -60,6 +66,10 @@ pub struct Drift {
     /// The time from which the run stopped being a libration (non-finite, over the top, or
     /// the crossings lost), if it did; the checkpoints end there.
     pub lost_at: Option<f64>,
+    /// The rope's shortest spring over the run, over its rest length: where a spring folds
+    /// through zero length its potential k(ℓ − ℓ0)²/2 is not smooth, and the theory of bounded
+    /// energy error (backward error analysis) needs a smooth one.
+    pub shortest_spring: Option<f64>,
 }
 
 /// What the theory says an error grows like, t^exponent, for a method on an integrable system.
@@ -137,12 +147,10 @@ pub fn pendulum_drift(
     let e0 = p.initial_energy();
     let mut it = Integrator::new(method, &sys, &[p.theta0], &[p.omega0], dt, options);
     let steps = (duration / dt).round() as u64;
-    let marks = checkpoint_steps(steps, dt, period);
-    let mut checkpoints = Vec::with_capacity(marks.len());
-    let (mut energy_max, mut phase, mut crossings) = (0.0f64, None, 0u64);
+    let mut points = Points::new(steps, dt, period);
+    let (mut phase, mut crossings) = (None, 0u64);
     let (mut theta, mut omega) = (p.theta0, p.omega0);
     let mut lost_at = None;
-    let mut next = 0;
     for n in 1..=steps {
         it.step(&sys);
         let (th, om) = (it.position()[0], it.velocity()[0]);
@@ -154,7 +162,6 @@ pub fn pendulum_drift(
             lost_at = Some(t);
             break;
         }
-        energy_max = energy_max.max(error);
         if theta < 0.0 && th >= 0.0 {
             let at = t - dt + crossing(theta, omega, th, om, dt);
             let expected = first_up + crossings as f64 * period;
@@ -162,15 +169,7 @@ pub fn pendulum_drift(
             crossings += 1;
         }
         (theta, omega) = (th, om);
-        if marks.get(next) == Some(&n) {
-            checkpoints.push(Checkpoint {
-                t,
-                energy: energy_max,
-                phase,
-            });
-            energy_max = 0.0;
-            next += 1;
-        }
+        points.note(n, error, phase);
         if n % 4096 == 0 && crate::interrupt::requested() {
             break;
         }
@@ -179,21 +178,116 @@ pub fn pendulum_drift(
         method,
         dt,
         duration,
-        checkpoints,
+        checkpoints: points.done,
         steps: it.accepted_steps(),
         evals: it.evals(),
         lost_at,
+        shortest_spring: None,
     })
 }
 
+/// Runs `method` on the undamped rope from its start for `duration` [s] at step `dt`: the
+/// energy error |E − E0| over the run's energy scale (its start's E0 is about 0), no phase
+/// (no closed form gives the rope's). The rope is not integrable, but backward error analysis
+/// bounds a symplectic method's energy error on any Hamiltonian system all the same.
+pub fn rope_drift(
+    p: &RopeParams,
+    method: Method,
+    dt: f64,
+    duration: f64,
+    options: MethodOptions,
+) -> Drift {
+    let rope = Rope::new(p.clone());
+    let x0 = p.initial_positions();
+    let v0 = vec![0.0; x0.len()];
+    let scale = crate::scene::rope::run::energy_scale(&rope, &x0, &v0);
+    let e0 = rope.energy(&x0, &v0);
+    let mut it = Integrator::new(method, &rope, &x0, &v0, dt, options);
+    let steps = (duration / dt).round() as u64;
+    // Checkpoints from one second on: the rope's slowest swing takes a few.
+    let mut points = Points::new(steps, dt, 1.0);
+    let mut lost_at = None;
+    let mut shortest = f64::INFINITY;
+    let every = (4096 / p.nodes).max(1) as u64;
+    for n in 1..=steps {
+        it.step(&rope);
+        if n % 4096 == 0 {
+            it.zero_below(crate::scene::rope::run::NEGLIGIBLE);
+        }
+        let error = (rope.energy(it.position(), it.velocity()) - e0).abs() / scale;
+        // Diverged: the energy error beyond the scene's own bound.
+        if !error.is_finite() || error > crate::scene::rope::run::ENERGY_GAIN_BOUND {
+            lost_at = Some(n as f64 * dt);
+            break;
+        }
+        let x = it.position();
+        for i in 0..p.nodes - 1 {
+            let d = crate::scene::rope::node(x, i + 1) - crate::scene::rope::node(x, i);
+            shortest = shortest.min(d.length() / rope.rest());
+        }
+        points.note(n, error, None);
+        if n % every == 0 && crate::interrupt::requested() {
+            break;
+        }
+    }
+    Drift {
+        method,
+        dt,
+        duration,
+        checkpoints: points.done,
+        steps: it.accepted_steps(),
+        evals: it.evals(),
+        lost_at,
+        shortest_spring: Some(shortest),
+    }
+}
+
+/// A run's checkpoints as its steps come: the largest energy error since the last one, and
+/// the phase error last measured.
+struct Points {
+    dt: f64,
+    /// The steps they fall on ([`checkpoint_steps`]), and the next one's index.
+    marks: Vec<u64>,
+    next: usize,
+    energy_max: f64,
+    done: Vec<Checkpoint>,
+}
+
+impl Points {
+    fn new(steps: u64, dt: f64, first: f64) -> Self {
+        let marks = checkpoint_steps(steps, dt, first);
+        Points {
+            dt,
+            done: Vec::with_capacity(marks.len()),
+            marks,
+            next: 0,
+            energy_max: 0.0,
+        }
+    }
+
+    /// Step `n` had this energy error; the phase error is the last measured.
+    fn note(&mut self, n: u64, energy: f64, phase: Option<f64>) {
+        self.energy_max = self.energy_max.max(energy);
+        if self.marks.get(self.next) == Some(&n) {
+            self.done.push(Checkpoint {
+                t: n as f64 * self.dt,
+                energy: self.energy_max,
+                phase,
+            });
+            self.energy_max = 0.0;
+            self.next += 1;
+        }
+    }
+}
+
 /// The steps the checkpoints fall on: [`PER_DECADE`] a decade of simulated time, log-spaced
-/// from one period to the end, and the last step.
-fn checkpoint_steps(steps: u64, dt: f64, period: f64) -> Vec<u64> {
+/// from `first` [s] (one period) to the end, and the last step.
+fn checkpoint_steps(steps: u64, dt: f64, first: f64) -> Vec<u64> {
     let end = steps as f64 * dt;
     let mut marks: Vec<u64> = Vec::new();
     let mut k = 0;
     loop {
-        let t = period * 10f64.powf(k as f64 / PER_DECADE as f64);
+        let t = first * 10f64.powf(k as f64 / PER_DECADE as f64);
         if t >= end {
             break;
         }

@@ -7,6 +7,7 @@ use crate::cli::{StudyArgs, StudyKind};
 use crate::report::study as report;
 use crate::study::{Limit, Problem, error_floor, stability, sweep};
 
+mod drift;
 mod hair;
 mod outputs;
 mod setup;
@@ -133,51 +134,9 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
             ));
         }
         StudyKind::Drift => {
-            let Problem::Pendulum(p) = &problem else {
-                unreachable!("setup refuses the rope")
-            };
-            let period = crate::scene::pendulum::reference::ExactPendulum::new(p)
-                .map_or(f64::NAN, |e| e.period());
-            let mut runs = Vec::new();
-            for &m in &sw.methods {
-                if crate::interrupt::requested() {
-                    break;
-                }
-                let started = std::time::Instant::now();
-                let run =
-                    crate::study::drift::pendulum_drift(p, m, sw.dt0, sw.duration, sw.options);
-                // A run cut short by Ctrl-C is not complete: it is left out.
-                if let Some(run) = run.filter(|_| !crate::interrupt::requested()) {
-                    if !a.quiet {
-                        eprintln!(
-                            "drift: {} done ({} of {}, {:.1} s)",
-                            m.name(),
-                            runs.len() + 1,
-                            sw.methods.len(),
-                            started.elapsed().as_secs_f64()
-                        );
-                    }
-                    runs.push(run);
-                }
-            }
-            done = runs.len();
-            // θ0 as given in degrees (its radians turned back carry a last-digit residue).
-            let degrees = (p.theta0.to_degrees() * 1e9).round() / 1e9;
-            out.push_str(&crate::report::drift::drift_header(
-                degrees,
-                period,
-                sw.dt0,
-                sw.duration,
-            ));
-            out.push_str(&crate::report::drift::drift_table(
-                &runs,
-                Some((degrees, sw.options.rtol)),
-            ));
-            csv = crate::report::drift::drift_csv(&runs);
-            diagrams.push(crate::diagram::drift(
-                &runs,
-                &format!("dt = {} s, θ0 = {degrees}°.", sw.dt0),
-            ));
+            let (text, table, diagram, complete) = drift::drift_study(a, &problem, &sw);
+            (out, csv, done) = (text, table, complete);
+            diagrams.push(diagram);
         }
         StudyKind::Hair => unreachable!("hair_study runs it"),
     }

@@ -238,8 +238,8 @@ pub(super) fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), E
 }
 
 /// The drift study's problem and schedule: the pendulum released from rest (the closed form
-/// gives the exact crossings), one tolerance for the adaptive methods, and its steps within the
-/// study's limit.
+/// gives the exact crossings) or the undamped rope (whose energy is kept or not), one tolerance
+/// for the adaptive methods, and its steps within the study's limits.
 fn drift_setup(
     a: &StudyArgs,
     problem: Problem,
@@ -247,23 +247,40 @@ fn drift_setup(
     methods: Vec<Method>,
     mut table: toml::Table,
 ) -> Result<(Problem, Sweep, u64, SceneFile), Error> {
-    let Problem::Pendulum(p) = &problem else {
-        return Err(Error::Usage(
-            "--scene rope: `study drift` runs on the pendulum, whose closed form gives the exact \
-             phase; the rope has none to measure a phase error against"
-                .into(),
-        ));
+    let (default_dt, default_duration, nodes) = match &problem {
+        Problem::Pendulum(p) => {
+            let Some(exact) = crate::scene::pendulum::reference::ExactPendulum::new(p) else {
+                return Err(Error::Usage(format!(
+                    "--theta0 {}: `study drift` needs a release from rest with |θ0| < 180° (the \
+                     closed form's crossings are the reference)",
+                    crate::scene::params::shown(p.theta0.to_degrees())
+                )));
+            };
+            let periods = crate::study::drift::DEFAULT_PERIODS;
+            (
+                crate::study::drift::DEFAULT_DT,
+                periods * exact.period(),
+                1.0,
+            )
+        }
+        Problem::Rope(p) => {
+            if problem.velocity_dependent() {
+                return Err(Error::Usage(format!(
+                    "--spring-damping {} --air-drag {}: `study drift` measures how the energy of \
+                     the undamped rope is kept; set both to 0",
+                    crate::scene::params::shown(p.spring_damping),
+                    crate::scene::params::shown(p.air_drag)
+                )));
+            }
+            let (dt, duration) = (
+                crate::study::drift::ROPE_DT,
+                crate::study::drift::ROPE_DURATION,
+            );
+            (dt, duration, p.nodes as f64)
+        }
     };
-    let Some(exact) = crate::scene::pendulum::reference::ExactPendulum::new(p) else {
-        return Err(Error::Usage(format!(
-            "--theta0 {}: `study drift` needs a release from rest with |θ0| < 180° (the closed \
-             form's crossings are the reference)",
-            crate::scene::params::shown(p.theta0.to_degrees())
-        )));
-    };
-    let dt = a.dt.or(file_dt).unwrap_or(crate::study::drift::DEFAULT_DT);
-    let duration = (a.duration.or(file_duration))
-        .unwrap_or(crate::study::drift::DEFAULT_PERIODS * exact.period());
+    let dt = a.dt.or(file_dt).unwrap_or(default_dt);
+    let duration = a.duration.or(file_duration).unwrap_or(default_duration);
     crate::scene::params::positive("--dt", dt, "s")?;
     crate::scene::params::positive("--duration", duration, "s")?;
     let rtol = match a.rtol.as_deref() {
@@ -281,17 +298,17 @@ fn drift_setup(
     };
     crate::scene::params::rtol(rtol)?;
     let steps = methods.len() as f64 * duration / dt;
-    if steps > STUDY_MAX_STEPS || duration / dt < 10.0 {
+    if steps > STUDY_MAX_STEPS || steps * nodes > MAX_NODE_STEPS || duration / dt < 10.0 {
         return Err(Error::Usage(format!(
             "--dt {} over --duration {} s with {} methods is {steps:.2e} steps; between 10 per \
-             method and {STUDY_MAX_STEPS:.0e} in all are allowed (raise --dt, shorten --duration \
-             or choose fewer --methods)",
+             method and {STUDY_MAX_STEPS:.0e} in all ({MAX_NODE_STEPS:.0e} node-steps) are \
+             allowed (raise --dt, shorten --duration or choose fewer --methods)",
             crate::scene::params::shown(dt),
             crate::scene::params::shown(duration),
             methods.len()
         )));
     }
-    warn_if_long(steps);
+    warn_if_long(steps * nodes);
     let sweep = Sweep {
         dt0: dt,
         levels: 1,
@@ -309,7 +326,7 @@ fn drift_setup(
     let listed = toml::Value::try_from(&sweep.methods).map_err(|e| Error::Runtime(e.into()))?;
     table.insert("methods".into(), listed);
     let mut effective = SceneFile::default();
-    effective.set("pendulum", table);
+    effective.set(problem.name(), table);
     Ok((problem, sweep, 0, effective))
 }
 

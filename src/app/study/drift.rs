@@ -1,0 +1,75 @@
+//! `physlab study drift`: each method's long run, reported as it completes; the tables, CSV and
+//! diagram of the complete ones.
+
+use crate::cli::StudyArgs;
+use crate::diagram::Diagram;
+use crate::report::drift as report;
+use crate::scene::params::shown;
+use crate::study::drift::{Drift, pendulum_drift, rope_drift};
+use crate::study::{Problem, Sweep};
+
+/// The study's printed text, CSV, diagram and how many methods' runs are complete (a run cut
+/// short by Ctrl-C is left out).
+pub(super) fn drift_study(
+    a: &StudyArgs,
+    problem: &Problem,
+    sw: &Sweep,
+) -> (String, String, Diagram, usize) {
+    let mut runs: Vec<Drift> = Vec::new();
+    for &m in &sw.methods {
+        if crate::interrupt::requested() {
+            break;
+        }
+        let started = std::time::Instant::now();
+        let run = match problem {
+            Problem::Pendulum(p) => pendulum_drift(p, m, sw.dt0, sw.duration, sw.options),
+            Problem::Rope(p) => Some(rope_drift(p, m, sw.dt0, sw.duration, sw.options)),
+        };
+        if let Some(run) = run.filter(|_| !crate::interrupt::requested()) {
+            if !a.quiet {
+                eprintln!(
+                    "drift: {} done ({} of {}, {:.1} s)",
+                    m.name(),
+                    runs.len() + 1,
+                    sw.methods.len(),
+                    started.elapsed().as_secs_f64()
+                );
+            }
+            runs.push(run);
+        }
+    }
+    let (header, flags, note) = match problem {
+        Problem::Pendulum(p) => {
+            // θ0 as given in degrees (its radians turned back carry a last-digit residue).
+            let degrees = (p.theta0.to_degrees() * 1e9).round() / 1e9;
+            let period = crate::scene::pendulum::reference::ExactPendulum::new(p)
+                .map_or(f64::NAN, |e| e.period());
+            (
+                report::pendulum_header(degrees, period, sw.dt0, sw.duration),
+                format!("--theta0 {}", shown(degrees)),
+                format!("dt = {} s, θ0 = {degrees}°.", shown(sw.dt0)),
+            )
+        }
+        Problem::Rope(p) => (
+            report::rope_header(p, sw.dt0, sw.duration),
+            format!(
+                "--scene rope --nodes {} --stiffness {}",
+                p.nodes,
+                shown(p.stiffness)
+            ),
+            format!("dt = {} s, undamped rope.", shown(sw.dt0)),
+        ),
+    };
+    let mut out = header;
+    out.push_str(&report::drift_table(
+        &runs,
+        Some((flags.as_str(), sw.options.rtol)),
+    ));
+    let diagram = crate::diagram::drift(problem.name(), &runs, &note);
+    (
+        out,
+        report::drift_csv(problem.name(), &runs),
+        diagram,
+        runs.len(),
+    )
+}
