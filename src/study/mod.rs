@@ -16,7 +16,7 @@ pub mod hair;
 mod limits;
 mod orders;
 
-pub use limits::{Limit, stability, yoshida4_limit};
+pub use limits::{Limit, composition_limit, stability, yoshida4_limit};
 pub use orders::{
     Order, Proportionality, STALL_BELOW, cheapest, error_floor, methods_of, orders,
     proportionality, stalled,
