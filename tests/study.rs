@@ -33,6 +33,8 @@ fn fixed_step() -> Vec<Method> {
         .collect()
 }
 
+/// Orders up to 4 at the studies' default schedules (the compositions of orders 6 to 10 are at
+/// round-off there: `high_order_compositions_converge_at_their_order_on_the_pendulum`).
 #[test]
 fn fitted_orders_match_theory_on_both_scenes() {
     for (problem, dt0, duration) in [(pendulum(), 0.02, 10.0), (soft_rope(), 0.002, 1.0)] {
@@ -40,7 +42,10 @@ fn fitted_orders_match_theory_on_both_scenes() {
             dt0,
             levels: 6,
             duration,
-            methods: fixed_step(),
+            methods: fixed_step()
+                .into_iter()
+                .filter(|m| m.info().order <= 4)
+                .collect(),
             options: MethodOptions::default(),
             repeats: 1,
             rtols: vec![],
@@ -71,6 +76,47 @@ fn fitted_orders_match_theory_on_both_scenes() {
     }
 }
 
+/// The compositions of orders 6, 8 and 10 converge at their order on the pendulum: the largest
+/// error at the samples against the closed form as dt halves, within ±0.15 between every two
+/// neighbours, over steps where the error stands above round-off and in the asymptotic range.
+/// yoshida6 at 60° from dt = 0.1 s over 100 s (measured 5.99, 5.99), kahan-li8 at 60° from
+/// 0.2 s over 100 s (8.03; from 0.4 s it measures 8.55, before its asymptotic range), and
+/// sofroniou10 at 10° from 1.2 s over 400 s (9.95, 10.00): at 60° its leading error terms
+/// nearly cancel and the next ones lead down to round-off (10.8 and 14.1 from 0.8 s).
+#[test]
+fn high_order_compositions_converge_at_their_order_on_the_pendulum() {
+    for (method, degrees, dt0, levels, duration) in [
+        (Method::Yoshida6, 60.0f64, 0.1, 3, 100.0),
+        (Method::KahanLi8, 60.0, 0.2, 2, 100.0),
+        (Method::Sofroniou10, 10.0, 1.2, 3, 400.0),
+    ] {
+        let problem = Problem::Pendulum(PendulumParams {
+            theta0: degrees.to_radians(),
+            ..PendulumParams::default()
+        });
+        let s = Sweep {
+            dt0,
+            levels,
+            duration,
+            methods: vec![method],
+            options: MethodOptions::default(),
+            repeats: 1,
+            rtols: vec![],
+        };
+        let (rows, _) = sweep(&problem, &s);
+        let theory = f64::from(method.info().order);
+        for w in rows.windows(2) {
+            let (e1, e2) = (w[0].error.unwrap(), w[1].error.unwrap());
+            let order = (e1 / e2).log2();
+            assert!(
+                (order - theory).abs() <= 0.15,
+                "{method}: order {order:.3} from dt {} (errors {e1:.3e}, {e2:.3e}), theory {theory}",
+                w[0].dt
+            );
+        }
+    }
+}
+
 /// The stability limits on the oscillator x'' = -ω² x, in h = ω dt, stated here from the
 /// literature rather than read from the registry: semi-implicit Euler and Verlet |tr| = |2 - h²|
 /// < 2, so h < 2; RK4 |1 - h²/2 + h⁴/24 + i(h³/6 - h)| < 1, so h < 2√2; Yoshida-4 the root of
@@ -81,6 +127,10 @@ fn literature_limit(m: Method) -> Option<f64> {
         Method::Rk4 => Some(2.0 * 2f64.sqrt()),
         // The double nearest 1.5734019474345400566.
         Method::Yoshida4 => Some(1.573_401_947_434_54),
+        // The first instability of each, `tests/data/composition_stability.py` (mpmath).
+        Method::Yoshida6 => Some(2.269_057_996_397_659_4),
+        Method::KahanLi8 => Some(3.096_438_680_000_732_2),
+        Method::Sofroniou10 => Some(3.141_081_862_896_623_2),
         _ => None,
     }
 }
@@ -96,10 +146,21 @@ fn literature_limit(m: Method) -> Option<f64> {
 ///   is quadratic in ln(10⁴)/steps, 2.7e-6 for Verlet (measured 3.06e-6 and 2.92e-6; Yoshida-4
 ///   2.76e-6 and 2.63e-6; semi-implicit Euler 2.0e-7 and 1.4e-7).
 ///
-/// Bounds: RK4 1e-3, symplectic 1e-5. Below the limit every run is bounded, so the measured
-/// limit may not fall short of theory by more than the bisection's resolution (1e-9 allowed).
+///   The higher-order compositions' traces cross 2 more slowly, at slopes 0.2 (yoshida6) to 7e-4
+///   (sofroniou10) per unit h: yoshida6 overshoots by 2.0e-5, kahan-li8 by 1.7e-4 (measured,
+///   pendulum), and sofroniou10's gap past its limit is too shallow to show at all in 2000 steps
+///   (its largest growth there, 3.7e-4 per step, needs 25000): the study says so, and
+///   `sofroniou10_limit_shows_in_longer_runs` measures it.
+///
+/// Bounds: RK4 and the orders 6 to 10 1e-3 (0.1 %), the other symplectic ones 1e-5. Below the
+/// limit every run is bounded, so the measured limit may not fall short of theory by more than
+/// the bisection's resolution (1e-9 allowed).
 fn allowed_overshoot(m: Method) -> f64 {
-    if m.info().symplectic { 1e-5 } else { 1e-3 }
+    if m.info().symplectic && m.info().order <= 4 {
+        1e-5
+    } else {
+        1e-3
+    }
 }
 
 /// The conditionally stable methods' measured limits against the literature (above), on the
@@ -125,6 +186,10 @@ fn stability_limits_match_theory() {
                         (registry / theory - 1.0).abs() <= 4.0 * f64::EPSILON,
                         "{m}: registry limit {registry} vs {theory}"
                     );
+                    if m == Method::Sofroniou10 {
+                        assert!(l.note.contains("too slow for 2000 steps"), "{}", l.note);
+                        continue;
+                    }
                     let over = l.measured_dt.unwrap() * w / theory - 1.0;
                     assert!(
                         (-1e-9..=allowed_overshoot(m)).contains(&over),
@@ -155,6 +220,25 @@ fn stability_limits_match_theory() {
                 Stability::Adaptive => assert!(l.measured_dt.is_none()),
             }
         }
+    }
+}
+
+/// Sofroniou–Spaletta's first instability is a gap 2.4e-4 wide (relative) whose growth per
+/// step is at most 3.7e-4: runs of 10⁵ steps see it, and the study's limit on the linearised
+/// pendulum is then theory's to 1e-5 (measured +4.2e-6), with the other compositions' to 1e-5
+/// too (measured +8e-9 yoshida6, +6.7e-8 kahan-li8).
+#[test]
+fn sofroniou10_limit_shows_in_longer_runs() {
+    let problem = pendulum();
+    let methods = [Method::Yoshida6, Method::KahanLi8, Method::Sofroniou10];
+    for l in stability(&problem, &methods, 100_000) {
+        let theory = literature_limit(l.method).unwrap();
+        let over = l.measured_dt.unwrap() * problem.omega() / theory - 1.0;
+        assert!(
+            (-1e-9..=1e-5).contains(&over),
+            "{}: measured limit {over:+.2e} relative to theory {theory}",
+            l.method
+        );
     }
 }
 

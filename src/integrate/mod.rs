@@ -368,10 +368,14 @@ pub(crate) mod tests {
                 (0.0, m.info().order),
                 (0.5, m.info().order_velocity_dependent),
             ] {
-                // In the asymptotic range and above round-off (errors 3e-3 to 1e-7 here).
+                // In the asymptotic range and above round-off (errors 3e-3 to 1e-7 here; orders
+                // 8 and 10 at 7e-9 and 4e-10: at dt = 0.1 kahan-li8 is at 1e-13 and measures
+                // 5.6, sofroniou10 at dt = 0.4 measures 7.6, both against round-off).
                 let dt = match order {
                     1 => 0.01,
                     2 => 0.02,
+                    8 => 0.4,
+                    10 => 0.8,
                     _ => 0.08,
                 };
                 let (x1, v1) = damped_errors(m, c, dt);
