@@ -14,9 +14,9 @@ pub const YOSHIDA4_STABILITY_LIMIT: f64 = 1.573_401_947_434_54;
 /// digits; `study::composition_limit` finds them again from the weights in f64). Past each the
 /// trace comes back: unstable on 2.2691–2.3278, 3.0964–3.1402 and 3.14108–3.14184 only, then
 /// stable again for a while (gaps of the stability interval).
-pub const YOSHIDA6_STABILITY_LIMIT: f64 = 2.269_057_996_397_659_4;
-pub const KAHAN_LI8_STABILITY_LIMIT: f64 = 3.096_438_680_000_732_2;
-pub const SOFRONIOU10_STABILITY_LIMIT: f64 = 3.141_081_862_896_623_2;
+pub const YOSHIDA6_STABILITY_LIMIT: f64 = 2.269_057_996_397_659_6;
+pub const KAHAN_LI8_STABILITY_LIMIT: f64 = 3.096_438_680_000_732;
+pub const SOFRONIOU10_STABILITY_LIMIT: f64 = 3.141_081_862_896_623_3;
 
 /// Yoshida's triple-jump weights: w1 = 1/(2 - 2^(1/3)), w0 = -2^(1/3)/(2 - 2^(1/3)).
 pub fn yoshida_weights() -> (f64, f64) {
@@ -43,6 +43,7 @@ pub const YOSHIDA4: [f64; 3] = palindrome([1.351_207_191_959_657_8, -1.702_414_3
 /// Yoshida (1990), "solution A", 7 substeps. Digits as Hairer, Lubich & Wanner (GNI, V.3.11)
 /// print them, found identical in two public codes (a Julia composition table and a Python
 /// splitting code); the middle weight 1 - 2 (w1 + w2 + w3) computed to 36 digits.
+#[allow(clippy::excessive_precision)] // the digits as their sources print them
 pub const YOSHIDA6: [f64; 7] = palindrome([
     0.784_513_610_477_557_263_819_497_633_866,
     0.235_573_213_359_358_133_684_793_182_979,
@@ -53,6 +54,7 @@ pub const YOSHIDA6: [f64; 7] = palindrome([
 /// Kahan & Li (1997), s17odr8a, 17 substeps: the eighth-order composition GNI (V.3.14) and
 /// DifferentialEquations.jl (`KahanLi8`, symplectic_tableaus.jl) carry, 26 digits, the same in
 /// a Fortran guiding-centre code's table "Kahan & Li s = 17, in the form of Hairer".
+#[allow(clippy::excessive_precision)] // the digits as their sources print them
 pub const KAHAN_LI8: [f64; 17] = palindrome([
     0.130_202_483_088_890_080_878_817_63,
     0.561_162_981_775_108_384_561_964_41,
@@ -68,6 +70,7 @@ pub const KAHAN_LI8: [f64; 17] = palindrome([
 /// Sofroniou & Spaletta (2005), s35odr10, 35 substeps: 32 digits from SUNDIALS ARKODE
 /// (`ARKodeSymplecticSofroniou10`), agreeing to the 26 that DifferentialEquations.jl
 /// (`SofSpa10`) prints.
+#[allow(clippy::excessive_precision)] // the digits as their sources print them
 pub const SOFRONIOU10: [f64; 35] = palindrome([
     0.078_795_722_521_686_419_263_907_679_337_684,
     0.313_096_103_415_108_527_764_812_471_926_47,

@@ -125,7 +125,7 @@ pub fn proportionality(rows: &[Row], floor: f64) -> Vec<Proportionality> {
 
 /// The least-squares slope of y against x (at least two points) and the smallest and largest
 /// slope between neighbours.
-fn fit(pts: &[(f64, f64)]) -> (Option<f64>, Option<(f64, f64)>) {
+pub(super) fn fit(pts: &[(f64, f64)]) -> (Option<f64>, Option<(f64, f64)>) {
     let fitted = (pts.len() >= 2).then(|| {
         let n = pts.len() as f64;
         let (mx, my) = (
