@@ -155,24 +155,25 @@ pub fn stability(problem: &Problem, methods: &[Method], steps: u64) -> Vec<Limit
                 _ => {
                     // Bisection needs its upper end in the first unstable stretch: past theory's
                     // limit the high-order compositions are stable again (gaps). The end is the
-                    // first of 1e-4, 1e-3, 1e-2 past theory's limit that a run finds unbounded,
-                    // or 10 × 2/ω when none is.
-                    let just_past = theory.and_then(|limit| {
+                    // first of 1e-4, 1e-3, 1e-2 past theory's limit that a run finds unbounded
+                    // (none found: no limit measured), or 10 × 2/ω for the methods with none.
+                    let just_past = theory.map(|limit| {
                         [1e-4, 1e-3, 1e-2]
                             .into_iter()
                             .map(|r| limit * (1.0 + r))
                             .find(|&dt| !bounded(&lin, &start, m, dt, steps))
                     });
-                    if theory.is_some() && just_past.is_none() {
+                    let (mut lo, hi) = (1e-4 * 2.0 / w, just_past.unwrap_or(Some(10.0 * 2.0 / w)));
+                    if let Some(None) = just_past {
                         note.push_str(&format!(
                             "instability past theory's limit too slow for {steps} steps: more --steps"
                         ));
-                    }
-                    let (mut lo, mut hi) = (1e-4 * 2.0 / w, just_past.unwrap_or(10.0 * 2.0 / w));
-                    if !bounded(&lin, &start, m, lo, steps) {
+                        None
+                    } else if !bounded(&lin, &start, m, lo, steps) {
                         note.push_str("unstable even at 1e-4 × 2/ω");
                         None
                     } else {
+                        let mut hi = hi.expect("an upper end");
                         for _ in 0..40 {
                             if stop() {
                                 break;
