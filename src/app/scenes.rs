@@ -536,8 +536,8 @@ mod tests {
 
     #[test]
     fn every_flag_is_a_key_of_its_scenes_configuration_and_back() {
-        same_parameters::<PendulumArgs, PendulumConfig>("pendulum", &[]);
-        same_parameters::<RopeArgs, RopeConfig>("rope", &["preset"]);
+        same_parameters::<PendulumArgs, PendulumConfig>("pendulum", &["compensated"]);
+        same_parameters::<RopeArgs, RopeConfig>("rope", &["preset", "compensated"]);
         same_parameters::<HairArgs, HairConfig>("hair", &["stiffness", "dt", "log_strands"]);
     }
 }

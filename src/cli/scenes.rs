@@ -86,8 +86,8 @@ pub struct StepFlags {
     #[arg(long, value_name = "TOL", allow_negative_numbers = true)]
     pub rtol: Option<f64>,
 
-    /// Compensated (Kahan) summation in the composition methods' updates: round-off grows like
-    /// √n over n steps instead of like n
+    /// Compensated (Kahan) summation in the composition methods' updates: round-off about
+    /// |h v| / |x| times smaller per step
     #[arg(long)]
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub compensated: bool,

@@ -103,10 +103,20 @@ pub fn weights(method: Method) -> Option<&'static [f64]> {
     }
 }
 
-/// x += c (h v), or with compensation the same sum carried with its rounding error (Kahan):
-/// `err` holds what the last additions lost, which the next one adds back. Plain summation's
-/// rounding errors are biased when the increments are tiny against x, so over n steps they grow
-/// like n; compensated, like √n (Brouwer's law).
+/// The k-th of the s + 1 drift weights of the composition of weights `w` (s = w.len()): half
+/// the first, the halves of neighbouring weights summed, half the last.
+pub fn drift(w: &[f64], k: usize) -> f64 {
+    let last = w.len();
+    match k {
+        0 => 0.5 * w[0],
+        _ if k == last => 0.5 * w[last - 1],
+        _ => 0.5 * (w[k - 1] + w[k]),
+    }
+}
+
+/// x += c dx, or with compensation the same sum carried with its rounding error (Kahan): `err`
+/// holds what the last additions lost, which the next one adds back, so that an update loses
+/// about eps |c dx| instead of eps |x| (`study::energy_error_rms` measures the effect).
 #[inline]
 fn accumulate(x: &mut [f64], err: Option<&mut [f64]>, c: f64, dx: &[f64]) {
     match err {
@@ -166,16 +176,11 @@ impl Composition {
         let w = self.weights;
         let last = w.len();
         for k in 0..=last {
-            let drift = match k {
-                0 => 0.5 * w[0],
-                _ if k == last => 0.5 * w[last - 1],
-                _ => 0.5 * (w[k - 1] + w[k]),
-            };
             let (ex, ev) = match &mut self.compensation {
                 Some((ex, ev)) => (Some(ex.as_mut_slice()), Some(ev.as_mut_slice())),
                 None => (None, None),
             };
-            accumulate(x, ex, drift * h, v);
+            accumulate(x, ex, drift(w, k) * h, v);
             if let Some(&kick) = w.get(k) {
                 for i in 0..n {
                     self.v_mid[i] = v[i] + 0.5 * kick * h * self.a[i];

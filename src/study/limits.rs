@@ -3,7 +3,8 @@
 
 use super::{Problem, stop, stop_stride};
 use crate::integrate::{
-    Integrator, Method, MethodOptions, SecondOrderSystem, Stability, yoshida_weights,
+    Integrator, Method, MethodOptions, SecondOrderSystem, Stability, composition_drift,
+    yoshida_weights,
 };
 use crate::scene::pendulum::{Pendulum, PendulumParams};
 use crate::scene::rope::{Rope, RopeParams};
@@ -228,11 +229,7 @@ pub fn composition_limit(w: &[f64]) -> f64 {
         // Columns: the images of (1, 0) and (0, 1) under x'' = -x.
         let mut m = [[1.0, 0.0], [0.0, 1.0]];
         for k in 0..=last {
-            let d = match k {
-                0 => 0.5 * w[0],
-                _ if k == last => 0.5 * w[last - 1],
-                _ => 0.5 * (w[k - 1] + w[k]),
-            };
+            let d = composition_drift(w, k);
             for col in &mut m {
                 col[0] += d * h * col[1];
                 if let Some(kick) = w.get(k) {
