@@ -126,11 +126,6 @@ const REFUSALS: &[(&[&str], i32, &[&str])] = &[
         &["reference steps; at most 1e9"],
     ),
     (
-        &["study", "drift", "--scene", "rope"],
-        2,
-        &["--scene rope: `study drift` runs on the pendulum"],
-    ),
-    (
         &["study", "drift", "--theta0", "180"],
         2,
         &["--theta0 180: `study drift` needs a release from rest with |θ0| < 180°"],
@@ -836,14 +831,16 @@ fn tolerances_without_an_adaptive_method_and_empty_method_lists_are_refused() {
 
 /// Which methods read each method-specific scene flag, written from what each method does (not
 /// read from the code): only verlet has a damping factor; only the error-controlled pairs take a
-/// tolerance; only implicit Euler solves with Newton; of the hair methods only verlet has a
+/// tolerance; only implicit Euler solves with Newton; only the compositions (yoshida4 to
+/// sofroniou10) sum compensated (`--compensated`, a switch: an empty value below, `true` in a
+/// file); of the hair methods only verlet has a
 /// constraint solver with iterations, and only the spring methods have springs. Given without a
 /// method that reads it, each flag is refused; with one, the run goes ahead. A scene file's key is
 /// not refused (files state every parameter): the same value from a file runs.
 #[test]
 fn every_scene_flag_a_method_reads_is_refused_without_that_method() {
     let hair_run = ["--strands", "2", "--duration", "0.05"];
-    let cases: [(&str, &str, &str, &str, &str); 10] = [
+    let cases: [(&str, &str, &str, &str, &str); 12] = [
         (
             "pendulum",
             "--verlet-damping",
@@ -854,6 +851,8 @@ fn every_scene_flag_a_method_reads_is_refused_without_that_method() {
         ("pendulum", "--rtol", "1e-6", "rk4,verlet", "vern9"),
         ("rope", "--verlet-damping", "0.1", "rk4", "verlet"),
         ("rope", "--rtol", "1e-6", "implicit-euler", "dop853"),
+        ("pendulum", "--compensated", "", "rk4,verlet", "yoshida6"),
+        ("rope", "--compensated", "", "verlet", "sofroniou10"),
         (
             "rope",
             "--newton-iterations",
@@ -882,12 +881,21 @@ fn every_scene_flag_a_method_reads_is_refused_without_that_method() {
     let dir = scratch_dir("cli-input-method-flags");
     let mut refusals = Vec::new();
     for (scene, flag, value, without, with) in cases {
-        let mut args = vec![scene, "--methods", without, flag, value, "--no-record"];
+        let flag_and_value: &[&str] = if value.is_empty() {
+            &[flag]
+        } else {
+            &[flag, value]
+        };
+        let mut args = vec![scene, "--methods", without];
+        args.extend(flag_and_value);
+        args.push("--no-record");
         if scene == "hair" {
             args.extend(hair_run);
         }
         refusals.push((args, format!("{flag}: only ")));
-        let mut run = vec![scene, "--methods", with, flag, value, "--no-record", "-q"];
+        let mut run = vec![scene, "--methods", with];
+        run.extend(flag_and_value);
+        run.extend(["--no-record", "-q"]);
         run.extend(if scene == "hair" {
             &hair_run[..]
         } else {
@@ -897,7 +905,9 @@ fn every_scene_flag_a_method_reads_is_refused_without_that_method() {
         assert_eq!(code, 0, "{run:?}: {stderr}");
         // The same value in a scene file, beside methods that do not read it, runs.
         let key = flag.trim_start_matches("--").replace('-', "_");
-        let quoted = if value.parse::<f64>().is_ok() {
+        let quoted = if value.is_empty() {
+            "true".to_string()
+        } else if value.parse::<f64>().is_ok() {
             value.to_string()
         } else {
             format!("\"{value}\"")

@@ -12,8 +12,9 @@ mod common;
 use common::{peak_memory, physlab};
 
 /// The rope's memory estimate (what the memory guard refuses on and what a run says up front)
-/// against the peak resident memory the kernel measures, for every method alone and for the
-/// default set: within 10 % of the measured growth over a 2-node run.
+/// against the peak resident memory the kernel measures, for every method alone, for the
+/// default set and for a composition with --compensated: within 10 % of the measured growth over
+/// a 2-node run.
 #[test]
 fn the_ropes_memory_estimate_is_the_memory_it_takes() {
     use physlab::integrate::Method;
@@ -29,13 +30,16 @@ fn the_ropes_memory_estimate_is_the_memory_it_takes() {
         "0.002",
     ]);
     let default: Vec<Method> = Method::DEFAULT.to_vec();
-    let mut sets: Vec<Vec<Method>> = Method::ALL.iter().map(|&m| vec![m]).collect();
-    sets.push(default);
-    for methods in sets {
+    let mut sets: Vec<(Vec<Method>, bool)> =
+        Method::ALL.iter().map(|&m| (vec![m], false)).collect();
+    sets.push((default, false));
+    // Compensated summation keeps two more vectors.
+    sets.push((vec![Method::KahanLi8], true));
+    for (methods, compensated) in sets {
         let names: Vec<&str> = methods.iter().map(|m| m.name()).collect();
         let list = names.join(",");
         let n = nodes.to_string();
-        let measured = peak_memory(&[
+        let mut args = vec![
             "rope",
             "-q",
             "--no-record",
@@ -45,11 +49,16 @@ fn the_ropes_memory_estimate_is_the_memory_it_takes() {
             "0.002",
             "--methods",
             &list,
-        ]) - base;
+        ];
+        if compensated {
+            args.push("--compensated");
+        }
+        let measured = peak_memory(&args) - base;
         let mut config = RopeConfig {
             methods,
             ..RopeConfig::default()
         };
+        config.options.compensated = compensated;
         config.params.nodes = nodes;
         let estimate = config.memory_bytes();
         assert!(

@@ -33,6 +33,8 @@ fn fixed_step() -> Vec<Method> {
         .collect()
 }
 
+/// Orders up to 4 at the studies' default schedules (the compositions of orders 6 to 10 are at
+/// round-off there: `high_order_compositions_converge_at_their_order_on_the_pendulum`).
 #[test]
 fn fitted_orders_match_theory_on_both_scenes() {
     for (problem, dt0, duration) in [(pendulum(), 0.02, 10.0), (soft_rope(), 0.002, 1.0)] {
@@ -40,7 +42,10 @@ fn fitted_orders_match_theory_on_both_scenes() {
             dt0,
             levels: 6,
             duration,
-            methods: fixed_step(),
+            methods: fixed_step()
+                .into_iter()
+                .filter(|m| m.info().order <= 4)
+                .collect(),
             options: MethodOptions::default(),
             repeats: 1,
             rtols: vec![],
@@ -71,6 +76,47 @@ fn fitted_orders_match_theory_on_both_scenes() {
     }
 }
 
+/// The compositions of orders 6, 8 and 10 converge at their order on the pendulum: the largest
+/// error at the samples against the closed form as dt halves, within ±0.15 between every two
+/// neighbours, over steps where the error stands above round-off and in the asymptotic range.
+/// yoshida6 at 60° from dt = 0.1 s over 100 s (measured 5.99, 5.99), kahan-li8 at 60° from
+/// 0.2 s over 100 s (8.03; from 0.4 s it measures 8.55, before its asymptotic range), and
+/// sofroniou10 at 10° from 1.2 s over 400 s (9.95, 10.00): at 60° its leading error terms
+/// nearly cancel and the next ones lead down to round-off (10.8 and 14.1 from 0.8 s).
+#[test]
+fn high_order_compositions_converge_at_their_order_on_the_pendulum() {
+    for (method, degrees, dt0, levels, duration) in [
+        (Method::Yoshida6, 60.0f64, 0.1, 3, 100.0),
+        (Method::KahanLi8, 60.0, 0.2, 2, 100.0),
+        (Method::Sofroniou10, 10.0, 1.2, 3, 400.0),
+    ] {
+        let problem = Problem::Pendulum(PendulumParams {
+            theta0: degrees.to_radians(),
+            ..PendulumParams::default()
+        });
+        let s = Sweep {
+            dt0,
+            levels,
+            duration,
+            methods: vec![method],
+            options: MethodOptions::default(),
+            repeats: 1,
+            rtols: vec![],
+        };
+        let (rows, _) = sweep(&problem, &s);
+        let theory = f64::from(method.info().order);
+        for w in rows.windows(2) {
+            let (e1, e2) = (w[0].error.unwrap(), w[1].error.unwrap());
+            let order = (e1 / e2).log2();
+            assert!(
+                (order - theory).abs() <= 0.15,
+                "{method}: order {order:.3} from dt {} (errors {e1:.3e}, {e2:.3e}), theory {theory}",
+                w[0].dt
+            );
+        }
+    }
+}
+
 /// The stability limits on the oscillator x'' = -ω² x, in h = ω dt, stated here from the
 /// literature rather than read from the registry: semi-implicit Euler and Verlet |tr| = |2 - h²|
 /// < 2, so h < 2; RK4 |1 - h²/2 + h⁴/24 + i(h³/6 - h)| < 1, so h < 2√2; Yoshida-4 the root of
@@ -81,6 +127,10 @@ fn literature_limit(m: Method) -> Option<f64> {
         Method::Rk4 => Some(2.0 * 2f64.sqrt()),
         // The double nearest 1.5734019474345400566.
         Method::Yoshida4 => Some(1.573_401_947_434_54),
+        // The first instability of each, `tests/data/composition_stability.py` (mpmath).
+        Method::Yoshida6 => Some(2.269_057_996_397_659_6),
+        Method::KahanLi8 => Some(3.096_438_680_000_732),
+        Method::Sofroniou10 => Some(3.141_081_862_896_623_3),
         _ => None,
     }
 }
@@ -96,10 +146,21 @@ fn literature_limit(m: Method) -> Option<f64> {
 ///   is quadratic in ln(10⁴)/steps, 2.7e-6 for Verlet (measured 3.06e-6 and 2.92e-6; Yoshida-4
 ///   2.76e-6 and 2.63e-6; semi-implicit Euler 2.0e-7 and 1.4e-7).
 ///
-/// Bounds: RK4 1e-3, symplectic 1e-5. Below the limit every run is bounded, so the measured
-/// limit may not fall short of theory by more than the bisection's resolution (1e-9 allowed).
+///   The higher-order compositions' traces cross 2 more slowly, at slopes 0.2 (yoshida6) to 7e-4
+///   (sofroniou10) per unit h: yoshida6 overshoots by 2.0e-5, kahan-li8 by 1.7e-4 (measured,
+///   pendulum), and sofroniou10's gap past its limit is too shallow to show at all in 2000 steps
+///   (its largest growth there, 3.7e-4 per step, needs 25000): the study says so, and
+///   `sofroniou10_limit_shows_in_longer_runs` measures it.
+///
+/// Bounds: RK4 and the orders 6 to 10 1e-3 (0.1 %), the other symplectic ones 1e-5. Below the
+/// limit every run is bounded, so the measured limit may not fall short of theory by more than
+/// the bisection's resolution (1e-9 allowed).
 fn allowed_overshoot(m: Method) -> f64 {
-    if m.info().symplectic { 1e-5 } else { 1e-3 }
+    if m.info().symplectic && m.info().order <= 4 {
+        1e-5
+    } else {
+        1e-3
+    }
 }
 
 /// The conditionally stable methods' measured limits against the literature (above), on the
@@ -125,6 +186,10 @@ fn stability_limits_match_theory() {
                         (registry / theory - 1.0).abs() <= 4.0 * f64::EPSILON,
                         "{m}: registry limit {registry} vs {theory}"
                     );
+                    if m == Method::Sofroniou10 {
+                        assert!(l.note.contains("too slow for 2000 steps"), "{}", l.note);
+                        continue;
+                    }
                     let over = l.measured_dt.unwrap() * w / theory - 1.0;
                     assert!(
                         (-1e-9..=allowed_overshoot(m)).contains(&over),
@@ -155,6 +220,25 @@ fn stability_limits_match_theory() {
                 Stability::Adaptive => assert!(l.measured_dt.is_none()),
             }
         }
+    }
+}
+
+/// Sofroniou–Spaletta's first instability is a gap 2.4e-4 wide (relative) whose growth per
+/// step is at most 3.7e-4: runs of 10⁵ steps see it, and the study's limit on the linearised
+/// pendulum is then theory's to 1e-5 (measured +4.2e-6), with the other compositions' to 1e-5
+/// too (measured +8e-9 yoshida6, +6.7e-8 kahan-li8).
+#[test]
+fn sofroniou10_limit_shows_in_longer_runs() {
+    let problem = pendulum();
+    let methods = [Method::Yoshida6, Method::KahanLi8, Method::Sofroniou10];
+    for l in stability(&problem, &methods, 100_000) {
+        let theory = literature_limit(l.method).unwrap();
+        let over = l.measured_dt.unwrap() * problem.omega() / theory - 1.0;
+        assert!(
+            (-1e-9..=1e-5).contains(&over),
+            "{}: measured limit {over:+.2e} relative to theory {theory}",
+            l.method
+        );
     }
 }
 
@@ -623,4 +707,101 @@ fn the_soft_rope_folds_its_springs_through_zero_length() {
         ..RopeParams::default()
     });
     assert!(stiff > 0.5, "{stiff}");
+}
+
+/// Checkpoints from 10^a to 10^b steps, four per decade.
+fn checkpoints(a: i32, b: i32) -> Vec<u64> {
+    (4 * a..=4 * b)
+        .map(|k| 10f64.powf(f64::from(k) / 4.0).round() as u64)
+        .collect()
+}
+
+/// The energy error's RMS over 20 releases from 60° + k·0.37° of kahan-li8 at dt = 0.01 s
+/// (h = 0.017, where its truncation error in the energy is far below round-off), plain and
+/// compensated, at `ns` steps.
+fn roundoff(ns: &[u64]) -> (Vec<f64>, Vec<f64>) {
+    let params = PendulumParams {
+        theta0: 60f64.to_radians(),
+        ..PendulumParams::default()
+    };
+    let run = |compensated| {
+        physlab::study::energy_error_rms(
+            &params,
+            Method::KahanLi8,
+            0.01,
+            MethodOptions {
+                compensated,
+                ..MethodOptions::default()
+            },
+            20,
+            0.37f64.to_radians(),
+            ns,
+        )
+    };
+    (run(false), run(true))
+}
+
+/// Round-off over 10⁴ to 10⁶ steps. Compensated, the energy error grows like √n (Brouwer's law:
+/// fitted 0.501, asserted 0.5 ± 0.1) from 2.1e-16 (the rounding of the energy's own evaluation)
+/// at 10⁴ steps to 2.4e-15 at 10⁶. Plain, it grows from 3.5e-14 to 3.3e-13 with about the same
+/// exponent (fitted 0.475, asserted 0.5 ± 0.15), not linearly: the rounded weights keep every
+/// substep, and so the whole step, exactly symplectic and symmetric, and the rounding of
+/// x += h v is unbiased, so its errors add as a random walk too. What compensation removes is
+/// their size, eps |x| per update instead of eps |h v|: 142× less at 10⁶ steps (asserted 50×).
+#[test]
+fn compensated_summation_keeps_the_energys_round_off_at_brouwers_law() {
+    let ns = checkpoints(4, 6);
+    let (plain, compensated) = roundoff(&ns);
+    let exponent = |v: &[f64]| physlab::study::growth_exponent(&ns, v).unwrap();
+    let (p, c) = (exponent(&plain), exponent(&compensated));
+    assert!((c - 0.5).abs() <= 0.1, "compensated: exponent {c:.3}");
+    assert!((p - 0.5).abs() <= 0.15, "plain: exponent {p:.3}");
+    let ratio = plain.last().unwrap() / compensated.last().unwrap();
+    assert!(
+        ratio >= 50.0,
+        "plain / compensated at 10⁶ steps: {ratio:.1}"
+    );
+}
+
+/// The same over 10⁵ to 10⁷ steps (about 250 s on two busy cores): compensated fitted 0.413
+/// (from 7.9e-16 to 4.2e-15), plain 0.500 (from 9.7e-14 to 9.1e-13), both asserted 0.5 ± 0.1;
+/// plain 216× the compensated error at 10⁷ steps (asserted 100×).
+#[test]
+#[ignore = "10⁷ steps of 20 pendulums, twice: about 250 s"]
+fn compensated_summation_over_ten_million_steps() {
+    let ns = checkpoints(5, 7);
+    let (plain, compensated) = roundoff(&ns);
+    let exponent = |v: &[f64]| physlab::study::growth_exponent(&ns, v).unwrap();
+    let (p, c) = (exponent(&plain), exponent(&compensated));
+    assert!((c - 0.5).abs() <= 0.1, "compensated: exponent {c:.3}");
+    assert!((p - 0.5).abs() <= 0.1, "plain: exponent {p:.3}");
+    let ratio = plain.last().unwrap() / compensated.last().unwrap();
+    assert!(
+        ratio >= 100.0,
+        "plain / compensated at 10⁷ steps: {ratio:.1}"
+    );
+}
+
+/// The drift study measures how the undamped rope keeps its energy: a scene file that damps it
+/// is refused, naming both damping values.
+#[test]
+fn drift_refuses_a_damped_rope() {
+    let dir = scratch_dir("study-drift-damped");
+    let file = dir.join("damped.toml");
+    std::fs::write(&file, "[rope]\nspring_damping = 0.05\n").unwrap();
+    let args = [
+        "study",
+        "drift",
+        "--scene",
+        "rope",
+        "--config",
+        file.to_str().unwrap(),
+    ];
+    let (code, _, err) = physlab(&args);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("--spring-damping 0.05 --air-drag 0: `study drift` measures how the energy"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
 }

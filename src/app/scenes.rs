@@ -8,7 +8,7 @@ use super::progress::Progress;
 use super::{Ran, SceneFile, run_scene};
 use crate::cli::{HairArgs, PendulumArgs, RopeArgs, RunArgs, StepFlags};
 use crate::error::Error;
-use crate::integrate::{EvalsPerStep, Method};
+use crate::integrate::{EvalsPerStep, Method, composition_weights};
 use crate::record::scene::{Draw, SceneRecorder};
 use crate::record::{self, SceneViews, Staging};
 use crate::report;
@@ -327,6 +327,9 @@ impl StepFlags {
             MethodFlag::new("--rtol", self.rtol.is_some(), |m| {
                 matches!(m.info().evals_per_step, EvalsPerStep::Adaptive(_))
             }),
+            MethodFlag::new("--compensated", self.compensated, |m| {
+                composition_weights(m).is_some()
+            }),
         ]
     }
 }
@@ -533,8 +536,8 @@ mod tests {
 
     #[test]
     fn every_flag_is_a_key_of_its_scenes_configuration_and_back() {
-        same_parameters::<PendulumArgs, PendulumConfig>("pendulum", &[]);
-        same_parameters::<RopeArgs, RopeConfig>("rope", &["preset"]);
+        same_parameters::<PendulumArgs, PendulumConfig>("pendulum", &["compensated"]);
+        same_parameters::<RopeArgs, RopeConfig>("rope", &["preset", "compensated"]);
         same_parameters::<HairArgs, HairConfig>("hair", &["stiffness", "dt", "log_strands"]);
     }
 }

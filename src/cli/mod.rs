@@ -249,7 +249,7 @@ impl StudyKind {
             }
             StudyKind::Stability => {
                 "Finds each method's largest stable step by bisection on the linearised problem \
-                 (the pendulum at θ0 = 1e-8 rad from rest, or the undamped rope), each trial \
+                 (the pendulum at θ0 = 1e-12 rad from rest, or the undamped rope), each trial \
                  stepping --steps steps, and sets it against the theory's limit on ω·dt \
                  (`physlab methods`). Prints measured against theory; with -o, --csv or --plots \
                  also draws the limits."

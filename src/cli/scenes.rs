@@ -85,6 +85,12 @@ pub struct StepFlags {
     /// Relative tolerance per substep (the absolute one equals it)
     #[arg(long, value_name = "TOL", allow_negative_numbers = true)]
     pub rtol: Option<f64>,
+
+    /// Compensated (Kahan) summation in the composition methods' updates: round-off about
+    /// |h v| / |x| times smaller per step
+    #[arg(long)]
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub compensated: bool,
 }
 
 #[derive(Args, Debug, Clone, Default, Serialize, PartialEq)]

@@ -5,7 +5,10 @@
 use std::fmt;
 use std::str::FromStr;
 
-use super::composition::YOSHIDA4_STABILITY_LIMIT;
+use super::composition::{
+    KAHAN_LI8_STABILITY_LIMIT, SOFRONIOU10_STABILITY_LIMIT, YOSHIDA4_STABILITY_LIMIT,
+    YOSHIDA6_STABILITY_LIMIT,
+};
 
 /// Defines [`Method`] (one variant per entry), `Method::ALL` in entry order and `Method::info`.
 macro_rules! registry {
@@ -280,6 +283,33 @@ registry! {
                 with the pre-kick velocity made it order 1).",
         default: false,
     },
+    /// Sixth-order symplectic composition of seven position-Verlet steps (Yoshida 1990,
+    /// solution A); second order when the force depends on the velocity.
+    Yoshida6 => composition_row(
+        "yoshida6",
+        6,
+        7,
+        YOSHIDA6_STABILITY_LIMIT,
+        "position Verlet at Yoshida's 7 weights (1990, solution A), kicks as yoshida4's",
+    ),
+    /// Eighth-order symplectic composition of 17 position-Verlet steps (Kahan & Li 1997).
+    KahanLi8 => composition_row(
+        "kahan-li8",
+        8,
+        17,
+        KAHAN_LI8_STABILITY_LIMIT,
+        "position Verlet at Kahan & Li's 17 weights (1997, s17odr8a), kicks as yoshida4's",
+    ),
+    /// Tenth-order symplectic composition of 35 position-Verlet steps (Sofroniou & Spaletta
+    /// 2005).
+    Sofroniou10 => composition_row(
+        "sofroniou10",
+        10,
+        35,
+        SOFRONIOU10_STABILITY_LIMIT,
+        "position Verlet at Sofroniou & Spaletta's 35 weights (2005, s35odr10), kicks as \
+         yoshida4's",
+    ),
     /// Dormand–Prince 5(4), adaptive, error-controlled by `MethodOptions::rtol`.
     Dopri5 => MethodInfo {
         name: "dopri5",
@@ -331,6 +361,31 @@ registry! {
                 cheapest at tight tolerances (1e-8 and below).",
         default: false,
     },
+}
+
+/// A higher-order composition's row: symplectic, explicit, one evaluation per substep, second
+/// order with velocity-dependent forces (the predicted mid-kick velocity, as yoshida4).
+const fn composition_row(
+    name: &'static str,
+    order: u32,
+    substeps: u32,
+    limit: f64,
+    update: &'static str,
+) -> MethodInfo {
+    MethodInfo {
+        name,
+        family: Family::Composition,
+        order,
+        order_velocity_dependent: 2,
+        implicit: false,
+        symplectic: true,
+        evals_per_step: EvalsPerStep::Fixed(substeps),
+        stability: Stability::Below(limit),
+        update,
+        notes: "Stable from h = 0 up to the limit shown (the first instability); order 2 with \
+                velocity-dependent forces, as yoshida4.",
+        default: false,
+    }
 }
 
 impl Method {

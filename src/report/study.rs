@@ -75,7 +75,7 @@ pub fn stability_header(problem: &Problem, steps: u64) -> String {
          linearised problem ({}); theory = limit h / ω with ω = {:.6} rad/s\n\n",
         problem.name(),
         match problem {
-            Problem::Pendulum(_) => "1e-8 rad amplitude, ω = sqrt(g/L)",
+            Problem::Pendulum(_) => "1e-12 rad amplitude, ω = sqrt(g/L)",
             Problem::Rope(_) =>
                 "straight, weightless, undamped chain pinned at node 0, ω = its highest mode",
         },

@@ -255,7 +255,11 @@ impl RopeConfig {
     /// each method's vectors, and the implicit solve's workspace when an implicit method runs.
     pub fn memory_bytes(&self) -> f64 {
         let coordinates = 3.0 * self.params.nodes as f64;
-        let vectors: usize = self.methods.iter().map(|&m| Integrator::vectors(m)).sum();
+        let vectors: usize = self
+            .methods
+            .iter()
+            .map(|&m| Integrator::vectors(m) + Integrator::option_vectors(m, &self.options))
+            .sum();
         let workspace = if self.methods.iter().any(|m| m.info().implicit) {
             Workspace::BYTES_PER_NODE
         } else {
