@@ -150,7 +150,7 @@ const REFUSALS: &[(&[&str], i32, &[&str])] = &[
     (
         &["study", "drift", "--dt", "1e-9", "--duration", "1e6"],
         2,
-        &["steps; between 10 per method and 1e10 in all are allowed"],
+        &["steps; between 10 per method and 1e10 in all"],
     ),
     (
         &["study", "work-precision", "--rtol", "1e-300"],

@@ -109,13 +109,11 @@ pub(super) fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), E
     let file_duration = from_file("duration").and_then(|v| v.as_float());
     let file_methods: Option<Vec<Method>> = from_file("methods").and_then(|v| v.try_into().ok());
     let methods = a.methods.clone().or(file_methods).unwrap_or_else(|| {
-        // The drift study's default: the fixed-step methods (the adaptive ones are named).
-        let fixed = |m: &Method| m.info().family != crate::integrate::Family::Adaptive;
-        let drift = a.kind == StudyKind::Drift;
-        Method::ALL
-            .into_iter()
-            .filter(|m| !drift || fixed(m))
-            .collect()
+        if a.kind == StudyKind::Drift {
+            crate::study::drift::default_methods()
+        } else {
+            Method::ALL.to_vec()
+        }
     });
     if methods.is_empty() {
         let origin = match &a.config {
