@@ -473,7 +473,7 @@ mod numerics {
                     .fold(0.0f64, f64::max)
             };
             for m in Method::ALL {
-                if m.info().family == physlab::integrate::Family::Adaptive {
+                if m.info().adaptive() {
                     continue;
                 }
                 let order = m.info().order_for(damped);

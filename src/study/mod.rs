@@ -24,7 +24,7 @@ pub use orders::{
 
 use std::time::Instant;
 
-use crate::integrate::{Family, Integrator, Method, MethodOptions, SecondOrderSystem};
+use crate::integrate::{Integrator, Method, MethodOptions, SecondOrderSystem};
 use crate::scene::params::{self, Invalid};
 use crate::scene::pendulum::reference::{ExactPendulum, FineStepReference};
 use crate::scene::pendulum::{Pendulum, PendulumParams};
@@ -49,7 +49,7 @@ impl Problem {
     pub fn velocity_dependent(&self) -> bool {
         match self {
             Problem::Pendulum(_) => false,
-            Problem::Rope(p) => p.spring_damping != 0.0 || p.air_drag != 0.0,
+            Problem::Rope(p) => p.velocity_dependent(),
         }
     }
 
@@ -421,7 +421,7 @@ pub fn sweep(problem: &Problem, s: &Sweep) -> (Vec<Row>, f64) {
         });
     };
     for &m in &s.methods {
-        if m.info().family == Family::Adaptive {
+        if m.info().adaptive() {
             // Adaptive: it is asked for the sample times only and chooses its steps itself.
             for &rtol in &s.rtols {
                 if stop() {
