@@ -359,7 +359,8 @@ registry! {
                  v += h (g1 + 4 g2 + g3)/6",
         notes: "Forces of position alone: refused where they depend on the velocity (the rope's \
                 --spring-damping or --air-drag above 0). Stable for h below the root of \
-                4 - h^2 + h^4/12 - h^6/288 = 0; it damps (det = 1 - h^6/288).",
+                4 - h^2 + h^4/12 - h^6/288 = 0; it damps (det = 1 - h^6/288). On the pendulum \
+                (dt 0.01 s, 20 s) 4.5e-9 rad for 6000 evaluations, where rk4 gets 1.3e-8 for 8000.",
         default: false,
     },
     /// Dormand–El-Mikkawy–Prince RKN6(4)6FD, adaptive, for x'' = a(x).
@@ -378,7 +379,8 @@ registry! {
                  rtol (abs(y) + 1); the state at each dt from its continuous extension",
         notes: "Forces of position alone (refused with velocity-dependent ones). 5 evaluations \
                 per step (FSAL); its dense output is free, order 6 in x and 5 in v. Its steps do \
-                not end on the dt grid.",
+                not end on the dt grid. Good to 1e-8; below, dprkn12 is far cheaper (pendulum, study \
+                work-precision: 2486 evaluations for 1.1e-13 where dprkn12 spends 729 for 3.1e-13).",
         default: false,
     },
     /// Dormand–El-Mikkawy–Prince RKN12(10)17M, adaptive, for x'' = a(x).
@@ -400,7 +402,8 @@ registry! {
                 per step. The pair has no dense output of its own: a Hermite-Birkhoff \
                 interpolant through x, v, a at both ends and a at 1/6 .. 5/6 of the step (+5 \
                 evaluations, bootstrapped from its stages) gives x to order 10, v to order 9. Its \
-                steps do not end on the dt grid.",
+                steps do not end on the dt grid. The cheapest at 1e-9 and below on the pendulum \
+                (study work-precision: 729 evaluations for 3.1e-13, vern9 1548 for 2.6e-13).",
         default: false,
     },
 }

@@ -53,6 +53,16 @@ impl Problem {
         }
     }
 
+    /// The methods that accept its forces: all, or without a velocity-dependent force those that
+    /// need forces of position alone (the Nyström methods) left out.
+    pub fn methods(&self) -> Vec<Method> {
+        let v = self.velocity_dependent();
+        Method::ALL
+            .into_iter()
+            .filter(|m| !v || m.info().accepts_velocity_dependent())
+            .collect()
+    }
+
     /// The angular frequency stability theory is stated in: sqrt(g/L) for the pendulum (its
     /// small-angle frequency), the pinned-free chain's highest mode for the rope.
     pub fn omega(&self) -> f64 {
@@ -116,14 +126,14 @@ pub fn default_rtols() -> Vec<f64> {
 }
 
 impl Sweep {
-    /// The study's default sweep of `problem`: every method, its default schedule.
+    /// The study's default sweep of `problem`: every method it accepts, its default schedule.
     pub fn defaults(problem: &Problem) -> Self {
         let (dt0, duration) = default_schedule(problem);
         Sweep {
             dt0,
             levels: DEFAULT_LEVELS,
             duration,
-            methods: Method::ALL.to_vec(),
+            methods: problem.methods(),
             options: MethodOptions::default(),
             repeats: DEFAULT_REPEATS,
             rtols: default_rtols(),

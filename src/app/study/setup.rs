@@ -116,10 +116,7 @@ pub(super) fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), E
             given
         }
         (_, Some(given)) => given,
-        (problem, None) => Method::ALL
-            .into_iter()
-            .filter(|m| !problem.velocity_dependent() || m.info().accepts_velocity_dependent())
-            .collect(),
+        (problem, None) => problem.methods(),
     };
     if methods.is_empty() {
         let origin = match &a.config {
