@@ -32,6 +32,8 @@
 //! with order 11 (10 evaluations) 4.6e-14. Generated with exact rational arithmetic from the
 //! tableau above.
 //!
+//! Everything below the header is written by `tools/rkn_tables.py` from OrdinaryDiffEq's file.
+//!
 //! Layout: ā rows as slices (row s holds ā_sj for j < s); polynomial weights PX[k][i] as the
 //! coefficient of θ^k in B̄_i(θ), PV[k][i] in B_i(θ).
 
