@@ -81,6 +81,17 @@ fn literature_limit(m: Method) -> Option<f64> {
         Method::Rk4 => Some(2.0 * 2f64.sqrt()),
         // The double nearest 1.5734019474345400566.
         Method::Yoshida4 => Some(1.573_401_947_434_54),
+        // Nyström's order 4: tr = 2 - h² + h⁴/12 and det = 1 - h⁶/288 on x'' = -x; an
+        // eigenvalue leaves the unit disc at -1, where 1 + tr + det = 0 (bisected here).
+        Method::Rkn4 => {
+            let f = |h: f64| 4.0 - h * h + h.powi(4) / 12.0 - h.powi(6) / 288.0;
+            let (mut lo, mut hi) = (2.5, 2.7);
+            for _ in 0..200 {
+                let mid = 0.5 * (lo + hi);
+                if f(mid) > 0.0 { lo = mid } else { hi = mid }
+            }
+            Some(lo)
+        }
         _ => None,
     }
 }
@@ -96,10 +107,20 @@ fn literature_limit(m: Method) -> Option<f64> {
 ///   is quadratic in ln(10⁴)/steps, 2.7e-6 for Verlet (measured 3.06e-6 and 2.92e-6; Yoshida-4
 ///   2.76e-6 and 2.63e-6; semi-implicit Euler 2.0e-7 and 1.4e-7).
 ///
-/// Bounds: RK4 1e-3, symplectic 1e-5. Below the limit every run is bounded, so the measured
-/// limit may not fall short of theory by more than the bisection's resolution (1e-9 allowed).
+/// - rkn4 (a real eigenvalue crosses -1 linearly, d|λ|/dh = 1.747 at h = 2.5865): 1.02e-3
+///   relative at 2000 steps (measured 1.1e-3 on both).
+///
+/// Bounds: RK4 1e-3, rkn4 1.5e-3, symplectic 1e-5. Below the limit every run is bounded, so the
+/// measured limit may not fall short of theory by more than the bisection's resolution (1e-9
+/// allowed).
 fn allowed_overshoot(m: Method) -> f64 {
-    if m.info().symplectic { 1e-5 } else { 1e-3 }
+    if m.info().symplectic {
+        1e-5
+    } else if m == Method::Rkn4 {
+        1.5e-3
+    } else {
+        1e-3
+    }
 }
 
 /// The conditionally stable methods' measured limits against the literature (above), on the
