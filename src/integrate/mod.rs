@@ -145,7 +145,7 @@ impl Integrator {
         // x, v; the adaptive pairs keep y and y_old (2 vectors each), the stages, a trial
         // state and the dense-output rows, all over (x, v).
         fn dense<P: dense::Pair>() -> usize {
-            2 * (2 + P::K_ROWS + 1 + P::CONT_ROWS)
+            2 * (2 + 1 + P::CONT_ROWS) + P::K_ROWS * dense::row_width::<P>(2)
         }
         let scratch = match method {
             Method::ExplicitEuler | Method::SemiImplicitEuler => 1,

@@ -6,9 +6,8 @@
 //! that depends on the velocity they would be wrong (the velocity passed to a stage is the
 //! step's first), so the scenes refuse them there (`MethodInfo::accepts_velocity_dependent`).
 //!
-//! `Rkn4` is fixed-step; the embedded pairs are [`Pair`]s of the shared driver (`dense.rs`):
-//! their stage rows hold (·, g) in the driver's (v, a) layout, so that the driver's first
-//! stage and first-same-as-last evaluations land where the pairs read them.
+//! `Rkn4` is fixed-step; the embedded pairs are [`Pair`]s of the shared driver (`dense.rs`)
+//! whose stage rows hold the acceleration alone (`Pair::ACCELERATION_ROWS`).
 
 use super::dense::{Core, Pair, Width};
 use super::rkn_tables as t;
@@ -83,7 +82,7 @@ pub(crate) trait RknTableau {
     const EXPONENT: f64;
 }
 
-/// Stage `s`: row s of `k` gets (·, a(x_s)), x_s = x + c_s h v + h² Σ_{j<s} ā_sj g_j from
+/// Stage `s`: row s of `k` (n wide) gets a(x_s), x_s = x + c_s h v + h² Σ_{j<s} ā_sj g_j from
 /// `base` = (x, v). The velocity passed to the force is v (a(x) does not read it).
 #[inline(always)]
 fn rkn_stage<S: SecondOrderSystem, T: RknTableau, W: Width>(
@@ -98,16 +97,16 @@ fn rkn_stage<S: SecondOrderSystem, T: RknTableau, W: Width>(
     let n2 = w.get();
     let n = n2 / 2;
     let (a, cs) = (T::A[s], T::C[s]);
-    let (done, rest) = k.split_at_mut(s * n2);
+    let (done, rest) = k.split_at_mut(s * n);
     let (x, v) = (&base[..n], &base[n..n2]);
     for i in 0..n {
         let mut acc = 0.0;
         for (j, aj) in a.iter().enumerate() {
-            acc += aj * done[j * n2 + n + i];
+            acc += aj * done[j * n + i];
         }
         xs[i] = x[i] + h * (cs * v[i] + h * acc);
     }
-    sys.acceleration(&xs[..n], v, &mut rest[n..n2]);
+    sys.acceleration(&xs[..n], v, &mut rest[..n]);
 }
 
 /// An embedded RKN pair on the shared driver. Error per step: the two solutions' difference in
@@ -119,6 +118,7 @@ pub struct Nystrom<T>(std::marker::PhantomData<T>);
 
 impl<T: RknTableau> Pair for Nystrom<T> {
     const K_ROWS: usize = T::STAGES + T::DENSE_STAGES;
+    const ACCELERATION_ROWS: bool = true;
     const FSAL_ROW: usize = if T::FSAL { T::STAGES - 1 } else { T::STAGES };
     const FSAL_IN_TRIAL: bool = T::FSAL;
     const CONT_ROWS: usize = T::PX.len();
@@ -136,26 +136,25 @@ impl<T: RknTableau> Pair for Nystrom<T> {
             rkn_stage::<S, T, W>(sys, w, &mut c.k, &mut c.yt, &c.y, s, h);
         }
         let rtol = c.rtol;
-        let (y, ynew, k) = (&c.y[..n2], &mut c.y_old[..n2], &c.k[..T::STAGES * n2]);
+        let (y, ynew, k) = (&c.y[..n2], &mut c.y_old[..n2], &c.k[..T::STAGES * n]);
         // The new position (the FSAL stage's argument, same arithmetic as `rkn_stage`).
         for i in 0..n {
             let mut acc = 0.0;
             for j in 0..last {
-                acc += T::BBAR[j] * k[j * n2 + n + i];
+                acc += T::BBAR[j] * k[j * n + i];
             }
             ynew[i] = y[i] + h * (y[n + i] + h * acc);
         }
         if T::FSAL {
             let (x1, v) = (&ynew[..n], &y[n..n2]);
-            let row = &mut c.k[last * n2..(last + 1) * n2];
-            sys.acceleration(x1, v, &mut row[n..]);
+            sys.acceleration(x1, v, &mut c.k[last * n..(last + 1) * n]);
         }
-        let k = &c.k[..T::STAGES * n2];
+        let k = &c.k[..T::STAGES * n];
         let mut err2 = 0.0;
         for i in 0..n {
             let (mut bv, mut ex, mut ev) = (0.0, 0.0, 0.0);
             for j in 0..T::STAGES {
-                let g = k[j * n2 + n + i];
+                let g = k[j * n + i];
                 bv += T::B[j] * g;
                 ex += T::EBAR[j] * g;
                 ev += T::E[j] * g;
@@ -184,17 +183,17 @@ impl<T: RknTableau> Pair for Nystrom<T> {
         }
         let rows = Self::CONT_ROWS;
         let (k, cont, y0) = (
-            &c.k[..Self::K_ROWS * n2],
+            &c.k[..Self::K_ROWS * n],
             &mut c.cont[..rows * n2],
             &c.y_old[..n2],
         );
         for i in 0..n {
-            let g0 = k[n + i];
+            let g0 = k[i];
             for p in 0..rows {
                 let (mut rx, mut rv) = (0.0, 0.0);
                 let (px, pv) = (T::PX[p], T::PV[p]);
                 for j in 1..Self::K_ROWS {
-                    let d = k[j * n2 + n + i] - g0;
+                    let d = k[j * n + i] - g0;
                     rx += px[j] * d;
                     rv += pv[j] * d;
                 }
