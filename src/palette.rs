@@ -23,6 +23,9 @@ pub fn method_color(name: &str) -> [u8; 3] {
         "dopri5" => [255, 190, 150],
         "dop853" => [160, 200, 255],
         "vern9" => [130, 255, 170],
+        "rkn4" => [150, 75, 0],
+        "dprkn6" => [0, 255, 0],
+        "dprkn12" => [0, 0, 255],
         "exact" | "reference" => [220, 220, 220],
         // A name without a colour of its own still gets a distinct, stable one.
         other => {

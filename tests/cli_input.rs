@@ -455,6 +455,42 @@ const REFUSALS: &[(&[&str], i32, &[&str])] = &[
         &["--air-drag 1e7: must be between 0"],
     ),
     (&["rope", "--dt", "1e-12"], 2, &["--dt 1e-12"]),
+    // The Nyström methods need forces of position alone: the default rope's damping and drag
+    // make them depend on velocity.
+    (
+        &["rope", "--methods", "verlet,dprkn6"],
+        2,
+        &[
+            "--methods dprkn6: dprkn6 needs forces of position alone; the rope's \
+              --spring-damping 0.05 and --air-drag 0.01 make them depend on velocity; set both \
+              to 0 or pick another method",
+        ],
+    ),
+    (
+        &["rope", "--methods", "rkn4", "--spring-damping", "0"],
+        2,
+        &[
+            "--methods rkn4: rkn4 needs forces of position alone; the rope's --air-drag 0.01 makes them depend on velocity; set it to 0",
+        ],
+    ),
+    (
+        &[
+            "study",
+            "convergence",
+            "--scene",
+            "rope",
+            "--spring-damping",
+            "4",
+            "--air-drag",
+            "0.02",
+            "--methods",
+            "rk4,dprkn12",
+        ],
+        2,
+        &[
+            "--methods dprkn12: dprkn12 needs forces of position alone; the rope's --spring-damping 4 and --air-drag 0.02 make them depend on velocity",
+        ],
+    ),
     // hair
     (
         &["hair", "--methods", "rk4"],

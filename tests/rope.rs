@@ -515,7 +515,8 @@ mod numerics {
                     .fold(0.0f64, f64::max)
             };
             for m in Method::ALL {
-                if m.info().family == physlab::integrate::Family::Adaptive {
+                // The Nyström methods refuse velocity-dependent forces (order 0 there).
+                if m.info().adaptive() || (damped && !m.info().accepts_velocity_dependent()) {
                     continue;
                 }
                 let order = m.info().order_for(damped);

@@ -131,6 +131,17 @@ fn literature_limit(m: Method) -> Option<f64> {
         Method::Yoshida6 => Some(2.269_057_996_397_659_6),
         Method::KahanLi8 => Some(3.096_438_680_000_732),
         Method::Sofroniou10 => Some(3.141_081_862_896_623_3),
+        // Nyström's order 4: tr = 2 - h² + h⁴/12 and det = 1 - h⁶/288 on x'' = -x; an
+        // eigenvalue leaves the unit disc at -1, where 1 + tr + det = 0 (bisected here).
+        Method::Rkn4 => {
+            let f = |h: f64| 4.0 - h * h + h.powi(4) / 12.0 - h.powi(6) / 288.0;
+            let (mut lo, mut hi) = (2.5, 2.7);
+            for _ in 0..200 {
+                let mid = 0.5 * (lo + hi);
+                if f(mid) > 0.0 { lo = mid } else { hi = mid }
+            }
+            Some(lo)
+        }
         _ => None,
     }
 }
@@ -151,13 +162,17 @@ fn literature_limit(m: Method) -> Option<f64> {
 ///   pendulum), and sofroniou10's gap past its limit is too shallow to show at all in 2000 steps
 ///   (its largest growth there, 3.7e-4 per step, needs 25000): the study says so, and
 ///   `sofroniou10_limit_shows_in_longer_runs` measures it.
+/// - rkn4 (a real eigenvalue crosses -1 linearly, d|λ|/dh = 1.747 at h = 2.5865): 1.02e-3
+///   relative at 2000 steps (measured 1.1e-3 on both).
 ///
-/// Bounds: RK4 and the orders 6 to 10 1e-3 (0.1 %), the other symplectic ones 1e-5. Below the
-/// limit every run is bounded, so the measured limit may not fall short of theory by more than
-/// the bisection's resolution (1e-9 allowed).
+/// Bounds: RK4 and the orders 6 to 10 1e-3 (0.1 %), rkn4 1.5e-3, the other symplectic ones
+/// 1e-5. Below the limit every run is bounded, so the measured limit may not fall short of
+/// theory by more than the bisection's resolution (1e-9 allowed).
 fn allowed_overshoot(m: Method) -> f64 {
     if m.info().symplectic && m.info().order <= 4 {
         1e-5
+    } else if m == Method::Rkn4 {
+        1.5e-3
     } else {
         1e-3
     }
@@ -620,6 +635,7 @@ fn drift_exponents_match_the_theory_of_symplectic_and_other_methods() {
         ("midpoint", 1.0, 2.0),
         ("trapezoid", 1.0, 2.0),
         ("rk4", 1.0, 2.0),
+        ("rkn4", 1.0, 2.0),
     ];
     for (method, energy_theory, phase_theory) in expected {
         let rows: Vec<Vec<f64>> = text

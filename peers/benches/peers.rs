@@ -299,7 +299,15 @@ fn main() {
     for j in 0..=9 {
         let per = 1usize << j;
         let h = SAMPLE_DT / per as f64;
-        for m in [Method::Rk4, Method::Yoshida4, Method::Verlet] {
+        for m in [
+            Method::Rk4,
+            Method::Yoshida4,
+            Method::Verlet,
+            Method::Rkn4,
+            Method::Yoshida6,
+            Method::KahanLi8,
+            Method::Sofroniou10,
+        ] {
             results.push(measure(
                 "physlab-".to_string().leak_name(m),
                 format!("h {h:.1e}"),
@@ -315,7 +323,13 @@ fn main() {
         ));
     }
     for &tol in &tols {
-        for m in [Method::Dopri5, Method::Dop853, Method::Vern9] {
+        for m in [
+            Method::Dopri5,
+            Method::Dop853,
+            Method::Vern9,
+            Method::Dprkn6,
+            Method::Dprkn12,
+        ] {
             let options = MethodOptions {
                 rtol: tol,
                 ..MethodOptions::default()

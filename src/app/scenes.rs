@@ -8,7 +8,7 @@ use super::progress::Progress;
 use super::{Ran, SceneFile, run_scene};
 use crate::cli::{HairArgs, PendulumArgs, RopeArgs, RunArgs, StepFlags};
 use crate::error::Error;
-use crate::integrate::{EvalsPerStep, Method, composition_weights};
+use crate::integrate::{Method, composition_weights};
 use crate::record::scene::{Draw, SceneRecorder};
 use crate::record::{self, SceneViews, Staging};
 use crate::report;
@@ -324,9 +324,7 @@ impl StepFlags {
             MethodFlag::new("--verlet-damping", self.verlet_damping.is_some(), |m| {
                 m == Method::Verlet
             }),
-            MethodFlag::new("--rtol", self.rtol.is_some(), |m| {
-                matches!(m.info().evals_per_step, EvalsPerStep::Adaptive(_))
-            }),
+            MethodFlag::new("--rtol", self.rtol.is_some(), |m| m.info().adaptive()),
             MethodFlag::new("--compensated", self.compensated, |m| {
                 composition_weights(m).is_some()
             }),

@@ -37,6 +37,9 @@ impl Width for Dynamic {
 pub(crate) trait Pair {
     /// Rows of stage derivatives kept (the step's and the interpolant's extra stages).
     const K_ROWS: usize;
+    /// Whether a row holds the acceleration a alone (n wide: the Nyström pairs, whose stages
+    /// need nothing else) instead of f = (v, a) (2n wide).
+    const ACCELERATION_ROWS: bool = false;
     /// The row that holds f(y_new) after an accepted step (the next step's first stage).
     const FSAL_ROW: usize;
     /// Whether `trial` evaluates f(y_new) itself (into the FSAL row), because its error estimate
@@ -76,7 +79,8 @@ pub(crate) struct Core {
     /// The state at the start of the last accepted step (time `t_old`); the trial y_new while a
     /// step is attempted.
     pub y_old: Vec<f64>,
-    /// K_ROWS stage derivatives × n2: k[s] = f(stage s) = (v, a).
+    /// K_ROWS stage derivatives × n2: k[s] = f(stage s) = (v, a); or K_ROWS × n accelerations
+    /// (`Pair::ACCELERATION_ROWS`).
     pub k: Vec<f64>,
     /// A stage's argument.
     pub yt: Vec<f64>,
@@ -141,6 +145,23 @@ pub(crate) fn eval<S: SecondOrderSystem, W: Width>(sys: &S, w: W, y: &[f64], k: 
     sys.acceleration(&y[..n], &y[n..], &mut k[n..]);
 }
 
+/// The width of a stage row of pair `P` for a state of n2 components.
+#[inline(always)]
+pub(crate) const fn row_width<P: Pair>(n2: usize) -> usize {
+    if P::ACCELERATION_ROWS { n2 / 2 } else { n2 }
+}
+
+/// A stage row of pair `P` at y: f(y) = (v, a), or a alone.
+#[inline(always)]
+fn eval_row<P: Pair, S: SecondOrderSystem, W: Width>(sys: &S, w: W, y: &[f64], k: &mut [f64]) {
+    if P::ACCELERATION_ROWS {
+        let n = w.get() / 2;
+        sys.acceleration(&y[..n], &y[n..2 * n], &mut k[..n]);
+    } else {
+        eval(sys, w, y, k);
+    }
+}
+
 /// Row `r` of k = f(base + h Σ_{j<r} a[j] k_j), `a` the first r coefficients of the tableau's
 /// row r (r = a.len()). (Measured: a version
 /// with the row as a const generic, fully unrolled and with the zero coefficients dropped at
@@ -188,7 +209,7 @@ impl<P: Pair> DenseRk<P> {
                 n2: 2 * n,
                 y_old: y.clone(),
                 y,
-                k: vec![0.0; P::K_ROWS * 2 * n],
+                k: vec![0.0; P::K_ROWS * row_width::<P>(2 * n)],
                 yt: vec![0.0; 2 * n],
                 cont: vec![0.0; P::CONT_ROWS * 2 * n],
                 dense_ready: false,
@@ -220,13 +241,13 @@ impl<P: Pair> DenseRk<P> {
         h: f64,
     ) -> Option<bool> {
         let c = &mut self.core;
-        let n2 = w.get();
+        let r = row_width::<P>(w.get());
         match c.fsal {
             0 => {
-                eval(sys, w, &c.y, &mut c.k[..n2]);
+                eval_row::<P, S, W>(sys, w, &c.y, &mut c.k[..r]);
                 *evals += 1;
             }
-            2 => c.k.copy_within(P::FSAL_ROW * n2..(P::FSAL_ROW + 1) * n2, 0),
+            2 => c.k.copy_within(P::FSAL_ROW * r..(P::FSAL_ROW + 1) * r, 0),
             _ => {}
         }
         c.fsal = 1;
@@ -248,11 +269,11 @@ impl<P: Pair> DenseRk<P> {
             // f(y_new): the dense output's last stage and the next step's first.
             if !P::FSAL_IN_TRIAL {
                 let (y_new, k) = (&c.y_old, &mut c.k);
-                eval(
+                eval_row::<P, S, W>(
                     sys,
                     w,
                     y_new,
-                    &mut k[P::FSAL_ROW * n2..(P::FSAL_ROW + 1) * n2],
+                    &mut k[P::FSAL_ROW * r..(P::FSAL_ROW + 1) * r],
                 );
                 *evals += 1;
             }

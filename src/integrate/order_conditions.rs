@@ -51,10 +51,10 @@ fn trees(max_order: usize) -> Vec<Tree> {
 /// A double-double number hi + lo (|lo| ≤ ulp(hi)/2): about 32 significant digits, enough to
 /// evaluate the order conditions on the f64 coefficients with no rounding of their own.
 #[derive(Clone, Copy, Debug, Default)]
-struct Dd(f64, f64);
+pub(super) struct Dd(f64, f64);
 
 impl Dd {
-    fn from(x: f64) -> Dd {
+    pub(super) fn from(x: f64) -> Dd {
         Dd(x, 0.0)
     }
     /// Knuth's error-free sum.
@@ -67,25 +67,25 @@ impl Dd {
         let s = self.0 + self.1;
         Dd(s, self.1 - (s - self.0))
     }
-    fn add(self, o: Dd) -> Dd {
+    pub(super) fn add(self, o: Dd) -> Dd {
         let s = Dd::two_sum(self.0, o.0);
         Dd(s.0, s.1 + self.1 + o.1).norm()
     }
     /// Error-free product through the fused multiply-add.
-    fn mul(self, o: Dd) -> Dd {
+    pub(super) fn mul(self, o: Dd) -> Dd {
         let p = self.0 * o.0;
         let e = self.0.mul_add(o.0, -p);
         Dd(p, e + self.0 * o.1 + self.1 * o.0).norm()
     }
-    fn neg(self) -> Dd {
+    pub(super) fn neg(self) -> Dd {
         Dd(-self.0, -self.1)
     }
     /// 1/g for an integer-valued g (exact to double-double).
-    fn recip(g: f64) -> Dd {
+    pub(super) fn recip(g: f64) -> Dd {
         let q = 1.0 / g;
         Dd(q, (-q).mul_add(g, 1.0) / g)
     }
-    fn to_f64(self) -> f64 {
+    pub(super) fn to_f64(self) -> f64 {
         self.0 + self.1
     }
 }

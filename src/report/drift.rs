@@ -98,7 +98,7 @@ pub fn drift_table(runs: &[Drift], command: Option<(&str, f64)>) -> String {
         // A method whose energy error stays near f64's resolution measures its round-off, not
         // its truncation, which the theory speaks of.
         let round_off = last.is_some_and(|c| c.energy < ROUND_OFF);
-        let adaptive = info.family == crate::integrate::Family::Adaptive;
+        let adaptive = info.adaptive();
         let mut row = vec![
             r.method.name().to_string(),
             if info.symplectic { "yes" } else { "no" }.into(),

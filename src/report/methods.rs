@@ -28,7 +28,11 @@ pub fn methods_table() -> String {
         table.row([
             i.name.to_string(),
             i.order.to_string(),
-            i.order_velocity_dependent.to_string(),
+            if i.accepts_velocity_dependent() {
+                i.order_velocity_dependent.to_string()
+            } else {
+                "refused".into()
+            },
             if i.implicit { "implicit" } else { "explicit" }.to_string(),
             if i.symplectic { "yes" } else { "no" }.to_string(),
             match i.evals_per_step {
@@ -42,7 +46,8 @@ pub fn methods_table() -> String {
     let mut out = table.render();
     let legend = "stable ω dt: on the undamped oscillator x'' = −ω²x. evals/step: force evaluations; \
                   Newton: 1 force + 1 Jacobian per Newton iteration (+1 force: the pendulum's \
-                  guess); adaptive: per step of its own (below).";
+                  guess); adaptive: per step of its own (below). a(x,v) refused: the method needs forces of \
+                  position alone.";
     out.push('\n');
     for line in wrap(legend, WIDTH) {
         out.push_str(&line);

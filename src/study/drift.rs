@@ -32,7 +32,7 @@ pub const DEFAULT_PERIODS: f64 = 1e5;
 /// round-off at the default step; name them to see it).
 pub fn default_methods() -> Vec<Method> {
     (Method::ALL.into_iter())
-        .filter(|m| m.info().family != crate::integrate::Family::Adaptive && m.info().order <= 4)
+        .filter(|m| !m.info().adaptive() && m.info().order <= 4)
         .collect()
 }
 

@@ -28,7 +28,7 @@ pub use roundoff::{energy_error_rms, growth_exponent};
 
 use std::time::Instant;
 
-use crate::integrate::{Family, Integrator, Method, MethodOptions, SecondOrderSystem};
+use crate::integrate::{Integrator, Method, MethodOptions, SecondOrderSystem};
 use crate::scene::params::{self, Invalid};
 use crate::scene::pendulum::reference::{ExactPendulum, FineStepReference};
 use crate::scene::pendulum::{Pendulum, PendulumParams};
@@ -53,8 +53,18 @@ impl Problem {
     pub fn velocity_dependent(&self) -> bool {
         match self {
             Problem::Pendulum(_) => false,
-            Problem::Rope(p) => p.spring_damping != 0.0 || p.air_drag != 0.0,
+            Problem::Rope(p) => p.velocity_dependent(),
         }
+    }
+
+    /// The methods that accept its forces: all, or without a velocity-dependent force those that
+    /// need forces of position alone (the Nyström methods) left out.
+    pub fn methods(&self) -> Vec<Method> {
+        let v = self.velocity_dependent();
+        Method::ALL
+            .into_iter()
+            .filter(|m| !v || m.info().accepts_velocity_dependent())
+            .collect()
     }
 
     /// The angular frequency stability theory is stated in: sqrt(g/L) for the pendulum (its
@@ -120,14 +130,14 @@ pub fn default_rtols() -> Vec<f64> {
 }
 
 impl Sweep {
-    /// The study's default sweep of `problem`: every method, its default schedule.
+    /// The study's default sweep of `problem`: every method it accepts, its default schedule.
     pub fn defaults(problem: &Problem) -> Self {
         let (dt0, duration) = default_schedule(problem);
         Sweep {
             dt0,
             levels: DEFAULT_LEVELS,
             duration,
-            methods: Method::ALL.to_vec(),
+            methods: problem.methods(),
             options: MethodOptions::default(),
             repeats: DEFAULT_REPEATS,
             rtols: default_rtols(),
@@ -425,7 +435,7 @@ pub fn sweep(problem: &Problem, s: &Sweep) -> (Vec<Row>, f64) {
         });
     };
     for &m in &s.methods {
-        if m.info().family == Family::Adaptive {
+        if m.info().adaptive() {
             // Adaptive: it is asked for the sample times only and chooses its steps itself.
             for &rtol in &s.rtols {
                 if stop() {

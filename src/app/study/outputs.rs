@@ -3,7 +3,6 @@
 
 use super::Error;
 use crate::cli::{StudyArgs, StudyKind};
-use crate::integrate::Family;
 use crate::study::Sweep;
 
 /// Where the study's recording went; on stderr when standard output carries a file.
@@ -27,7 +26,7 @@ pub(super) fn interrupted_error(
     done: usize,
     complete: bool,
 ) -> anyhow::Error {
-    let adaptive = |m: &crate::integrate::Method| m.info().family == Family::Adaptive;
+    let adaptive = |m: &crate::integrate::Method| m.info().adaptive();
     let (planned, what) = match a.kind {
         StudyKind::Stability => (sw.methods.len(), "methods' limits"),
         _ => (

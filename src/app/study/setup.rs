@@ -108,13 +108,18 @@ pub(super) fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), E
     let file_dt = from_file("dt").and_then(|v| v.as_float());
     let file_duration = from_file("duration").and_then(|v| v.as_float());
     let file_methods: Option<Vec<Method>> = from_file("methods").and_then(|v| v.try_into().ok());
-    let methods = a.methods.clone().or(file_methods).unwrap_or_else(|| {
-        if a.kind == StudyKind::Drift {
-            crate::study::drift::default_methods()
-        } else {
-            Method::ALL.to_vec()
+    let given = a.methods.clone().or(file_methods);
+    // By default every method that accepts the problem's forces (the drift study: its own
+    // set); named ones are checked.
+    let methods = match (&problem, given) {
+        (Problem::Rope(p), Some(given)) => {
+            crate::scene::rope::run::refuse_position_only_methods(p, &given)?;
+            given
         }
-    });
+        (_, Some(given)) => given,
+        (_, None) if a.kind == StudyKind::Drift => crate::study::drift::default_methods(),
+        (problem, None) => problem.methods(),
+    };
     if methods.is_empty() {
         let origin = match &a.config {
             Some(path) if a.methods.is_none() => {
@@ -128,11 +133,7 @@ pub(super) fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), E
         )));
     }
     // Tolerances only an adaptive method takes: without one they would be ignored.
-    if a.rtol.is_some()
-        && !methods
-            .iter()
-            .any(|m| m.info().family == crate::integrate::Family::Adaptive)
-    {
+    if a.rtol.is_some() && !methods.iter().any(|m| m.info().adaptive()) {
         return Err(Error::Usage(format!(
             "--rtol: no adaptive method among --methods ({}) takes a tolerance; add one or drop --rtol",
             methods
@@ -172,10 +173,7 @@ pub(super) fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), E
         Problem::Pendulum(_) => String::new(),
         Problem::Rope(p) => format!(" × --nodes {}", p.nodes),
     };
-    let fixed = methods
-        .iter()
-        .filter(|m| m.info().family != crate::integrate::Family::Adaptive)
-        .count() as f64;
+    let fixed = methods.iter().filter(|m| !m.info().adaptive()).count() as f64;
     let work = match a.kind {
         StudyKind::Convergence | StudyKind::WorkPrecision => {
             // The reference (fine and coarse runs, for its error estimate), and every fixed-step

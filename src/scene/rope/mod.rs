@@ -63,6 +63,11 @@ impl Default for RopeParams {
 }
 
 impl RopeParams {
+    /// Whether the forces depend on the velocity: spring damping or air drag above 0.
+    pub fn velocity_dependent(&self) -> bool {
+        self.spring_damping != 0.0 || self.air_drag != 0.0
+    }
+
     /// Rest length of every spring: the initial spacing [m].
     pub fn rest_length(&self) -> f64 {
         (self.end - self.start).length() / (self.nodes - 1) as f64

@@ -103,6 +103,39 @@ impl Default for RopeConfig {
     }
 }
 
+/// Refuses a method that needs forces of position alone (the Nyström methods) on a rope whose
+/// spring damping or air drag makes its forces depend on the velocity.
+pub fn refuse_position_only_methods(p: &RopeParams, methods: &[Method]) -> Result<(), Invalid> {
+    let Some(m) = methods
+        .iter()
+        .find(|m| !m.info().accepts_velocity_dependent())
+    else {
+        return Ok(());
+    };
+    let causes: Vec<String> = [
+        ("--spring-damping", p.spring_damping),
+        ("--air-drag", p.air_drag),
+    ]
+    .into_iter()
+    .filter(|&(_, v)| v != 0.0)
+    .map(|(flag, v)| format!("{flag} {}", params::shown(v)))
+    .collect();
+    let (make, fix) = match causes.len() {
+        0 => return Ok(()),
+        1 => ("makes", "set it to 0"),
+        _ => ("make", "set both to 0"),
+    };
+    Err(Invalid::param(
+        "--methods",
+        m.name(),
+        format!(
+            "{m} needs forces of position alone; the rope's {} {make} them depend on velocity; \
+             {fix} or pick another method",
+            causes.join(" and ")
+        ),
+    ))
+}
+
 /// Nodes beyond which a rope is refused (~1 kB per node per method including the implicit solver).
 pub const MAX_NODES: usize = 10_000_000;
 
@@ -168,6 +201,7 @@ impl params::SceneConfig for RopeConfig {
             &self.methods,
             &Method::names().collect::<Vec<_>>().join(", "),
         )?;
+        refuse_position_only_methods(p, &self.methods)?;
         if !(2..=MAX_NODES).contains(&p.nodes) {
             return Err(Invalid::param(
                 "--nodes",

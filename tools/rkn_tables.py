@@ -1,0 +1,250 @@
+#!/usr/bin/env python3
+"""Writes the body of src/integrate/rkn_tables.rs (after its header) to stdout.
+
+Usage: python3 tools/rkn_tables.py PATH/TO/rkn_tableaus.jl > body.rs
+with OrdinaryDiffEq's lib/OrdinaryDiffEqRKN/src/rkn_tableaus.jl (commit b211787f7b18). Needs mpmath.
+DPRKN12 from its exact rationals (fractions), DPRKN6 from its closed forms in sqrt(8581) (80
+digits), each value rounded once to a double; DPRKN12's dense output built in exact arithmetic
+(FREE: the pair's stages used as interior data, ROUNDS: the bootstrapped points, see the header
+of rkn_tables.rs).
+"""
+import os, re, sys
+from fractions import Fraction as F
+from mpmath import mp, mpf, sqrt
+mp.dps = 80
+src = open(sys.argv[1]).read()
+
+def body(name):
+    i = src.index('function %s(' % name)
+    j = src.index('\nend\n', i)
+    return src[i:j]
+
+def julia_to_py(text, exact=True):
+    t = re.sub(r'parse\(BigInt,\s*"(-?\d+)"\)', r'\1', text)
+    t = re.sub(r'Int64\((-?\d+)\)', r'\1', t)
+    t = re.sub(r'convert\(\s*T2?,', 'cv(', t)
+    t = t.replace('zero(T)', '0').replace('one(T2)', '1').replace('zero(T2)', '0')
+    return t
+
+class M(dict):
+    pass
+
+def dprkn12():
+    b = body('DPRKN12Tableau')
+    lines = b.split('\n')[1:]  # drop signature
+    code = '\n'.join(l for l in lines if not l.strip().startswith('return') and 'zeros(T' not in l)
+    code = julia_to_py(code)
+    # integer literals -> Fraction, // -> /
+    code = re.sub(r'(?<![\w.])(\d+)(?![\w.])', r'F(\1)', code)
+    code = code.replace('//', '/')
+    code = code.replace('T2[', '[').replace(';', '\n')
+    # dedent
+    code = '\n'.join(l.strip() for l in code.split('\n'))
+    # join continuation lines: execute via compile of the whole text inside brackets is fine in python
+    env = {'F': F, 'cv': lambda x: x, 'a': M()}
+    exec(code, env)
+    a = env['a']
+    A = [[F(0)] * 17 for _ in range(17)]
+    for (i, j), v in a.items():
+        A[int(i) - 1][int(j) - 1] = v
+    c = [F(0)] + env['c']
+    return dict(A=A, c=c, b=env['b'], bp=env['bp'], btilde=env['btilde'], bptilde=env['bptilde'])
+
+
+def body_at(marker):
+    i = src.index(marker)
+    j = src.index('\nend\n', i)
+    return src[i:j]
+
+def dprkn6_exact():
+    b = body_at('function DPRKN6Tableau(::Type{T}')
+    lines = b.split('\n')[1:]
+    out = []
+    for l in lines:
+        s = l.strip()
+        if s.startswith('return') or s.startswith('#'):
+            break_ = s.startswith('return')
+            if break_: break
+            continue
+        out.append(s)
+    code = '\n'.join(out)
+    code = code.replace('sqrt(big(8581))', 'sqrt(mpf(8581))')
+    code = julia_to_py(code)
+    code = re.sub(r'(\d)R\b', r'\1*R', code)
+    code = re.sub(r'(\d)\(', r'\1*(', code)
+    code = re.sub(r'(?<![\w.])(\d[\d_]*)(?![\w.(])', lambda m: "mpf(%d)" % int(m.group(1).replace('_', '')), code)
+    code = code.replace('//', '/').replace('T2[', '[')
+    env = {'mpf': mpf, 'sqrt': sqrt, 'cv': lambda x: x}
+    exec(code, env)
+    return env
+
+def dprkn6_floats():
+    b = body_at('function DPRKN6Tableau(T::Type{<:CompiledFloats}')
+    d = {}
+    for m in re.finditer(r'(\w+) = convert\(T2?, ([-\d.e]+)\)', b):
+        d[m.group(1)] = float(m.group(2))
+    return d
+
+from fractions import Fraction as F
+
+def birkhoff(points):
+    """Q(θ) = Σ_k q_k θ^k, degree 5+m, Q(0)=Q'(0)=0: coefficients of Q as linear combos of data
+    [a0, D, E, a1, a_pts...]. Returns list over data of coefficient lists (θ^0..θ^deg)."""
+    m = len(points); deg = 5 + m; nu = deg - 1  # unknowns q2..q_deg
+    rows = []
+    def d2(th):  # Q''(th) row over q2..qdeg
+        return [F(k * (k - 1)) * th ** (k - 2) if k >= 2 else F(0) for k in range(2, deg + 1)]
+    rows.append(d2(F(0)))                                  # a0
+    rows.append([F(1)] * nu)                               # D = Q(1)
+    rows.append([F(k) for k in range(2, deg + 1)])         # E = Q'(1)
+    rows.append(d2(F(1)))                                  # a1
+    for p in points:
+        rows.append(d2(p))
+    n = len(rows)
+    # invert rows (n x n) exactly
+    Mx = [r[:] + [F(int(i == j)) for j in range(n)] for i, r in enumerate(rows)]
+    for col in range(n):
+        piv = next(r for r in range(col, n) if Mx[r][col] != 0)
+        Mx[col], Mx[piv] = Mx[piv], Mx[col]
+        pv = Mx[col][col]
+        Mx[col] = [x / pv for x in Mx[col]]
+        for r in range(n):
+            if r != col and Mx[r][col] != 0:
+                f = Mx[r][col]
+                Mx[r] = [x - f * y for x, y in zip(Mx[r], Mx[col])]
+    inv = [r[n:] for r in Mx]
+    # q = inv @ data ; coefficient of θ^k (k=2..deg) for datum d: inv[k-2][d]
+    return [[F(0), F(0)] + [inv[k - 2][d] for k in range(2, deg + 1)] for d in range(n)]
+
+def ext_weights(nst, bbar, b, fsal, pts_idx, points):
+    """Position weights B̄_i(θ) as coefficient lists over all stages (h² part)."""
+    basis = birkhoff(points)
+    deg = len(basis[0]) - 1
+    W = [[F(0)] * (deg + 1) for _ in range(nst)]
+    def add(i, coeffs, f):
+        for k in range(deg + 1):
+            W[i][k] += f * coeffs[k]
+    add(0, basis[0], 1)
+    for i in range(len(bbar)):
+        add(i, basis[1], bbar[i]); add(i, basis[2], b[i])
+    add(fsal, basis[3], 1)
+    for j, idx in enumerate(pts_idx):
+        add(idx, basis[4 + j], 1)
+    return W
+
+def evalp(cf, th):
+    return sum(c * th ** k for k, c in enumerate(cf))
+
+import os
+from mpmath import mpf, nstr
+from fractions import Fraction as F
+
+def fl(x):
+    if isinstance(x, F):
+        v = float(x)
+    else:
+        v = float(nstr(x, 40, strip_zeros=False))
+    if v == 0:
+        return '0.0'
+    r = repr(v)
+    return r
+
+def rows_lit(name, rows, doc):
+    out = [doc, '#[rustfmt::skip]', 'pub(super) const %s: &[&[f64]] = &[' % name]
+    for r in rows:
+        out.append('    &[%s],' % ', '.join(fl(x) for x in r))
+    out.append('];')
+    return '\n'.join(out)
+
+def vec_lit(name, v, doc, test=False):
+    pre = '#[cfg(test)]\n' if test else ''
+    return '%s%s\n#[rustfmt::skip]\npub(super) const %s: [f64; %d] = [%s];' % (doc, pre, name, len(v), ', '.join(fl(x) for x in v))
+
+def mat_lit(name, m, doc):
+    out = [doc, '#[rustfmt::skip]', 'pub(super) const %s: [[f64; %d]; %d] = [' % (name, len(m[0]), len(m))]
+    for r in m:
+        out.append('    [%s],' % ', '.join(fl(x) for x in r))
+    out.append('];')
+    return '\n'.join(out)
+
+rounds_env = os.environ.get('ROUNDS', '1/6,1/3,1/2,2/3,5/6')
+rounds = [[F(p) for p in r.split(',')] for r in rounds_env.split(';')] if rounds_env else []
+FREE = [int(i) for i in os.environ.get('FREE', '8,10,12').split(',')]
+
+def extend(A, c, bbar, b, s):
+    """Stages 0..s-1 of the pair, the FSAL stage s (a(x1)), then the bootstrapped rounds; the
+    first interpolant uses the pair's own stages FREE (their positions are of local order 7)."""
+    nst = s + 1 + sum(len(r) for r in rounds)
+    Ae = [list(A[i][:i]) for i in range(s)]
+    ce = list(c[:s])
+    Ae.append(list(bbar[:s])); ce.append(F(1))
+    prev_pts, prev_idx = [c[i] for i in FREE], list(FREE)
+    for r in rounds:
+        cur = len(Ae)
+        W = ext_weights(cur, list(bbar) + [F(0)] * (cur - s), list(b) + [F(0)] * (cur - s), s, prev_idx, prev_pts)
+        idx = []
+        for p in r:
+            Ae.append([evalp(W[i], p) for i in range(cur)]); ce.append(p); idx.append(len(Ae) - 1)
+        prev_pts, prev_idx = r, idx
+    W = ext_weights(nst, list(bbar) + [F(0)] * (nst - s), list(b) + [F(0)] * (nst - s), s, prev_idx, prev_pts)
+    return Ae, ce, W
+
+def poly_tables(W, nst):
+    deg = len(W[0]) - 1
+    PX = [[W[i][k] for i in range(nst)] for k in range(deg + 1)]
+    PV = [[k * W[i][k] for i in range(nst)] for k in range(1, deg + 1)] + [[F(0)] * nst]
+    # PV[k] = coefficient of θ^k of dB̄/dθ
+    return PX, PV
+
+t = dprkn12()
+A, c, bbar, b = t['A'], t['c'], t['b'], t['bp']
+Ae, ce, W = extend(A, c, bbar, b, 17)
+nst = len(Ae)
+PX, PV = poly_tables(W, nst)
+ebar = t['btilde']; e = t['bptilde']
+bbh = [x - y for x, y in zip(bbar, ebar)]; bh = [x - y for x, y in zip(b, e)]
+out = []
+out.append(rows_lit('A12', Ae, '/// ā of the 17 stages (row s holds ā_sj, j < s), then of the dense output\'s stages: a(x1)\n/// (row 17, ā = b̄) and the bootstrapped ones (rows 18..).'))
+out.append(vec_lit('C12', ce, '/// c of the same stages.'))
+out.append(vec_lit('BBAR12', bbar, '/// b̄: the 12th-order position weights.'))
+out.append(vec_lit('B12', b, '/// b: the 12th-order velocity weights.'))
+out.append(vec_lit('EBAR12', ebar, '/// b̄ − b̂̄ (exact differences, then rounded): the position error weights.'))
+out.append(vec_lit('E12', e, '/// b − b̂: the velocity error weights.'))
+out.append(vec_lit('BBAR12_HAT', bbh, '/// b̂̄, b̂: the 10th-order embedded weights (checked in the tests).', True))
+out.append(vec_lit('B12_HAT', bh, '', True))
+out.append(rows_lit('PX12', PX, '/// The dense output\'s position weights B̄_i(θ) = Σ_k PX12[k][i] θ^k over every stage.'))
+out.append(rows_lit('PV12', PV, '/// Its velocity weights B_i(θ) = dB̄_i/dθ = Σ_k PV12[k][i] θ^k.'))
+
+e6 = dprkn6_exact()
+g = lambda k: e6.get(k, mpf(0))
+c6 = [mpf(0)] + [e6['c%d' % i] for i in range(1, 6)]
+A6 = [[g('a%d%d' % (i + 1, j + 1)) for j in range(i)] for i in range(6)]
+bbar6 = [g('b%d' % i) for i in range(1, 7)]
+b6 = [g('bp%d' % i) for i in range(1, 7)]
+ebar6 = [g('btilde%d' % i) for i in range(1, 7)]
+e6v = [g('bptilde%d' % i) for i in range(1, 7)]
+bbh6 = [x - y for x, y in zip(bbar6, ebar6)]; bh6 = [x - y for x, y in zip(b6, e6v)]
+# B̄_i(θ) = θ² R_i(θ), B_i(θ) = θ Rp_i(θ): as full polynomials in θ.
+PX6 = [[mpf(0)] * 6 for _ in range(7)]
+PV6 = [[mpf(0)] * 6 for _ in range(7)]
+for i in range(6):
+    for k in range(5):
+        PX6[k + 2][i] = g('r%d%d' % (i + 1, k))
+        PV6[k + 1][i] = g('rp%d%d' % (i + 1, k))
+out.append(rows_lit('A6', A6, '/// ā of the six stages (the last, at c = 1 with ā = b̄, is a(x1): first same as last).'))
+out.append(vec_lit('C6', c6, '/// c of the stages: 0, (209 − √8581)/900, (209 − √8581)/450, (209 + √8581)/450, 9/10, 1.'))
+out.append(vec_lit('BBAR6', bbar6, '/// b̄, b: the 6th-order position and velocity weights.'))
+out.append(vec_lit('B6', b6, ''))
+out.append(vec_lit('EBAR6', ebar6, '/// b̄ − b̂̄ and b − b̂: the error weights (b̂̄, b̂ the 4th-order embedded solution).'))
+out.append(vec_lit('E6', e6v, ''))
+out.append(vec_lit('BBAR6_HAT', bbh6, '/// The embedded weights themselves (checked in the tests).', True))
+out.append(vec_lit('B6_HAT', bh6, '', True))
+out.append(rows_lit('PX6', PX6, '/// The continuous extension: B̄_i(θ) = Σ_k PX6[k][i] θ^k, B_i(θ) = Σ_k PV6[k][i] θ^k.'))
+out.append(rows_lit('PV6', PV6, ''))
+text = '\n\n'.join(out)
+text = re.sub(r'^(///.*)#\[cfg\(test\)\]$', r'\1\n#[cfg(test)]', text, flags=re.M)
+text = text.replace('#[cfg(test)]\n\n', '#[cfg(test)]\n').replace('\n\n#[cfg(test)]', '\n#[cfg(test)]')
+while '\n\n\n' in text:
+    text = text.replace('\n\n\n', '\n\n')
+print(text)
+print('// stages', nst, 'deg', len(PX) - 1, file=sys.stderr)
