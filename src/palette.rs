@@ -17,7 +17,7 @@ pub fn method_color(name: &str) -> [u8; 3] {
         "implicit-euler" => [190, 90, 240],
         "ftl" => [255, 105, 180],
         "yoshida4" => [150, 150, 60],
-        "yoshida6" => [40, 40, 250],
+        "yoshida6" => [255, 255, 165],
         "kahan-li8" => [175, 250, 40],
         "sofroniou10" => [220, 160, 250],
         "dopri5" => [255, 190, 150],
