@@ -131,6 +131,19 @@ const REFUSALS: &[(&[&str], i32, &[&str])] = &[
         &["--theta0 180: `study drift` needs a release from rest with |θ0| < 180°"],
     ),
     (
+        &["study", "drift", "--theta0", "0"],
+        2,
+        &["--theta0 0: `study drift` needs a swing to measure"],
+    ),
+    (
+        &["study", "drift", "--theta0", "1e-300"],
+        2,
+        &[
+            "`study drift` needs a swing to measure",
+            "energy is 0e0 J/kg",
+        ],
+    ),
+    (
         &["study", "drift", "--omega0", "1"],
         2,
         &["--omega0: `study drift` does not use it"],

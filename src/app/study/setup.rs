@@ -252,6 +252,17 @@ fn drift_setup(
                     crate::scene::params::shown(p.theta0.to_degrees())
                 )));
             };
+            // At rest at the bottom (or so near it that E0 is 0 in f64) nothing moves: there
+            // is no energy error to relate to E0 and no crossing to time.
+            if p.initial_energy() <= 0.0 {
+                return Err(Error::Usage(format!(
+                    "--theta0 {}: `study drift` needs a swing to measure; released from rest \
+                     there the pendulum's energy is {:e} J/kg (choose |θ0| between 0° and 180°, \
+                     e.g. 60)",
+                    crate::scene::params::shown(p.theta0.to_degrees()),
+                    p.initial_energy()
+                )));
+            }
             let periods = crate::study::drift::DEFAULT_PERIODS;
             (
                 crate::study::drift::DEFAULT_DT,
