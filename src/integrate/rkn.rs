@@ -109,6 +109,9 @@ fn rkn_stage<S: SecondOrderSystem, T: RknTableau, W: Width>(
     sys.acceleration(&xs[..n], v, &mut rest[..n]);
 }
 
+/// The most rows of dense-output coefficients a pair may have (dprkn12 has the most).
+const MAX_CONT_ROWS: usize = 16;
+
 /// An embedded RKN pair on the shared driver. Error per step: the two solutions' difference in
 /// x (h² Σ (b̄ − b̂̄) g) and v (h Σ (b − b̂) g), each scaled by rtol (max(|y|, |y_new|) + 1),
 /// RMS over the components, as the other pairs; controller 0.9 err^(-α) err_old^0.04 with
@@ -121,7 +124,10 @@ impl<T: RknTableau> Pair for Nystrom<T> {
     const ACCELERATION_ROWS: bool = true;
     const FSAL_ROW: usize = if T::FSAL { T::STAGES - 1 } else { T::STAGES };
     const FSAL_IN_TRIAL: bool = T::FSAL;
-    const CONT_ROWS: usize = T::PX.len();
+    const CONT_ROWS: usize = {
+        assert!(T::PX.len() <= MAX_CONT_ROWS);
+        T::PX.len()
+    };
     const EXPONENT: f64 = T::EXPONENT;
     const BETA: f64 = 0.04;
     const TRIAL_EVALS: u64 = T::STAGES as u64 - 1;
@@ -189,16 +195,20 @@ impl<T: RknTableau> Pair for Nystrom<T> {
         );
         for i in 0..n {
             let g0 = k[i];
-            for p in 0..rows {
-                let (mut rx, mut rv) = (0.0, 0.0);
-                let (px, pv) = (T::PX[p], T::PV[p]);
-                for j in 1..Self::K_ROWS {
-                    let d = k[j * n + i] - g0;
-                    rx += px[j] * d;
-                    rv += pv[j] * d;
+            // Stage by stage into every row's sum at once, so that the rows' sums (independent
+            // chains of dependent additions) run side by side; each row adds its terms in stage
+            // order.
+            let (mut rx, mut rv) = ([0.0; MAX_CONT_ROWS], [0.0; MAX_CONT_ROWS]);
+            for j in 1..Self::K_ROWS {
+                let d = k[j * n + i] - g0;
+                for p in 0..rows {
+                    rx[p] += T::PX[p][j] * d;
+                    rv[p] += T::PV[p][j] * d;
                 }
-                cont[p * n2 + i] = h * h * rx;
-                cont[p * n2 + n + i] = h * rv;
+            }
+            for p in 0..rows {
+                cont[p * n2 + i] = h * h * rx[p];
+                cont[p * n2 + n + i] = h * rv[p];
             }
             cont[i] += y0[i];
             cont[n2 + i] += h * y0[n + i];
