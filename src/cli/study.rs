@@ -26,6 +26,13 @@ pub enum StudyKind {
 }
 
 impl StudyKind {
+    /// The kind as `physlab study KIND` spells it.
+    pub fn name(self) -> String {
+        use clap::ValueEnum as _;
+        self.to_possible_value()
+            .map_or(String::new(), |v| v.get_name().to_string())
+    }
+
     /// What the kind measures and prints, for its own `--help` page.
     pub fn measures(self) -> &'static str {
         match self {
@@ -184,9 +191,7 @@ pub struct StudyArgs {
 /// it measures.
 pub(super) fn study_kind_help(kind: StudyKind) -> clap::Command {
     use clap::ValueEnum as _;
-    let name = kind
-        .to_possible_value()
-        .map_or(String::new(), |v| v.get_name().to_string());
+    let name = kind.name();
     let mut cmd = super::command()
         .find_subcommand("study")
         .cloned()

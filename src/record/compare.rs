@@ -422,7 +422,7 @@ pub struct SeriesDiff {
     pub rows_b: usize,
     /// Rows paired by time (equal `sim_time`, in order within a time).
     pub paired: usize,
-    /// Times that only one of them holds (beyond the compared span, if one was given).
+    /// Times that only one of them holds .
     pub unpaired: usize,
     /// The largest finite |a| in A's series (|b| in B's if A's are all zero): the scale
     /// tolerances are relative to.

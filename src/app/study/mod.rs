@@ -41,8 +41,8 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
         StudyKind::Convergence | StudyKind::WorkPrecision => {
             let (rows, reference_error) = sweep(&problem, &sw);
             done = rows.len();
-            let kind = setup::kind_name(a.kind);
-            out.push_str(&report::sweep_header(&problem, kind, &sw, reference_error));
+            let kind = a.kind.name();
+            out.push_str(&report::sweep_header(&problem, &kind, &sw, reference_error));
             if a.kind == StudyKind::Convergence {
                 out.push_str(&report::orders_table(
                     &rows,
