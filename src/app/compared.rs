@@ -310,14 +310,19 @@ struct Group {
     earliest: Option<EntityLine>,
 }
 
+/// Group lines shown without `-v`: with the verdict, configuration and times, a report stays
+/// under 15 lines.
+const GROUPS_SHOWN: usize = 6;
+
 /// The lines that say what differs: with `verbose` one per entity (identical ones too), else one
-/// per group of entities ([`entity_group`]), the earliest parting first, at most `cap` groups.
+/// per group of entities ([`entity_group`]), the earliest parting first, at most
+/// [`GROUPS_SHOWN`] groups.
 pub(super) fn difference_lines(
     entries: &[EntityLine],
     methods: &BTreeSet<String>,
     verbose: bool,
-    cap: usize,
 ) -> Vec<String> {
+    let cap = GROUPS_SHOWN;
     if verbose {
         return entries
             .iter()

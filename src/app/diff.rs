@@ -19,9 +19,6 @@ use crate::record::compare::{Key, SeriesIndex, StreamSpec, compare_files};
 use crate::record::diff::{DiffPlan, DiffWriter};
 use crate::record::inspect::RecordingInfo;
 
-/// Group lines shown without `-v`: with the verdict, configuration and times, under 15 lines.
-const GROUPS_SHOWN: usize = 6;
-
 pub fn diff_command(args: &DiffArgs) -> anyhow::Result<()> {
     let tol = tolerance(args.tolerance)?;
     let output = check_output(
@@ -262,7 +259,7 @@ pub fn diff_command(args: &DiffArgs) -> anyhow::Result<()> {
         .filter(|e| args.verbose || e.differs)
         .cloned()
         .collect();
-    for l in difference_lines(&shown, &lanes, args.verbose, GROUPS_SHOWN) {
+    for l in difference_lines(&shown, &lanes, args.verbose) {
         line(l);
     }
     for e in &only_a {

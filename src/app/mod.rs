@@ -95,7 +95,7 @@ fn split_methods(
             return Err(Error::Usage(format!(
                 "--methods {list}: no scene has a method '{name}' (pendulum and rope: {}; hair: {})",
                 Method::names().collect::<Vec<_>>().join(", "),
-                hair_names()
+                HairMethod::names()
             )));
         }
         registry.extend(r);
@@ -113,17 +113,9 @@ fn split_methods(
         ));
     }
     if hair.is_empty() {
-        return Err(none("hair", hair_names()));
+        return Err(none("hair", HairMethod::names()));
     }
     Ok((registry, hair))
-}
-
-fn hair_names() -> String {
-    HairMethod::ALL
-        .iter()
-        .map(|m| m.name())
-        .collect::<Vec<_>>()
-        .join(", ")
 }
 
 /// A re-run of a recording (`physlab reproduce`): where the recorded run stopped each scene.

@@ -302,7 +302,7 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
         .filter(|e| args.verbose || e.differs || e.text.starts_with("within"))
         .cloned()
         .collect();
-    for l in difference_lines(&shown, &lanes, args.verbose, GROUPS_SHOWN) {
+    for l in difference_lines(&shown, &lanes, args.verbose) {
         println!("{l}");
     }
     let identical = n - differing - within;
@@ -332,6 +332,3 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
     }
     Ok(())
 }
-
-/// Group lines shown without `-v`, so that the report stays under 15 lines.
-const GROUPS_SHOWN: usize = 6;

@@ -89,10 +89,7 @@ pub(super) fn hair_study(a: &StudyArgs) -> anyhow::Result<()> {
             "# the scene of `{}`\n[hair]\nduration = {duration:?}\n",
             crate::record::command_line()
         );
-        let methods: Vec<&str> = crate::scene::hair::HairMethod::ALL
-            .iter()
-            .map(|m| m.name())
-            .collect();
+        let methods = crate::scene::hair::HairMethod::ALL.map(|m| m.name());
         let bytes =
             crate::record::study::record_study(&d, "hair", &images, &out, (&config, &methods))?;
         report_recording(path, bytes, to_stdout);

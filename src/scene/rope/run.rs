@@ -202,13 +202,7 @@ impl params::SceneConfig for RopeConfig {
             &Method::names().collect::<Vec<_>>().join(", "),
         )?;
         refuse_position_only_methods(p, &self.methods)?;
-        if !(2..=MAX_NODES).contains(&p.nodes) {
-            return Err(Invalid::param(
-                "--nodes",
-                p.nodes,
-                format!("must be between 2 and {MAX_NODES}"),
-            ));
-        }
+        params::count_within("--nodes", p.nodes as u64, 2, MAX_NODES as u64)?;
         if (p.end - p.start).length() == 0.0 {
             return Err(Invalid::param(
                 "--end",
@@ -222,13 +216,7 @@ impl params::SceneConfig for RopeConfig {
             ("--end", p.end),
             ("--gravity", p.gravity),
         ] {
-            if !(v.is_finite() && v.abs().max_element() <= max) {
-                return Err(Invalid::param(
-                    option,
-                    params::shown_vector(v),
-                    format!("every component must be a finite number within ±{max:e}"),
-                ));
-            }
+            params::vector(option, v, "")?;
         }
         params::within("--mass", p.mass, 1.0 / max, max, "kg")?;
         // A rope without springs is no rope: every method would let it fall apart.
