@@ -47,7 +47,7 @@ pub fn diff_command(args: &DiffArgs) -> anyhow::Result<()> {
             None => e.clone(),
         })
         .collect();
-    let views: Vec<_> = SCENES.iter().map(|s| s.views()).collect();
+    let views: Vec<_> = SCENES.iter().map(|s| s.views).collect();
     let plan = DiffPlan {
         shared: ia.entities.intersection(&renamed_b).cloned().collect(),
         lanes: &lanes,
@@ -303,13 +303,13 @@ fn framings(info: &RecordingInfo) -> Vec<(&'static str, Framing)> {
     let Some(text) = info.properties.get("config") else {
         return Vec::new();
     };
-    let names: Vec<&str> = SCENES.iter().map(|s| s.name()).collect();
+    let names: Vec<&str> = SCENES.iter().map(|s| s.name).collect();
     let Ok(file) = SceneFile::parse(text, &names) else {
         return Vec::new();
     };
     SCENES
         .iter()
-        .filter(|s| file.table(s.name()).is_some())
+        .filter(|s| file.table(s.name).is_some())
         .filter_map(|s| {
             let ready = s.flags(&AllFlags::default());
             let ready = ready.resolve(&file, &RunArgs::default()).ok()?;
@@ -320,7 +320,7 @@ fn framings(info: &RecordingInfo) -> Vec<(&'static str, Framing)> {
                 .iter()
                 .map(|slot| slot.framing)
                 .reduce(Framing::union)?;
-            Some((s.name(), framing))
+            Some((s.name, framing))
         })
         .collect()
 }

@@ -35,12 +35,8 @@ pub fn inspect_command(args: &InspectArgs) -> anyhow::Result<()> {
         "diff" => format!(" (a diff recording of {} and {})", p("diff_a"), p("diff_b")),
         _ => String::new(),
     };
-    println!(
-        "  written by: physlab {} (commit {}), Rerun SDK {}{what}",
-        p("physlab_version"),
-        p("git_commit"),
-        p("rerun_sdk_version")
-    );
+    let build = super::compared::version_line(&info);
+    println!("  written by: {build}{what}");
     println!("  command line: {}", p("command_line"));
     let scene_file = args
         .config_out
