@@ -15,7 +15,7 @@ use super::compared::{
 use super::scenes::{AllFlags, SCENES};
 use crate::cli::{DiffArgs, RunArgs};
 use crate::record::Framing;
-use crate::record::compare::{Key, SeriesIndex, StreamSpec, compare_files};
+use crate::record::compare::{Key, SeriesIndex, StreamSpec, compare_files, renamed};
 use crate::record::diff::{DiffPlan, DiffWriter};
 use crate::record::inspect::RecordingInfo;
 
@@ -35,18 +35,7 @@ pub fn diff_command(args: &DiffArgs) -> anyhow::Result<()> {
         _ => None,
     };
     let lanes = lane_names(&[&ia, &ib]);
-    let renamed_b: BTreeSet<String> = ib
-        .entities
-        .iter()
-        .map(|e| match &rename {
-            Some((from, to)) => e
-                .split('/')
-                .map(|p| if p == from { to.as_str() } else { p })
-                .collect::<Vec<_>>()
-                .join("/"),
-            None => e.clone(),
-        })
-        .collect();
+    let renamed_b: BTreeSet<String> = ib.entities.iter().map(|e| renamed(e, &rename)).collect();
     let views: Vec<_> = SCENES.iter().map(|s| s.views).collect();
     let plan = DiffPlan {
         shared: ia.entities.intersection(&renamed_b).cloned().collect(),
