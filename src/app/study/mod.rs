@@ -40,16 +40,14 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
     match a.kind {
         StudyKind::Convergence | StudyKind::WorkPrecision => {
             let (rows, reference_error) = sweep(&problem, &sw);
+            let floor = error_floor(reference_error);
             done = rows.len();
             let kind = a.kind.name();
             out.push_str(&report::sweep_header(&problem, &kind, &sw, reference_error));
             if a.kind == StudyKind::Convergence {
-                out.push_str(&report::orders_table(
-                    &rows,
-                    error_floor(reference_error),
-                    problem.velocity_dependent(),
-                ));
-                let stalled = report::stalled_note(&rows, error_floor(reference_error));
+                let by_velocity = problem.velocity_dependent();
+                out.push_str(&report::orders_table(&rows, floor, by_velocity));
+                let stalled = report::stalled_note(&rows, floor);
                 if !stalled.is_empty() {
                     eprint!("{stalled}");
                     out.push('\n');
@@ -58,8 +56,8 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
                 diagrams.push(crate::diagram::convergence(
                     problem.name(),
                     &rows,
-                    error_floor(reference_error),
-                    problem.velocity_dependent(),
+                    floor,
+                    by_velocity,
                 ));
                 out.push('\n');
                 if let Problem::Rope(p) = &problem
@@ -95,13 +93,8 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
                 }
             }
             if rows.iter().any(|r| r.rtol.is_some()) {
-                out.push_str(&report::proportionality_header(error_floor(
-                    reference_error,
-                )));
-                out.push_str(&report::proportionality_table(
-                    &rows,
-                    error_floor(reference_error),
-                ));
+                out.push_str(&report::proportionality_header(floor));
+                out.push_str(&report::proportionality_table(&rows, floor));
                 out.push('\n');
             }
             out.push_str(&report::rows_table(&rows));
@@ -115,7 +108,7 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
                 diagrams.push(crate::diagram::work_precision(
                     problem.name(),
                     &rows,
-                    error_floor(reference_error),
+                    floor,
                     &format!("wall times: median of {}; machine-dependent.", sw.repeats),
                 ));
             }
