@@ -13,7 +13,7 @@ mod outputs;
 mod setup;
 
 use hair::hair_study;
-use outputs::{check_outputs, interrupted_error, report_recording};
+use outputs::{check_outputs, interrupted_error, write_study};
 use setup::{refuse_unused, setup};
 
 pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
@@ -133,51 +133,15 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
         }
         StudyKind::Hair => unreachable!("hair_study runs it"),
     }
-    // Ctrl-C or SIGTERM: what is complete is shown and written, then the study ends with 130.
+    // Ctrl-C or SIGTERM: what is complete is shown and written, then the study ends with 130;
+    // stopped before a single run was complete, nothing is.
     let interrupted = crate::interrupt::requested();
     let complete = done > 0;
-    if !complete {
-        // Stopped before a single run was complete: no table to show.
-        out.clear();
-        diagrams.clear();
-    }
-    // With `-o -` or `--csv -` standard output carries the file: the tables go to stderr.
-    let to_stdout = outputs.to_stdout();
-    crate::output::print_beside(to_stdout, &out);
-    if let Some(csv_out) = &outputs.csv
-        && complete
-    {
-        csv_out.write(csv.as_bytes())?;
-        if !csv_out.is_stdout() {
-            eprintln!("wrote {}", csv_out.given.display());
-        }
-    }
-    let mut images: Vec<(String, Vec<u8>)> = Vec::new();
-    if let Some(dir) = outputs.plots.as_ref().filter(|_| complete) {
-        for d in &diagrams {
-            let w = d.write(dir)?;
-            eprintln!("wrote {} and {}", w.svg.display(), w.png.display());
-            images.push((d.title.clone(), w.png_bytes));
-        }
-    }
-    if let Some(path) = &a.output
-        && complete
-    {
-        let d = crate::record::Destinations::output(path);
-        let config = format!(
-            "# the scene of `{}`\n{}",
-            crate::record::command_line(),
-            scene_file.to_toml()?
-        );
+    if complete {
         let methods: Vec<&str> = sw.methods.iter().map(|m| m.name()).collect();
-        let bytes = crate::record::study::record_study(
-            &d,
-            problem.name(),
-            &images,
-            &out,
-            (&config, &methods),
-        )?;
-        report_recording(path, bytes, to_stdout);
+        let scene_file = scene_file.to_toml()?;
+        let scene = (scene_file.as_str(), methods.as_slice());
+        write_study(a, &outputs, problem.name(), (&out, &csv), &diagrams, scene)?;
     }
     if interrupted {
         return Err(interrupted_error(a, &sw, done, complete));
