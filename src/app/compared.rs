@@ -114,12 +114,7 @@ pub(super) fn remake_commands(info: &RecordingInfo, file: &Path, config: &Path) 
 
 /// The build that made a recording, as [`version_text`] says it.
 pub(super) fn version_line(info: &RecordingInfo) -> String {
-    let p = |k: &str| {
-        info.properties
-            .get(k)
-            .map(String::as_str)
-            .unwrap_or("(not recorded)")
-    };
+    let p = |k| info.property(k);
     version_text(
         p("physlab_version"),
         p("git_commit"),

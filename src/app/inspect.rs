@@ -24,12 +24,7 @@ pub fn inspect_command(args: &InspectArgs) -> anyhow::Result<()> {
         };
     }
     let info = read_recording(&args.file)?;
-    let p = |k: &str| {
-        info.properties
-            .get(k)
-            .map(String::as_str)
-            .unwrap_or("(not recorded)")
-    };
+    let p = |k| info.property(k);
     println!("recording: {}", args.file.display());
     let what = match p("scenes") {
         "diff" => format!(" (a diff recording of {} and {})", p("diff_a"), p("diff_b")),
