@@ -291,16 +291,15 @@ impl RopeConfig {
     }
 }
 
-/// The plotted quantities, in order.
 /// Coordinates (m) and velocities (m/s) below this are set to zero at the start of every block.
 /// A rope pinned at one end swings down and its swing decays exponentially about x = 0 for
 /// ever; after about 5,000 s at the defaults its x components are below 1e-110 and their
-/// products subnormal, which made every later step 2–3 times dearer (with the processor's
-/// flush-to-zero mode the cost stayed level, confirming the cause). 1e-90 keeps the products
+/// products subnormal, which makes every later step 2–3 times dearer. 1e-90 keeps the products
 /// of two or three coordinates normal, and is far below anything a run reports: the energy,
 /// of order 10 J, is summed to a relative 1e-16.
 pub const NEGLIGIBLE: f64 = 1e-90;
 
+/// The plotted quantities, in order.
 pub const QUANTITIES: [&str; 3] = ["energy", "energy_change", "max_strain"];
 
 /// One method's rope and what has been measured on it.
