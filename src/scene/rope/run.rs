@@ -59,7 +59,6 @@ impl RopeLayout {
     ];
 }
 
-/// Everything a rope run needs, resolved and validated.
 /// Everything a rope run needs; its serialised form is the scene file's `[rope]` table.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(default)]
