@@ -16,6 +16,11 @@ pub(super) fn wall_clock(entity: &str, timings: bool) -> bool {
     entity.contains("/plots/frame_cost/") || (timings && entity.ends_with("/summary"))
 }
 
+/// Whether a recording was made with --timings (it holds their plots).
+pub(super) fn recorded_timings(info: &RecordingInfo) -> bool {
+    info.entities.iter().any(|e| wall_clock(e, false))
+}
+
 pub(super) fn tolerance(t: Option<f64>) -> Result<f64, Error> {
     match t {
         None => Ok(0.0),
@@ -83,14 +88,14 @@ pub(super) fn scene_command(info: &RecordingInfo, config: &Path) -> Option<Strin
         return None;
     }
     let subcommand = if scenes.contains(',') { "all" } else { scenes };
-    let timings = info
-        .entities
-        .iter()
-        .any(|e| e.contains("/plots/frame_cost/"));
     Some(format!(
         "physlab {subcommand} --config {}{}",
         config.display(),
-        if timings { " --timings" } else { "" }
+        if recorded_timings(info) {
+            " --timings"
+        } else {
+            ""
+        }
     ))
 }
 
@@ -107,19 +112,19 @@ pub(super) fn remake_commands(info: &RecordingInfo, file: &Path, config: &Path) 
     }
 }
 
+/// The build that made a recording, as [`version_text`] says it.
 pub(super) fn version_line(info: &RecordingInfo) -> String {
-    let p = |k: &str| {
-        info.properties
-            .get(k)
-            .map(String::as_str)
-            .unwrap_or("(not recorded)")
-    };
-    format!(
-        "physlab {} (commit {}), Rerun SDK {}",
+    let p = |k| info.property(k);
+    version_text(
         p("physlab_version"),
         p("git_commit"),
-        p("rerun_sdk_version")
+        p("rerun_sdk_version"),
     )
+}
+
+/// A build: `physlab VERSION (commit C), Rerun SDK V`.
+pub(super) fn version_text(physlab: &str, commit: &str, sdk: &str) -> String {
+    format!("physlab {physlab} (commit {commit}), Rerun SDK {sdk}")
 }
 
 /// Checks `-o` before any work (`crate::output`): never one of the inputs.
@@ -310,14 +315,19 @@ struct Group {
     earliest: Option<EntityLine>,
 }
 
+/// Group lines shown without `-v`: with the verdict, configuration and times, a report stays
+/// under 15 lines.
+const GROUPS_SHOWN: usize = 6;
+
 /// The lines that say what differs: with `verbose` one per entity (identical ones too), else one
-/// per group of entities ([`entity_group`]), the earliest parting first, at most `cap` groups.
+/// per group of entities ([`entity_group`]), the earliest parting first, at most
+/// [`GROUPS_SHOWN`] groups.
 pub(super) fn difference_lines(
     entries: &[EntityLine],
     methods: &BTreeSet<String>,
     verbose: bool,
-    cap: usize,
 ) -> Vec<String> {
+    let cap = GROUPS_SHOWN;
     if verbose {
         return entries
             .iter()

@@ -15,12 +15,9 @@ use super::compared::{
 use super::scenes::{AllFlags, SCENES};
 use crate::cli::{DiffArgs, RunArgs};
 use crate::record::Framing;
-use crate::record::compare::{Key, SeriesIndex, StreamSpec, compare_files};
+use crate::record::compare::{Key, SeriesIndex, StreamSpec, compare_files, renamed};
 use crate::record::diff::{DiffPlan, DiffWriter};
 use crate::record::inspect::RecordingInfo;
-
-/// Group lines shown without `-v`: with the verdict, configuration and times, under 15 lines.
-const GROUPS_SHOWN: usize = 6;
 
 pub fn diff_command(args: &DiffArgs) -> anyhow::Result<()> {
     let tol = tolerance(args.tolerance)?;
@@ -38,19 +35,8 @@ pub fn diff_command(args: &DiffArgs) -> anyhow::Result<()> {
         _ => None,
     };
     let lanes = lane_names(&[&ia, &ib]);
-    let renamed_b: BTreeSet<String> = ib
-        .entities
-        .iter()
-        .map(|e| match &rename {
-            Some((from, to)) => e
-                .split('/')
-                .map(|p| if p == from { to.as_str() } else { p })
-                .collect::<Vec<_>>()
-                .join("/"),
-            None => e.clone(),
-        })
-        .collect();
-    let views: Vec<_> = SCENES.iter().map(|s| s.views()).collect();
+    let renamed_b: BTreeSet<String> = ib.entities.iter().map(|e| renamed(e, &rename)).collect();
+    let views: Vec<_> = SCENES.iter().map(|s| s.views).collect();
     let plan = DiffPlan {
         shared: ia.entities.intersection(&renamed_b).cloned().collect(),
         lanes: &lanes,
@@ -262,7 +248,7 @@ pub fn diff_command(args: &DiffArgs) -> anyhow::Result<()> {
         .filter(|e| args.verbose || e.differs)
         .cloned()
         .collect();
-    for l in difference_lines(&shown, &lanes, args.verbose, GROUPS_SHOWN) {
+    for l in difference_lines(&shown, &lanes, args.verbose) {
         line(l);
     }
     for e in &only_a {
@@ -306,13 +292,13 @@ fn framings(info: &RecordingInfo) -> Vec<(&'static str, Framing)> {
     let Some(text) = info.properties.get("config") else {
         return Vec::new();
     };
-    let names: Vec<&str> = SCENES.iter().map(|s| s.name()).collect();
+    let names: Vec<&str> = SCENES.iter().map(|s| s.name).collect();
     let Ok(file) = SceneFile::parse(text, &names) else {
         return Vec::new();
     };
     SCENES
         .iter()
-        .filter(|s| file.table(s.name()).is_some())
+        .filter(|s| file.table(s.name).is_some())
         .filter_map(|s| {
             let ready = s.flags(&AllFlags::default());
             let ready = ready.resolve(&file, &RunArgs::default()).ok()?;
@@ -323,7 +309,7 @@ fn framings(info: &RecordingInfo) -> Vec<(&'static str, Framing)> {
                 .iter()
                 .map(|slot| slot.framing)
                 .reduce(Framing::union)?;
-            Some((s.name(), framing))
+            Some((s.name, framing))
         })
         .collect()
 }

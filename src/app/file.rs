@@ -57,7 +57,7 @@ impl SceneFile {
                 }
             }
         }
-        check_method_lists(text)?;
+        check_method_lists(text, &tables)?;
         Ok(SceneFile {
             source: None,
             tables,
@@ -172,11 +172,8 @@ fn read_capped(path: &Path) -> Result<Vec<u8>, Error> {
 
 /// Refuses an empty `methods` list in any table, as `--methods ""` is refused: a run of no
 /// method is a slip, not a request for the defaults.
-fn check_method_lists(text: &str) -> Result<(), String> {
-    let Ok(file) = toml::from_str::<toml::Table>(text) else {
-        return Ok(()); // already refused by the typed parse
-    };
-    for (scene, table) in &file {
+fn check_method_lists(text: &str, tables: &[(String, toml::Table)]) -> Result<(), String> {
+    for (scene, table) in tables {
         if let Some(toml::Value::Array(list)) = table.get("methods")
             && list.is_empty()
         {

@@ -24,23 +24,14 @@ pub fn inspect_command(args: &InspectArgs) -> anyhow::Result<()> {
         };
     }
     let info = read_recording(&args.file)?;
-    let p = |k: &str| {
-        info.properties
-            .get(k)
-            .map(String::as_str)
-            .unwrap_or("(not recorded)")
-    };
+    let p = |k| info.property(k);
     println!("recording: {}", args.file.display());
     let what = match p("scenes") {
         "diff" => format!(" (a diff recording of {} and {})", p("diff_a"), p("diff_b")),
         _ => String::new(),
     };
-    println!(
-        "  written by: physlab {} (commit {}), Rerun SDK {}{what}",
-        p("physlab_version"),
-        p("git_commit"),
-        p("rerun_sdk_version")
-    );
+    let build = super::compared::version_line(&info);
+    println!("  written by: {build}{what}");
     println!("  command line: {}", p("command_line"));
     let scene_file = args
         .config_out

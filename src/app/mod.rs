@@ -95,7 +95,7 @@ fn split_methods(
             return Err(Error::Usage(format!(
                 "--methods {list}: no scene has a method '{name}' (pendulum and rope: {}; hair: {})",
                 Method::names().collect::<Vec<_>>().join(", "),
-                hair_names()
+                HairMethod::names()
             )));
         }
         registry.extend(r);
@@ -113,17 +113,9 @@ fn split_methods(
         ));
     }
     if hair.is_empty() {
-        return Err(none("hair", hair_names()));
+        return Err(none("hair", HairMethod::names()));
     }
     Ok((registry, hair))
-}
-
-fn hair_names() -> String {
-    HairMethod::ALL
-        .iter()
-        .map(|m| m.name())
-        .collect::<Vec<_>>()
-        .join(", ")
 }
 
 /// A re-run of a recording (`physlab reproduce`): where the recorded run stopped each scene.
@@ -164,7 +156,7 @@ fn resolve(plan: Plan, run: &RunArgs) -> anyhow::Result<Resolved> {
         file: SceneFile::default(),
     };
     for flags in plan {
-        let name = flags.kind().name();
+        let name = flags.kind().name;
         if let Some(path) = &run.config
             && file.table(name).is_none()
         {
@@ -199,7 +191,7 @@ pub fn config_from_flags<C: crate::scene::params::SceneConfig>(
 fn load_scene_file(path: Option<&std::path::Path>) -> Result<SceneFile, Error> {
     match path {
         Some(path) => {
-            let names: Vec<&str> = SCENES.iter().map(|s| s.name()).collect();
+            let names: Vec<&str> = SCENES.iter().map(|s| s.name).collect();
             SceneFile::load(path, &names)
         }
         None => Ok(SceneFile::default()),
@@ -231,12 +223,12 @@ fn simulate(
     }
     let pool = pool.build()?;
 
-    let scenes: Vec<&'static str> = resolved.scenes.iter().map(|s| s.kind().name()).collect();
+    let scenes: Vec<&'static str> = resolved.scenes.iter().map(|s| s.kind().name).collect();
     let single = match resolved.scenes.as_slice() {
         [one] => Some(one),
         _ => None,
     };
-    let name = single.map_or("all", |s| s.kind().name());
+    let name = single.map_or("all", |s| s.kind().name);
     let started = Instant::now();
     let d = if no_record {
         Destinations::default()
@@ -255,7 +247,7 @@ fn simulate(
     } else {
         let layout = match single {
             Some(one) => record::scene_layout(
-                one.kind().views(),
+                one.kind().views,
                 run.timings,
                 &one.staging(),
                 &one.methods(),
@@ -264,12 +256,12 @@ fn simulate(
                 let views: Vec<_> = resolved
                     .scenes
                     .iter()
-                    .map(|s| (s.kind().views(), s.staging(), s.methods()))
+                    .map(|s| (s.kind().views, s.staging(), s.methods()))
                     .collect();
                 record::all_layout(run.timings, &views)
             }
         };
-        let application_id = single.map_or("physlab-all", |s| s.kind().application_id());
+        let application_id = single.map_or("physlab-all", |s| s.kind().application_id);
         let recording = Recording::create(&d, application_id, name, layout)?;
         send_provenance(
             recording.stream(),
@@ -284,7 +276,7 @@ fn simulate(
     if !replay.silent {
         for (scene, w) in resolved.scenes.iter().zip(&warnings) {
             if let Some(w) = w {
-                eprintln!("warning: {}: {w}", scene.kind().name());
+                eprintln!("warning: {}: {w}", scene.kind().name);
             }
         }
     }
@@ -305,7 +297,7 @@ fn simulate(
     // Scenes run one after another; after an interruption the remaining ones are skipped.
     let mut ends: Vec<SceneEnd> = Vec::new();
     for (scene, warning) in resolved.scenes.into_iter().zip(warnings) {
-        let name = scene.kind().name();
+        let name = scene.kind().name;
         if crate::interrupt::requested() || replay.skips(name) {
             continue;
         }

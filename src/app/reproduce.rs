@@ -7,22 +7,14 @@ use std::time::Instant;
 
 use super::compared::{
     EntityLine, by_entity, check_output, difference_lines, lane_names, physlab_made,
-    physlab_recording, recorded_command, tolerance, version_line, wall_clock,
+    physlab_recording, recorded_command, recorded_timings, tolerance, version_line, version_text,
+    wall_clock,
 };
 use super::diff::entities_text;
 use super::scenes::{AllFlags, SCENES};
 use super::{Error, Plan, Replay, simulate};
 use crate::cli::{ReproduceArgs, RunArgs};
 use crate::record::compare::{StreamSpec, compare_files};
-
-fn this_version() -> String {
-    format!(
-        "physlab {} (commit {}), Rerun SDK {}",
-        env!("CARGO_PKG_VERSION"),
-        crate::record::GIT_COMMIT,
-        crate::record::RERUN_SDK_VERSION
-    )
-}
 
 /// Why the re-run failed, in words true to the cause: a stop request stays an interruption (exit
 /// 130), a configuration this build refuses says so without the temporary file's name, and
@@ -116,7 +108,7 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
         .split(',')
         .filter(|s| !s.is_empty())
         .collect();
-    let known: Vec<&str> = SCENES.iter().map(|s| s.name()).collect();
+    let known: Vec<&str> = SCENES.iter().map(|s| s.name).collect();
     if scenes.is_empty() || scenes.iter().any(|s| !known.contains(s)) {
         let expected = match known.split_last() {
             Some((last, rest)) if !rest.is_empty() => format!("{} and/or {last}", rest.join(", ")),
@@ -128,16 +120,18 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
         ))
         .into());
     }
-    let timings = info
-        .entities
-        .iter()
-        .any(|e| e.contains("/plots/frame_cost/"));
+    let timings = recorded_timings(&info);
 
     // Said before the re-run (which takes the run's time); the report comes after it, verdict
     // first.
     eprintln!("re-running {} …", args.file.display());
     let mut header: Vec<String> = Vec::new();
-    let (then, now) = (version_line(&info), this_version());
+    let now = version_text(
+        env!("CARGO_PKG_VERSION"),
+        crate::record::GIT_COMMIT,
+        crate::record::RERUN_SDK_VERSION,
+    );
+    let then = version_line(&info);
     if then == now {
         header.push(format!("recorded and re-run by the same build: {then}"));
     } else {
@@ -204,7 +198,7 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
     };
     let plan: Plan = SCENES
         .iter()
-        .filter(|s| scenes.contains(&s.name()))
+        .filter(|s| scenes.contains(&s.name))
         .map(|s| s.flags(&AllFlags::default()))
         .collect();
     let started = Instant::now();
@@ -302,7 +296,7 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
         .filter(|e| args.verbose || e.differs || e.text.starts_with("within"))
         .cloned()
         .collect();
-    for l in difference_lines(&shown, &lanes, args.verbose, GROUPS_SHOWN) {
+    for l in difference_lines(&shown, &lanes, args.verbose) {
         println!("{l}");
     }
     let identical = n - differing - within;
@@ -332,6 +326,3 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
     }
     Ok(())
 }
-
-/// Group lines shown without `-v`, so that the report stays under 15 lines.
-const GROUPS_SHOWN: usize = 6;

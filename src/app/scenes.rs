@@ -24,25 +24,16 @@ pub static SCENES: [&SceneKind; 3] = [&PENDULUM, &ROPE, &HAIR];
 
 /// A scene as the commands know it before any parameter is given.
 pub struct SceneKind {
-    name: &'static str,
+    pub name: &'static str,
     /// The recording's application id when it runs alone (the viewer keys layouts by it).
-    application_id: &'static str,
-    views: &'static SceneViews,
+    pub application_id: &'static str,
+    pub views: &'static SceneViews,
     /// Its flags as `physlab all` sets them (none given: what `reproduce` runs under the
     /// recorded scene file).
     flags: fn(&AllFlags) -> Box<dyn Flags>,
 }
 
 impl SceneKind {
-    pub fn name(&self) -> &'static str {
-        self.name
-    }
-    pub fn application_id(&self) -> &'static str {
-        self.application_id
-    }
-    pub fn views(&self) -> &'static SceneViews {
-        self.views
-    }
     pub fn flags(&self, all: &AllFlags) -> Box<dyn Flags> {
         (self.flags)(all)
     }
@@ -397,7 +388,7 @@ impl<C: Runs> ReadyScene for Ready<C> {
         self.0.methods()
     }
     fn effective(&self, file: &mut SceneFile) -> Result<(), Error> {
-        file.set(C::KIND.name(), table_of(&self.0)?);
+        file.set(C::KIND.name, table_of(&self.0)?);
         Ok(())
     }
     fn memory_bytes(&self) -> f64 {

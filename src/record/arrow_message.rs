@@ -9,7 +9,7 @@
 
 use std::io::{self, Read};
 
-use super::framing::{Value, proto_fields};
+use super::framing::{Value, proto_fields, read_varint};
 use super::lz4;
 
 /// The field numbers of `rerun.log_msg.v1alpha1.ArrowMsg` the readers use.
@@ -143,22 +143,6 @@ fn read_exactly(r: &mut impl Read, n: u64) -> io::Result<Vec<u8>> {
     let mut v = vec![0; n as usize];
     r.read_exact(&mut v)?;
     Ok(v)
-}
-
-/// A protobuf varint read from `r`; `None` when the message ends inside it.
-fn read_varint(r: &mut impl Read) -> io::Result<Option<u64>> {
-    let mut value = 0u64;
-    let mut byte = [0u8];
-    for i in 0..10 {
-        if r.read(&mut byte)? == 0 {
-            return Ok(None);
-        }
-        value |= u64::from(byte[0] & 0x7f) << (7 * i);
-        if byte[0] & 0x80 == 0 {
-            return Ok(Some(value));
-        }
-    }
-    Ok(None)
 }
 
 impl Fields {

@@ -103,6 +103,18 @@ struct ComparedSeries {
     cap_b: Option<usize>,
 }
 
+/// `entity` with its path part `from` renamed `to` (B's lanes paired with A's), if asked.
+pub fn renamed(entity: &str, rename: &Option<(String, String)>) -> String {
+    match rename {
+        Some((from, to)) => entity
+            .split('/')
+            .map(|part| if part == from { to.as_str() } else { part })
+            .collect::<Vec<_>>()
+            .join("/"),
+        None => entity.to_string(),
+    }
+}
+
 /// Compares two recordings series by series while reading them in step, so that memory holds
 /// what one has read ahead of the other (about a chunk per series when they were logged in the
 /// same order), never a whole file. Each timed pair of rows is also handed to `on_pair`.
@@ -113,20 +125,7 @@ pub fn compare_files(
     spec: &StreamSpec,
     on_pair: &mut KeyedPairs,
 ) -> anyhow::Result<Streamed> {
-    let rename = |key: Key| -> Key {
-        match &spec.rename_b {
-            None => key,
-            Some((from, to)) => {
-                let entity = key
-                    .0
-                    .split('/')
-                    .map(|part| if part == from { to.as_str() } else { part })
-                    .collect::<Vec<_>>()
-                    .join("/");
-                (entity, key.1)
-            }
-        }
-    };
+    let rename = |key: Key| -> Key { (renamed(&key.0, &spec.rename_b), key.1) };
     let index_a = index_series(a)?;
     let index_b: BTreeMap<Key, SeriesIndex> = index_series(b)?
         .into_iter()
@@ -422,7 +421,7 @@ pub struct SeriesDiff {
     pub rows_b: usize,
     /// Rows paired by time (equal `sim_time`, in order within a time).
     pub paired: usize,
-    /// Times that only one of them holds (beyond the compared span, if one was given).
+    /// Times that only one of them holds .
     pub unpaired: usize,
     /// The largest finite |a| in A's series (|b| in B's if A's are all zero): the scale
     /// tolerances are relative to.

@@ -306,15 +306,23 @@ fn footer_starts_with_manifest(head: &[u8], len: u64) -> bool {
 
 /// A protobuf varint from the front of `bytes`, which it advances.
 pub(super) fn varint(bytes: &mut &[u8]) -> Option<u64> {
+    read_varint(bytes).ok().flatten()
+}
+
+/// A protobuf varint read from `r`; `None` when the message ends inside it.
+pub(super) fn read_varint(r: &mut impl Read) -> io::Result<Option<u64>> {
     let mut value = 0u64;
-    for (i, &b) in bytes.iter().enumerate().take(10) {
-        value |= u64::from(b & 0x7f) << (7 * i);
-        if b & 0x80 == 0 {
-            *bytes = &bytes[i + 1..];
-            return Some(value);
+    let mut byte = [0u8];
+    for i in 0..10 {
+        if r.read(&mut byte)? == 0 {
+            return Ok(None);
+        }
+        value |= u64::from(byte[0] & 0x7f) << (7 * i);
+        if byte[0] & 0x80 == 0 {
+            return Ok(Some(value));
         }
     }
-    None
+    Ok(None)
 }
 
 #[cfg(test)]

@@ -80,9 +80,8 @@ pub fn staging(c: &HairConfig) -> Staging {
     }
 }
 
-/// Recorded bytes per strand node per logged 3D frame per method, LZ4 included: 12.5–12.9
-/// measured (`physlab hair --strands 500|2000` at the defaults: 25.0 and 100.0 MB; `--strands 1000
-/// --nodes 32 --fps 60 --duration 2`: 96.9 MB), rounded up.
+/// Recorded bytes per strand node per logged 3D frame per method, LZ4 included: measured on
+/// hair recordings of 500 to 2000 strands, rounded up.
 pub const BYTES_PER_NODE_FRAME: f64 = 13.0;
 
 /// The 3D part of a hair recording the default `--log-strands` keeps within [bytes], so a

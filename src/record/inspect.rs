@@ -34,6 +34,13 @@ pub struct RecordingInfo {
 }
 
 impl RecordingInfo {
+    /// A provenance property as text, `(not recorded)` when the recording has none.
+    pub fn property(&self, key: &str) -> &str {
+        self.properties
+            .get(key)
+            .map_or("(not recorded)", String::as_str)
+    }
+
     /// The scenes: the first component of every entity path but the properties'.
     pub fn scenes(&self) -> BTreeSet<String> {
         self.entities

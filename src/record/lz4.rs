@@ -35,8 +35,7 @@ pub fn decompress(mut buf: Vec<u8>, start: usize, size: usize) -> Result<Vec<u8>
         }
     }
     // Not shrunk to fit: the margin is under 0.4 % of it, and a shrinking reallocation of a
-    // buffer this large copies it and fragments the allocator's heap (resident memory grew
-    // 7-fold on a 233 MB recording when it did).
+    // buffer this large copies it and fragments the allocator's heap.
     buf.truncate(size);
     Ok(buf)
 }

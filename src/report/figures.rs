@@ -166,7 +166,6 @@ fn hair_default() -> String {
     t.render()
 }
 
-/// `physlab study convergence` on `problem` at the study's defaults: fitted orders.
 /// `physlab study drift` on its defaults: the fixed-step methods on the pendulum at 60°,
 /// dt = 0.01 s, over 10⁵ periods.
 fn drift_pendulum() -> String {
@@ -187,6 +186,7 @@ pub fn drift_pendulum_runs() -> Vec<study::drift::Drift> {
         .collect()
 }
 
+/// `physlab study convergence` on `problem` at the study's defaults: fitted orders.
 fn convergence(problem: &Problem) -> String {
     let sweep = Sweep {
         repeats: 1,

@@ -10,41 +10,34 @@ pub const MAX_STEPS: f64 = 1e9;
 /// Node-steps per method beyond which a run is refused (about an hour at ~30 ns per node-step).
 pub const MAX_NODE_STEPS: f64 = 1e11;
 
-pub fn finite(option: &str, value: f64, unit: &str) -> Result<(), Invalid> {
-    if value.is_finite() {
+/// `value` of `option` refused by `rule` unless `ok`: the one shape of every check here.
+pub fn require(ok: bool, option: &str, value: f64, rule: impl Into<String>) -> Result<(), Invalid> {
+    if ok {
         Ok(())
     } else {
-        Err(Invalid::param(
-            option,
-            shown(value),
-            format!("must be a finite number [{unit}]"),
-        ))
+        Err(Invalid::param(option, shown(value), rule))
     }
 }
 
+pub fn finite(option: &str, value: f64, unit: &str) -> Result<(), Invalid> {
+    let rule = format!("must be a finite number [{unit}]");
+    require(value.is_finite(), option, value, rule)
+}
+
 pub fn positive(option: &str, value: f64, unit: &str) -> Result<(), Invalid> {
-    if value.is_finite() && value > 0.0 {
-        Ok(())
-    } else {
-        Err(Invalid::param(
-            option,
-            shown(value),
-            format!("must be a finite number > 0 [{unit}]"),
-        ))
-    }
+    let rule = format!("must be a finite number > 0 [{unit}]");
+    require(value.is_finite() && value > 0.0, option, value, rule)
 }
 
 /// A finite value within [lo, hi], the range the physics and f64 are trusted in.
 pub fn within(option: &str, value: f64, lo: f64, hi: f64, unit: &str) -> Result<(), Invalid> {
-    if value.is_finite() && (lo..=hi).contains(&value) {
-        Ok(())
-    } else {
-        Err(Invalid::param(
-            option,
-            shown(value),
-            format!("must be between {} and {} [{unit}]", bound(lo), bound(hi)),
-        ))
-    }
+    let rule = format!("must be between {} and {} [{unit}]", bound(lo), bound(hi));
+    require(
+        value.is_finite() && (lo..=hi).contains(&value),
+        option,
+        value,
+        rule,
+    )
 }
 
 /// A value as given, in exponent form when long (1e155, 1e-9), so that a message keeps every
@@ -54,6 +47,20 @@ pub fn shown(x: f64) -> String {
         format!("{x:e}")
     } else {
         format!("{x}")
+    }
+}
+
+/// A vector whose every component is finite and within ±[`MAX_MAGNITUDE`]; `unit` follows the
+/// rule (" [m/s²]", or "").
+pub fn vector(option: &str, v: glam::DVec3, unit: &str) -> Result<(), Invalid> {
+    if v.is_finite() && v.abs().max_element() <= MAX_MAGNITUDE {
+        Ok(())
+    } else {
+        Err(Invalid::param(
+            option,
+            shown_vector(v),
+            format!("every component must be a finite number within ±{MAX_MAGNITUDE:e}{unit}"),
+        ))
     }
 }
 
@@ -76,15 +83,8 @@ fn bound(x: f64) -> String {
 pub const MAX_MAGNITUDE: f64 = 1e6;
 
 pub fn non_negative(option: &str, value: f64, unit: &str) -> Result<(), Invalid> {
-    if value.is_finite() && value >= 0.0 {
-        Ok(())
-    } else {
-        Err(Invalid::param(
-            option,
-            shown(value),
-            format!("must be a finite number ≥ 0 [{unit}]"),
-        ))
-    }
+    let rule = format!("must be a finite number ≥ 0 [{unit}]");
+    require(value.is_finite() && value >= 0.0, option, value, rule)
 }
 
 pub fn at_least_one(option: &str, value: u64) -> Result<(), Invalid> {
@@ -109,15 +109,8 @@ pub fn count_within(option: &str, value: u64, lo: u64, hi: u64) -> Result<(), In
 }
 
 pub fn rtol(rtol: f64) -> Result<(), Invalid> {
-    if rtol.is_finite() && (1e-14..=0.1).contains(&rtol) {
-        Ok(())
-    } else {
-        Err(Invalid::param(
-            "--rtol",
-            shown(rtol),
-            "must be between 1e-14 and 0.1",
-        ))
-    }
+    let ok = rtol.is_finite() && (1e-14..=0.1).contains(&rtol);
+    require(ok, "--rtol", rtol, "must be between 1e-14 and 0.1")
 }
 
 /// The plotting stride and the methods' options of a scene on a fixed step grid.
@@ -137,15 +130,8 @@ pub fn plot_and_options(
 }
 
 pub fn verlet_damping(d: f64) -> Result<(), Invalid> {
-    if d.is_finite() && (0.0..1.0).contains(&d) {
-        Ok(())
-    } else {
-        Err(Invalid::param(
-            "--verlet-damping",
-            shown(d),
-            "must be in [0, 1)",
-        ))
-    }
+    let ok = d.is_finite() && (0.0..1.0).contains(&d);
+    require(ok, "--verlet-damping", d, "must be in [0, 1)")
 }
 
 /// dt, duration and fps, and a refusal of runs whose work (steps × `work_per_step`, e.g. nodes)
@@ -154,13 +140,8 @@ pub fn time(dt: f64, duration: f64, fps: f64, work_per_step: usize) -> Result<()
     positive("--dt", dt, "s")?;
     positive("--duration", duration, "s")?;
     positive("--fps", fps, "Hz")?;
-    if dt > duration {
-        return Err(Invalid::param(
-            "--dt",
-            shown(dt),
-            format!("must not exceed --duration {} s", shown(duration)),
-        ));
-    }
+    let rule = format!("must not exceed --duration {} s", shown(duration));
+    require(dt <= duration, "--dt", dt, rule)?;
     let steps = duration / dt;
     if steps > MAX_STEPS {
         return Err(Invalid::Usage(format!(

@@ -3,7 +3,7 @@
 use crate::scene::params::SceneConfig as _;
 use std::fmt::Write as _;
 
-use super::outputs::{check_outputs, interrupted_after, report_recording};
+use super::outputs::{check_outputs, interrupted_after, write_study};
 use crate::cli::StudyArgs;
 
 /// `physlab study hair`: the hair scene's configurations (`study::hair::configurations`) at its
@@ -59,44 +59,22 @@ pub(super) fn hair_study(a: &StudyArgs) -> anyhow::Result<()> {
         &rows,
         &[1e-2, 1e-3, 1e-6],
     ));
-    // With `-o -` or `--csv -` standard output carries the file: the tables go to stderr.
-    let to_stdout = outputs.to_stdout();
-    crate::output::print_beside(to_stdout, &out);
-    if let Some(csv_out) = &outputs.csv {
-        csv_out.write(crate::report::hair::trade_csv(&rows).as_bytes())?;
-        if !csv_out.is_stdout() {
-            eprintln!("wrote {}", csv_out.given.display());
-        }
-    }
-    let mut images: Vec<(String, Vec<u8>)> = Vec::new();
-    if let Some(dir) = &outputs.plots {
-        let d = crate::diagram::hair_trade(
-            &rows,
-            &format!(
-                "wall times measured on {} threads; machine-dependent.",
-                rayon::current_num_threads()
-            ),
-        );
-        let w = d.write(dir)?;
-        eprintln!("wrote {} and {}", w.svg.display(), w.png.display());
-        images.push((d.title.clone(), w.png_bytes));
-    }
-    if let Some(path) = &a.output {
-        let d = crate::record::Destinations::output(path);
-        // Provenance: the study's base scene (every configuration varies the solver settings of
-        // this one) and the command line.
-        let config = format!(
-            "# the scene of `{}`\n[hair]\nduration = {duration:?}\n",
-            crate::record::command_line()
-        );
-        let methods: Vec<&str> = crate::scene::hair::HairMethod::ALL
-            .iter()
-            .map(|m| m.name())
-            .collect();
-        let bytes =
-            crate::record::study::record_study(&d, "hair", &images, &out, (&config, &methods))?;
-        report_recording(path, bytes, to_stdout);
-    }
+    let csv = crate::report::hair::trade_csv(&rows);
+    let threads = rayon::current_num_threads();
+    let note = format!("wall times measured on {threads} threads; machine-dependent.");
+    let diagram = crate::diagram::hair_trade(&rows, &note);
+    // Provenance: the study's base scene (every configuration varies the solver settings of this
+    // one).
+    let scene_file = format!("[hair]\nduration = {duration:?}\n");
+    let methods = crate::scene::hair::HairMethod::ALL.map(|m| m.name());
+    write_study(
+        a,
+        &outputs,
+        "hair",
+        (&out, &csv),
+        &[diagram],
+        (&scene_file, &methods),
+    )?;
     if interrupted {
         return Err(stopped());
     }

@@ -13,7 +13,7 @@ mod outputs;
 mod setup;
 
 use hair::hair_study;
-use outputs::{check_outputs, interrupted_error, report_recording};
+use outputs::{check_outputs, interrupted_error, write_study};
 use setup::{refuse_unused, setup};
 
 pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
@@ -40,16 +40,14 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
     match a.kind {
         StudyKind::Convergence | StudyKind::WorkPrecision => {
             let (rows, reference_error) = sweep(&problem, &sw);
+            let floor = error_floor(reference_error);
             done = rows.len();
-            let kind = setup::kind_name(a.kind);
-            out.push_str(&report::sweep_header(&problem, kind, &sw, reference_error));
+            let kind = a.kind.name();
+            out.push_str(&report::sweep_header(&problem, &kind, &sw, reference_error));
             if a.kind == StudyKind::Convergence {
-                out.push_str(&report::orders_table(
-                    &rows,
-                    error_floor(reference_error),
-                    problem.velocity_dependent(),
-                ));
-                let stalled = report::stalled_note(&rows, error_floor(reference_error));
+                let by_velocity = problem.velocity_dependent();
+                out.push_str(&report::orders_table(&rows, floor, by_velocity));
+                let stalled = report::stalled_note(&rows, floor);
                 if !stalled.is_empty() {
                     eprint!("{stalled}");
                     out.push('\n');
@@ -58,8 +56,8 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
                 diagrams.push(crate::diagram::convergence(
                     problem.name(),
                     &rows,
-                    error_floor(reference_error),
-                    problem.velocity_dependent(),
+                    floor,
+                    by_velocity,
                 ));
                 out.push('\n');
                 if let Problem::Rope(p) = &problem
@@ -95,13 +93,8 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
                 }
             }
             if rows.iter().any(|r| r.rtol.is_some()) {
-                out.push_str(&report::proportionality_header(error_floor(
-                    reference_error,
-                )));
-                out.push_str(&report::proportionality_table(
-                    &rows,
-                    error_floor(reference_error),
-                ));
+                out.push_str(&report::proportionality_header(floor));
+                out.push_str(&report::proportionality_table(&rows, floor));
                 out.push('\n');
             }
             out.push_str(&report::rows_table(&rows));
@@ -115,7 +108,7 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
                 diagrams.push(crate::diagram::work_precision(
                     problem.name(),
                     &rows,
-                    error_floor(reference_error),
+                    floor,
                     &format!("wall times: median of {}; machine-dependent.", sw.repeats),
                 ));
             }
@@ -140,51 +133,15 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
         }
         StudyKind::Hair => unreachable!("hair_study runs it"),
     }
-    // Ctrl-C or SIGTERM: what is complete is shown and written, then the study ends with 130.
+    // Ctrl-C or SIGTERM: what is complete is shown and written, then the study ends with 130;
+    // stopped before a single run was complete, nothing is.
     let interrupted = crate::interrupt::requested();
     let complete = done > 0;
-    if !complete {
-        // Stopped before a single run was complete: no table to show.
-        out.clear();
-        diagrams.clear();
-    }
-    // With `-o -` or `--csv -` standard output carries the file: the tables go to stderr.
-    let to_stdout = outputs.to_stdout();
-    crate::output::print_beside(to_stdout, &out);
-    if let Some(csv_out) = &outputs.csv
-        && complete
-    {
-        csv_out.write(csv.as_bytes())?;
-        if !csv_out.is_stdout() {
-            eprintln!("wrote {}", csv_out.given.display());
-        }
-    }
-    let mut images: Vec<(String, Vec<u8>)> = Vec::new();
-    if let Some(dir) = outputs.plots.as_ref().filter(|_| complete) {
-        for d in &diagrams {
-            let w = d.write(dir)?;
-            eprintln!("wrote {} and {}", w.svg.display(), w.png.display());
-            images.push((d.title.clone(), w.png_bytes));
-        }
-    }
-    if let Some(path) = &a.output
-        && complete
-    {
-        let d = crate::record::Destinations::output(path);
-        let config = format!(
-            "# the scene of `{}`\n{}",
-            crate::record::command_line(),
-            scene_file.to_toml()?
-        );
+    if complete {
         let methods: Vec<&str> = sw.methods.iter().map(|m| m.name()).collect();
-        let bytes = crate::record::study::record_study(
-            &d,
-            problem.name(),
-            &images,
-            &out,
-            (&config, &methods),
-        )?;
-        report_recording(path, bytes, to_stdout);
+        let scene_file = scene_file.to_toml()?;
+        let scene = (scene_file.as_str(), methods.as_slice());
+        write_study(a, &outputs, problem.name(), (&out, &csv), &diagrams, scene)?;
     }
     if interrupted {
         return Err(interrupted_error(a, &sw, done, complete));

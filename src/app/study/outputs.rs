@@ -5,8 +5,46 @@ use super::Error;
 use crate::cli::{StudyArgs, StudyKind};
 use crate::study::Sweep;
 
+/// Prints a complete study's tables `out` and writes what was asked: the CSV, the diagrams (into
+/// the plots folder) and the recording, whose provenance is the study's scene file and methods.
+pub(super) fn write_study(
+    a: &StudyArgs,
+    outputs: &Outputs,
+    scene: &str,
+    (out, csv): (&str, &str),
+    diagrams: &[crate::diagram::Diagram],
+    (scene_file, methods): (&str, &[&str]),
+) -> anyhow::Result<()> {
+    // With `-o -` or `--csv -` standard output carries the file: the tables go to stderr.
+    let to_stdout = outputs.to_stdout();
+    crate::output::print_beside(to_stdout, out);
+    if let Some(csv_out) = &outputs.csv {
+        csv_out.write(csv.as_bytes())?;
+        if !csv_out.is_stdout() {
+            eprintln!("wrote {}", csv_out.given.display());
+        }
+    }
+    let mut images: Vec<(String, Vec<u8>)> = Vec::new();
+    if let Some(dir) = &outputs.plots {
+        for d in diagrams {
+            let w = d.write(dir)?;
+            eprintln!("wrote {} and {}", w.svg.display(), w.png.display());
+            images.push((d.title.clone(), w.png_bytes));
+        }
+    }
+    if let Some(path) = &a.output {
+        let d = crate::record::Destinations::output(path);
+        let command = crate::record::command_line();
+        let config = format!("# the scene of `{command}`\n{scene_file}");
+        let bytes =
+            crate::record::study::record_study(&d, scene, &images, out, (&config, methods))?;
+        report_recording(path, bytes, to_stdout);
+    }
+    Ok(())
+}
+
 /// Where the study's recording went; on stderr when standard output carries a file.
-pub(super) fn report_recording(path: &std::path::Path, bytes: Option<u64>, to_stdout: bool) {
+fn report_recording(path: &std::path::Path, bytes: Option<u64>, to_stdout: bool) {
     let line = match bytes {
         Some(bytes) => format!(
             "\nrecording: {} ({:.2} MB)\n",

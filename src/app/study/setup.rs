@@ -76,7 +76,6 @@ pub(super) fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), E
     }
     // The scene's configuration: the study's flags over the scene file over the scene's
     // defaults (the rope's replaced by the study's own, see above).
-    let mut effective = SceneFile::default();
     let (problem, table) = match scene {
         StudyScene::Pendulum => {
             let mut layers = given(&PendulumArgs::default(), "pendulum", &file)?;
@@ -223,14 +222,24 @@ pub(super) fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), E
         StudyKind::Drift => unreachable!("drift_setup returned above"),
     };
     warn_if_long(work);
-    // The schedule and methods the sweep starts from, in the scene's table.
-    let mut table = table;
-    table.insert("dt".into(), dt0.into());
-    table.insert("duration".into(), duration.into());
+    let effective = effective_file(&problem, table, &sweep)?;
+    Ok((problem, sweep, steps, effective))
+}
+
+/// The study's scene as a scene file: the scene's table with the schedule and methods the sweep
+/// starts from.
+fn effective_file(
+    problem: &Problem,
+    mut table: toml::Table,
+    sweep: &Sweep,
+) -> Result<SceneFile, Error> {
+    table.insert("dt".into(), sweep.dt0.into());
+    table.insert("duration".into(), sweep.duration.into());
     let methods = toml::Value::try_from(&sweep.methods).map_err(|e| Error::Runtime(e.into()))?;
     table.insert("methods".into(), methods);
-    effective.set(scene_name, table);
-    Ok((problem, sweep, steps, effective))
+    let mut effective = SceneFile::default();
+    effective.set(problem.name(), table);
+    Ok(effective)
 }
 
 /// The drift study's problem and schedule: the pendulum released from rest (the closed form
@@ -241,7 +250,7 @@ fn drift_setup(
     problem: Problem,
     (file_dt, file_duration): (Option<f64>, Option<f64>),
     methods: Vec<Method>,
-    mut table: toml::Table,
+    table: toml::Table,
 ) -> Result<(Problem, Sweep, u64, SceneFile), Error> {
     let (default_dt, default_duration, nodes) = match &problem {
         Problem::Pendulum(p) => {
@@ -328,24 +337,8 @@ fn drift_setup(
         repeats: 1,
         rtols: vec![rtol],
     };
-    table.insert("dt".into(), dt.into());
-    table.insert("duration".into(), duration.into());
-    let listed = toml::Value::try_from(&sweep.methods).map_err(|e| Error::Runtime(e.into()))?;
-    table.insert("methods".into(), listed);
-    let mut effective = SceneFile::default();
-    effective.set(problem.name(), table);
+    let effective = effective_file(&problem, table, &sweep)?;
     Ok((problem, sweep, 0, effective))
-}
-
-/// The study kinds, as `physlab study KIND` spells them.
-pub(super) fn kind_name(kind: StudyKind) -> &'static str {
-    match kind {
-        StudyKind::Convergence => "convergence",
-        StudyKind::WorkPrecision => "work-precision",
-        StudyKind::Stability => "stability",
-        StudyKind::Hair => "hair",
-        StudyKind::Drift => "drift",
-    }
 }
 
 /// Every flag of `physlab study` that only some kinds use, whether it was given, and the kinds
@@ -388,11 +381,11 @@ pub(super) fn refuse_unused(a: &StudyArgs) -> Result<(), Error> {
         if given && !kinds.contains(&a.kind) {
             let takers: Vec<String> = kinds
                 .iter()
-                .map(|&k| format!("`study {}`", kind_name(k)))
+                .map(|&k| format!("`study {}`", k.name()))
                 .collect();
             return Err(Error::Usage(format!(
                 "{flag}: `study {}` does not use it (it is for {}); drop it",
-                kind_name(a.kind),
+                a.kind.name(),
                 takers.join(", ")
             )));
         }

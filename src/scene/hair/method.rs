@@ -28,6 +28,11 @@ impl HairMethod {
     /// frame, each a block-tridiagonal solve per strand.
     pub const DEFAULT: [HairMethod; 2] = [HairMethod::Verlet, HairMethod::Ftl];
 
+    /// Every method's name, comma-separated, for the messages that list them.
+    pub fn names() -> String {
+        HairMethod::ALL.map(HairMethod::name).join(", ")
+    }
+
     pub fn name(self) -> &'static str {
         match self {
             HairMethod::Verlet => "verlet",
@@ -91,7 +96,8 @@ impl std::str::FromStr for HairMethod {
             .find(|m| m.name() == s)
             .ok_or_else(|| {
                 format!(
-                    "unknown hair method '{s}' (allowed: verlet, semi-implicit-euler, implicit-euler, ftl)"
+                    "unknown hair method '{s}' (allowed: {})",
+                    HairMethod::names()
                 )
             })
     }

@@ -83,40 +83,15 @@ impl params::SceneConfig for HairConfig {
         let p = &self.params;
         let (strands, nodes, iterations, substeps) =
             (p.strands, p.nodes, p.iterations, self.substeps);
-        params::some_methods(
-            &self.methods,
-            &HairMethod::ALL
-                .iter()
-                .map(|m| m.name())
-                .collect::<Vec<_>>()
-                .join(", "),
-        )?;
-        if !(1..=1_000_000).contains(&strands) {
-            return Err(Invalid::param(
-                "--strands",
-                strands,
-                "must be between 1 and 1000000",
-            ));
-        }
-        if !(2..=10_000).contains(&nodes) {
-            return Err(Invalid::param(
-                "--nodes",
-                nodes,
-                "must be between 2 and 10000",
-            ));
-        }
+        params::some_methods(&self.methods, &HairMethod::names())?;
+        params::count_within("--strands", strands as u64, 1, 1_000_000)?;
+        params::count_within("--nodes", nodes as u64, 2, 10_000)?;
         // The same physical ranges as the pendulum's and the rope's magnitudes.
         let max = params::MAX_MAGNITUDE;
         params::within("--segment-length", p.segment_length, 1.0 / max, max, "m")?;
         params::within("--head-radius", p.head_radius, 1.0 / max, max, "m")?;
         for (option, v) in [("--gravity", p.gravity), ("--wind", p.wind)] {
-            if !(v.is_finite() && v.abs().max_element() <= max) {
-                return Err(Invalid::param(
-                    option,
-                    params::shown_vector(v),
-                    format!("every component must be a finite number within ±{max:e} [m/s²]"),
-                ));
-            }
+            params::vector(option, v, " [m/s²]")?;
         }
         params::non_negative("--gust", p.gust, "fraction")?;
         let peak = p.wind.length() * (1.0 + p.gust);
@@ -130,13 +105,13 @@ impl params::SceneConfig for HairConfig {
         }
         params::within("--damping", p.damping, 0.0, max, "1/s")?;
         params::windows(&self.schedule(), &self.window)?;
-        if !(p.margin.is_finite() && (0.0..0.5).contains(&p.margin)) {
-            return Err(Invalid::param(
-                "--margin",
-                params::shown(p.margin),
-                "must be in [0, 0.5) head radii",
-            ));
-        }
+        let margin_ok = p.margin.is_finite() && (0.0..0.5).contains(&p.margin);
+        params::require(
+            margin_ok,
+            "--margin",
+            p.margin,
+            "must be in [0, 0.5) head radii",
+        )?;
         params::at_least_one("--iterations", iterations.into())?;
         // The default stiffness follows the other parameters: it is refused only when a spring
         // method would take it, and then by what it follows from.

@@ -336,8 +336,8 @@ fn samples_strides_and_the_last_tick_frames_every_stride_and_stops_at_divergence
     }
 }
 
-/// `--fps 30` at dt = 0.01 s used to log every round(3.33) = 3 steps, 33.3 Hz. Frames now
-/// come at the step nearest k/30 s: 30 Hz on average, each within half a step of its time.
+/// Frames come at the step nearest k/fps s (at dt = 0.01 s and 30 fps not every 3rd step, 33.3
+/// Hz): fps on average, each within half a step of its time.
 #[test]
 fn frames_come_at_the_rate_asked_each_within_half_a_tick_of_its_time() {
     for (dt, fps) in [

@@ -134,11 +134,6 @@ impl PendulumParams {
     pub fn over_the_top_energy(&self) -> f64 {
         2.0 * self.gravity * self.length
     }
-
-    /// Bob position relative to the pivot in the swing plane (x right, z up) [m].
-    pub fn bob_offset(&self, theta: f64) -> (f64, f64) {
-        (self.length * theta.sin(), -self.length * theta.cos())
-    }
 }
 
 /// The pendulum as a [`SecondOrderSystem`] with one coordinate, θ.

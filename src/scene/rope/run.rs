@@ -59,7 +59,6 @@ impl RopeLayout {
     ];
 }
 
-/// Everything a rope run needs, resolved and validated.
 /// Everything a rope run needs; its serialised form is the scene file's `[rope]` table.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(default)]
@@ -202,13 +201,7 @@ impl params::SceneConfig for RopeConfig {
             &Method::names().collect::<Vec<_>>().join(", "),
         )?;
         refuse_position_only_methods(p, &self.methods)?;
-        if !(2..=MAX_NODES).contains(&p.nodes) {
-            return Err(Invalid::param(
-                "--nodes",
-                p.nodes,
-                format!("must be between 2 and {MAX_NODES}"),
-            ));
-        }
+        params::count_within("--nodes", p.nodes as u64, 2, MAX_NODES as u64)?;
         if (p.end - p.start).length() == 0.0 {
             return Err(Invalid::param(
                 "--end",
@@ -222,13 +215,7 @@ impl params::SceneConfig for RopeConfig {
             ("--end", p.end),
             ("--gravity", p.gravity),
         ] {
-            if !(v.is_finite() && v.abs().max_element() <= max) {
-                return Err(Invalid::param(
-                    option,
-                    params::shown_vector(v),
-                    format!("every component must be a finite number within ±{max:e}"),
-                ));
-            }
+            params::vector(option, v, "")?;
         }
         params::within("--mass", p.mass, 1.0 / max, max, "kg")?;
         // A rope without springs is no rope: every method would let it fall apart.
@@ -303,16 +290,15 @@ impl RopeConfig {
     }
 }
 
-/// The plotted quantities, in order.
 /// Coordinates (m) and velocities (m/s) below this are set to zero at the start of every block.
 /// A rope pinned at one end swings down and its swing decays exponentially about x = 0 for
 /// ever; after about 5,000 s at the defaults its x components are below 1e-110 and their
-/// products subnormal, which made every later step 2–3 times dearer (with the processor's
-/// flush-to-zero mode the cost stayed level, confirming the cause). 1e-90 keeps the products
+/// products subnormal, which makes every later step 2–3 times dearer. 1e-90 keeps the products
 /// of two or three coordinates normal, and is far below anything a run reports: the energy,
 /// of order 10 J, is summed to a relative 1e-16.
 pub const NEGLIGIBLE: f64 = 1e-90;
 
+/// The plotted quantities, in order.
 pub const QUANTITIES: [&str; 3] = ["energy", "energy_change", "max_strain"];
 
 /// One method's rope and what has been measured on it.

@@ -1,0 +1,307 @@
+//! Convergence and work-precision sweeps: every method over halved steps (the adaptive ones over
+//! tolerances), each run's largest deviation from the reference and what it spent.
+
+use std::time::Instant;
+
+use super::{
+    DEFAULT_LEVELS, DEFAULT_REPEATS, Problem, default_rtols, default_schedule, steps, stop,
+};
+use crate::integrate::{Integrator, Method, MethodOptions, SecondOrderSystem};
+use crate::scene::params::{self, Invalid};
+use crate::scene::pendulum::Pendulum;
+use crate::scene::pendulum::reference::{ExactPendulum, FineStepReference};
+use crate::scene::rope::Rope;
+
+impl Sweep {
+    /// The study's default sweep of `problem`: every method it accepts, its default schedule.
+    pub fn defaults(problem: &Problem) -> Self {
+        let (dt0, duration) = default_schedule(problem);
+        Sweep {
+            dt0,
+            levels: DEFAULT_LEVELS,
+            duration,
+            methods: problem.methods(),
+            options: MethodOptions::default(),
+            repeats: DEFAULT_REPEATS,
+            rtols: default_rtols(),
+        }
+    }
+}
+
+/// One measured run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Row {
+    pub scene: &'static str,
+    pub method: Method,
+    pub dt: f64,
+    /// The adaptive method's tolerance; `None` for fixed-step methods.
+    pub rtol: Option<f64>,
+    /// Largest deviation from the reference over the run; `None` when the run diverged.
+    pub error: Option<f64>,
+    /// Force evaluations over the run (rejected steps' included).
+    pub evals: u64,
+    /// Steps the method accepted (an adaptive method's own steps; the fixed-step count otherwise).
+    pub accepted: u64,
+    /// Steps the error control rejected (0 for fixed-step methods).
+    pub rejected: u64,
+    /// Median wall time over the repeats [s].
+    pub wall_seconds: f64,
+}
+
+/// What one measured run gives: the largest |x - reference| at the sample times (`None` when
+/// the state stops being finite), and what it spent.
+struct Measured {
+    error: Option<f64>,
+    evals: u64,
+    accepted: u64,
+    rejected: u64,
+    wall: f64,
+}
+
+/// One run of a sweep: the method, its step, its options and its steps per sample.
+type Trial = (Method, f64, MethodOptions, u64);
+
+/// Steps the trial's method over the reference's sample times and measures it (`None` when
+/// stopped).
+fn measure<S: SecondOrderSystem>(
+    sys: &S,
+    start: &(Vec<f64>, Vec<f64>),
+    reference: &[Vec<f64>],
+    (method, dt, options, per_sample): Trial,
+) -> Option<Measured> {
+    let began = Instant::now();
+    let mut it = Integrator::new(method, sys, &start.0, &start.1, dt, options);
+    let mut worst: f64 = 0.0;
+    for r in reference {
+        if !steps(&mut it, sys, per_sample) {
+            return None;
+        }
+        let x = it.position();
+        let err = x
+            .iter()
+            .zip(r)
+            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        if !err.is_finite() {
+            worst = f64::NAN;
+            break;
+        }
+        worst = worst.max(err);
+    }
+    let wall = began.elapsed().as_secs_f64();
+    Some(Measured {
+        error: worst.is_finite().then_some(worst),
+        evals: it.evals(),
+        accepted: it.accepted_steps(),
+        rejected: it.rejected_steps(),
+        wall,
+    })
+}
+
+/// The reference positions at t = k·sample_dt, k = 1..=samples, and an estimate of its own
+/// error; `None` when stopped.
+pub fn reference(
+    problem: &Problem,
+    sample_dt: f64,
+    samples: usize,
+    finest_dt: f64,
+) -> Option<(Vec<Vec<f64>>, f64)> {
+    let rope = match problem {
+        Problem::Rope(rope) => Rope::new(rope.clone()),
+        Problem::Pendulum(p) => {
+            if let Some(exact) = ExactPendulum::new(p) {
+                let r = (1..=samples)
+                    .map(|k| vec![exact.state(k as f64 * sample_dt).0])
+                    .collect();
+                return Some((r, exact.theta_accuracy(samples as f64 * sample_dt)));
+            }
+            // No closed form (ω0 ≠ 0): the scene's fine-step reference, stepped as the scene
+            // steps it (compensated sums, its estimate checked against mpmath over whole runs).
+            // Not finer: below its step the error is round-off amplified by the motion, which
+            // the estimate (Richardson between two step sizes) does not see.
+            let mut fine = FineStepReference::new(p, sample_dt);
+            let r: Vec<Vec<f64>> = (0..samples).map(|_| vec![fine.advance().0]).collect();
+            if crate::interrupt::requested() || r.iter().any(|x| !x[0].is_finite()) {
+                return None;
+            }
+            return Some((r, fine.error_estimate()));
+        }
+    };
+    let h = finest_dt / 8.0;
+    let per = (sample_dt / h).round() as u64;
+    let start = problem.start();
+    let run = |h: f64, per: u64| fine_run(&rope, &start, h, per, samples);
+    let fine = run(h, per)?;
+    let coarse = run(2.0 * h, per / 2)?;
+    let diff = fine
+        .iter()
+        .zip(&coarse)
+        .flat_map(|(a, b)| a.iter().zip(b).map(|(x, y)| (x - y).abs()))
+        .fold(0.0, f64::max);
+    Some((fine, diff / 15.0))
+}
+
+fn fine_run<S: SecondOrderSystem>(
+    sys: &S,
+    start: &(Vec<f64>, Vec<f64>),
+    h: f64,
+    per: u64,
+    samples: usize,
+) -> Option<Vec<Vec<f64>>> {
+    let mut it = Integrator::new(
+        Method::Rk4,
+        sys,
+        &start.0,
+        &start.1,
+        h,
+        MethodOptions::default(),
+    );
+    (0..samples)
+        .map(|_| steps(&mut it, sys, per).then(|| it.position().to_vec()))
+        .collect()
+}
+
+/// Errors are compared every this many coarsest steps: often enough to catch the largest
+/// deviation (not only turning points), seldom enough that dopri5 chooses its own substeps.
+pub const SAMPLE_EVERY: u64 = 16;
+
+/// How a convergence or work-precision sweep is set up.
+#[derive(Clone, Debug)]
+pub struct Sweep {
+    /// The coarsest step; the samples are taken every SAMPLE_EVERY × dt0.
+    pub dt0: f64,
+    /// Number of step sizes dt0, dt0/2, ...
+    pub levels: u32,
+    pub duration: f64,
+    pub methods: Vec<Method>,
+    pub options: MethodOptions,
+    /// Timed repeats per run (the median is kept).
+    pub repeats: u32,
+    /// The adaptive methods' tolerances (each runs with each, asked for the sample times).
+    pub rtols: Vec<f64>,
+}
+
+impl Sweep {
+    /// The sweep's own numbers within their ranges, each named by the flag that sets it, and its
+    /// reference within the step limit.
+    pub fn validate(&self) -> Result<(), Invalid> {
+        params::count_within("--levels", self.levels.into(), 2, 20)?;
+        params::count_within("--repeats", self.repeats.into(), 1, 100)?;
+        for &rtol in &self.rtols {
+            params::rtol(rtol)?;
+        }
+        params::positive("--dt", self.dt0, "s")?;
+        params::positive("--duration", self.duration, "s")?;
+        // Errors are compared every SAMPLE_EVERY coarsest steps; fewer than one sample fits
+        // nothing.
+        let longest = self.duration / SAMPLE_EVERY as f64;
+        if self.dt0 > longest {
+            return Err(Invalid::Usage(format!(
+                "--dt {}: must not exceed --duration / {SAMPLE_EVERY} = {} s (errors are sampled \
+                 every {SAMPLE_EVERY} coarsest steps)",
+                params::shown(self.dt0),
+                params::shown(longest),
+            )));
+        }
+        let reference_steps = self.reference_steps();
+        if reference_steps > params::MAX_STEPS {
+            return Err(Invalid::Usage(format!(
+                "{} needs {reference_steps:.2e} reference steps; at most {:.0e} are allowed \
+                 (raise --dt or lower --levels)",
+                self.schedule(),
+                params::MAX_STEPS
+            )));
+        }
+        Ok(())
+    }
+
+    /// The reference's steps: 8× finer than the finest level.
+    pub fn reference_steps(&self) -> f64 {
+        8.0 * self.duration / self.finest()
+    }
+
+    /// The finest level's step.
+    fn finest(&self) -> f64 {
+        self.dt0 / 2f64.powi(self.levels as i32 - 1)
+    }
+
+    /// The schedule as its flags say it, for messages.
+    pub fn schedule(&self) -> String {
+        format!(
+            "--dt {} with --levels {} over --duration {} s",
+            params::shown(self.dt0),
+            self.levels,
+            params::shown(self.duration)
+        )
+    }
+}
+
+/// Every (method, dt) of the sweep: fixed-step methods over the halved steps, the adaptive
+/// methods (family `Adaptive`: dopri5, dop853, vern9) over their tolerances. Returns the rows and
+/// the reference's accuracy (the exact pendulum's [`theta_accuracy`] over the run, or the fine run's
+/// Richardson estimate); after a stop request, the rows complete so far (none if the reference
+/// was not).
+///
+/// [`theta_accuracy`]: crate::scene::pendulum::reference::ExactPendulum::theta_accuracy
+pub fn sweep(problem: &Problem, s: &Sweep) -> (Vec<Row>, f64) {
+    let sample_dt = SAMPLE_EVERY as f64 * s.dt0;
+    let samples = ((s.duration / sample_dt).round() as usize).max(1);
+    let Some((reference, reference_error)) = reference(problem, sample_dt, samples, s.finest())
+    else {
+        return (Vec::new(), 0.0);
+    };
+    let start = problem.start();
+    let mut rows = Vec::new();
+    let mut one = |trial: Trial, rtol: Option<f64>| {
+        let (method, dt, ..) = trial;
+        let mut walls = Vec::new();
+        let mut result = None;
+        for _ in 0..s.repeats.max(1) {
+            let Some(m) = (match problem {
+                Problem::Pendulum(p) => measure(&Pendulum::new(p), &start, &reference, trial),
+                Problem::Rope(p) => measure(&Rope::new(p.clone()), &start, &reference, trial),
+            }) else {
+                return;
+            };
+            walls.push(m.wall);
+            result = Some(m);
+        }
+        walls.sort_by(f64::total_cmp);
+        let m = result.expect("at least one repeat");
+        rows.push(Row {
+            scene: problem.name(),
+            method,
+            dt,
+            rtol,
+            error: m.error,
+            evals: m.evals,
+            accepted: m.accepted,
+            rejected: m.rejected,
+            wall_seconds: walls[walls.len() / 2],
+        });
+    };
+    for &m in &s.methods {
+        if m.info().adaptive() {
+            // Adaptive: it is asked for the sample times only and chooses its steps itself.
+            for &rtol in &s.rtols {
+                if stop() {
+                    break;
+                }
+                one(
+                    (m, sample_dt, MethodOptions { rtol, ..s.options }, 1),
+                    Some(rtol),
+                );
+            }
+        } else {
+            for k in 0..s.levels {
+                if stop() {
+                    break;
+                }
+                one(
+                    (m, s.dt0 / 2f64.powi(k as i32), s.options, SAMPLE_EVERY << k),
+                    None,
+                );
+            }
+        }
+    }
+    (rows, reference_error)
+}
