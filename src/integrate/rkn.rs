@@ -99,12 +99,18 @@ fn rkn_stage<S: SecondOrderSystem, T: RknTableau, W: Width>(
     let (a, cs) = (T::A[s], T::C[s]);
     let (done, rest) = k.split_at_mut(s * n);
     let (x, v) = (&base[..n], &base[n..n2]);
+    // The newest acceleration the row uses is added last, on its own: the rest does not wait
+    // for the previous stage's force, so one multiply-add separates two force evaluations on
+    // the stages' dependent chain (8% of dprkn12's time on the pendulum).
+    let (newest, earlier) = a.split_last().expect("a stage after the first");
+    let h2_newest = h * h * newest;
+    let latest = &done[earlier.len() * n..a.len() * n];
     for i in 0..n {
         let mut acc = 0.0;
-        for (j, aj) in a.iter().enumerate() {
+        for (j, aj) in earlier.iter().enumerate() {
             acc += aj * done[j * n + i];
         }
-        xs[i] = x[i] + h * (cs * v[i] + h * acc);
+        xs[i] = (x[i] + h * (cs * v[i] + h * acc)) + h2_newest * latest[i];
     }
     sys.acceleration(&xs[..n], v, &mut rest[..n]);
 }
@@ -144,12 +150,13 @@ impl<T: RknTableau> Pair for Nystrom<T> {
         let rtol = c.rtol;
         let (y, ynew, k) = (&c.y[..n2], &mut c.y_old[..n2], &c.k[..T::STAGES * n]);
         // The new position (the FSAL stage's argument, same arithmetic as `rkn_stage`).
+        let h2_newest = h * h * T::BBAR[last - 1];
         for i in 0..n {
             let mut acc = 0.0;
-            for j in 0..last {
+            for j in 0..last - 1 {
                 acc += T::BBAR[j] * k[j * n + i];
             }
-            ynew[i] = y[i] + h * (y[n + i] + h * acc);
+            ynew[i] = (y[i] + h * (y[n + i] + h * acc)) + h2_newest * k[(last - 1) * n + i];
         }
         if T::FSAL {
             let (x1, v) = (&ynew[..n], &y[n..n2]);
