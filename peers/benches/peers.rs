@@ -403,7 +403,7 @@ fn table(h: &Horizon, results: &[RunResult]) {
     for t in h.targets {
         print!(" {t:.0e} |");
     }
-    println!();
+    println!("\n|---|{}", "---|".repeat(h.targets.len()));
     for side in sides {
         print!("| {side} |");
         for &t in h.targets {
