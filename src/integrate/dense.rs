@@ -90,9 +90,9 @@ pub(crate) struct Core {
     dense_ready: bool,
     /// Internal time, start of the last accepted step, its size, and the controller's next step.
     /// The times are sums of the steps taken, kept with their rounding error (`t_low`,
-    /// `t_old_low`: the exact sum is t + t_low): over 10⁵–10⁶ steps the plain sum drifts from
-    /// the time the state is at by up to ~1e-9 relative, which the interpolant would turn into
-    /// a phase error of that size.
+    /// `t_old_low`: the exact sum is t + t_low): a plain sum drifts from the time the state is
+    /// at, step by step, and the interpolant would be read at the wrong place (a phase error
+    /// that grows with the number of steps; see `a_million_steps_keep_their_time`).
     t: f64,
     t_low: f64,
     t_old: f64,
