@@ -255,6 +255,19 @@ const REFUSALS: &[(&[&str], i32, &[&str])] = &[
         &["--verlet-damping 1.5: must be in [0, 1)"],
     ),
     (
+        &["pendulum", "--methods", "rkn4", "--step", "0"],
+        2,
+        &["--step 0: must be a finite number > 0 [s]"],
+    ),
+    (
+        &["rope", "--methods", "verlet", "--step", "1e-12"],
+        2,
+        &[
+            "--step 1e-12 with --duration",
+            "(raise --step or shorten --duration)",
+        ],
+    ),
+    (
         &["pendulum", "--window", "5"],
         2,
         &[
@@ -882,14 +895,14 @@ fn tolerances_without_an_adaptive_method_and_empty_method_lists_are_refused() {
 /// read from the code): only verlet has a damping factor; only the error-controlled pairs take a
 /// tolerance; only implicit Euler solves with Newton; only the compositions (yoshida4 to
 /// sofroniou10) sum compensated (`--compensated`, a switch: an empty value below, `true` in a
-/// file); of the hair methods only verlet has a
+/// file); only the fixed-step methods take their own step (`--step`); of the hair methods only verlet has a
 /// constraint solver with iterations, and only the spring methods have springs. Given without a
 /// method that reads it, each flag is refused; with one, the run goes ahead. A scene file's key is
 /// not refused (files state every parameter): the same value from a file runs.
 #[test]
 fn every_scene_flag_a_method_reads_is_refused_without_that_method() {
     let hair_run = ["--strands", "2", "--duration", "0.05"];
-    let cases: [(&str, &str, &str, &str, &str); 12] = [
+    let cases: [(&str, &str, &str, &str, &str); 14] = [
         (
             "pendulum",
             "--verlet-damping",
@@ -902,6 +915,8 @@ fn every_scene_flag_a_method_reads_is_refused_without_that_method() {
         ("rope", "--rtol", "1e-6", "implicit-euler", "dop853"),
         ("pendulum", "--compensated", "", "rk4,verlet", "yoshida6"),
         ("rope", "--compensated", "", "verlet", "sofroniou10"),
+        ("pendulum", "--step", "0.25", "dop853,dprkn12", "rkn4"),
+        ("rope", "--step", "0.002", "vern9", "implicit-euler"),
         (
             "rope",
             "--newton-iterations",

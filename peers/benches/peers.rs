@@ -445,6 +445,15 @@ fn compare(h: &Horizon, long: bool) -> (Reference, Vec<RunResult>) {
         .map(|j| 1usize << j)
         .map(|per| (format!("h {:.1e}", SAMPLE_DT / per as f64), per))
         .collect();
+    // physlab's fixed-step methods also step across the samples (`MethodOptions::step`), at
+    // h = 0.1 · 2^(j/8) s from 0.4 s down, before the grid of steps that end at every sample
+    // (the peers' fixed-step method cannot: its steps are its samples).
+    let across: Vec<(String, (usize, Option<f64>))> = (1..=16)
+        .rev()
+        .map(|j| SAMPLE_DT * 2f64.powf(f64::from(j) / 8.0))
+        .map(|h| (format!("h {h:.2e} across samples"), (1, Some(h))))
+        .chain(steps.iter().map(|(l, per)| (l.clone(), (*per, None))))
+        .collect();
     let r = &mut results;
     let mut fixed = vec![
         (Method::Rk4, false),
@@ -461,11 +470,12 @@ fn compare(h: &Horizon, long: bool) -> (Reference, Vec<RunResult>) {
     }
     for (m, compensated) in fixed {
         let side = side_name(m, compensated);
-        let options = MethodOptions {
-            compensated,
-            ..MethodOptions::default()
-        };
-        sweep(h, &reference, r, side, steps.clone(), |&per| {
+        sweep(h, &reference, r, side, across.clone(), |&(per, step)| {
+            let options = MethodOptions {
+                compensated,
+                step,
+                ..MethodOptions::default()
+            };
             physlab_run(m, SAMPLE_DT / per as f64, per, options, n)
         });
     }

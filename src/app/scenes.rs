@@ -319,6 +319,7 @@ impl StepFlags {
             MethodFlag::new("--compensated", self.compensated, |m| {
                 composition_weights(m).is_some()
             }),
+            MethodFlag::new("--step", self.step.is_some(), |m| !m.info().adaptive()),
         ]
     }
 }
@@ -525,8 +526,8 @@ mod tests {
 
     #[test]
     fn every_flag_is_a_key_of_its_scenes_configuration_and_back() {
-        same_parameters::<PendulumArgs, PendulumConfig>("pendulum", &["compensated"]);
-        same_parameters::<RopeArgs, RopeConfig>("rope", &["preset", "compensated"]);
+        same_parameters::<PendulumArgs, PendulumConfig>("pendulum", &["compensated", "step"]);
+        same_parameters::<RopeArgs, RopeConfig>("rope", &["preset", "compensated", "step"]);
         same_parameters::<HairArgs, HairConfig>("hair", &["stiffness", "dt", "log_strands"]);
     }
 }

@@ -9,7 +9,7 @@
 //! `Rkn4` is fixed-step; the embedded pairs are [`Pair`]s of the shared driver (`dense.rs`)
 //! whose stage rows hold the acceleration alone (`Pair::ACCELERATION_ROWS`).
 
-use super::dense::{Core, Pair, Width};
+use super::dense::{Core, Dynamic, Pair, Width};
 use super::rkn_tables as t;
 use super::{SecondOrderSystem, State};
 
@@ -18,26 +18,44 @@ use super::{SecondOrderSystem, State};
 /// b̄ = (1/6, 1/3, 0), b = (1/6, 2/3, 1/6). Three evaluations per step.
 #[derive(Clone, Debug)]
 pub struct Rkn4 {
-    /// The three stages' accelerations, then a stage's position.
-    g: Vec<f64>,
+    /// The first stage's acceleration a(x), the other two stages', and a stage's position.
+    g0: Vec<f64>,
+    g1: Vec<f64>,
+    g2: Vec<f64>,
     xs: Vec<f64>,
 }
 
 impl Rkn4 {
     pub fn new(n: usize) -> Self {
         Rkn4 {
-            g: vec![0.0; 3 * n],
+            g0: vec![0.0; n],
+            g1: vec![0.0; n],
+            g2: vec![0.0; n],
             xs: vec![0.0; n],
         }
     }
 
     #[inline]
     pub fn step<S: SecondOrderSystem>(&mut self, sys: &S, s: State, h: f64) {
-        let n = s.x.len();
-        let (g0, rest) = self.g.split_at_mut(n);
-        let (g1, g2) = rest.split_at_mut(n);
-        let xs = &mut self.xs;
-        sys.acceleration(s.x, s.v, g0);
+        sys.acceleration(s.x, s.v, &mut self.g0);
+        s.counts.evals += 1;
+        let g0 = std::mem::take(&mut self.g0);
+        self.step_from(sys, s, h, &g0, Dynamic(g0.len()));
+        self.g0 = g0;
+    }
+
+    /// A step whose first stage, a(x), is known (`g0`): two evaluations.
+    #[inline]
+    pub fn step_from<S: SecondOrderSystem, W: Width>(
+        &mut self,
+        sys: &S,
+        s: State,
+        h: f64,
+        g0: &[f64],
+        w: W,
+    ) {
+        let n = w.get();
+        let (g1, g2, xs) = (&mut self.g1, &mut self.g2, &mut self.xs);
         for i in 0..n {
             xs[i] = s.x[i] + h * (0.5 * s.v[i] + h * (g0[i] / 8.0));
         }
@@ -46,10 +64,10 @@ impl Rkn4 {
             xs[i] = s.x[i] + h * (s.v[i] + h * (0.5 * g1[i]));
         }
         sys.acceleration(xs, s.v, g2);
-        s.counts.evals += 3;
+        s.counts.evals += 2;
         for i in 0..n {
-            s.x[i] += h * (s.v[i] + h * (g0[i] / 6.0 + g1[i] / 3.0));
-            s.v[i] += h * (g0[i] / 6.0 + (2.0 / 3.0) * g1[i] + g2[i] / 6.0);
+            s.x[i] += h * (s.v[i] + h * (g0[i] * (1.0 / 6.0) + g1[i] * (1.0 / 3.0)));
+            s.v[i] += h * (g0[i] * (1.0 / 6.0) + (2.0 / 3.0) * g1[i] + g2[i] * (1.0 / 6.0));
         }
     }
 }
@@ -83,8 +101,13 @@ pub(crate) trait RknTableau {
 }
 
 /// Stage `s`: row s of `k` (n wide) gets a(x_s), x_s = x + c_s h v + h² Σ_{j<s} ā_sj g_j from
-/// `base` = (x, v). The velocity passed to the force is v (a(x) does not read it).
+/// `base` = (x, v). The velocity passed to the force is v (a(x) does not read it). With one
+/// coordinate, the previous stage's acceleration comes in `previous` (used when the row's last
+/// entry is that stage's: DPRKN12's dense stages skip each other) and this one's goes out as the
+/// return value, in registers (0 otherwise): through memory, each would wait on the stages'
+/// chain for its store to be forwarded to its load.
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 fn rkn_stage<S: SecondOrderSystem, T: RknTableau, W: Width>(
     sys: &S,
     w: W,
@@ -93,7 +116,8 @@ fn rkn_stage<S: SecondOrderSystem, T: RknTableau, W: Width>(
     base: &[f64],
     s: usize,
     h: f64,
-) {
+    previous: f64,
+) -> f64 {
     let n2 = w.get();
     let n = n2 / 2;
     let (a, cs) = (T::A[s], T::C[s]);
@@ -110,9 +134,15 @@ fn rkn_stage<S: SecondOrderSystem, T: RknTableau, W: Width>(
         for (j, aj) in earlier.iter().enumerate() {
             acc += aj * done[j * n + i];
         }
-        xs[i] = (x[i] + h * (cs * v[i] + h * acc)) + h2_newest * latest[i];
+        let newest = if n == 1 && a.len() == s {
+            previous
+        } else {
+            latest[i]
+        };
+        xs[i] = (x[i] + h * (cs * v[i] + h * acc)) + h2_newest * newest;
     }
     sys.acceleration(&xs[..n], v, &mut rest[..n]);
+    if n == 1 { rest[0] } else { 0.0 }
 }
 
 /// The most rows of dense-output coefficients a pair may have (dprkn12 has the most).
@@ -144,8 +174,9 @@ impl<T: RknTableau> Pair for Nystrom<T> {
         let n2 = w.get();
         let n = n2 / 2;
         let last = if T::FSAL { T::STAGES - 1 } else { T::STAGES };
+        let mut g = c.k[0];
         for s in 1..last {
-            rkn_stage::<S, T, W>(sys, w, &mut c.k, &mut c.yt, &c.y, s, h);
+            g = rkn_stage::<S, T, W>(sys, w, &mut c.k, &mut c.yt, &c.y, s, h, g);
         }
         let rtol = c.rtol;
         let (y, ynew, k) = (&c.y[..n2], &mut c.y_old[..n2], &c.k[..T::STAGES * n]);
@@ -156,7 +187,8 @@ impl<T: RknTableau> Pair for Nystrom<T> {
             for j in 0..last - 1 {
                 acc += T::BBAR[j] * k[j * n + i];
             }
-            ynew[i] = (y[i] + h * (y[n + i] + h * acc)) + h2_newest * k[(last - 1) * n + i];
+            let newest = if n == 1 { g } else { k[(last - 1) * n + i] };
+            ynew[i] = (y[i] + h * (y[n + i] + h * acc)) + h2_newest * newest;
         }
         if T::FSAL {
             let (x1, v) = (&ynew[..n], &y[n..n2]);
@@ -191,8 +223,9 @@ impl<T: RknTableau> Pair for Nystrom<T> {
         let n = n2 / 2;
         let h = c.h_last;
         let first_own = Self::FSAL_ROW + 1;
+        let mut g = c.k[(first_own - 1) * n];
         for s in first_own..Self::K_ROWS {
-            rkn_stage::<S, T, W>(sys, w, &mut c.k, &mut c.yt, &c.y_old, s, h);
+            g = rkn_stage::<S, T, W>(sys, w, &mut c.k, &mut c.yt, &c.y_old, s, h, g);
         }
         let rows = Self::CONT_ROWS;
         let (k, cont, y0) = (

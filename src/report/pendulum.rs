@@ -92,7 +92,7 @@ pub fn summary_text(scene: &PendulumScene, run: &Run<PendulumLane>) -> String {
         ]);
     }
     out.push_str(&table.render());
-    if run.stats.iter().any(|s| s.counts.adaptive_steps.is_some()) {
+    if run.stats.iter().any(|s| s.counts.own_steps.is_some()) {
         out.push_str(ADAPTIVE_STEPS_NOTE);
     }
     out

@@ -142,22 +142,45 @@ pub fn time(dt: f64, duration: f64, fps: f64, work_per_step: usize) -> Result<()
     positive("--fps", fps, "Hz")?;
     let rule = format!("must not exceed --duration {} s", shown(duration));
     require(dt <= duration, "--dt", dt, rule)?;
-    let steps = duration / dt;
+    step_count("--dt", dt, duration, work_per_step)
+}
+
+/// The fixed-step methods' step and the flag that set it: `--step` when given, else `--dt`.
+pub fn fixed_step(dt: f64, options: &crate::integrate::MethodOptions) -> (&'static str, f64) {
+    options.step.map_or(("--dt", dt), |h| ("--step", h))
+}
+
+/// The fixed-step methods' own step (`--step`), when given: positive, and no more steps than
+/// --dt may take.
+pub fn own_step(step: Option<f64>, duration: f64, work_per_step: usize) -> Result<(), Invalid> {
+    match step {
+        Some(h) => {
+            positive("--step", h, "s")?;
+            step_count("--step", h, duration, work_per_step)
+        }
+        None => Ok(()),
+    }
+}
+
+/// A refusal of runs of more than `MAX_STEPS` steps of `step` (the flag `option` sets), or
+/// whose work (steps × `work_per_step`, e.g. nodes) would take hours.
+fn step_count(option: &str, step: f64, duration: f64, work_per_step: usize) -> Result<(), Invalid> {
+    let steps = duration / step;
     if steps > MAX_STEPS {
         return Err(Invalid::Usage(format!(
-            "--dt {} with --duration {} is {steps:.2e} steps per method; at most {MAX_STEPS:.0e} \
-             are allowed (raise --dt or shorten --duration)",
-            shown(dt),
+            "{option} {} with --duration {} is {steps:.2e} steps per method; at most {MAX_STEPS:.0e} \
+             are allowed (raise {option} or shorten --duration)",
+            shown(step),
             shown(duration)
         )));
     }
     let work = steps * work_per_step as f64;
     if work > MAX_NODE_STEPS {
         return Err(Invalid::Usage(format!(
-            "--duration {} / --dt {} × {work_per_step} nodes is {work:.2e} node-steps per method; \
-             at most {MAX_NODE_STEPS:.0e} are allowed (raise --dt, shorten --duration or use fewer --nodes)",
+            "--duration {} / {option} {} × {work_per_step} nodes is {work:.2e} node-steps per method; \
+             at most {MAX_NODE_STEPS:.0e} are allowed (raise {option}, shorten --duration or use fewer --nodes)",
             shown(duration),
-            shown(dt)
+            shown(step)
         )));
     }
     Ok(())

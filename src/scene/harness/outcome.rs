@@ -42,7 +42,7 @@ impl LaneStats {
     /// Ticks taken, and an adaptive method's own steps beside them: its steps do not end on
     /// the tick grid, so the ticks alone would not say what it did.
     pub fn steps_text(&self) -> String {
-        match self.counts.adaptive_steps {
+        match self.counts.own_steps {
             Some((accepted, rejected)) => format!(
                 "{} (own: {accepted} + {rejected} rejected)",
                 self.ticks_taken()
@@ -54,7 +54,7 @@ impl LaneStats {
     /// Wall time per step of the method [ns]: per tick, or per own step (accepted or
     /// rejected) for an adaptive method.
     pub fn ns_per_step(&self) -> Option<f64> {
-        match self.counts.adaptive_steps {
+        match self.counts.own_steps {
             Some((accepted, rejected)) if accepted + rejected > 0 => self
                 .ns_per_tick()
                 .map(|_| self.wall.as_nanos() as f64 / (accepted + rejected) as f64),

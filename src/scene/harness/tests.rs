@@ -211,7 +211,7 @@ impl Scene for SideBySide {
         Counts {
             evals: lane.evals,
             failed_solves: lane.failed,
-            adaptive_steps: None,
+            own_steps: None,
         }
     }
 }

@@ -97,6 +97,7 @@ impl params::SceneConfig for PendulumConfig {
         }
         params::within("--omega0", p.omega0, -max, max, "rad/s")?;
         params::time(self.dt, self.duration, self.fps, 1)?;
+        params::own_step(self.options.step, self.duration, 1)?;
         self.reference_guard()?;
         params::windows(&self.schedule(), &self.window)?;
         params::plot_and_options(self.plot_every, &self.options)
@@ -112,12 +113,13 @@ impl params::SceneConfig for PendulumConfig {
                 "small-angle period",
             ),
         };
-        (self.dt > period / 10.0).then(|| {
+        let (flag, h) = params::fixed_step(self.dt, &self.options);
+        (h > period / 10.0).then(|| {
             format!(
-                "--dt {} s exceeds a tenth of the pendulum's {what} {} s: fewer than ten steps \
+                "{flag} {} s exceeds a tenth of the pendulum's {what} {} s: fewer than ten steps \
                  a swing, so every method's error is of the order of the motion (milliseconds \
-                 are --dt 0.001)",
-                params::shown(self.dt),
+                 are {flag} 0.001)",
+                params::shown(h),
                 params::seconds(period)
             )
         })
@@ -396,7 +398,7 @@ impl Scene for PendulumScene {
                         evals: lane.evals[j],
                         failed_solves: it.failed_solves() - later_misses as u64,
                         // The rest of the block's own steps cannot be told apart: not shown.
-                        adaptive_steps: None,
+                        own_steps: None,
                     });
                 }
                 break;

@@ -234,6 +234,7 @@ impl params::SceneConfig for RopeConfig {
         }
         params::at_least_one("--newton-iterations", p.newton_iterations.into())?;
         params::time(self.dt, self.duration, self.fps, p.nodes)?;
+        params::own_step(self.options.step, self.duration, p.nodes)?;
         params::memory(
             &format!("--nodes {} with {} methods", p.nodes, self.methods.len()),
             self.memory_bytes(),
@@ -253,12 +254,13 @@ impl params::SceneConfig for RopeConfig {
             .filter(|m| matches!(m.info().stability, Stability::Below(_) | Stability::Never))
             .map(|m| m.name())
             .collect();
-        (self.dt > limit && !bounded.is_empty()).then(|| {
+        let (flag, h) = params::fixed_step(self.dt, &self.options);
+        (h > limit && !bounded.is_empty()).then(|| {
             format!(
-                "--dt {} s exceeds 2/ω_max = {} s, the scale of the rope's stiffest spring mode \
+                "{flag} {} s exceeds 2/ω_max = {} s, the scale of the rope's stiffest spring mode \
                  (ω_max = {} rad/s): {} are stable only below about that step and are expected \
                  to diverge",
-                params::shown(self.dt),
+                params::shown(h),
                 params::seconds(limit),
                 params::seconds(omega_max),
                 bounded.join(", ")
