@@ -260,6 +260,19 @@ const REFUSALS: &[(&[&str], i32, &[&str])] = &[
         &["--step 0: must be a finite number > 0 [s]"],
     ),
     (
+        &[
+            "pendulum",
+            "--methods",
+            "rkn4",
+            "--step",
+            "1e300",
+            "--duration",
+            "5",
+        ],
+        2,
+        &["--step 1e300: must not exceed --duration 5 s"],
+    ),
+    (
         &["rope", "--methods", "verlet", "--step", "1e-12"],
         2,
         &[

@@ -315,8 +315,9 @@ impl Integrator {
             _ => None,
         }
     }
-    /// Steps the method accepted so far: its own internal steps for an adaptive method (which
-    /// may be more or fewer than the calls of [`Integrator::step`]), the calls otherwise.
+    /// Steps the method accepted so far: its own internal steps for an adaptive method or one
+    /// stepping across the samples (which may be more or fewer than the calls of
+    /// [`Integrator::step`]), the calls otherwise.
     pub fn accepted_steps(&self) -> u64 {
         match (&self.across, self.adaptive()) {
             (Some(a), _) => a.steps,
@@ -340,7 +341,8 @@ impl Integrator {
     pub fn rejected_steps(&self) -> u64 {
         self.adaptive().map_or(0, |c| c.rejected)
     }
-    /// Size of the last accepted step [s]: the adaptive method's own (0 before its first), dt
+    /// Size of the last accepted step [s]: the adaptive method's own (0 before its first), a
+    /// fixed-step method's own step (`MethodOptions::step`) when it steps across the samples, dt
     /// otherwise.
     pub fn last_step_size(&self) -> f64 {
         match (&self.across, self.adaptive()) {

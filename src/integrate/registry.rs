@@ -399,7 +399,9 @@ registry! {
         notes: "Forces of position alone: refused where they depend on the velocity (the rope's \
                 --spring-damping or --air-drag above 0). Stable for h below the root of \
                 4 - h^2 + h^4/12 - h^6/288 = 0; it damps (det = 1 - h^6/288). On the pendulum \
-                (dt 0.01 s, 20 s) 4.5e-9 rad for 6000 evaluations, where rk4 gets 1.3e-8 for 8000.",
+                (dt 0.01 s, 20 s) 4.5e-9 rad for 6000 evaluations, where rk4 gets 1.3e-8 for 8000. \
+                With --step it steps across the samples: the cheapest run to 1e-3 on the 60° \
+                pendulum sampled every 0.1 s (`cargo bench -p physlab-peers`: --step 0.259).",
         default: false,
     },
     /// Dormand–El-Mikkawy–Prince RKN6(4)6FD, adaptive, for x'' = a(x).

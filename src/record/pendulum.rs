@@ -39,7 +39,7 @@ pub const PLOTS: [(&str, &str); 6] = [
     ),
     (
         "step_size",
-        "last accepted step [s] (adaptive methods: their own steps, not ended at the samples)",
+        "last accepted step [s] (adaptive methods and --step: their own steps, not ended at the samples)",
     ),
 ];
 

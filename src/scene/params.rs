@@ -150,12 +150,14 @@ pub fn fixed_step(dt: f64, options: &crate::integrate::MethodOptions) -> (&'stat
     options.step.map_or(("--dt", dt), |h| ("--step", h))
 }
 
-/// The fixed-step methods' own step (`--step`), when given: positive, and no more steps than
-/// --dt may take.
+/// The fixed-step methods' own step (`--step`), when given: positive, at most the run, and no
+/// more steps than --dt may take.
 pub fn own_step(step: Option<f64>, duration: f64, work_per_step: usize) -> Result<(), Invalid> {
     match step {
         Some(h) => {
             positive("--step", h, "s")?;
+            let rule = format!("must not exceed --duration {} s", shown(duration));
+            require(h <= duration, "--step", h, rule)?;
             step_count("--step", h, duration, work_per_step)
         }
         None => Ok(()),

@@ -314,7 +314,7 @@ pub fn minimising_root(
 }
 
 /// Takes `theta.len()` steps, storing (θ, ω), the evaluations spent so far and the size of the
-/// method's last accepted step (an adaptive method's own, dt otherwise) after each;
+/// method's last accepted step (an adaptive method's own, or --step's, dt otherwise) after each;
 /// appends the indices of steps whose implicit solve missed its tolerance to `unconverged`.
 ///
 /// This is the loop the lab times and the benchmark measures. It is not generic and never
