@@ -11,12 +11,13 @@ pub fn summary_text(scene: &PendulumScene, run: &Run<PendulumLane>) -> String {
     let schedule = scene.schedule();
     let mut out = String::new();
     out.push_str(&format!(
-        "pendulum: g = {} m/s², L = {} m, θ0 = {}°, ω0 = {} rad/s, dt = {} s, {} steps to t = {} s\n",
+        "pendulum: g = {} m/s², L = {} m, θ0 = {}°, ω0 = {} rad/s, dt = {} s{}, {} steps to t = {} s\n",
         p.gravity,
         p.length,
         trim_number(p.theta0.to_degrees(), 9),
         p.omega0,
         c.dt,
+        crate::scene::params::own_step_text(&c.options),
         schedule.total,
         trim_number(schedule.end_time(), 9)
     ));

@@ -31,11 +31,12 @@ pub fn vector_text(d: glam::DVec3) -> String {
 
 /// The linearised rope's fastest rates against the step, which decide explicit stability.
 pub fn rates_text(scene: &RopeScene) -> String {
-    let dt = scene.config.dt;
+    let (flag, dt) = crate::scene::params::fixed_step(scene.config.dt, &scene.config.options);
+    let name = flag.trim_start_matches("--");
     format!(
-        "fastest rates: springs ω_max {} {:.4} rad/s, so ω_max·dt = {:.4} (undamped, semi-implicit \
+        "fastest rates: springs ω_max {} {:.4} rad/s, so ω_max·{name} = {:.4} (undamped, semi-implicit \
          Euler and Verlet need < 2, RK4 < 2.83), damping c_max ≤ (4kd + ka)/m = {} 1/s, so \
-         c_max·dt ≤ {} (explicit methods need it below 2 too)",
+         c_max·{name} ≤ {} (explicit methods need it below 2 too)",
         if scene.omega_max_is_exact {
             "(chain pinned at node 0) ="
         } else {
@@ -65,7 +66,7 @@ pub fn summary_text(scene: &RopeScene, run: &Run<RopeLane>) -> String {
     let mut out = format!(
         "rope: {} nodes from {} to {} m, rest length {} m, mass {} kg/node, ks = {} N/m, kd = {} N·s/m, \
          ka = {} N·s/m, g = {} m/s²{}, pinned {:?}\n\
-         dt = {} s, {} steps to t = {} s; {}\n\
+         dt = {} s{}, {} steps to t = {} s; {}\n\
          E0 = {} J, energy scale {} J; divergence = non-finite state, strain > {:.3}, \
          or an energy gain > {ENERGY_GAIN_BOUND} × the scale, checked after every step\n\
          ns/step: wall time of the stepping and its O(N) energy and strain check \
@@ -82,6 +83,7 @@ pub fn summary_text(scene: &RopeScene, run: &Run<RopeLane>) -> String {
         sideways_note(p.gravity),
         p.pinned,
         c.dt,
+        crate::scene::params::own_step_text(&c.options),
         schedule.total,
         trim_number(schedule.end_time(), 9),
         rates_text(scene),

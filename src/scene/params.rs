@@ -150,6 +150,13 @@ pub fn fixed_step(dt: f64, options: &crate::integrate::MethodOptions) -> (&'stat
     options.step.map_or(("--dt", dt), |h| ("--step", h))
 }
 
+/// What a summary's header adds after dt when the fixed-step methods step at their own step.
+pub fn own_step_text(options: &crate::integrate::MethodOptions) -> String {
+    options.step.map_or(String::new(), |h| {
+        format!(" (fixed-step methods step at --step {} s)", shown(h))
+    })
+}
+
 /// The fixed-step methods' own step (`--step`), when given: positive, at most the run, and no
 /// more steps than --dt may take.
 pub fn own_step(step: Option<f64>, duration: f64, work_per_step: usize) -> Result<(), Invalid> {
