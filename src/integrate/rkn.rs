@@ -94,9 +94,10 @@ pub(crate) trait RknTableau {
     const EBAR: &'static [f64];
     const E: &'static [f64];
     /// The continuous extension x(θ) = x + θ h v + h² Σ_i B̄_i(θ) g_i,
-    /// v(θ) = v + h Σ_i B_i(θ) g_i, as B̄_i(θ) = Σ_k PX[k][i] θ^k and B_i(θ) = Σ_k PV[k][i] θ^k.
+    /// v(θ) = v + h Σ_i B_i(θ) g_i, as B̄_i(θ) = Σ_k PX[k][i] θ^k. Both pairs' velocity weights
+    /// are the derivative, B_i = dB̄_i/dθ (v(θ) = x'(θ)/h; for DPRKN6 the paper's own velocity
+    /// weights are, to the 80 digits `tools/rkn_tables.py` checks), so they are not tabulated.
     const PX: &'static [&'static [f64]];
-    const PV: &'static [&'static [f64]];
     const EXPONENT: f64;
 }
 
@@ -238,17 +239,19 @@ impl<T: RknTableau> Pair for Nystrom<T> {
             // Stage by stage into every row's sum at once, so that the rows' sums (independent
             // chains of dependent additions) run side by side; each row adds its terms in stage
             // order.
-            let (mut rx, mut rv) = ([0.0; MAX_CONT_ROWS], [0.0; MAX_CONT_ROWS]);
+            let mut rx = [0.0; MAX_CONT_ROWS];
             for j in 1..Self::K_ROWS {
                 let d = k[j * n + i] - g0;
                 for p in 0..rows {
                     rx[p] += T::PX[p][j] * d;
-                    rv[p] += T::PV[p][j] * d;
                 }
             }
+            // v(θ) = x'(θ)/h: the velocity's row p is (p + 1) times the position's row p + 1,
+            // over h (half the work of summing the velocity's own weights).
             for p in 0..rows {
                 cont[p * n2 + i] = h * h * rx[p];
-                cont[p * n2 + n + i] = h * rv[p];
+                let next = if p + 1 < rows { rx[p + 1] } else { 0.0 };
+                cont[p * n2 + n + i] = h * ((p + 1) as f64 * next);
             }
             cont[i] += y0[i];
             cont[n2 + i] += h * y0[n + i];
@@ -289,7 +292,6 @@ impl RknTableau for Dprkn6 {
     const EBAR: &'static [f64] = &t::EBAR6;
     const E: &'static [f64] = &t::E6;
     const PX: &'static [&'static [f64]] = t::PX6;
-    const PV: &'static [&'static [f64]] = t::PV6;
     /// The embedded solution is of order 4.
     const EXPONENT: f64 = 1.0 / 5.0 - 0.75 * 0.04;
 }
@@ -312,7 +314,6 @@ impl RknTableau for Dprkn12 {
     const EBAR: &'static [f64] = &t::EBAR12;
     const E: &'static [f64] = &t::E12;
     const PX: &'static [&'static [f64]] = t::PX12;
-    const PV: &'static [&'static [f64]] = t::PV12;
     /// The embedded solution is of order 10.
     const EXPONENT: f64 = 1.0 / 11.0 - 0.75 * 0.04;
 }
