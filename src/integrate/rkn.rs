@@ -146,6 +146,9 @@ fn rkn_stage<S: SecondOrderSystem, T: RknTableau, W: Width>(
     if n == 1 { rest[0] } else { 0.0 }
 }
 
+/// The most stages, the dense output's included, a pair may have (dprkn12 has 23).
+const MAX_STAGES: usize = 32;
+
 /// The most rows of dense-output coefficients a pair may have (dprkn12 has the most).
 const MAX_CONT_ROWS: usize = 16;
 
@@ -155,6 +158,23 @@ const MAX_CONT_ROWS: usize = 16;
 /// α = 1/(q + 1) − 0.03, q the embedded order.
 #[derive(Clone, Copy, Debug)]
 pub struct Nystrom<T>(std::marker::PhantomData<T>);
+
+impl<T: RknTableau> Nystrom<T> {
+    /// Whether stage j has a weight in the dense output at all (DPRKN12's stages 1–5 have none).
+    const DENSE_USES: [bool; MAX_STAGES] = {
+        let mut used = [false; MAX_STAGES];
+        let mut p = 0;
+        while p < T::PX.len() {
+            let mut j = 0;
+            while j < T::PX[p].len() {
+                used[j] = used[j] || T::PX[p][j] != 0.0;
+                j += 1;
+            }
+            p += 1;
+        }
+        used
+    };
+}
 
 impl<T: RknTableau> Pair for Nystrom<T> {
     const K_ROWS: usize = T::STAGES + T::DENSE_STAGES;
@@ -241,6 +261,9 @@ impl<T: RknTableau> Pair for Nystrom<T> {
             // order.
             let mut rx = [0.0; MAX_CONT_ROWS];
             for j in 1..Self::K_ROWS {
+                if !Self::DENSE_USES[j] {
+                    continue;
+                }
                 let d = k[j * n + i] - g0;
                 for p in 0..rows {
                     rx[p] += T::PX[p][j] * d;
