@@ -357,6 +357,37 @@ mod studies {
     use crate::common;
     use crate::common::{decode, partials, scratch_dir, spawn};
 
+    /// A fixed-step method stepping across the samples at the finest step allowed (4096 steps of
+    /// its own per sample, a rope of 2000 nodes: about half a second of stepping a sample) still
+    /// stops within a second of each signal: the run's blocks hold fewer samples.
+    #[test]
+    fn a_run_stepping_many_times_per_sample_stops_at_each_signal() {
+        for (signal, name) in [
+            (libc::SIGINT, "SIGINT"),
+            (libc::SIGTERM, "SIGTERM"),
+            (libc::SIGHUP, "SIGHUP"),
+        ] {
+            let child = spawn(&[
+                "rope",
+                "--nodes",
+                "2000",
+                "--methods",
+                "verlet",
+                "--dt",
+                "0.4096",
+                "--step",
+                "1e-4",
+                "--duration",
+                "4000",
+                "--no-record",
+                "-q",
+            ]);
+            let (code, waited, _, stderr) = stop(child, Duration::from_millis(1500), signal);
+            assert_eq!(code, Some(130), "{name}: {stderr}");
+            assert!(waited < 1.0, "{name}: {waited:.2} s after the signal");
+        }
+    }
+
     // ---- studies and worker threads -------------------------------------------------------------
 
     /// Sends `signal` to `child` after `after`, and returns (exit code, seconds from the signal to

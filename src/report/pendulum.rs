@@ -1,6 +1,6 @@
 //! The pendulum run's summary table, as printed on stdout.
 
-use crate::report::table::{ADAPTIVE_STEPS_NOTE, Table, figure, sig, trim_number};
+use crate::report::table::{OWN_STEPS_NOTE, Table, figure, sig, trim_number};
 use crate::scene::harness::{Run, Scene as _, divergence_cell};
 use crate::scene::pendulum::run::{PendulumLane, PendulumScene};
 
@@ -94,7 +94,7 @@ pub fn summary_text(scene: &PendulumScene, run: &Run<PendulumLane>) -> String {
     }
     out.push_str(&table.render());
     if run.stats.iter().any(|s| s.counts.own_steps.is_some()) {
-        out.push_str(ADAPTIVE_STEPS_NOTE);
+        out.push_str(OWN_STEPS_NOTE);
     }
     out
 }

@@ -1,7 +1,7 @@
 //! The rope run's summary table, as printed on stdout.
 
 use crate::integrate::{EvalsPerStep, Method};
-use crate::report::table::{ADAPTIVE_STEPS_NOTE, Table, figure, sig, trim_number};
+use crate::report::table::{OWN_STEPS_NOTE, Table, figure, sig, trim_number};
 use crate::scene::harness::{Run, Scene as _, divergence_cell};
 use crate::scene::rope::run::{ENERGY_GAIN_BOUND, RopeLane, RopeScene};
 
@@ -122,7 +122,7 @@ pub fn summary_text(scene: &RopeScene, run: &Run<RopeLane>) -> String {
     }
     out.push_str(&table.render());
     if run.stats.iter().any(|s| s.counts.own_steps.is_some()) {
-        out.push_str(ADAPTIVE_STEPS_NOTE);
+        out.push_str(OWN_STEPS_NOTE);
     }
     out
 }

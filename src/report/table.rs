@@ -118,7 +118,7 @@ pub fn figure(s: &LaneStats, text: String) -> String {
 }
 
 /// Said under a summary table that holds an adaptive method.
-pub const ADAPTIVE_STEPS_NOTE: &str = "adaptive methods, and fixed-step ones given --step: \"steps\" counts the dt grid they are \
+pub const OWN_STEPS_NOTE: &str = "adaptive methods, and fixed-step ones given --step: \"steps\" counts the dt grid they are \
      sampled on (by their dense output or interpolant); their own accepted and rejected steps are in \
      brackets, and ns/step is per own step\n";
 

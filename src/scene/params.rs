@@ -157,18 +157,41 @@ pub fn own_step_text(options: &crate::integrate::MethodOptions) -> String {
     })
 }
 
-/// The fixed-step methods' own step (`--step`), when given: positive, at most the run, and no
-/// more steps than --dt may take.
-pub fn own_step(step: Option<f64>, duration: f64, work_per_step: usize) -> Result<(), Invalid> {
+/// The most steps of its own a fixed-step method takes between two samples (`--step` below
+/// dt): the run looks at Ctrl-C between samples, so a sample's steps must stay a short wait.
+pub const MAX_STEPS_PER_SAMPLE: f64 = 4096.0;
+
+/// The fixed-step methods' own step (`--step`), when given: positive, at most the run, at
+/// least dt / `MAX_STEPS_PER_SAMPLE`, and no more steps than --dt may take.
+pub fn own_step(
+    step: Option<f64>,
+    dt: f64,
+    duration: f64,
+    work_per_step: usize,
+) -> Result<(), Invalid> {
     match step {
         Some(h) => {
             positive("--step", h, "s")?;
             let rule = format!("must not exceed --duration {} s", shown(duration));
             require(h <= duration, "--step", h, rule)?;
+            let least = dt / MAX_STEPS_PER_SAMPLE;
+            let rule = format!(
+                "must be at least --dt / {MAX_STEPS_PER_SAMPLE} = {} s (steps between two \
+                 samples); for finer steps lower --dt and plot every Nth with --plot-every",
+                shown(least)
+            );
+            require(h >= least, "--step", h, rule)?;
             step_count("--step", h, duration, work_per_step)
         }
         None => Ok(()),
     }
+}
+
+/// The most own steps a fixed-step method takes in one sample (tick) of dt: 1 without
+/// `--step`. A scene divides its blocks by it, so that a block holds about as many steps either
+/// way and Ctrl-C is looked at as often.
+pub fn steps_per_sample(dt: f64, options: &crate::integrate::MethodOptions) -> u64 {
+    options.step.map_or(1, |h| (dt / h).ceil().max(1.0) as u64)
 }
 
 /// A refusal of runs of more than `MAX_STEPS` steps of `step` (the flag `option` sets), or

@@ -97,7 +97,7 @@ impl params::SceneConfig for PendulumConfig {
         }
         params::within("--omega0", p.omega0, -max, max, "rad/s")?;
         params::time(self.dt, self.duration, self.fps, 1)?;
-        params::own_step(self.options.step, self.duration, 1)?;
+        params::own_step(self.options.step, self.dt, self.duration, 1)?;
         self.reference_guard()?;
         params::windows(&self.schedule(), &self.window)?;
         params::plot_and_options(self.plot_every, &self.options)
@@ -318,7 +318,8 @@ impl Scene for PendulumScene {
     }
 
     fn max_block(&self) -> u64 {
-        BLOCK_STEPS as u64
+        let per_tick = params::steps_per_sample(self.config.dt, &self.config.options);
+        (BLOCK_STEPS as u64 / per_tick).max(1)
     }
 
     /// The first and the last five periods (small-angle periods when there is no exact one).

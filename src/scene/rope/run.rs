@@ -234,7 +234,7 @@ impl params::SceneConfig for RopeConfig {
         }
         params::at_least_one("--newton-iterations", p.newton_iterations.into())?;
         params::time(self.dt, self.duration, self.fps, p.nodes)?;
-        params::own_step(self.options.step, self.duration, p.nodes)?;
+        params::own_step(self.options.step, self.dt, self.duration, p.nodes)?;
         params::memory(
             &format!("--nodes {} with {} methods", p.nodes, self.methods.len()),
             self.memory_bytes(),
@@ -403,9 +403,11 @@ impl Scene for RopeScene {
     }
 
     /// Blocks end at 3D frames, and also after this many steps: a long run's rows are sampled
-    /// every step, and a block's rows are held until it is checked.
+    /// every step, and a block's rows are held until it is checked (fewer ticks when a method
+    /// takes several steps of its own per tick, `--step`).
     fn max_block(&self) -> u64 {
-        4096
+        let per_tick = params::steps_per_sample(self.config.dt, &self.config.options);
+        (4096 / per_tick).max(1)
     }
 
     fn lanes(&self) -> Vec<(&'static str, RopeLane)> {
