@@ -25,6 +25,7 @@ pub fn method_color(name: &str) -> [u8; 3] {
         "vern9" => [130, 255, 170],
         "rkn4" => [150, 75, 0],
         "dprkn6" => [0, 255, 0],
+        "dprkn8" => [30, 150, 105],
         "dprkn12" => [0, 0, 255],
         "exact" | "reference" => [220, 220, 220],
         // A name without a colour of its own still gets a distinct, stable one.

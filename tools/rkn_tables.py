@@ -3,10 +3,10 @@
 
 Usage: python3 tools/rkn_tables.py PATH/TO/rkn_tableaus.jl > body.rs
 with OrdinaryDiffEq's lib/OrdinaryDiffEqRKN/src/rkn_tableaus.jl (commit b211787f7b18). Needs mpmath.
-DPRKN12 from its exact rationals (fractions), DPRKN6 from its closed forms in sqrt(8581) (80
-digits), each value rounded once to a double; DPRKN12's dense output built in exact arithmetic
-(FREE: the pair's stages used as interior data, ROUNDS: the bootstrapped points, see the header
-of rkn_tables.rs).
+DPRKN12 and DPRKN8 from their exact rationals (fractions), DPRKN6 from its closed forms in
+sqrt(8581) (80 digits), each value rounded once to a double; DPRKN12's and DPRKN8's dense outputs
+built in exact arithmetic (FREE, FREE8: the pair's stages used as interior data; ROUNDS, ROUNDS8:
+the bootstrapped points, rounds separated by ';'; see the header of rkn_tables.rs).
 """
 import os, re, sys
 from fractions import Fraction as F
@@ -50,6 +50,33 @@ def dprkn12():
     c = [F(0)] + env['c']
     return dict(A=A, c=c, b=env['b'], bp=env['bp'], btilde=env['btilde'], bptilde=env['bptilde'])
 
+
+def dprkn8():
+    """DPRKN8's exact rationals (all of its entries are), parsed from its Julia function."""
+    b = body('DPRKN8Tableau')
+    frac = r'(-?[\d_]+) // ([\d_]+)'
+    num = lambda m, k: int(m.group(k).replace('_', ''))
+    A = [[F(0)] * 9 for _ in range(9)]
+    for m in re.finditer(r'a\[(\d+), (\d+)\] = convert\(T, ' + frac + r'\)', b):
+        A[int(m.group(1)) - 1][int(m.group(2)) - 1] = F(num(m, 3), num(m, 4))
+    def vec(name):
+        i = b.index(name + ' = ')
+        text = b[i:b.index(']', i)]
+        out = []
+        for item in text[text.index('[') + 1:].split('convert(T')[1:]:
+            terms = re.findall(r'([+-]?)\s*([\d_]+) // ([\d_]+)', item)
+            v = F(0)
+            for sign, n, d in terms:
+                v += (-1 if sign == '-' else 1) * F(int(n.replace('_', '')), int(d.replace('_', '')))
+            out.append(v)
+        full, it = [], iter(out)
+        for m in re.finditer(r'zero\(T\)|convert\(T', text):
+            full.append(F(0) if m.group(0) == 'zero(T)' else next(it))
+        return full
+    c = [F(0), F(1, 20), F(1, 10), F(3, 10), F(1, 2), F(7, 10), F(9, 10), F(1), F(1)]
+    cj = re.findall(r'convert\(T2, (\d+) // (\d+)\)|one\(T2\)', b[b.index('c = T2['):])
+    assert [F(int(n), int(d)) if n else F(1) for n, d in cj] == c[1:]
+    return dict(A=A, c=c, b=vec('b'), bp=vec('bp'), btilde=vec('btilde'), bptilde=vec('bptilde'))
 
 def body_at(marker):
     i = src.index(marker)
@@ -167,59 +194,73 @@ def mat_lit(name, m, doc):
     out.append('];')
     return '\n'.join(out)
 
-rounds_env = os.environ.get('ROUNDS', '1/6,1/3,1/2,2/3,5/6')
-rounds = [[F(p) for p in r.split(',')] for r in rounds_env.split(';')] if rounds_env else []
-FREE = [int(i) for i in os.environ.get('FREE', '8,10,12').split(',')]
+def point_lists(text):
+    return [[F(p) for p in r.split(',')] for r in text.split(';')] if text else []
 
-def extend(A, c, bbar, b, s):
-    """Stages 0..s-1 of the pair, the FSAL stage s (a(x1)), then the bootstrapped rounds; the
-    first interpolant uses the pair's own stages FREE (their positions are of local order 7)."""
+def extend(A, c, bbar, b, s, free, rounds):
+    """Stages 0..s-1 of the pair, the FSAL stage s (a(x1), ā = b̄), then the bootstrapped rounds
+    (lists of θ): the first interpolant uses the pair's own stages `free` as interior data, each
+    round's interpolant goes through the previous round's points."""
+    bbar, b = list(bbar[:s]), list(b[:s])
     nst = s + 1 + sum(len(r) for r in rounds)
     Ae = [list(A[i][:i]) for i in range(s)]
     ce = list(c[:s])
-    Ae.append(list(bbar[:s])); ce.append(F(1))
-    prev_pts, prev_idx = [c[i] for i in FREE], list(FREE)
+    Ae.append(list(bbar)); ce.append(F(1))
+    prev_pts, prev_idx = [c[i] for i in free], list(free)
     for r in rounds:
         cur = len(Ae)
-        W = ext_weights(cur, list(bbar) + [F(0)] * (cur - s), list(b) + [F(0)] * (cur - s), s, prev_idx, prev_pts)
+        W = ext_weights(cur, bbar + [F(0)] * (cur - s), b + [F(0)] * (cur - s), s, prev_idx, prev_pts)
         idx = []
         for p in r:
             Ae.append([evalp(W[i], p) for i in range(cur)]); ce.append(p); idx.append(len(Ae) - 1)
         prev_pts, prev_idx = r, idx
-    W = ext_weights(nst, list(bbar) + [F(0)] * (nst - s), list(b) + [F(0)] * (nst - s), s, prev_idx, prev_pts)
+    W = ext_weights(nst, bbar + [F(0)] * (nst - s), b + [F(0)] * (nst - s), s, prev_idx, prev_pts)
     return Ae, ce, W
 
 def poly_tables(W, nst):
     deg = len(W[0]) - 1
     return [[W[i][k] for i in range(nst)] for k in range(deg + 1)]
 
+def pair_tables(tag, Ae, ce, bbar, b, ebar, e, PX, doc):
+    """A pair's tables, named NAME + tag, each with its doc comment from `doc`."""
+    bbh = [x - y for x, y in zip(bbar, ebar)]; bh = [x - y for x, y in zip(b, e)]
+    return [
+        rows_lit('A' + tag, Ae, doc['A']),
+        vec_lit('C' + tag, ce, doc['C']),
+        vec_lit('BBAR' + tag, bbar, doc['BBAR']),
+        vec_lit('B' + tag, b, doc['B']),
+        vec_lit('EBAR' + tag, ebar, doc['EBAR']),
+        vec_lit('E' + tag, e, doc['E']),
+        vec_lit('BBAR%s_HAT' % tag, bbh, doc['HAT'], True),
+        vec_lit('B%s_HAT' % tag, bh, '', True),
+        rows_lit('PX' + tag, PX, doc['PX']),
+    ]
+
+def bootstrapped_px_doc(tag):
+    return ('/// The dense output\'s position weights B̄_i(θ) = Σ_k PX%s[k][i] θ^k over every stage; its\n'
+            '/// velocity weights are their derivative, B_i(θ) = dB̄_i/dθ.' % tag)
+
+out = []
 t = dprkn12()
 A, c, bbar, b = t['A'], t['c'], t['b'], t['bp']
-Ae, ce, W = extend(A, c, bbar, b, 17)
-nst = len(Ae)
-PX = poly_tables(W, nst)
-ebar = t['btilde']; e = t['bptilde']
-bbh = [x - y for x, y in zip(bbar, ebar)]; bh = [x - y for x, y in zip(b, e)]
-out = []
-out.append(rows_lit('A12', Ae, '/// ā of the 17 stages (row s holds ā_sj, j < s), then of the dense output\'s stages: a(x1)\n/// (row 17, ā = b̄) and the bootstrapped ones (rows 18..).'))
-out.append(vec_lit('C12', ce, '/// c of the same stages.'))
-out.append(vec_lit('BBAR12', bbar, '/// b̄: the 12th-order position weights.'))
-out.append(vec_lit('B12', b, '/// b: the 12th-order velocity weights.'))
-out.append(vec_lit('EBAR12', ebar, '/// b̄ − b̂̄ (exact differences, then rounded): the position error weights.'))
-out.append(vec_lit('E12', e, '/// b − b̂: the velocity error weights.'))
-out.append(vec_lit('BBAR12_HAT', bbh, '/// b̂̄, b̂: the 10th-order embedded weights (checked in the tests).', True))
-out.append(vec_lit('B12_HAT', bh, '', True))
-out.append(rows_lit('PX12', PX, '/// The dense output\'s position weights B̄_i(θ) = Σ_k PX12[k][i] θ^k over every stage; its\n/// velocity weights are their derivative, B_i(θ) = dB̄_i/dθ.'))
+# DPRKN12: its stages at c = 1/4, 1/2, 3/4 (positions of local order 7), then one round.
+Ae, ce, W = extend(A, c, bbar, b, 17, [int(i) for i in os.environ.get('FREE', '8,10,12').split(',')],
+                   point_lists(os.environ.get('ROUNDS', '1/6,1/3,1/2,2/3,5/6')))
+out += pair_tables('12', Ae, ce, bbar, b, t['btilde'], t['bptilde'], poly_tables(W, len(Ae)), {
+    'A': '/// ā of the 17 stages (row s holds ā_sj, j < s), then of the dense output\'s stages: a(x1)\n/// (row 17, ā = b̄) and the bootstrapped ones (rows 18..).',
+    'C': '/// c of the same stages.',
+    'BBAR': '/// b̄: the 12th-order position weights.',
+    'B': '/// b: the 12th-order velocity weights.',
+    'EBAR': '/// b̄ − b̂̄ (exact differences, then rounded): the position error weights.',
+    'E': '/// b − b̂: the velocity error weights.',
+    'HAT': '/// b̂̄, b̂: the 10th-order embedded weights (checked in the tests).',
+    'PX': bootstrapped_px_doc('12'),
+})
 
 e6 = dprkn6_exact()
 g = lambda k: e6.get(k, mpf(0))
 c6 = [mpf(0)] + [e6['c%d' % i] for i in range(1, 6)]
 A6 = [[g('a%d%d' % (i + 1, j + 1)) for j in range(i)] for i in range(6)]
-bbar6 = [g('b%d' % i) for i in range(1, 7)]
-b6 = [g('bp%d' % i) for i in range(1, 7)]
-ebar6 = [g('btilde%d' % i) for i in range(1, 7)]
-e6v = [g('bptilde%d' % i) for i in range(1, 7)]
-bbh6 = [x - y for x, y in zip(bbar6, ebar6)]; bh6 = [x - y for x, y in zip(b6, e6v)]
 # B̄_i(θ) = θ² R_i(θ), B_i(θ) = θ Rp_i(θ): as full polynomials in θ.
 PX6 = [[mpf(0)] * 6 for _ in range(7)]
 PV6 = [[mpf(0)] * 6 for _ in range(7)]
@@ -232,19 +273,41 @@ for i in range(6):
 for i in range(6):
     for k in range(1, 7):
         assert abs(PV6[k - 1][i] - k * PX6[k][i]) < mpf(10) ** -70, (i, k)
-out.append(rows_lit('A6', A6, '/// ā of the six stages (the last, at c = 1 with ā = b̄, is a(x1): first same as last).'))
-out.append(vec_lit('C6', c6, '/// c of the stages: 0, (209 − √8581)/900, (209 − √8581)/450, (209 + √8581)/450, 9/10, 1.'))
-out.append(vec_lit('BBAR6', bbar6, '/// b̄, b: the 6th-order position and velocity weights.'))
-out.append(vec_lit('B6', b6, ''))
-out.append(vec_lit('EBAR6', ebar6, '/// b̄ − b̂̄ and b − b̂: the error weights (b̂̄, b̂ the 4th-order embedded solution).'))
-out.append(vec_lit('E6', e6v, ''))
-out.append(vec_lit('BBAR6_HAT', bbh6, '/// The embedded weights themselves (checked in the tests).', True))
-out.append(vec_lit('B6_HAT', bh6, '', True))
-out.append(rows_lit('PX6', PX6, '/// The continuous extension: B̄_i(θ) = Σ_k PX6[k][i] θ^k, B_i(θ) = dB̄_i/dθ.'))
+out += pair_tables('6', A6, c6, [g('b%d' % i) for i in range(1, 7)], [g('bp%d' % i) for i in range(1, 7)],
+                   [g('btilde%d' % i) for i in range(1, 7)], [g('bptilde%d' % i) for i in range(1, 7)], PX6, {
+    'A': '/// ā of the six stages (the last, at c = 1 with ā = b̄, is a(x1): first same as last).',
+    'C': '/// c of the stages: 0, (209 − √8581)/900, (209 − √8581)/450, (209 + √8581)/450, 9/10, 1.',
+    'BBAR': '/// b̄, b: the 6th-order position and velocity weights.',
+    'B': '',
+    'EBAR': '/// b̄ − b̂̄ and b − b̂: the error weights (b̂̄, b̂ the 4th-order embedded solution).',
+    'E': '',
+    'HAT': '/// The embedded weights themselves (checked in the tests).',
+    'PX': '/// The continuous extension: B̄_i(θ) = Σ_k PX6[k][i] θ^k, B_i(θ) = dB̄_i/dθ.',
+})
+
+# DPRKN8: its stage at c = 1/2 (position of local order 5) and one round at three points: order 6
+# from the first interpolant, whose positions at the round's points are of local order 7, then
+# order 8 (see the header of rkn_tables.rs).
+t8 = dprkn8()
+A, c, bbar, b = t8['A'], t8['c'], t8['b'], t8['bp']
+Ae, ce, W = extend(A, c, bbar, b, 8, [int(i) for i in os.environ.get('FREE8', '4').split(',')],
+                   point_lists(os.environ.get('ROUNDS8', '1/4,1/2,3/4')))
+assert Ae[8] == A[8][:8]  # the pair's own last stage is a(x1)
+out += pair_tables('8', Ae, ce, bbar, b, t8['btilde'], t8['bptilde'], poly_tables(W, len(Ae)), {
+    'A': '/// ā of the nine stages (the last, at c = 1 with ā = b̄, is a(x1): first same as last), then of\n/// the dense output\'s bootstrapped stages (rows 9..).',
+    'C': '/// c of the same stages.',
+    'BBAR': '/// b̄, b: the 8th-order position and velocity weights.',
+    'B': '',
+    'EBAR': '/// b̄ − b̂̄ and b − b̂: the error weights (b̂̄, b̂ the 6th-order embedded solution).',
+    'E': '',
+    'HAT': '/// The embedded weights themselves (checked in the tests).',
+    'PX': bootstrapped_px_doc('8'),
+})
+
 text = '\n\n'.join(out)
 text = re.sub(r'^(///.*)#\[cfg\(test\)\]$', r'\1\n#[cfg(test)]', text, flags=re.M)
 text = text.replace('#[cfg(test)]\n\n', '#[cfg(test)]\n').replace('\n\n#[cfg(test)]', '\n#[cfg(test)]')
 while '\n\n\n' in text:
     text = text.replace('\n\n\n', '\n\n')
 print(text)
-print('// stages', nst, 'deg', len(PX) - 1, file=sys.stderr)
+print('// tables written', file=sys.stderr)

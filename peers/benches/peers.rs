@@ -484,6 +484,7 @@ fn compare(h: &Horizon, long: bool) -> (Reference, Vec<RunResult>) {
         Method::Dop853,
         Method::Vern9,
         Method::Dprkn6,
+        Method::Dprkn8,
         Method::Dprkn12,
     ] {
         sweep(

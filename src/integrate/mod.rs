@@ -138,6 +138,7 @@ enum Stepper {
     Vern9(dense::DenseRk<verner::Vern9>),
     Rkn4(rkn::Rkn4),
     Dprkn6(dense::DenseRk<rkn::Nystrom<rkn::Dprkn6>>),
+    Dprkn8(dense::DenseRk<rkn::Nystrom<rkn::Dprkn8>>),
     Dprkn12(dense::DenseRk<rkn::Nystrom<rkn::Dprkn12>>),
 }
 
@@ -182,6 +183,7 @@ impl Integrator {
             Method::Vern9 => return dense::<verner::Vern9>(),
             Method::Rkn4 => 4,
             Method::Dprkn6 => return dense::<rkn::Nystrom<rkn::Dprkn6>>(),
+            Method::Dprkn8 => return dense::<rkn::Nystrom<rkn::Dprkn8>>(),
             Method::Dprkn12 => return dense::<rkn::Nystrom<rkn::Dprkn12>>(),
         };
         2 + scratch
@@ -250,6 +252,7 @@ impl Integrator {
             Method::Vern9 => Stepper::Vern9(dense::DenseRk::new(x0, v0, dt, options)),
             Method::Rkn4 => Stepper::Rkn4(rkn::Rkn4::new(n)),
             Method::Dprkn6 => Stepper::Dprkn6(dense::DenseRk::new(x0, v0, dt, options)),
+            Method::Dprkn8 => Stepper::Dprkn8(dense::DenseRk::new(x0, v0, dt, options)),
             Method::Dprkn12 => Stepper::Dprkn12(dense::DenseRk::new(x0, v0, dt, options)),
         };
         Integrator {
@@ -311,6 +314,7 @@ impl Integrator {
             Stepper::Dop853(m) => Some(&m.core),
             Stepper::Vern9(m) => Some(&m.core),
             Stepper::Dprkn6(m) => Some(&m.core),
+            Stepper::Dprkn8(m) => Some(&m.core),
             Stepper::Dprkn12(m) => Some(&m.core),
             _ => None,
         }
@@ -469,6 +473,7 @@ fn advance<S: SecondOrderSystem>(
         Stepper::Vern9(m) => m.step(sys, s, h),
         Stepper::Rkn4(m) => m.step(sys, s, h),
         Stepper::Dprkn6(m) => m.step(sys, s, h),
+        Stepper::Dprkn8(m) => m.step(sys, s, h),
         Stepper::Dprkn12(m) => m.step(sys, s, h),
     }
     None
@@ -682,9 +687,11 @@ pub(crate) mod tests {
                 // (tests/integrators.rs checks those constants to 1%).
                 Method::Dopri5 => (h.cos(), -h.sin(), 1.01 * h.powi(6) / 3600.0),
                 // Error-controlled at rtol 1e-6, sampled by its dense output.
-                Method::Dop853 | Method::Vern9 | Method::Dprkn6 | Method::Dprkn12 => {
-                    (h.cos(), -h.sin(), 1e-6)
-                }
+                Method::Dop853
+                | Method::Vern9
+                | Method::Dprkn6
+                | Method::Dprkn8
+                | Method::Dprkn12 => (h.cos(), -h.sin(), 1e-6),
                 // Nyström's order 4 on x'' = -x from rest: x = 1 - h²/2 + h⁴/24,
                 // v = -h + h³/6 - h⁵/96.
                 Method::Rkn4 => (

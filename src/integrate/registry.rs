@@ -424,6 +424,30 @@ registry! {
                 work-precision: 2486 evaluations for 1.1e-13 where dprkn12 spends 729 for 3.1e-13).",
         default: false,
     },
+    /// Dormand–El-Mikkawy–Prince RKN8(6)9FM, adaptive, for x'' = a(x).
+    Dprkn8 => MethodInfo {
+        name: "dprkn8",
+        family: Family::Nystrom,
+        order: 8,
+        order_velocity_dependent: 0,
+        implicit: false,
+        symplectic: false,
+        evals_per_step: EvalsPerStep::Adaptive(AdaptiveEvals::of::<
+            super::rkn::Nystrom<super::rkn::Dprkn8>,
+        >()),
+        stability: Stability::Adaptive,
+        update: "Dormand-El-Mikkawy-Prince RKN8(6)9FM steps of its own size, error per step of x \
+                 and v <= rtol (abs(y) + 1); the state at each dt from a Hermite-Birkhoff \
+                 interpolant",
+        notes: "Forces of position alone (refused with velocity-dependent ones). 8 evaluations \
+                per step (FSAL). The pair has no dense output of its own: a Hermite-Birkhoff \
+                interpolant through x, v, a at both ends and a at 1/4, 1/2, 3/4 of the step (+3 \
+                evaluations, bootstrapped from its stage at c = 1/2) gives x to order 8, v to \
+                order 7. Its steps do not end on the dt grid. The cheapest at 1e-6 and 1e-8 on the \
+                pendulum over 20 s (`cargo bench -p physlab-peers`: 9.9 µs for 3.1e-7 where dprkn12 \
+                takes 11.8); from 1e-10 down dprkn12 is cheaper (20.1 µs against 25.9).",
+        default: false,
+    },
     /// Dormand–El-Mikkawy–Prince RKN12(10)17M, adaptive, for x'' = a(x).
     Dprkn12 => MethodInfo {
         name: "dprkn12",

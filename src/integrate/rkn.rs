@@ -81,7 +81,8 @@ pub const RKN4_STABILITY_LIMIT: f64 = 2.586518894519562;
 pub(crate) trait RknTableau {
     /// Stages of a step (stage 0 is a(x) at the step's start).
     const STAGES: usize;
-    /// Whether the last stage is a(x1) (c = 1, ā = b̄), so the trial evaluates it (DPRKN6).
+    /// Whether the last stage is a(x1) (c = 1, ā = b̄), so the trial evaluates it (DPRKN6,
+    /// DPRKN8).
     const FSAL: bool;
     /// Stages the dense output adds: a(x1) when the step has not evaluated it, then its own.
     const DENSE_STAGES: usize;
@@ -94,7 +95,7 @@ pub(crate) trait RknTableau {
     const EBAR: &'static [f64];
     const E: &'static [f64];
     /// The continuous extension x(θ) = x + θ h v + h² Σ_i B̄_i(θ) g_i,
-    /// v(θ) = v + h Σ_i B_i(θ) g_i, as B̄_i(θ) = Σ_k PX[k][i] θ^k. Both pairs' velocity weights
+    /// v(θ) = v + h Σ_i B_i(θ) g_i, as B̄_i(θ) = Σ_k PX[k][i] θ^k. The pairs' velocity weights
     /// are the derivative, B_i = dB̄_i/dθ (v(θ) = x'(θ)/h; for DPRKN6 the paper's own velocity
     /// weights are, to the 80 digits `tools/rkn_tables.py` checks), so they are not tabulated.
     const PX: &'static [&'static [f64]];
@@ -317,6 +318,28 @@ impl RknTableau for Dprkn6 {
     const PX: &'static [&'static [f64]] = t::PX6;
     /// The embedded solution is of order 4.
     const EXPONENT: f64 = 1.0 / 5.0 - 0.75 * 0.04;
+}
+
+/// Dormand, El-Mikkawy & Prince's RKN8(6)9FM: nine stages, the last a(x1) (first same as last,
+/// eight evaluations per step). Its dense output (not in the paper) is a Hermite–Birkhoff
+/// interpolant through x, v, a at both ends and a at interior points found by bootstrapping,
+/// built in `rkn_tables` (order stated there and in the registry).
+#[derive(Clone, Copy, Debug)]
+pub struct Dprkn8;
+
+impl RknTableau for Dprkn8 {
+    const STAGES: usize = 9;
+    const FSAL: bool = true;
+    const DENSE_STAGES: usize = t::C8.len() - 9;
+    const A: &'static [&'static [f64]] = t::A8;
+    const C: &'static [f64] = &t::C8;
+    const BBAR: &'static [f64] = &t::BBAR8;
+    const B: &'static [f64] = &t::B8;
+    const EBAR: &'static [f64] = &t::EBAR8;
+    const E: &'static [f64] = &t::E8;
+    const PX: &'static [&'static [f64]] = t::PX8;
+    /// The embedded solution is of order 6.
+    const EXPONENT: f64 = 1.0 / 7.0 - 0.75 * 0.04;
 }
 
 /// Dormand, El-Mikkawy & Prince's RKN12(10)17M: seventeen stages (sixteen evaluations after the

@@ -190,34 +190,74 @@ mod tests {
         holds("rkn4", &t, 4, 1.0, 2e-16, Some(1e-3));
     }
 
-    /// DPRKN6: order 6 (the 6th-order weights) and order 4 (the embedded ones, b − E) to
-    /// ~10 eps on the stored doubles; order 7 and 5 respectively miss.
+    /// An embedded pair's stored doubles: its weights (`bbar`, `b`) hold the conditions of order
+    /// ≤ p and the embedded ones (`hat`) those of order ≤ q, to `tol`; order p + 1 and q + 1
+    /// miss by more than `misses`; and the error weights (`e`) are the two solutions'
+    /// difference.
+    #[allow(clippy::type_complexity)]
+    fn pair_holds(
+        name: &str,
+        (a, c): (&'static [&'static [f64]], &'static [f64]),
+        (bbar, b, p): (&'static [f64], &'static [f64], usize),
+        (bbar_hat, b_hat, q): (&'static [f64], &'static [f64], usize),
+        (ebar, e): (&'static [f64], &'static [f64]),
+        tol: f64,
+        misses: (f64, f64),
+    ) {
+        let s = bbar.len();
+        let (a, c) = (row(a), at(c));
+        for (label, (wx, wv), order, miss) in [
+            (name.to_string(), (bbar, b), p, misses.0),
+            (format!("{name} embedded"), (bbar_hat, b_hat), q, misses.1),
+        ] {
+            let (wx, wv) = (at(wx), at(wv));
+            let t = Tableau {
+                s,
+                a: &a,
+                c: &c,
+                bbar: &wx,
+                b: &wv,
+            };
+            holds(&label, &t, order, 1.0, tol, Some(miss));
+        }
+        for j in 0..s {
+            assert!(
+                (bbar[j] - bbar_hat[j] - ebar[j]).abs() < 1e-15,
+                "{name}: b̄ {j}"
+            );
+            assert!((b[j] - b_hat[j] - e[j]).abs() < 1e-15, "{name}: b {j}");
+        }
+    }
+
+    /// DPRKN6: order 6 (the 6th-order weights) and order 4 (the embedded ones) to ~10 eps on
+    /// the stored doubles; order 7 and 5 respectively miss.
     #[test]
     fn dprkn6_satisfies_its_order_conditions() {
-        let (a, c) = (row(tb::A6), at(&tb::C6));
-        let (bbar, b) = (at(&tb::BBAR6), at(&tb::B6));
-        let t = Tableau {
-            s: 6,
-            a: &a,
-            c: &c,
-            bbar: &bbar,
-            b: &b,
-        };
-        holds("dprkn6", &t, 6, 1.0, 1e-15, Some(1e-5));
-        let (bbar, b) = (at(&tb::BBAR6_HAT), at(&tb::B6_HAT));
-        let t = Tableau {
-            s: 6,
-            a: &a,
-            c: &c,
-            bbar: &bbar,
-            b: &b,
-        };
-        holds("dprkn6 embedded", &t, 4, 1.0, 1e-15, Some(1e-4));
-        // The error weights are the two solutions' difference.
-        for j in 0..6 {
-            assert!((tb::BBAR6[j] - tb::BBAR6_HAT[j] - tb::EBAR6[j]).abs() < 1e-15);
-            assert!((tb::B6[j] - tb::B6_HAT[j] - tb::E6[j]).abs() < 1e-15);
-        }
+        pair_holds(
+            "dprkn6",
+            (tb::A6, &tb::C6),
+            (&tb::BBAR6, &tb::B6, 6),
+            (&tb::BBAR6_HAT, &tb::B6_HAT, 4),
+            (&tb::EBAR6, &tb::E6),
+            1e-15,
+            (1e-5, 1e-4),
+        );
+    }
+
+    /// DPRKN8: the 8th-order weights hold all 122 conditions of order ≤ 8 (43 of x, 79 of v) and
+    /// the embedded ones those of order ≤ 6, to 4e-17 on the stored doubles (asserted to
+    /// 1e-15); order 9 and 7 miss (1.7e-6 and 4.2e-4).
+    #[test]
+    fn dprkn8_satisfies_its_order_conditions() {
+        pair_holds(
+            "dprkn8",
+            (tb::A8, &tb::C8),
+            (&tb::BBAR8, &tb::B8, 8),
+            (&tb::BBAR8_HAT, &tb::B8_HAT, 6),
+            (&tb::EBAR8, &tb::E8),
+            1e-15,
+            (1e-6, 1e-5),
+        );
     }
 
     /// DPRKN12: the 12th-order weights hold all 1,667 conditions of order ≤ 12 (563 of x, 1,104
@@ -225,31 +265,16 @@ mod tests {
     /// output; asserted to 2e-15); order 13 and 11 miss (1.8e-8 and 6.9e-7).
     #[test]
     fn dprkn12_satisfies_its_order_conditions() {
-        let (a, c) = (row(tb::A12), at(&tb::C12));
-        let (bbar, b) = (at(&tb::BBAR12), at(&tb::B12));
-        let t = Tableau {
-            s: 17,
-            a: &a,
-            c: &c,
-            bbar: &bbar,
-            b: &b,
-        };
-        holds("dprkn12", &t, 12, 1.0, 2e-15, Some(1e-9));
-        let (bbar, b) = (at(&tb::BBAR12_HAT), at(&tb::B12_HAT));
-        let t = Tableau {
-            s: 17,
-            a: &a,
-            c: &c,
-            bbar: &bbar,
-            b: &b,
-        };
-        holds("dprkn12 embedded", &t, 10, 1.0, 2e-15, Some(1e-8));
-        for j in 0..17 {
-            assert!((tb::BBAR12[j] - tb::BBAR12_HAT[j] - tb::EBAR12[j]).abs() < 1e-15);
-            assert!((tb::B12[j] - tb::B12_HAT[j] - tb::E12[j]).abs() < 1e-15);
-        }
+        pair_holds(
+            "dprkn12",
+            (tb::A12, &tb::C12),
+            (&tb::BBAR12, &tb::B12, 12),
+            (&tb::BBAR12_HAT, &tb::B12_HAT, 10),
+            (&tb::EBAR12, &tb::E12),
+            2e-15,
+            (1e-9, 1e-8),
+        );
     }
-
     /// B̄_i(θ), B_i(θ) of a continuous extension from its polynomial tables.
     fn poly(p: &'static [&'static [f64]], theta: f64) -> impl Fn(usize) -> f64 {
         move |i| {
@@ -300,51 +325,101 @@ mod tests {
         }
     }
 
-    /// DPRKN12's Hermite–Birkhoff dense output over its 23 stages (`rkn_tables`): position order
-    /// 10 and velocity order 9 at every θ, order 11 in x and 10 in v failing (by 5e-8 and 3e-7 at
-    /// θ = 0.25 and 0.5; at θ = 0.5 the x-conditions of order 11 nearly hold, 2.3e-11: the
-    /// error kernel of the symmetric nodes is small there); at θ = 1 it is the step (order 12).
-    /// The bound 2e-12 is the tables' own rounding: the bootstrapped polynomials' coefficients
-    /// reach 2.1e3 (x) and 1.5e4 (v) and cancel (measured up to 9.3e-13 in v at θ = 0.9; the
-    /// stepper applies them to differences g_j − g_0, O(h)).
-    #[test]
-    fn dprkn12_dense_output_has_order_10_in_x_and_9_in_v() {
-        let (a, c) = (row(tb::A12), at(&tb::C12));
-        let s = tb::C12.len();
+    /// A bootstrapped dense output (`rkn_tables`): over the stages `a`, `c` with position weights
+    /// `px` (velocity weights their derivative), the conditions of order ≤ q in x and ≤ q − 1 in
+    /// v hold to `bound` at θ = 0.1 .. 0.9, those of order q + 1 and q miss by more than `miss`
+    /// somewhere, and at θ = 1 the weights are the step's, `bbar` and `b` (the other stages' 0),
+    /// to `at_one`. The bounds are the tables' own rounding: the polynomials' coefficients are
+    /// large and cancel (the stepper applies them to differences g_j − g_0, O(h)).
+    #[allow(clippy::too_many_arguments)]
+    fn bootstrapped_dense_output_holds(
+        a: &'static [&'static [f64]],
+        c: &'static [f64],
+        px: &'static [&'static [f64]],
+        bbar: &'static [f64],
+        b: &'static [f64],
+        q: usize,
+        bound: f64,
+        miss: f64,
+        at_one: f64,
+    ) {
+        let (a, c) = (row(a), at(c));
+        let s = px[0].len();
         let (mut miss_x, mut miss_v) = (0.0f64, 0.0f64);
         for th in [0.1, 0.25, 0.5, 0.75, 0.9] {
-            let (bbar, b) = (poly(tb::PX12, th), poly_derivative(tb::PX12, th));
+            let (wx, wv) = (poly(px, th), poly_derivative(px, th));
             let t = Tableau {
                 s,
                 a: &a,
                 c: &c,
-                bbar: &bbar,
-                b: &b,
+                bbar: &wx,
+                b: &wv,
             };
-            let (x, v) = residuals(&t, 11, th);
+            let (x, v) = residuals(&t, q + 1, th);
             let worst =
                 |r: &[OrderResidual], p: usize| r[..p].iter().fold(0.0f64, |m, r| m.max(r.exact));
             println!(
-                "θ = {th}: x to 10 {:.1e}, x 11 {:.1e}; v to 9 {:.1e}, v 10 {:.1e}",
-                worst(&x, 10),
-                x[10].exact,
-                worst(&v, 9),
-                v[9].exact
+                "θ = {th}: x to {q} {:.1e}, x {} {:.1e}; v to {} {:.1e}, v {q} {:.1e}",
+                worst(&x, q),
+                q + 1,
+                x[q].exact,
+                q - 1,
+                worst(&v, q - 1),
+                v[q - 1].exact
             );
-            assert!(worst(&x, 10) < 2e-12 && worst(&v, 9) < 2e-12, "θ = {th}");
-            miss_x = miss_x.max(x[10].exact);
-            miss_v = miss_v.max(v[9].exact);
+            assert!(worst(&x, q) < bound && worst(&v, q - 1) < bound, "θ = {th}");
+            miss_x = miss_x.max(x[q].exact);
+            miss_v = miss_v.max(v[q - 1].exact);
         }
-        assert!(miss_x > 1e-8 && miss_v > 1e-8, "x {miss_x:e}, v {miss_v:e}");
-        // At θ = 1 the interpolant is the step: B̄(1) = b̄, B(1) = b (the other stages' weights
-        // 0), to the tables' rounding.
-        let (bbar, b) = (poly(tb::PX12, 1.0), poly_derivative(tb::PX12, 1.0));
+        assert!(miss_x > miss && miss_v > miss, "x {miss_x:e}, v {miss_v:e}");
+        let (wx, wv) = (poly(px, 1.0), poly_derivative(px, 1.0));
         let mut worst = 0.0f64;
         for j in 0..s {
-            let (wx, wv) = (at(&tb::BBAR12)(j), at(&tb::B12)(j));
-            worst = worst.max((bbar(j) - wx).abs()).max((b(j) - wv).abs());
+            worst = worst
+                .max((wx(j) - at(bbar)(j)).abs())
+                .max((wv(j) - at(b)(j)).abs());
         }
         println!("θ = 1: weights off the step's by {worst:.1e}");
-        assert!(worst < 1e-11, "{worst:e}");
+        assert!(worst < at_one, "{worst:e}");
+    }
+
+    /// DPRKN8's Hermite–Birkhoff dense output over its 12 stages: position order 8 and velocity
+    /// order 7 at every θ, order 9 in x and 8 in v failing (by 1.6e-6 and 2.1e-5); at θ = 1 it
+    /// is the step (order 8). Its coefficients reach 1.3e2: the conditions hold to 1.5e-14, the
+    /// step's weights to 9.2e-14.
+    #[test]
+    fn dprkn8_dense_output_has_order_8_in_x_and_7_in_v() {
+        bootstrapped_dense_output_holds(
+            tb::A8,
+            &tb::C8,
+            tb::PX8,
+            &tb::BBAR8,
+            &tb::B8,
+            8,
+            1e-13,
+            1e-6,
+            2e-13,
+        );
+    }
+
+    /// DPRKN12's Hermite–Birkhoff dense output over its 23 stages: position order 10 and
+    /// velocity order 9 at every θ, order 11 in x and 10 in v failing (by 5e-8 and 3e-7 at θ =
+    /// 0.25 and 0.5; at θ = 0.5 the x-conditions of order 11 nearly hold, 2.3e-11: the error
+    /// kernel of the symmetric nodes is small there); at θ = 1 it is the step (order 12). Its
+    /// coefficients reach 2.1e3 (x) and 1.5e4 (v): the conditions hold to 7.0e-13 (v at θ =
+    /// 0.75), the step's weights to 1.5e-12.
+    #[test]
+    fn dprkn12_dense_output_has_order_10_in_x_and_9_in_v() {
+        bootstrapped_dense_output_holds(
+            tb::A12,
+            &tb::C12,
+            tb::PX12,
+            &tb::BBAR12,
+            &tb::B12,
+            10,
+            2e-12,
+            1e-8,
+            1e-11,
+        );
     }
 }
