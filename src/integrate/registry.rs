@@ -444,8 +444,8 @@ registry! {
                 interpolant through x, v, a at both ends and a at 1/4, 1/2, 3/4 of the step (+3 \
                 evaluations, bootstrapped from its stage at c = 1/2) gives x to order 8, v to \
                 order 7. Its steps do not end on the dt grid. The cheapest at 1e-6 and 1e-8 on the \
-                pendulum over 20 s (`cargo bench -p physlab-peers`: 9.9 µs for 3.1e-7 where dprkn12 \
-                takes 11.8); from 1e-10 down dprkn12 is cheaper (20.1 µs against 25.9).",
+                pendulum over 20 s (`cargo bench -p physlab-peers`: 9.7 µs for 3.1e-7 where dprkn12 \
+                takes 11.5); from 1e-10 down dprkn12 is cheaper (19.4 µs against 25.0).",
         default: false,
     },
     /// Dormand–El-Mikkawy–Prince RKN12(10)17M, adaptive, for x'' = a(x).
