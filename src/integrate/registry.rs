@@ -304,8 +304,8 @@ registry! {
         7,
         YOSHIDA6_STABILITY_LIMIT,
         "position Verlet at Yoshida's 7 weights (1990, solution A), kicks as yoshida4's",
-        composition_notes!("On the pendulum (20 s) 1e-8 at h = 0.05 s in 60 µs (`cargo bench -p physlab-peers`): \
-         3.7 times dprkn12's time, with its energy error bounded over long runs (`study drift`)."),
+        composition_notes!("On the pendulum (20 s) 1e-8 at h = 0.05 s in 59 µs (`cargo bench -p physlab-peers`): \
+         4.1 times dprkn8's time, with its energy error bounded over long runs (`study drift`)."),
     ),
     /// Eighth-order symplectic composition of 17 position-Verlet steps (Kahan & Li 1997).
     KahanLi8 => composition_row(
@@ -314,8 +314,8 @@ registry! {
         17,
         KAHAN_LI8_STABILITY_LIMIT,
         "position Verlet at Kahan & Li's 17 weights (1997, s17odr8a), kicks as yoshida4's",
-        composition_notes!("On the pendulum (20 s) 1e-10 already at h = 0.1 s (72 µs) and 1e-12 at h = 0.05 s \
-         (141 µs); over 10⁴ periods, with --compensated, the only method that reaches 1e-10 \
+        composition_notes!("On the pendulum (20 s) 1e-10 already at h = 0.1 s (71 µs) and 1e-12 at h = 0.05 s \
+         (140 µs); over 10⁴ periods, with --compensated, the only method that reaches 1e-10 \
          (4.9e-11 at h = 0.05 s; `cargo bench -p physlab-peers`)."),
     ),
     /// Tenth-order symplectic composition of 35 position-Verlet steps (Sofroniou & Spaletta
@@ -327,7 +327,7 @@ registry! {
         SOFRONIOU10_STABILITY_LIMIT,
         "position Verlet at Sofroniou & Spaletta's 35 weights (2005, s35odr10), kicks as \
          yoshida4's",
-        composition_notes!("On the pendulum (20 s) 1e-12 at h = 0.1 s (145 µs, `cargo bench -p physlab-peers`): \
+        composition_notes!("On the pendulum (20 s) 1e-12 at h = 0.1 s (144 µs, `cargo bench -p physlab-peers`): \
          worth its 35 evaluations only where the step must stay large."),
     ),
     /// Dormand–Prince 5(4), adaptive, error-controlled by `MethodOptions::rtol`.
@@ -379,7 +379,7 @@ registry! {
         notes: "16 evaluations per step (15 per rejected step, FSAL), plus 4 for the interpolant \
                 in a step that holds a sample time. Its steps do not end on the dt grid. With \
                 velocity-dependent forces the cheapest at 1e-8 and below; for forces of position \
-                alone dprkn12 is cheaper (pendulum, 1e-10: 21.1 µs against 39.7, `cargo bench \
+                alone dprkn12 is cheaper (pendulum, 1e-10: 19.4 µs against 39.8, `cargo bench \
                 -p physlab-peers`).",
         default: false,
     },
