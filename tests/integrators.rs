@@ -220,7 +220,8 @@ mod nystrom {
     /// capped at dt. The order, the least-squares slope of the largest error against dt over five
     /// steps of 2^(1/4) (a halving), is the registry's within ±0.2 (printed): rkn4 3.91 (60°,
     /// 10 s, dt 0.1 to 0.05 s), dprkn6 5.89 (dt 0.1 to 0.05 s; 5.76 from 0.2 s, 6.14 from 0.05 s),
-    /// dprkn8 8.19 (dt 0.4 to 0.2 s; 8.38 from 0.2 s, errors 4e-11 to 1e-13), dprkn12 11.95 (30°, 100 s, dt 1.2 to 0.6 s, errors 4e-7 to 1e-10). At 60° over 10 s
+    /// dprkn8 8.19 (dt 0.4 to 0.2 s; 8.38 from 0.2 s, errors 4e-11 to 1e-13), dprkn12 11.95
+    /// (30°, 100 s, dt 1.2 to 0.6 s, errors 4e-7 to 1e-10). At 60° over 10 s
     /// dprkn12's errors reach round-off (1e-13) from dt = 0.36 s, and its slopes between
     /// neighbouring steps scatter from 8 to 20 above it: this is the range measured that is both
     /// asymptotic and above round-off.

@@ -187,13 +187,6 @@ def vec_lit(name, v, doc, test=False):
     pre = '#[cfg(test)]\n' if test else ''
     return '%s%s\n#[rustfmt::skip]\npub(super) const %s: [f64; %d] = [%s];' % (doc, pre, name, len(v), ', '.join(fl(x) for x in v))
 
-def mat_lit(name, m, doc):
-    out = [doc, '#[rustfmt::skip]', 'pub(super) const %s: [[f64; %d]; %d] = [' % (name, len(m[0]), len(m))]
-    for r in m:
-        out.append('    [%s],' % ', '.join(fl(x) for x in r))
-    out.append('];')
-    return '\n'.join(out)
-
 def point_lists(text):
     return [[F(p) for p in r.split(',')] for r in text.split(';')] if text else []
 
@@ -259,6 +252,9 @@ out += pair_tables('12', Ae, ce, bbar, b, t['btilde'], t['bptilde'], poly_tables
 
 e6 = dprkn6_exact()
 g = lambda k: e6.get(k, mpf(0))
+# The same file's 17-digit table of DPRKN6 rounds to the same doubles (all 80 of its values).
+for k, v in dprkn6_floats().items():
+    assert float(nstr(e6[k], 40)) == v, k
 c6 = [mpf(0)] + [e6['c%d' % i] for i in range(1, 6)]
 A6 = [[g('a%d%d' % (i + 1, j + 1)) for j in range(i)] for i in range(6)]
 # B̄_i(θ) = θ² R_i(θ), B_i(θ) = θ Rp_i(θ): as full polynomials in θ.

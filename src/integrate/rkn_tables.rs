@@ -21,7 +21,7 @@
 //! triples", Comput. Math. Appl. 13 (1987) 937–949; DifferentialEquations.jl's `DPRKN6`). The
 //! digits: the closed forms in √8581 of OrdinaryDiffEq's `DPRKN6Tableau` (same file and commit),
 //! evaluated to 80 digits and rounded once; its 17-digit table in the same file gives the same
-//! doubles.
+//! doubles (the generator asserts it).
 //!
 //! The dense output of DPRKN12 is not in the paper (its authors give none for the 12(10) pair).
 //! Here it is a Hermite–Birkhoff interpolant x(θ) = x + θ h v + h² Q(θ), v(θ) = x'(θ)/h, in two
@@ -38,7 +38,8 @@
 //! tableau above.
 //!
 //! DPRKN8's dense output (none in the paper either) is built the same way. Its stages' positions
-//! are of local order 5 only (measured: errors ∝ h⁵ at every c < 1), so the first interpolant,
+//! are of local order 5 at most (measured: errors ∝ h⁵ at c = 1/10 .. 9/10 and at its non-FSAL
+//! stage at c = 1, ∝ h³ at c = 1/20), so the first interpolant,
 //! Q of degree 6 through x1, v1, a at both ends and the stage at c = 1/2, is of order 6; a at
 //! θ = 1/4, 1/2, 3/4 of it (positions of local order 7, O(h⁹) in Q's h² part) and Q of degree 8
 //! through those give order 8 in x and 7 in v (`rkn_conditions` tests), for 3 evaluations in a
