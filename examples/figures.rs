@@ -14,7 +14,7 @@ fn main() -> anyhow::Result<()> {
         all.extend(figures::timed_from(&runs));
         let written =
             physlab::diagram::pendulum_work_precision_picture(&runs).write(&root.join("docs"))?;
-        // The README shows the PNG; the SVG beside it would only be a second copy to keep.
+        // docs/results.md shows the PNG; the SVG beside it would only be a second copy to keep.
         std::fs::remove_file(&written.svg)?;
         println!("wrote {}", written.png.display());
     }

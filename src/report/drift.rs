@@ -60,7 +60,7 @@ fn theory_text(t: Option<f64>, method: crate::integrate::Method) -> String {
 }
 
 /// The exponents against theory per method; with the scene's flags and `rtol`, each row ends
-/// with the command that measures it alone (the README's table gives one command for all).
+/// with the command that measures it alone (docs/results.md's table gives one command for all).
 pub fn drift_table(runs: &[Drift], command: Option<(&str, f64)>) -> String {
     let mut header = vec![
         "method",

@@ -39,7 +39,7 @@ pub fn deterministic() -> Vec<Figure> {
         fig("pendulum-default", "README.md", pendulum_default()),
         fig("rope-default", "README.md", rope_default()),
         fig("hair-default", "README.md", hair_default()),
-        fig("drift-pendulum", "README.md", drift_pendulum()),
+        results("drift-pendulum", drift_pendulum()),
         results("convergence-pendulum", convergence(&pendulum)),
         results(
             "convergence-rope-undamped",
