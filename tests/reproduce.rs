@@ -651,10 +651,10 @@ mod readers {
     /// with), and `diff` of it against `good` both ways. Each either succeeds or ends with a clean
     /// error; a panic fails the test where it happens.
     fn read_everything(path: &Path, good: &Path) -> Result<(), String> {
-        if let Err(e) = physlab::record::inspect::read_recording(path) {
+        if let Err(e) = physlab::rrd::inspect::read_recording(path) {
             clean_error(&e, path)?;
         }
-        if let Err(e) = physlab::record::compare::read_contents(path) {
+        if let Err(e) = physlab::rrd::compare::read_contents(path) {
             clean_error(&e, path)?;
         }
         for (a, b) in [(good, path), (path, good)] {
@@ -972,7 +972,7 @@ mod readers {
                 &os(&out),
             ]);
             assert_eq!(code, 0, "{name:?}: {err}");
-            let info = physlab::record::inspect::read_recording(&out).unwrap();
+            let info = physlab::rrd::inspect::read_recording(&out).unwrap();
             let line = &info.properties["command_line"];
             assert!(!line.contains('\n'), "{line}");
             // The recorded -o argument, read back by bash, is the file's name byte for byte.
@@ -1140,7 +1140,7 @@ mod readers {
         use rerun::log::{Chunk, LogMsg};
         let mut compared_values = 0;
         for (path, _) in corpus() {
-            let ours = physlab::record::compare::read_contents(&path).unwrap();
+            let ours = physlab::rrd::compare::read_contents(&path).unwrap();
             let mut theirs: std::collections::BTreeMap<(String, String), Vec<TimedNumbers>> =
                 Default::default();
             let file = std::io::BufReader::new(std::fs::File::open(&path).unwrap());

@@ -1,6 +1,6 @@
 //! What `diff` and `reproduce` hold while they compare two recordings, measured exactly: this
 //! test binary counts every heap allocation (its own global allocator) around the comparison
-//! they both stream with, `record::compare::compare_files`. One test only, so that nothing else
+//! they both stream with, `rrd::compare::compare_files`. One test only, so that nothing else
 //! allocates meanwhile.
 
 mod common;
@@ -10,7 +10,7 @@ use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
 
 use common::{record_pendulum, scratch_dir};
-use physlab::record::compare::{StreamSpec, compare_files};
+use physlab::rrd::compare::{StreamSpec, compare_files};
 
 /// The system allocator, counting the bytes held now and their peak.
 struct Counting;
