@@ -1,5 +1,6 @@
 //! The memory a run takes and says it takes: the rope's estimate (what the memory guard refuses
-//! on) against the kernel's account of a run's peak, and the notice a large run gives up front.
+//! on) against the kernel's account of a run's peak, and the notice a large run gives up front;
+//! the memory reading a crafted recording takes.
 //!
 //! In a file of its own so that this test process stays small: the kernel's peak resident memory
 //! of a child (`ru_maxrss`) starts from the spawning process's own peak, which tests running
@@ -9,7 +10,7 @@
 
 mod common;
 
-use common::{peak_memory, physlab};
+use common::{exit_and_peak_memory, peak_memory, physlab, s, scratch_dir};
 
 /// The rope's memory estimate (what the memory guard refuses on and what a run says up front)
 /// against the peak resident memory the kernel measures, for every method alone, for the
@@ -100,4 +101,106 @@ fn a_run_that_takes_a_lot_of_memory_says_so_up_front() {
     let (code, _, stderr) = physlab(&["rope", "--no-record", "--duration", "0.01"]);
     assert_eq!(code, 0, "{stderr}");
     assert!(!stderr.contains("of memory"), "{stderr}");
+}
+
+/// An LZ4 block that decompresses to `n` zero bytes: one literal zero, then a match of the byte
+/// before (offset 1) for all but the last 5 bytes, which LZ4's format keeps as literals. About
+/// n / 255 bytes: LZ4's largest expansion.
+fn lz4_zeros(n: usize) -> Vec<u8> {
+    // Token: 1 literal, a match length of 15 + 4 or more; the literal; the offset.
+    let mut block = vec![0x1f, 0, 1, 0];
+    let mut rest = n - 1 - 5 - 4 - 15;
+    block.extend(std::iter::repeat_n(255, rest / 255));
+    rest %= 255;
+    block.push(rest as u8);
+    block.extend([0x50, 0, 0, 0, 0, 0]); // the last sequence: 5 literals
+    block
+}
+
+/// A recording (Rerun's stream header, one Arrow message of physlab's pendulum store) whose
+/// message decompresses to `n` zero bytes from about n / 255.
+fn zeros_recording(path: &std::path::Path, n: usize) {
+    use re_protos::common::v1alpha1::{ApplicationId, Compression, StoreId, StoreKind};
+    use re_protos::external::prost::Message as _;
+    use re_protos::log_msg::v1alpha1::{ArrowMsg, Encoding};
+    let message = ArrowMsg {
+        store_id: Some(StoreId {
+            kind: StoreKind::Recording as i32,
+            recording_id: "zeros".into(),
+            application_id: Some(ApplicationId {
+                id: "physlab-pendulum".into(),
+            }),
+        }),
+        compression: Compression::Lz4 as i32,
+        uncompressed_size: n as u64,
+        encoding: Encoding::ArrowIpc as i32,
+        payload: lz4_zeros(n).into(),
+        ..ArrowMsg::default()
+    }
+    .encode_to_vec();
+    let corpus = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/rrd-corpus/pendulum.rrd"
+    );
+    let mut file = std::fs::read(corpus).unwrap()[..12].to_vec(); // the stream header
+    file.extend(2u64.to_le_bytes()); // an Arrow message
+    file.extend((message.len() as u64).to_le_bytes());
+    file.extend(message);
+    std::fs::write(path, file).unwrap();
+}
+
+/// Decompression amplification: a 4 MB recording whose one message decompresses to 1 GiB of
+/// zeros took over 1 GiB to `inspect` and to `diff` on the reader without a cap (checked on
+/// cfd8d4a); it is now refused before anything is sized by it, naming the size, exit 2, in
+/// what reading a small recording takes. A message under the cap (200 MB of zeros, not Arrow
+/// data) is read within the bound docs/trust.md states: at most twice the cap (256 MiB) over
+/// the base, the message as stored and decompressed.
+#[test]
+fn a_message_that_decompresses_beyond_the_cap_is_refused_in_little_memory() {
+    let dir = scratch_dir("memory-zeros");
+    let good = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/rrd-corpus/pendulum.rrd"
+    );
+    let base = peak_memory(&["inspect", good]);
+    let (huge, under) = (dir.join("huge.rrd"), dir.join("under.rrd"));
+    zeros_recording(&huge, 1 << 30);
+    zeros_recording(&under, 200_000_000);
+    assert_eq!(lz4_zeros(5000).len(), 4 + 19 + 1 + 6, "n / 255 bytes");
+    let mib = |b: f64| b / f64::from(1 << 20);
+    for args in [
+        vec!["inspect", s(&huge)],
+        vec!["diff", good, s(&huge)],
+        vec!["reproduce", s(&huge)],
+    ] {
+        let (code, peak) = exit_and_peak_memory(&args);
+        assert_eq!(code, 2, "{args:?}");
+        assert!(
+            peak < base + 32e6,
+            "{args:?}: {:.0} MiB over {:.0} MiB",
+            mib(peak),
+            mib(base)
+        );
+        let (_, _, stderr) = physlab(&args);
+        assert!(
+            stderr.contains("takes 1073741824 bytes once decompressed, more than the 268435456"),
+            "{stderr}"
+        );
+    }
+    for args in [vec!["inspect", s(&under)], vec!["diff", s(&under), good]] {
+        let (code, peak) = exit_and_peak_memory(&args);
+        assert_eq!(code, 2, "{args:?}: zeros are no Arrow data");
+        let bound = base + 2.0 * f64::from(256 << 20);
+        assert!(
+            peak > base + 150e6,
+            "{args:?}: the message was decompressed"
+        );
+        assert!(
+            peak < bound,
+            "{args:?}: {:.0} MiB over {:.0} MiB",
+            mib(peak),
+            mib(base)
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
 }

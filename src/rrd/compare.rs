@@ -1,12 +1,19 @@
 //! The comparison of two recordings series by series, read in step, and of two series: what
 //! `physlab reproduce` and `physlab diff` report.
 
+use std::cell::Cell;
 use std::collections::{BTreeMap, VecDeque};
 use std::path::Path;
+use std::rc::Rc;
 
-use super::read::Messages;
+use super::read::{Messages, unusable};
 pub use super::rows::{Contents, Key, LoggedRow, SeriesIndex, index_series, read_contents};
-use super::rows::{RowView, SeriesRows, message_series};
+use super::rows::{Held, RowView, SeriesRows, message_series};
+
+/// The most bytes of chunks [`compare_files`] holds while their rows wait for partners (1 GiB):
+/// two recordings of the same run hold about a chunk per series; two whose series come in
+/// different orders would hold up to both files, and are refused past this.
+pub const MAX_WAITING_BYTES: usize = 1 << 30;
 
 /// How two recordings are read against each other by [`compare_files`].
 pub struct StreamSpec<'a> {
@@ -131,6 +138,61 @@ pub fn compare_files(
         .into_iter()
         .map(|(k, v)| (rename(k), v))
         .collect();
+    let mut lanes = compared_series(&index_a, &index_b, spec);
+    let (mut ma, mut mb) = (Messages::open(a)?, Messages::open(b)?);
+    let waiting = Rc::new(Cell::new(0));
+    let (mut done_a, mut done_b) = (false, false);
+    // Rows waiting in the queues, per side: read from the side that is behind.
+    let (mut queued_a, mut queued_b) = (0usize, 0usize);
+    while !(done_a && done_b) {
+        let from_a = !done_a && (done_b || queued_a <= queued_b);
+        let (messages, done) = if from_a {
+            (&mut ma, &mut done_a)
+        } else {
+            (&mut mb, &mut done_b)
+        };
+        let Some(msg) = messages.next_chunk()? else {
+            *done = true;
+            continue;
+        };
+        let held = Held::new(msg.bytes, &waiting);
+        let series = messages.guarded(|| message_series(msg))?;
+        for (key, mut rows) in series {
+            rows.held = Some(held.clone());
+            let key = if from_a { key } else { rename(key) };
+            let Some(lane) = lanes.get_mut(&key) else {
+                continue; // skipped
+            };
+            let (queues, pairs): (_, &mut Pairs) = if rows.times.is_none() {
+                (&mut lane.statics, &mut |_, _| Ok(()))
+            } else {
+                if !from_a {
+                    if let Some(cap) = lane.cap_b {
+                        rows.truncate(cap.saturating_sub(lane.taken_b));
+                    }
+                    lane.taken_b += rows.len();
+                }
+                (&mut lane.timed, &mut |ra, rb| on_pair(&key, ra, rb))
+            };
+            let (da, db) = queues.take(from_a, rows, pairs)?;
+            queued_a = queued_a.saturating_add_signed(da);
+            queued_b = queued_b.saturating_add_signed(db);
+        }
+        drop(held);
+        if waiting.get() > MAX_WAITING_BYTES {
+            let (this, other) = if from_a { (a, b) } else { (b, a) };
+            return Err(too_much_waiting(this, other));
+        }
+    }
+    Ok(streamed(index_a, index_b, lanes))
+}
+
+/// Each series of either file (but those skipped), set to be compared.
+fn compared_series(
+    index_a: &BTreeMap<Key, SeriesIndex>,
+    index_b: &BTreeMap<Key, SeriesIndex>,
+    spec: &StreamSpec,
+) -> BTreeMap<Key, ComparedSeries> {
     let mut lanes: BTreeMap<Key, ComparedSeries> = BTreeMap::new();
     for key in index_a.keys().chain(index_b.keys()) {
         if (spec.skip)(&key.0) || lanes.contains_key(key) {
@@ -162,43 +224,15 @@ pub fn compare_files(
             },
         );
     }
-    let (mut ma, mut mb) = (Messages::open(a)?, Messages::open(b)?);
-    let (mut done_a, mut done_b) = (false, false);
-    // Rows waiting in the queues, per side: read from the side that is behind.
-    let (mut queued_a, mut queued_b) = (0usize, 0usize);
-    while !(done_a && done_b) {
-        let from_a = !done_a && (done_b || queued_a <= queued_b);
-        let (messages, done) = if from_a {
-            (&mut ma, &mut done_a)
-        } else {
-            (&mut mb, &mut done_b)
-        };
-        let Some(msg) = messages.next_chunk()? else {
-            *done = true;
-            continue;
-        };
-        let series = messages.guarded(|| message_series(msg))?;
-        for (key, mut rows) in series {
-            let key = if from_a { key } else { rename(key) };
-            let Some(lane) = lanes.get_mut(&key) else {
-                continue; // skipped
-            };
-            let (queues, pairs): (_, &mut Pairs) = if rows.times.is_none() {
-                (&mut lane.statics, &mut |_, _| Ok(()))
-            } else {
-                if !from_a {
-                    if let Some(cap) = lane.cap_b {
-                        rows.truncate(cap.saturating_sub(lane.taken_b));
-                    }
-                    lane.taken_b += rows.len();
-                }
-                (&mut lane.timed, &mut |ra, rb| on_pair(&key, ra, rb))
-            };
-            let (da, db) = queues.take(from_a, rows, pairs)?;
-            queued_a = queued_a.saturating_add_signed(da);
-            queued_b = queued_b.saturating_add_signed(db);
-        }
-    }
+    lanes
+}
+
+/// What the comparison found, per series.
+fn streamed(
+    index_a: BTreeMap<Key, SeriesIndex>,
+    index_b: BTreeMap<Key, SeriesIndex>,
+    lanes: BTreeMap<Key, ComparedSeries>,
+) -> Streamed {
     let mut out = Streamed {
         index_a,
         index_b,
@@ -213,7 +247,20 @@ pub fn compare_files(
             out.timed.insert(key, timed);
         }
     }
-    Ok(out)
+    out
+}
+
+/// The refusal of two files whose waiting rows hold more than [`MAX_WAITING_BYTES`].
+fn too_much_waiting(this: &Path, other: &Path) -> anyhow::Error {
+    unusable(
+        this,
+        format!(
+            "read against {}, its series come in so different an order that comparing them \
+             would hold more than {MAX_WAITING_BYTES} bytes (1 GiB) of chunks waiting for their \
+             partners",
+            other.display()
+        ),
+    )
 }
 
 /// The comparison of one series built row by row: rows paired by time, each value judged

@@ -7,6 +7,5 @@ mod arrow_message;
 pub mod compare;
 mod framing;
 pub mod inspect;
-mod lz4;
 pub mod read;
 mod rows;

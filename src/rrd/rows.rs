@@ -2,8 +2,10 @@
 //! `sim_time` timeline (static data has no time), a chunk's rows held as the chunk holds them
 //! and each row's values read in place from the chunk's arrays ([`RowView`]), never copied out.
 
+use std::cell::Cell;
 use std::collections::BTreeMap;
 use std::path::Path;
+use std::rc::Rc;
 
 use rerun::external::arrow::array::{Array, ArrayRef, AsArray as _, ListArray};
 use rerun::external::arrow::buffer::ScalarBuffer;
@@ -40,6 +42,29 @@ pub(super) struct SeriesRows {
     /// The next row to take, and the end of the rows (the chunk's row count).
     pub(super) next: usize,
     pub(super) end: usize,
+    /// Its message's bytes, counted while any of its rows wait (see [`Held`]).
+    pub(super) held: Option<Rc<Held>>,
+}
+
+/// A message's decompressed bytes, counted in a shared total while any of its rows are held:
+/// the count drops when the last of them is.
+pub(super) struct Held {
+    bytes: usize,
+    total: Rc<Cell<usize>>,
+}
+
+impl Held {
+    pub(super) fn new(bytes: usize, total: &Rc<Cell<usize>>) -> Rc<Self> {
+        total.set(total.get() + bytes);
+        let total = total.clone();
+        Rc::new(Held { bytes, total })
+    }
+}
+
+impl Drop for Held {
+    fn drop(&mut self) {
+        self.total.set(self.total.get() - self.bytes);
+    }
 }
 
 impl SeriesRows {
@@ -49,6 +74,7 @@ impl SeriesRows {
             list,
             times,
             next: 0,
+            held: None,
         };
         rows.skip_nulls();
         rows
