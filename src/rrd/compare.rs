@@ -6,14 +6,9 @@ use std::collections::{BTreeMap, VecDeque};
 use std::path::Path;
 use std::rc::Rc;
 
-use super::read::{Messages, unusable};
+use super::read::Messages;
 pub use super::rows::{Contents, Key, LoggedRow, SeriesIndex, index_series, read_contents};
-use super::rows::{Held, RowView, SeriesRows, message_series};
-
-/// The most bytes of chunks [`compare_files`] holds while their rows wait for partners (1 GiB):
-/// two recordings of the same run hold about a chunk per series; two whose series come in
-/// different orders would hold up to both files, and are refused past this.
-pub const MAX_WAITING_BYTES: usize = 1 << 30;
+use super::rows::{Held, MAX_WAITING_BYTES, RowView, SeriesRows, message_series, too_much_waiting};
 
 /// How two recordings are read against each other by [`compare_files`].
 pub struct StreamSpec<'a> {
@@ -132,6 +127,17 @@ pub fn compare_files(
     spec: &StreamSpec,
     on_pair: &mut KeyedPairs,
 ) -> anyhow::Result<Streamed> {
+    compare_within(a, b, spec, on_pair, MAX_WAITING_BYTES)
+}
+
+/// [`compare_files`], refusing the files once more than `max_waiting` bytes of chunks wait.
+pub(super) fn compare_within(
+    a: &Path,
+    b: &Path,
+    spec: &StreamSpec,
+    on_pair: &mut KeyedPairs,
+    max_waiting: usize,
+) -> anyhow::Result<Streamed> {
     let rename = |key: Key| -> Key { (renamed(&key.0, &spec.rename_b), key.1) };
     let index_a = index_series(a)?;
     let index_b: BTreeMap<Key, SeriesIndex> = index_series(b)?
@@ -179,9 +185,9 @@ pub fn compare_files(
             queued_b = queued_b.saturating_add_signed(db);
         }
         drop(held);
-        if waiting.get() > MAX_WAITING_BYTES {
+        if waiting.get() > max_waiting {
             let (this, other) = if from_a { (a, b) } else { (b, a) };
-            return Err(too_much_waiting(this, other));
+            return Err(too_much_waiting(this, other, max_waiting));
         }
     }
     Ok(streamed(index_a, index_b, lanes))
@@ -248,19 +254,6 @@ fn streamed(
         }
     }
     out
-}
-
-/// The refusal of two files whose waiting rows hold more than [`MAX_WAITING_BYTES`].
-fn too_much_waiting(this: &Path, other: &Path) -> anyhow::Error {
-    unusable(
-        this,
-        format!(
-            "read against {}, its series come in so different an order that comparing them \
-             would hold more than {MAX_WAITING_BYTES} bytes (1 GiB) of chunks waiting for their \
-             partners",
-            other.display()
-        ),
-    )
 }
 
 /// The comparison of one series built row by row: rows paired by time, each value judged

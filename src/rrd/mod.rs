@@ -1,4 +1,4 @@
-//! Reading recordings back (writing them is `crate::record`): any bytes a user names are read
+//! Reading recordings back (`record/` writes them): any bytes a user names are read
 //! into chunks or refused as an unusable file (`read`), and the readers built on it: a
 //! recording's rows value by value (`rows`), two recordings compared in step (`compare`), and
 //! what `inspect` shows (`inspect`).
@@ -9,3 +9,5 @@ mod framing;
 pub mod inspect;
 pub mod read;
 mod rows;
+#[cfg(test)]
+mod tests;

@@ -14,7 +14,7 @@ use rerun::external::arrow::datatypes::{
     UInt16Type, UInt32Type, UInt64Type,
 };
 
-use super::read::{ChunkMessage, each_chunk};
+use super::read::{ChunkMessage, each_chunk, unusable};
 
 /// One logged row of one component: its `sim_time` in ns (`None` for static data), every number
 /// it holds (floats widened to f64 exactly, integers converted), and every text.
@@ -65,6 +65,23 @@ impl Drop for Held {
     fn drop(&mut self) {
         self.total.set(self.total.get() - self.bytes);
     }
+}
+
+/// The most bytes of chunks `compare_files` holds while their rows wait for partners (1 GiB):
+/// two recordings of the same run hold about a chunk per series; two whose series come in
+/// different orders would hold up to both files, and are refused past this.
+pub(super) const MAX_WAITING_BYTES: usize = 1 << 30;
+
+/// The refusal of two files whose waiting rows hold more than `max` bytes.
+pub(super) fn too_much_waiting(this: &Path, other: &Path, max: usize) -> anyhow::Error {
+    unusable(
+        this,
+        format!(
+            "read against {}, its series come in so different an order that comparing them \
+             would hold more than {max} bytes of chunks waiting for their partners",
+            other.display()
+        ),
+    )
 }
 
 impl SeriesRows {
