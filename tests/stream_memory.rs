@@ -64,13 +64,14 @@ fn comparison_peak(path: &Path) -> usize {
     peak
 }
 
-/// The largest Arrow chunk of a Rerun file, decompressed [B]: its frames (a 12-byte stream
-/// header, then 16-byte message headers: kind, length) walked here, and the `uncompressed_size`
-/// of each Arrow message (kind 2) read with Rerun's own `ArrowMsg`.
-fn largest_chunk_bytes(path: &Path) -> u64 {
+/// The largest Arrow chunk of a Rerun file, decompressed, and the largest Arrow message as
+/// stored [B]: its frames (a 12-byte stream header, then 16-byte message headers: kind, length)
+/// walked here, and the `uncompressed_size` of each Arrow message (kind 2) read with Rerun's own
+/// `ArrowMsg`.
+fn largest_chunk_bytes(path: &Path) -> (u64, u64) {
     use re_protos::external::prost::Message as _;
     let bytes = std::fs::read(path).unwrap();
-    let (mut at, mut largest) = (12, 0);
+    let (mut at, mut largest, mut stored) = (12, 0, 0);
     while at + 16 <= bytes.len() {
         let word = |i: usize| u64::from_le_bytes(bytes[i..i + 8].try_into().unwrap()) as usize;
         let (kind, len) = (word(at), word(at + 8));
@@ -78,18 +79,21 @@ fn largest_chunk_bytes(path: &Path) -> u64 {
             let payload = &bytes[at + 16..at + 16 + len];
             let message = re_protos::log_msg::v1alpha1::ArrowMsg::decode(payload).unwrap();
             largest = largest.max(message.uncompressed_size);
+            stored = stored.max(len as u64);
         }
         at += 16 + len;
         if kind == 0 {
             break; // the end message; the stream footer follows
         }
     }
-    largest
+    (largest, stored)
 }
 
-/// Comparing a recording with itself holds at most 2.5 × its largest chunk more than comparing a
-/// small one, and never the file (29 MB, 73 MB): a chunk of one side waiting for its partner,
-/// and the message being read, as stored (LZ4, a third of its size here) and decompressed.
+/// Comparing a recording with itself holds, more than comparing a small one, at most a chunk of
+/// one side waiting for its partner and the message being read, as stored (LZ4) and
+/// decompressed: 2 × its largest chunk + its largest message as stored, never the file (29 MB,
+/// 33 MB). With LZ4 storing these chunks in a third to a half of their size, that is 2.33 × and
+/// 2.50 × the largest chunk (the goal: at most 2.5 ×; a chunk LZ4 cannot shrink would take 3 ×).
 #[test]
 fn comparing_holds_two_chunks_not_the_file() {
     let dir = scratch_dir("stream-memory");
@@ -104,15 +108,15 @@ fn comparing_holds_two_chunks_not_the_file() {
         let large = make(name, "1e-4", duration);
         let size = std::fs::metadata(&large).unwrap().len();
         assert!(size > 10_000_000, "{size} B");
-        let chunk = largest_chunk_bytes(&large) as usize;
-        let growth = comparison_peak(&large).saturating_sub(small_peak);
+        let (chunk, stored) = largest_chunk_bytes(&large);
+        let growth = comparison_peak(&large).saturating_sub(small_peak) as u64;
         eprintln!(
-            "{name}: {size} B, largest chunk {chunk} B, {growth} B over the small file's {small_peak} B: {:.2} ×",
+            "{name}: {size} B, largest chunk {chunk} B ({stored} B stored), {growth} B over the small file's {small_peak} B: {:.2} ×",
             growth as f64 / chunk as f64
         );
         assert!(
-            growth as f64 <= 2.5 * chunk as f64,
-            "{name} ({size} B): {growth} B more than the small file's {small_peak} B, its largest chunk {chunk} B"
+            growth <= 2 * chunk + stored,
+            "{name} ({size} B): {growth} B more than the small file's {small_peak} B, its largest chunk {chunk} B, {stored} B stored"
         );
     }
     std::fs::remove_dir_all(&dir).unwrap();
