@@ -1,8 +1,8 @@
-//! The reader on whole recordings written here with Rerun's SDK.
+//! The reader on whole recordings written here with Rerun's SDK, and the comparison of two series.
 
 use std::path::{Path, PathBuf};
 
-use super::compare::{StreamSpec, compare_within};
+use super::compare::{LoggedRow, StreamSpec, compare, compare_within, time_text};
 
 /// A recording of two series, `x` then `y` (or `y` then `x`), each `rows` rows on `sim_time`,
 /// cut into chunks of 1024 rows as physlab cuts them.
@@ -67,4 +67,36 @@ fn chunks_waiting_beyond_the_cap_are_refused() {
             .all(|d| d.bit_identical() && d.paired == rows as usize)
     );
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+fn rows(values: &[(i64, f64)]) -> Vec<LoggedRow> {
+    values
+        .iter()
+        .map(|&(t, v)| LoggedRow {
+            time: Some(t),
+            nums: vec![v],
+            texts: vec![],
+        })
+        .collect()
+}
+
+#[test]
+fn finds_the_first_difference_beyond_the_tolerance_and_the_largest() {
+    let a = rows(&[(0, 1.0), (10, 2.0), (20, -4.0), (30, 0.0)]);
+    let b = rows(&[(0, 1.0), (10, 2.0 + 1e-15), (20, -4.5), (30, 0.0)]);
+    let d = compare(&a, &b, 0.0);
+    assert_eq!(d.first.as_ref().unwrap().time, Some(10));
+    assert_eq!(d.largest.as_ref().unwrap().time, Some(20));
+    assert_eq!(d.largest.as_ref().unwrap().abs(), 0.5);
+    assert!(!d.same());
+    // Relative to the series' scale 4: 1e-15 passes 1e-3, 0.5 does not.
+    let d = compare(&a, &b, 1e-3);
+    assert_eq!(d.first.as_ref().unwrap().time, Some(20));
+    assert!(!compare(&a, &b, 0.2).bit_identical());
+    assert!(compare(&a, &b, 0.2).same());
+    // A missing row is a difference.
+    assert_eq!(time_text(Some(1_460_000_000)), "t = 1.46 s");
+    assert_eq!(time_text(Some(3_000_000_000)), "t = 3 s");
+    assert_eq!(time_text(Some(-5)), "t = -0.000000005 s");
+    assert_eq!(compare(&a, &b[..3], 0.0).unpaired, 1);
 }
