@@ -103,27 +103,34 @@ fn a_run_that_takes_a_lot_of_memory_says_so_up_front() {
     assert!(!stderr.contains("of memory"), "{stderr}");
 }
 
-/// An LZ4 block that decompresses to `n` zero bytes: one literal zero, then a match of the byte
-/// before (offset 1) for all but the last 5 bytes, which LZ4's format keeps as literals. About
-/// n / 255 bytes: LZ4's largest expansion.
-fn lz4_zeros(n: usize) -> Vec<u8> {
+/// Writes an LZ4 block that decompresses to `n` zero bytes: one literal zero, then a match of
+/// the byte before (offset 1) for all but the last 5 bytes, which LZ4's format keeps as
+/// literals. About n / 255 bytes (LZ4's largest expansion), written a piece at a time so that
+/// this test process stays small (see the file's note).
+fn write_lz4_zeros(out: &mut impl std::io::Write, n: usize) -> usize {
     // Token: 1 literal, a match length of 15 + 4 or more; the literal; the offset.
-    let mut block = vec![0x1f, 0, 1, 0];
-    let mut rest = n - 1 - 5 - 4 - 15;
-    block.extend(std::iter::repeat_n(255, rest / 255));
-    rest %= 255;
-    block.push(rest as u8);
-    block.extend([0x50, 0, 0, 0, 0, 0]); // the last sequence: 5 literals
-    block
+    let rest = n - 1 - 5 - 4 - 15;
+    let piece = [255u8; 1 << 16];
+    out.write_all(&[0x1f, 0, 1, 0]).unwrap();
+    for k in (0..rest / 255).step_by(piece.len()) {
+        out.write_all(&piece[..piece.len().min(rest / 255 - k)])
+            .unwrap();
+    }
+    out.write_all(&[(rest % 255) as u8, 0x50, 0, 0, 0, 0, 0])
+        .unwrap(); // then 5 literals
+    4 + rest / 255 + 7
 }
 
 /// A recording (Rerun's stream header, one Arrow message of physlab's pendulum store) whose
 /// message decompresses to `n` zero bytes from about n / 255.
 fn zeros_recording(path: &std::path::Path, n: usize) {
     use re_protos::common::v1alpha1::{ApplicationId, Compression, StoreId, StoreKind};
-    use re_protos::external::prost::Message as _;
+    use re_protos::external::prost::{self, Message as _};
     use re_protos::log_msg::v1alpha1::{ArrowMsg, Encoding};
-    let message = ArrowMsg {
+    use std::io::Write as _;
+    let payload = write_lz4_zeros(&mut std::io::sink(), n);
+    // The message without its payload, then the payload's field (5, length-delimited) by hand.
+    let mut message = ArrowMsg {
         store_id: Some(StoreId {
             kind: StoreKind::Recording as i32,
             recording_id: "zeros".into(),
@@ -134,19 +141,25 @@ fn zeros_recording(path: &std::path::Path, n: usize) {
         compression: Compression::Lz4 as i32,
         uncompressed_size: n as u64,
         encoding: Encoding::ArrowIpc as i32,
-        payload: lz4_zeros(n).into(),
         ..ArrowMsg::default()
     }
     .encode_to_vec();
+    message.push(5 << 3 | 2);
+    prost::encode_length_delimiter(payload, &mut message).unwrap();
     let corpus = concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/tests/data/rrd-corpus/pendulum.rrd"
     );
-    let mut file = std::fs::read(corpus).unwrap()[..12].to_vec(); // the stream header
-    file.extend(2u64.to_le_bytes()); // an Arrow message
-    file.extend((message.len() as u64).to_le_bytes());
-    file.extend(message);
-    std::fs::write(path, file).unwrap();
+    let mut file = std::io::BufWriter::new(std::fs::File::create(path).unwrap());
+    let mut header = [0; 12]; // the stream header
+    std::io::Read::read_exact(&mut std::fs::File::open(corpus).unwrap(), &mut header).unwrap();
+    file.write_all(&header).unwrap();
+    file.write_all(&2u64.to_le_bytes()).unwrap(); // an Arrow message
+    file.write_all(&((message.len() + payload) as u64).to_le_bytes())
+        .unwrap();
+    file.write_all(&message).unwrap();
+    write_lz4_zeros(&mut file, n);
+    file.flush().unwrap();
 }
 
 /// Decompression amplification: a 4 MB recording whose one message decompresses to 1 GiB of
@@ -166,7 +179,14 @@ fn a_message_that_decompresses_beyond_the_cap_is_refused_in_little_memory() {
     let (huge, under) = (dir.join("huge.rrd"), dir.join("under.rrd"));
     zeros_recording(&huge, 1 << 30);
     zeros_recording(&under, 200_000_000);
-    assert_eq!(lz4_zeros(5000).len(), 4 + 19 + 1 + 6, "n / 255 bytes");
+    let mut block = Vec::new();
+    write_lz4_zeros(&mut block, 100_000);
+    let zeros = lz4_flex::block::decompress(&block, 100_000).unwrap();
+    assert_eq!(
+        (block.len(), zeros),
+        (4 + 392 + 7, vec![0; 100_000]),
+        "n / 255 bytes"
+    );
     let mib = |b: f64| b / f64::from(1 << 20);
     for args in [
         vec!["inspect", s(&huge)],
