@@ -5,7 +5,8 @@
 //! - the core: `integrate` (methods), `scene` (the scenes and the one harness), `study`
 //!   (measurements), `report` (tables), plus `elliptic`, `interrupt` and `error`; no clap, no
 //!   Rerun;
-//! - `record`: the only module that calls Rerun (cargo feature `rerun`, on by default);
+//! - `record` (writing) and `rrd` (reading): the only modules that call Rerun (cargo feature
+//!   `rerun`, on by default);
 //! - `cli` (clap types) and `app` (the command pipeline) on top.
 
 pub mod elliptic;
@@ -26,3 +27,5 @@ pub mod cli;
 pub mod diagram;
 #[cfg(feature = "rerun")]
 pub mod record;
+#[cfg(feature = "rerun")]
+pub mod rrd;

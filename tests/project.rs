@@ -70,6 +70,7 @@ const MAY_IMPORT: &[(&str, &[&str])] = &[
         &[
             "cli",
             "record",
+            "rrd",
             "diagram",
             "report",
             "study",
@@ -96,6 +97,7 @@ const MAY_IMPORT: &[(&str, &[&str])] = &[
     (
         "record",
         &[
+            "rrd",
             "diagram",
             "report",
             "scene",
@@ -108,6 +110,7 @@ const MAY_IMPORT: &[(&str, &[&str])] = &[
             "output",
         ],
     ),
+    ("rrd", &["interrupt", "error"]),
     (
         "diagram",
         &[

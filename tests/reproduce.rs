@@ -651,10 +651,10 @@ mod readers {
     /// with), and `diff` of it against `good` both ways. Each either succeeds or ends with a clean
     /// error; a panic fails the test where it happens.
     fn read_everything(path: &Path, good: &Path) -> Result<(), String> {
-        if let Err(e) = physlab::record::inspect::read_recording(path) {
+        if let Err(e) = physlab::rrd::inspect::read_recording(path) {
             clean_error(&e, path)?;
         }
-        if let Err(e) = physlab::record::compare::read_contents(path) {
+        if let Err(e) = physlab::rrd::compare::read_contents(path) {
             clean_error(&e, path)?;
         }
         for (a, b) in [(good, path), (path, good)] {
@@ -920,6 +920,64 @@ mod readers {
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
+    /// The file offset of a recording's end message: its messages' 16-byte headers (kind, length)
+    /// walked from its 12-byte stream header.
+    fn end_message_at(bytes: &[u8]) -> usize {
+        let mut at = 12;
+        loop {
+            let word = |i: usize| u64::from_le_bytes(bytes[i..i + 8].try_into().unwrap());
+            if word(at) == 0 {
+                return at;
+            }
+            at += 16 + word(at + 8) as usize;
+        }
+    }
+
+    /// Two recordings in one file, as `rerun rrd merge` makes (one stream holding both
+    /// recordings' messages) and as `cat` makes (two streams), are never read as one: every
+    /// reader refuses the file, listing the recordings found (on cfd8d4a `inspect` showed `scenes:
+    /// pendulum, rope` and `reproduce` re-ran one).
+    #[test]
+    fn a_file_holding_two_recordings_is_refused_with_their_list() {
+        let dir = scratch_dir("readers-merged");
+        let files = corpus();
+        let find = |name: &str| &files.iter().find(|(p, _)| p.ends_with(name)).unwrap().1;
+        let (pendulum, rope) = (find("pendulum.rrd"), find("rope.rrd"));
+        let merged = [&pendulum[..end_message_at(pendulum)], &rope[12..]].concat();
+        let good = &files
+            .iter()
+            .find(|(p, _)| p.ends_with("hair.rrd"))
+            .unwrap()
+            .0;
+        for (name, bytes) in [
+            ("merged.rrd", merged),
+            ("cat.rrd", [&pendulum[..], &rope[..]].concat()),
+        ] {
+            let path = dir.join(name);
+            std::fs::write(&path, bytes).unwrap();
+            for args in [
+                vec!["inspect", s(&path)],
+                vec!["reproduce", s(&path)],
+                vec!["diff", s(good), s(&path)],
+                vec!["diff", s(&path), s(good)],
+            ] {
+                let (code, _, err) = physlab(&args);
+                assert_eq!(code, 2, "{args:?}: {err}");
+                let listed = format!(
+                    "{}: unusable file: it holds 2 recordings (as `rerun rrd merge` makes), and \
+                     physlab reads one recording a file: physlab-pendulum (recording id ",
+                    path.display()
+                );
+                assert!(err.contains(&listed), "{args:?}: {err}");
+                assert!(
+                    err.contains(", physlab-rope (recording id "),
+                    "{args:?}: {err}"
+                );
+            }
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
     /// `reproduce -o` somewhere it cannot write says so, not that the configuration does not run.
     #[test]
     fn an_unwritable_reproduce_output_is_reported_as_such() {
@@ -972,7 +1030,7 @@ mod readers {
                 &os(&out),
             ]);
             assert_eq!(code, 0, "{name:?}: {err}");
-            let info = physlab::record::inspect::read_recording(&out).unwrap();
+            let info = physlab::rrd::inspect::read_recording(&out).unwrap();
             let line = &info.properties["command_line"];
             assert!(!line.contains('\n'), "{line}");
             // The recorded -o argument, read back by bash, is the file's name byte for byte.
@@ -1140,7 +1198,7 @@ mod readers {
         use rerun::log::{Chunk, LogMsg};
         let mut compared_values = 0;
         for (path, _) in corpus() {
-            let ours = physlab::record::compare::read_contents(&path).unwrap();
+            let ours = physlab::rrd::compare::read_contents(&path).unwrap();
             let mut theirs: std::collections::BTreeMap<(String, String), Vec<TimedNumbers>> =
                 Default::default();
             let file = std::io::BufReader::new(std::fs::File::open(&path).unwrap());

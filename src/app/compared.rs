@@ -6,9 +6,9 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use super::Error;
-use crate::record::compare::{SeriesDiff, time_text};
-use crate::record::inspect::{RecordingInfo, read_recording};
 use crate::report::table::{sig, sig_pair};
+use crate::rrd::compare::{SeriesDiff, time_text};
+use crate::rrd::inspect::{RecordingInfo, read_recording};
 
 /// Entities whose values depend on the wall clock, so that no re-run can match them: the
 /// --timings plots, and with --timings the summaries (which then hold wall times, ns/step).
@@ -166,7 +166,7 @@ impl EntityReport {
             .filter(|d| d.1.first_time().is_some() || !d.1.same())
             .min_by_key(|d| d.1.first_time().flatten().unwrap_or(i64::MAX))
     }
-    pub(super) fn largest(&self) -> Option<(&str, &crate::record::compare::Difference, f64)> {
+    pub(super) fn largest(&self) -> Option<(&str, &crate::rrd::compare::Difference, f64)> {
         self.diffs
             .iter()
             .filter_map(|(c, d)| d.largest.as_ref().map(|l| (c.as_str(), l, d.scale)))

@@ -3,7 +3,7 @@
 
 use crate::cli::InspectArgs;
 use crate::error::Error;
-use crate::record::inspect::{LoggedEvent, read_recording};
+use crate::rrd::inspect::{LoggedEvent, read_recording};
 
 pub fn inspect_command(args: &InspectArgs) -> anyhow::Result<()> {
     use crate::output::{Dash, check, distinct};

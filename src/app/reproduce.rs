@@ -14,7 +14,7 @@ use super::diff::entities_text;
 use super::scenes::{AllFlags, SCENES};
 use super::{Error, Plan, Replay, simulate};
 use crate::cli::{ReproduceArgs, RunArgs};
-use crate::record::compare::{StreamSpec, compare_files};
+use crate::rrd::compare::{StreamSpec, compare_files};
 
 /// Why the re-run failed, in words true to the cause: a stop request stays an interruption (exit
 /// 130), a configuration this build refuses says so without the temporary file's name, and

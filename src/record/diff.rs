@@ -12,8 +12,8 @@ use rerun::blueprint::{
     TimeSeriesView, Vertical,
 };
 
-use super::compare::{Key, PairedRow};
 use super::{Destinations, Framing, Recording, SceneViews, ViewProperties, method_color};
+use crate::rrd::compare::{Key, PairedRow};
 
 /// Rows held per series before they are sent: the writer's memory does not grow with the file.
 const BATCH: usize = 4096;

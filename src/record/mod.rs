@@ -1,19 +1,12 @@
-//! The only place that calls Rerun: where a recording goes and how it is written
-//! (`recording`), what it says about itself (`provenance`), the viewer's layouts (`views`),
-//! each scene's drawing, and reading recordings back. This module keeps the series styles and
-//! the slots scenes stand in.
+//! The writing side of Rerun (reading is `crate::rrd`): where a recording goes and how it is
+//! written (`recording`), what it says about itself (`provenance`), the viewer's layouts
+//! (`views`), each scene's drawing, and the difference recording (`diff`). This module keeps the
+//! series styles and the slots scenes stand in.
 
-mod arrow_message;
-pub mod compare;
 pub mod diff;
-mod framing;
 pub mod hair;
-pub mod inspect;
-mod lz4;
 pub mod pendulum;
-pub mod read;
 pub mod rope;
-mod rows;
 pub mod scene;
 pub mod study;
 

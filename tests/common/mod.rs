@@ -231,10 +231,18 @@ pub fn drawn_rows(path: &Path, prefix: &str) -> Vec<(String, Vec<[f32; 3]>)> {
     rows
 }
 
-/// Peak resident memory [B] of one `physlab` run, from the kernel's account of that child
-/// (reaped by `wait4`, which `Child::wait` cannot ask for the usage).
-#[allow(clippy::zombie_processes, dead_code)]
+/// Peak resident memory [B] of one `physlab` run that succeeds.
+#[allow(dead_code)]
 pub fn peak_memory(args: &[&str]) -> f64 {
+    let (code, peak) = exit_and_peak_memory(args);
+    assert_eq!(code, 0, "{args:?}");
+    peak
+}
+
+/// The exit code and peak resident memory [B] of one `physlab` run, from the kernel's account
+/// of that child (reaped by `wait4`, which `Child::wait` cannot ask for the usage).
+#[allow(clippy::zombie_processes, dead_code)]
+pub fn exit_and_peak_memory(args: &[&str]) -> (i32, f64) {
     let child = std::process::Command::new(env!("CARGO_BIN_EXE_physlab"))
         .args(args)
         .stdout(std::process::Stdio::null())
@@ -246,9 +254,6 @@ pub fn peak_memory(args: &[&str]) -> f64 {
     let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
     let pid = unsafe { libc::wait4(child.id() as i32, &mut status, 0, &mut usage) };
     assert_eq!(pid, child.id() as i32);
-    assert!(
-        libc::WIFEXITED(status) && libc::WEXITSTATUS(status) == 0,
-        "{args:?}"
-    );
-    usage.ru_maxrss as f64 * 1024.0
+    assert!(libc::WIFEXITED(status), "{args:?}: killed");
+    (libc::WEXITSTATUS(status), usage.ru_maxrss as f64 * 1024.0)
 }

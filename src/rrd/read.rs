@@ -1,14 +1,18 @@
 //! Reading a recording that may be anything a user names: every reader (`inspect`, `diff`,
 //! `reproduce`) goes through [`Messages`]. What can be checked before Arrow sees the bytes is
 //! checked (a regular, non-empty file that starts with Rerun's header, its frames' lengths
-//! within the file, its Arrow sizes: `framing.rs`); the Arrow decoding and what reads its chunks
-//! run under `catch_unwind`, because a corrupt Arrow buffer can make them panic rather than fail,
-//! and every message first looks at the stop flag, so that a long read ends within a message of
-//! Ctrl-C.
+//! within the file: `framing.rs`; its Arrow sizes: `arrow_message.rs`); the decoding and what
+//! reads its chunks run under `catch_unwind`, because a corrupt Arrow buffer can make them panic
+//! rather than fail, and every message first looks at the stop flag, so that a long read ends
+//! within a message of Ctrl-C.
 //!
-//! Each chunk is decoded without copying its arrays: they are slices of the one decompressed
-//! buffer of its message, so a reader holds about one chunk's bytes per chunk it keeps
-//! (Rerun's own decoder holds each message four times over while decoding it).
+//! Memory is bounded whatever the file: a message over [`MAX_MESSAGE_BYTES`], as stored or once
+//! decompressed, is refused with its size, so reading holds at most one message's bytes and its
+//! decompressed stream at once, besides the chunks a reader keeps. Each chunk is decoded without
+//! copying its arrays: they are slices of the one decompressed buffer of its message.
+//!
+//! A file holding several recordings (`rerun rrd merge` of two) is refused with their list: its
+//! data would otherwise be read as one recording's.
 
 use std::cell::Cell;
 use std::fs::File;
@@ -19,13 +23,17 @@ use std::sync::Once;
 
 use rerun::external::arrow::buffer::Buffer;
 use rerun::external::arrow::ipc::reader::StreamDecoder;
+use rerun::external::re_log_encoding::{MessageKind, RRD_FOURCC};
 use rerun::log::Chunk;
 
-use super::framing::{self, Cut, Framed};
+use super::arrow_message::{ArrowMessage, Store};
+use super::framing::{Cut, Framed};
 use crate::error::Error;
 
-/// The first bytes of every Rerun recording (the stream header's FourCC).
-const RRD_MAGIC: &[u8; 4] = b"RRF2";
+/// The most bytes one message may take, as stored and once decompressed (256 MiB): the cap that
+/// bounds what reading any file holds. physlab's own largest message, a 3D frame of a rope of the
+/// most nodes it allows (10⁷), takes about 120 MB.
+pub const MAX_MESSAGE_BYTES: u64 = 256 << 20;
 
 /// What a complete read found besides the messages.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -52,6 +60,17 @@ impl ReadEnd {
     }
 }
 
+/// The refusal of a message over [`MAX_MESSAGE_BYTES`], naming its size.
+fn too_large(path: &Path, at: u64, size: u64, how: &str) -> anyhow::Error {
+    unusable(
+        path,
+        format!(
+            "the message at byte {at} takes {size} bytes{how}, more than the {MAX_MESSAGE_BYTES} \
+             (256 MiB) physlab reads in one message (a cap that bounds the memory reading takes)"
+        ),
+    )
+}
+
 /// The error for an unusable file: its path, then what is wrong. Exit code 2.
 pub fn unusable(path: &Path, what: impl std::fmt::Display) -> anyhow::Error {
     Error::Usage(format!("{}: unusable file: {what}", path.display())).into()
@@ -63,6 +82,8 @@ pub struct ChunkMessage {
     pub recording: bool,
     pub application_id: String,
     pub chunk: Chunk,
+    /// Its message's decompressed size [B]: about what the chunk holds.
+    pub bytes: usize,
 }
 
 /// An open recording, read chunk by chunk: two can be read in step (`diff`, `reproduce`).
@@ -70,6 +91,8 @@ pub struct Messages {
     path: PathBuf,
     framed: Framed<BufReader<File>>,
     seen_any: bool,
+    /// The recording the file's data was logged to (the first met).
+    recording: Option<Store>,
 }
 
 impl Messages {
@@ -93,7 +116,7 @@ impl Messages {
         let mut file =
             File::open(path).map_err(|e| unusable(path, format!("cannot open it: {e}")))?;
         let mut magic = [0u8; 4];
-        if file.read_exact(&mut magic).is_err() || &magic != RRD_MAGIC {
+        if file.read_exact(&mut magic).is_err() || magic != RRD_FOURCC {
             return Err(what(
                 "not a Rerun recording (.rrd): it does not start with Rerun's header",
             ));
@@ -102,8 +125,9 @@ impl Messages {
             .map_err(|e| unusable(path, format!("cannot read it: {e}")))?;
         Ok(Messages {
             path: path.to_path_buf(),
-            framed: Framed::new(BufReader::new(file), meta.len()),
+            framed: Framed::new(BufReader::new(file), meta.len(), MAX_MESSAGE_BYTES),
             seen_any: false,
+            recording: None,
         })
     }
 
@@ -138,20 +162,26 @@ impl Messages {
                 return Ok(None);
             };
             self.seen_any = true;
-            if message.kind != framing::KIND_ARROW {
+            if message.kind != MessageKind::ArrowMsg {
                 continue; // the store's info, the blueprint's activation, the end of a stream
             }
             let at = message.at;
+            let Some(bytes) = message.payload else {
+                return Err(too_large(path, at, message.len, ""));
+            };
             let whats_wrong = |why: String| in_file(&format!("{why} (the message at byte {at})"));
-            let arrow = message
-                .arrow
-                .ok_or_else(|| "an Arrow message not read".to_string());
-            let arrow = arrow.and_then(|a| a).map_err(whats_wrong)?;
-            let chunk = guarded(path, || decode_chunk(arrow.ipc))?.map_err(whats_wrong)?;
+            let mut arrow = guarded(path, || ArrowMessage::decode(bytes))?.map_err(whats_wrong)?;
+            if arrow.size() > MAX_MESSAGE_BYTES {
+                return Err(too_large(path, at, arrow.size(), " once decompressed"));
+            }
+            let (store, bytes) = (std::mem::take(&mut arrow.store), arrow.size() as usize);
+            one_recording(&mut self.framed, &mut self.recording, path, &store)?;
+            let chunk = guarded(path, || decode_chunk(arrow.ipc()?))?.map_err(whats_wrong)?;
             return Ok(Some(ChunkMessage {
-                recording: arrow.recording,
-                application_id: arrow.application_id,
+                recording: store.recording,
+                application_id: store.application_id,
                 chunk,
+                bytes,
             }));
         }
     }
@@ -168,6 +198,46 @@ impl Messages {
     pub fn guarded<T>(&self, f: impl FnOnce() -> T) -> anyhow::Result<T> {
         guarded(&self.path, f)
     }
+}
+
+/// Refuses a second recording in the file, naming every recording it holds (the rest of the
+/// file read for them).
+fn one_recording(
+    framed: &mut Framed<impl std::io::Read>,
+    recording: &mut Option<Store>,
+    path: &Path,
+    store: &Store,
+) -> anyhow::Result<()> {
+    if !store.recording {
+        return Ok(()); // a blueprint
+    }
+    let first = recording.get_or_insert_with(|| store.clone()).clone();
+    if first == *store {
+        return Ok(());
+    }
+    let mut found = vec![first, store.clone()];
+    while let Ok(Some(message)) = framed.next_message() {
+        let decoded = message.payload.map(ArrowMessage::decode);
+        if let Some(Ok(ArrowMessage { store, .. })) = decoded
+            && store.recording
+            && !found.contains(&store)
+        {
+            found.push(store);
+        }
+    }
+    let list: Vec<String> = found
+        .iter()
+        .map(|s| format!("{} (recording id {})", s.application_id, s.recording_id))
+        .collect();
+    Err(unusable(
+        path,
+        format!(
+            "it holds {} recordings (as `rerun rrd merge` makes), and physlab reads one \
+             recording a file: {}",
+            found.len(),
+            list.join(", ")
+        ),
+    ))
 }
 
 /// Decodes `path` chunk by chunk and hands each to `each` (whose `Err` is what is wrong with

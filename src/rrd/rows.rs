@@ -2,8 +2,10 @@
 //! `sim_time` timeline (static data has no time), a chunk's rows held as the chunk holds them
 //! and each row's values read in place from the chunk's arrays ([`RowView`]), never copied out.
 
+use std::cell::Cell;
 use std::collections::BTreeMap;
 use std::path::Path;
+use std::rc::Rc;
 
 use rerun::external::arrow::array::{Array, ArrayRef, AsArray as _, ListArray};
 use rerun::external::arrow::buffer::ScalarBuffer;
@@ -12,7 +14,7 @@ use rerun::external::arrow::datatypes::{
     UInt16Type, UInt32Type, UInt64Type,
 };
 
-use super::read::{ChunkMessage, each_chunk};
+use super::read::{ChunkMessage, each_chunk, unusable};
 
 /// One logged row of one component: its `sim_time` in ns (`None` for static data), every number
 /// it holds (floats widened to f64 exactly, integers converted), and every text.
@@ -40,6 +42,46 @@ pub(super) struct SeriesRows {
     /// The next row to take, and the end of the rows (the chunk's row count).
     pub(super) next: usize,
     pub(super) end: usize,
+    /// Its message's bytes, counted while any of its rows wait (see [`Held`]).
+    pub(super) held: Option<Rc<Held>>,
+}
+
+/// A message's decompressed bytes, counted in a shared total while any of its rows are held:
+/// the count drops when the last of them is.
+pub(super) struct Held {
+    bytes: usize,
+    total: Rc<Cell<usize>>,
+}
+
+impl Held {
+    pub(super) fn new(bytes: usize, total: &Rc<Cell<usize>>) -> Rc<Self> {
+        total.set(total.get() + bytes);
+        let total = total.clone();
+        Rc::new(Held { bytes, total })
+    }
+}
+
+impl Drop for Held {
+    fn drop(&mut self) {
+        self.total.set(self.total.get() - self.bytes);
+    }
+}
+
+/// The most bytes of chunks `compare_files` holds while their rows wait for partners (1 GiB):
+/// two recordings of the same run hold about a chunk per series; two whose series come in
+/// different orders would hold up to both files, and are refused past this.
+pub(super) const MAX_WAITING_BYTES: usize = 1 << 30;
+
+/// The refusal of two files whose waiting rows hold more than `max` bytes.
+pub(super) fn too_much_waiting(this: &Path, other: &Path, max: usize) -> anyhow::Error {
+    unusable(
+        this,
+        format!(
+            "read against {}, its series come in so different an order that comparing them \
+             would hold more than {max} bytes of chunks waiting for their partners",
+            other.display()
+        ),
+    )
 }
 
 impl SeriesRows {
@@ -49,6 +91,7 @@ impl SeriesRows {
             list,
             times,
             next: 0,
+            held: None,
         };
         rows.skip_nulls();
         rows

@@ -1,12 +1,14 @@
 //! The comparison of two recordings series by series, read in step, and of two series: what
 //! `physlab reproduce` and `physlab diff` report.
 
+use std::cell::Cell;
 use std::collections::{BTreeMap, VecDeque};
 use std::path::Path;
+use std::rc::Rc;
 
 use super::read::Messages;
 pub use super::rows::{Contents, Key, LoggedRow, SeriesIndex, index_series, read_contents};
-use super::rows::{RowView, SeriesRows, message_series};
+use super::rows::{Held, MAX_WAITING_BYTES, RowView, SeriesRows, message_series, too_much_waiting};
 
 /// How two recordings are read against each other by [`compare_files`].
 pub struct StreamSpec<'a> {
@@ -125,12 +127,78 @@ pub fn compare_files(
     spec: &StreamSpec,
     on_pair: &mut KeyedPairs,
 ) -> anyhow::Result<Streamed> {
+    compare_within(a, b, spec, on_pair, MAX_WAITING_BYTES)
+}
+
+/// [`compare_files`], refusing the files once more than `max_waiting` bytes of chunks wait.
+pub(super) fn compare_within(
+    a: &Path,
+    b: &Path,
+    spec: &StreamSpec,
+    on_pair: &mut KeyedPairs,
+    max_waiting: usize,
+) -> anyhow::Result<Streamed> {
     let rename = |key: Key| -> Key { (renamed(&key.0, &spec.rename_b), key.1) };
     let index_a = index_series(a)?;
     let index_b: BTreeMap<Key, SeriesIndex> = index_series(b)?
         .into_iter()
         .map(|(k, v)| (rename(k), v))
         .collect();
+    let mut lanes = compared_series(&index_a, &index_b, spec);
+    let (mut ma, mut mb) = (Messages::open(a)?, Messages::open(b)?);
+    let waiting = Rc::new(Cell::new(0));
+    let (mut done_a, mut done_b) = (false, false);
+    // Rows waiting in the queues, per side: read from the side that is behind.
+    let (mut queued_a, mut queued_b) = (0usize, 0usize);
+    while !(done_a && done_b) {
+        let from_a = !done_a && (done_b || queued_a <= queued_b);
+        let (messages, done) = if from_a {
+            (&mut ma, &mut done_a)
+        } else {
+            (&mut mb, &mut done_b)
+        };
+        let Some(msg) = messages.next_chunk()? else {
+            *done = true;
+            continue;
+        };
+        let held = Held::new(msg.bytes, &waiting);
+        let series = messages.guarded(|| message_series(msg))?;
+        for (key, mut rows) in series {
+            rows.held = Some(held.clone());
+            let key = if from_a { key } else { rename(key) };
+            let Some(lane) = lanes.get_mut(&key) else {
+                continue; // skipped
+            };
+            let (queues, pairs): (_, &mut Pairs) = if rows.times.is_none() {
+                (&mut lane.statics, &mut |_, _| Ok(()))
+            } else {
+                if !from_a {
+                    if let Some(cap) = lane.cap_b {
+                        rows.truncate(cap.saturating_sub(lane.taken_b));
+                    }
+                    lane.taken_b += rows.len();
+                }
+                (&mut lane.timed, &mut |ra, rb| on_pair(&key, ra, rb))
+            };
+            let (da, db) = queues.take(from_a, rows, pairs)?;
+            queued_a = queued_a.saturating_add_signed(da);
+            queued_b = queued_b.saturating_add_signed(db);
+        }
+        drop(held);
+        if waiting.get() > max_waiting {
+            let (this, other) = if from_a { (a, b) } else { (b, a) };
+            return Err(too_much_waiting(this, other, max_waiting));
+        }
+    }
+    Ok(streamed(index_a, index_b, lanes))
+}
+
+/// Each series of either file (but those skipped), set to be compared.
+fn compared_series(
+    index_a: &BTreeMap<Key, SeriesIndex>,
+    index_b: &BTreeMap<Key, SeriesIndex>,
+    spec: &StreamSpec,
+) -> BTreeMap<Key, ComparedSeries> {
     let mut lanes: BTreeMap<Key, ComparedSeries> = BTreeMap::new();
     for key in index_a.keys().chain(index_b.keys()) {
         if (spec.skip)(&key.0) || lanes.contains_key(key) {
@@ -162,43 +230,15 @@ pub fn compare_files(
             },
         );
     }
-    let (mut ma, mut mb) = (Messages::open(a)?, Messages::open(b)?);
-    let (mut done_a, mut done_b) = (false, false);
-    // Rows waiting in the queues, per side: read from the side that is behind.
-    let (mut queued_a, mut queued_b) = (0usize, 0usize);
-    while !(done_a && done_b) {
-        let from_a = !done_a && (done_b || queued_a <= queued_b);
-        let (messages, done) = if from_a {
-            (&mut ma, &mut done_a)
-        } else {
-            (&mut mb, &mut done_b)
-        };
-        let Some(msg) = messages.next_chunk()? else {
-            *done = true;
-            continue;
-        };
-        let series = messages.guarded(|| message_series(msg))?;
-        for (key, mut rows) in series {
-            let key = if from_a { key } else { rename(key) };
-            let Some(lane) = lanes.get_mut(&key) else {
-                continue; // skipped
-            };
-            let (queues, pairs): (_, &mut Pairs) = if rows.times.is_none() {
-                (&mut lane.statics, &mut |_, _| Ok(()))
-            } else {
-                if !from_a {
-                    if let Some(cap) = lane.cap_b {
-                        rows.truncate(cap.saturating_sub(lane.taken_b));
-                    }
-                    lane.taken_b += rows.len();
-                }
-                (&mut lane.timed, &mut |ra, rb| on_pair(&key, ra, rb))
-            };
-            let (da, db) = queues.take(from_a, rows, pairs)?;
-            queued_a = queued_a.saturating_add_signed(da);
-            queued_b = queued_b.saturating_add_signed(db);
-        }
-    }
+    lanes
+}
+
+/// What the comparison found, per series.
+fn streamed(
+    index_a: BTreeMap<Key, SeriesIndex>,
+    index_b: BTreeMap<Key, SeriesIndex>,
+    lanes: BTreeMap<Key, ComparedSeries>,
+) -> Streamed {
     let mut out = Streamed {
         index_a,
         index_b,
@@ -213,7 +253,7 @@ pub fn compare_files(
             out.timed.insert(key, timed);
         }
     }
-    Ok(out)
+    out
 }
 
 /// The comparison of one series built row by row: rows paired by time, each value judged
@@ -519,42 +559,5 @@ pub fn time_text(t: Option<i64>) -> String {
             format!("t = {sign}{}{dot}{fraction} s", ns / 1_000_000_000)
         }
         None => "static".to_string(),
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn rows(values: &[(i64, f64)]) -> Vec<LoggedRow> {
-        values
-            .iter()
-            .map(|&(t, v)| LoggedRow {
-                time: Some(t),
-                nums: vec![v],
-                texts: vec![],
-            })
-            .collect()
-    }
-
-    #[test]
-    fn finds_the_first_difference_beyond_the_tolerance_and_the_largest() {
-        let a = rows(&[(0, 1.0), (10, 2.0), (20, -4.0), (30, 0.0)]);
-        let b = rows(&[(0, 1.0), (10, 2.0 + 1e-15), (20, -4.5), (30, 0.0)]);
-        let d = compare(&a, &b, 0.0);
-        assert_eq!(d.first.as_ref().unwrap().time, Some(10));
-        assert_eq!(d.largest.as_ref().unwrap().time, Some(20));
-        assert_eq!(d.largest.as_ref().unwrap().abs(), 0.5);
-        assert!(!d.same());
-        // Relative to the series' scale 4: 1e-15 passes 1e-3, 0.5 does not.
-        let d = compare(&a, &b, 1e-3);
-        assert_eq!(d.first.as_ref().unwrap().time, Some(20));
-        assert!(!compare(&a, &b, 0.2).bit_identical());
-        assert!(compare(&a, &b, 0.2).same());
-        // A missing row is a difference.
-        assert_eq!(time_text(Some(1_460_000_000)), "t = 1.46 s");
-        assert_eq!(time_text(Some(3_000_000_000)), "t = 3 s");
-        assert_eq!(time_text(Some(-5)), "t = -0.000000005 s");
-        assert_eq!(compare(&a, &b[..3], 0.0).unpaired, 1);
     }
 }
