@@ -3,13 +3,14 @@
 //!
 //! Layers, each importing only those below it (see ARCHITECTURE.md):
 //! - the core: `integrate` (methods), `scene` (the scenes and the one harness), `study`
-//!   (measurements), `report` (tables), plus `elliptic`, `interrupt` and `error`; no clap, no
-//!   Rerun;
+//!   (measurements), `report` (tables), plus `format`, `elliptic`, `interrupt` and `error`; no
+//!   clap, no Rerun;
 //! - `record`: the only module that calls Rerun (cargo feature `rerun`, on by default);
 //! - `cli` (clap types) and `app` (the command pipeline) on top.
 
 pub mod elliptic;
 pub mod error;
+pub mod format;
 pub mod integrate;
 pub mod interrupt;
 pub mod output;
