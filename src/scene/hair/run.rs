@@ -200,8 +200,7 @@ impl HairConfig {
                 params::MAX_STEPS
             )));
         }
-        params::time(1.0 / self.rate, self.duration, self.fps, 1)?;
-        Ok(())
+        params::time(1.0 / self.rate, self.duration, self.fps, 1)
     }
 
     /// The memory the run's state takes [B]: per node and method, position, previous position
