@@ -3,7 +3,7 @@
 //!
 //! Layers, each importing only those below it (see ARCHITECTURE.md):
 //! - the core: `integrate` (methods), `scene` (the scenes and the one harness), `study`
-//!   (measurements), `report` (tables), plus `elliptic`, `interrupt` and `error`; no clap, no
+//!   (measurements), `report` (tables), plus `format`, `elliptic`, `interrupt` and `error`; no clap, no
 //!   Rerun;
 //! - `record` (writing) and `rrd` (reading): the only modules that call Rerun (cargo feature
 //!   `rerun`, on by default);
@@ -11,6 +11,7 @@
 
 pub mod elliptic;
 pub mod error;
+pub mod format;
 pub mod integrate;
 pub mod interrupt;
 pub mod output;

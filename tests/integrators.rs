@@ -10,7 +10,7 @@ mod adaptive {
     //! rejected step counts.
 
     use physlab::integrate::{Integrator, Method, MethodOptions};
-    use physlab::scene::pendulum::reference::ExactPendulum;
+    use physlab::scene::pendulum::exact::ExactPendulum;
     use physlab::scene::pendulum::{Pendulum, PendulumParams};
 
     pub(super) fn params(deg: f64) -> PendulumParams {
@@ -214,7 +214,7 @@ mod nystrom {
     use super::adaptive::{max_error_from, params, slope};
     use physlab::integrate::{Integrator, Method, MethodOptions};
     use physlab::scene::pendulum::Pendulum;
-    use physlab::scene::pendulum::reference::ExactPendulum;
+    use physlab::scene::pendulum::exact::ExactPendulum;
 
     /// Fixed steps: rkn4 as it is, the pairs with error control off (rtol 1e300) and the step
     /// capped at dt. The order, the least-squares slope of the largest error against dt over five

@@ -11,8 +11,8 @@ mod numerics {
 
     use physlab::integrate::{Integrator, Method, MethodOptions};
     use physlab::scene::harness::{NoObserver, Run, run};
+    use physlab::scene::pendulum::exact::{ExactPendulum, exact_period};
     use physlab::scene::pendulum::period::PeriodMeter;
-    use physlab::scene::pendulum::reference::{ExactPendulum, exact_period};
     use physlab::scene::pendulum::run::{PendulumConfig, PendulumLane, PendulumScene};
     use physlab::scene::pendulum::{Pendulum, PendulumParams};
 
@@ -584,7 +584,7 @@ mod separatrix {
     use physlab::integrate::Method;
     use physlab::scene::harness::{NoObserver, run};
     use physlab::scene::pendulum::PendulumParams;
-    use physlab::scene::pendulum::reference::{ExactPendulum, exact_period};
+    use physlab::scene::pendulum::exact::{ExactPendulum, exact_period};
     use physlab::scene::pendulum::run::{PendulumConfig, PendulumScene};
 
     struct Row {
@@ -703,7 +703,7 @@ mod separatrix {
         println!("worst |Δθ| {worst_theta:.2e} rad, worst |Δω|/(2ωn) {worst_omega:.2e}");
         // The accuracy the studies state for the exact solution.
         assert!(
-            worst_theta <= physlab::scene::pendulum::reference::EXACT_THETA_ACCURACY,
+            worst_theta <= physlab::scene::pendulum::exact::EXACT_THETA_ACCURACY,
             "{worst_theta:e}"
         );
     }

@@ -33,7 +33,7 @@ use std::time::Instant;
 
 use criterion::Criterion;
 use physlab::integrate::{Integrator, Method, MethodOptions};
-use physlab::scene::pendulum::reference::ExactPendulum;
+use physlab::scene::pendulum::exact::ExactPendulum;
 use physlab::scene::pendulum::{Pendulum, PendulumParams};
 
 const SAMPLE_DT: f64 = 0.1;

@@ -9,6 +9,8 @@ use std::time::{Duration, Instant};
 
 use indicatif::{ProgressBar, ProgressStyle};
 
+use crate::format;
+
 use crate::scene::harness::{Event, Frame, Observer, Run, Scene, SeriesBatch, WantedRows};
 
 /// Shows after one second; silent when quiet or when stderr is not a terminal.
@@ -177,7 +179,7 @@ impl Progress {
             .map(|(seconds, _)| seconds - elapsed.as_secs_f64());
         if let Some(bar) = &self.bar {
             bar.set_position((1000.0 * (t / self.pace.end).clamp(0.0, 1.0)) as u64);
-            bar.set_message(left.map_or("?".into(), eta_text));
+            bar.set_message(left.map_or("?".into(), format::eta));
         }
     }
 
@@ -212,43 +214,14 @@ fn long_run_notice(
         return None;
     }
     let size = bytes.map_or(String::new(), |b| {
-        format!(" and writes about {} to its recording", size_text(b))
+        format!(" and writes about {} to its recording", format::size(b))
     });
     Some(format!(
         "{label}: this takes about {}{size} in all ({how}, at {:.2} % of its way); Ctrl-C \
          stops it and keeps what is done",
-        duration_text(seconds),
+        format::duration(seconds),
         100.0 * done
     ))
-}
-
-/// A duration rounded for reading: "45 s", "3 min 05 s", "7 h 12 min".
-fn duration_text(seconds: f64) -> String {
-    let s = seconds.round() as u64;
-    match s {
-        0..60 => format!("{s} s"),
-        60..3600 => format!("{} min {:02} s", s / 60, s % 60),
-        _ => format!("{} h {:02} min", s / 3600, (s % 3600) / 60),
-    }
-}
-
-/// A size rounded for reading: "120 MB", "3.4 GB".
-fn size_text(bytes: f64) -> String {
-    if bytes < 1e9 {
-        format!("{:.0} MB", bytes / 1e6)
-    } else {
-        format!("{:.1} GB", bytes / 1e9)
-    }
-}
-
-/// The remaining time [s] rounded for reading: "12s", "3m 05s".
-fn eta_text(left: f64) -> String {
-    let left = left.max(0.0).round() as u64;
-    if left < 60 {
-        format!("{left}s")
-    } else {
-        format!("{}m {:02}s", left / 60, left % 60)
-    }
 }
 
 /// A scene observer that also moves the progress bar.
@@ -333,12 +306,5 @@ mod tests {
         even.started = at(2.0);
         let (seconds, bytes) = even.estimate(1_000.0, 1_000_000).unwrap();
         assert!((seconds - 20.0).abs() < 0.02 && bytes == Some(1e7));
-    }
-
-    #[test]
-    fn eta_is_rounded_for_reading() {
-        assert_eq!(eta_text(30.4), "30s");
-        assert_eq!(eta_text(100.0), "1m 40s");
-        assert_eq!(eta_text(-1.0), "0s");
     }
 }

@@ -14,7 +14,6 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::Context as _;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -122,35 +121,12 @@ impl Diagram {
             check("--plots", &png, no_dash)?,
         );
         let mut text = String::new();
-        {
-            let root = SVGBackend::with_string(&mut text, self.size).into_drawing_area();
-            self.draw(&root).map_err(err)?;
-            root.present().map_err(|e| err(Box::new(e)))?;
-        }
+        self.paint(SVGBackend::with_string(&mut text, self.size))?;
         svg_out.write(text.as_bytes())?;
-        // plotters encodes the PNG into a path, by its extension: the hidden file of the
-        // atomic write, named `.NAME.PID.partial.png`.
-        let partial = png_out.create_keeping_extension()?;
-        let hidden = partial.path().context("a diagram's PNG goes to a file")?;
-        {
-            let root = BitMapBackend::new(hidden, self.size).into_drawing_area();
-            self.draw(&root).map_err(err)?;
-            root.present().map_err(|e| {
-                let e = e.to_string();
-                let disk_full = e.contains("No space left on device");
-                anyhow::anyhow!(
-                    "{}: cannot write it: {}{e}; the previous file, if any, is unchanged",
-                    png_out.named(),
-                    if disk_full { "disk full: " } else { "" }
-                )
-            })?;
-        }
-        let drawn = std::fs::read(hidden)
-            .with_context(|| format!("{}: cannot read it back", png_out.named()))?;
-        let png_bytes = stamp::with_text(&drawn, stamp::KEY, &self.data());
-        std::fs::write(hidden, &png_bytes)
-            .with_context(|| format!("{}: cannot write it", png_out.named()))?;
-        partial.commit()?;
+        let mut rgb = vec![0; 3 * self.size.0 as usize * self.size.1 as usize];
+        self.paint(BitMapBackend::with_buffer(&mut rgb, self.size))?;
+        let png_bytes = stamp::png_with_text(&rgb, self.size, &self.data())?;
+        png_out.write(&png_bytes)?;
         Ok(Written {
             svg,
             png,
@@ -212,6 +188,16 @@ impl Diagram {
                 format!("{title}{lines}")
             }
         }
+    }
+
+    /// Draws it whole on `backend`.
+    fn paint<DB: DrawingBackend>(&self, backend: DB) -> anyhow::Result<()>
+    where
+        DB::ErrorType: 'static,
+    {
+        let root = backend.into_drawing_area();
+        self.draw(&root).map_err(err)?;
+        root.present().map_err(|e| err(Box::new(e)))
     }
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Res

@@ -5,85 +5,49 @@
 /// The keyword of the text chunk.
 pub const KEY: &str = "physlab-data";
 
-/// `png` with a `tEXt` chunk `key` = `text` after its header chunk. `text` is written as
-/// Latin-1: characters beyond it become `?`.
-pub fn with_text(png: &[u8], key: &str, text: &str) -> Vec<u8> {
-    // Signature (8 bytes), then IHDR: length (4), type (4), 13 bytes of data, CRC (4).
-    const AFTER_HEADER: usize = 8 + 4 + 4 + 13 + 4;
-    let mut data: Vec<u8> = key.bytes().collect();
-    data.push(0);
-    data.extend(
-        text.chars()
-            .map(|c| u8::try_from(u32::from(c)).unwrap_or(b'?')),
-    );
-    let mut chunk = Vec::with_capacity(data.len() + 12);
-    chunk.extend_from_slice(&(data.len() as u32).to_be_bytes());
-    chunk.extend_from_slice(b"tEXt");
-    chunk.extend_from_slice(&data);
-    chunk.extend_from_slice(&crc32(&chunk[4..]).to_be_bytes());
-    let at = AFTER_HEADER.min(png.len());
-    [&png[..at], &chunk, &png[at..]].concat()
+/// An 8-bit RGB picture of `size` (width, height) encoded as PNG, with a `tEXt` chunk
+/// [`KEY`] = `text` before its image data. `text` is written as Latin-1: characters beyond it
+/// become `?`.
+pub fn png_with_text(rgb: &[u8], size: (u32, u32), text: &str) -> anyhow::Result<Vec<u8>> {
+    let mut png = Vec::new();
+    let mut encoder = png::Encoder::new(&mut png, size.0, size.1);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    let latin1 = text.chars().map(|c| if c <= 'ÿ' { c } else { '?' });
+    encoder.add_text_chunk(KEY.into(), latin1.collect())?;
+    let mut writer = encoder.write_header()?;
+    writer.write_image_data(rgb)?;
+    writer.finish()?;
+    Ok(png)
 }
 
 /// The text of the `tEXt` chunk `key` in `png`, if it has one.
 pub fn text(png: &[u8], key: &str) -> Option<String> {
-    let mut at = 8;
-    while at + 12 <= png.len() {
-        let len = u32::from_be_bytes(png[at..at + 4].try_into().ok()?) as usize;
-        let kind = &png[at + 4..at + 8];
-        let data = png.get(at + 8..at + 8 + len)?;
-        if kind == b"tEXt" {
-            let split = data.iter().position(|&b| b == 0)?;
-            if &data[..split] == key.as_bytes() {
-                return Some(data[split + 1..].iter().map(|&b| char::from(b)).collect());
-            }
-        }
-        at += 12 + len;
-    }
-    None
-}
-
-/// CRC-32 as PNG computes it (ISO 3309, polynomial 0xEDB88320, reflected).
-fn crc32(bytes: &[u8]) -> u32 {
-    let mut crc = u32::MAX;
-    for &b in bytes {
-        crc ^= u32::from(b);
-        for _ in 0..8 {
-            crc = if crc & 1 != 0 {
-                (crc >> 1) ^ 0xEDB8_8320
-            } else {
-                crc >> 1
-            };
-        }
-    }
-    !crc
+    let reader = png::Decoder::new(std::io::Cursor::new(png))
+        .read_info()
+        .ok()?;
+    let chunks = &reader.info().uncompressed_latin1_text;
+    Some(chunks.iter().find(|c| c.keyword == key)?.text.clone())
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    /// The CRC of "IEND" with no data is the constant every PNG ends with (AE 42 60 82), and
-    /// a stamped chunk reads back.
+    /// A stamped picture is a PNG whose chunks check (the decoder verifies every CRC), and its
+    /// text reads back, a character beyond Latin-1 as `?`.
     #[test]
     fn the_chunk_is_a_valid_png_chunk_and_reads_back() {
-        assert_eq!(crc32(b"IEND"), 0xAE42_6082);
-        // A signature, an IHDR chunk (13 bytes of data, CRC not checked here) and IEND.
-        let png = [
-            &[0x89, b'P', b'N', b'G', 13, 10, 26, 10][..],
-            &[0, 0, 0, 13],
-            b"IHDR",
-            &[0; 13 + 4],
-            &[0, 0, 0, 0],
-            b"IEND",
-            &[0xAE, 0x42, 0x60, 0x82],
-        ]
-        .concat();
-        let stamped = with_text(&png, KEY, "rk4 dt=0.01 error=1e-9");
-        assert_eq!(
-            text(&stamped, KEY).as_deref(),
-            Some("rk4 dt=0.01 error=1e-9")
-        );
-        assert_eq!(text(&stamped, "other"), None);
+        let rgb = [10, 20, 30, 40, 50, 60];
+        let png = png_with_text(&rgb, (2, 1), "rk4 dt=0.01 error=1e-9 θ").unwrap();
+        assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+        assert_eq!(text(&png, KEY).as_deref(), Some("rk4 dt=0.01 error=1e-9 ?"));
+        assert_eq!(text(&png, "other"), None);
+        let mut reader = png::Decoder::new(std::io::Cursor::new(&png))
+            .read_info()
+            .unwrap();
+        let mut pixels = vec![0; reader.output_buffer_size().unwrap()];
+        reader.next_frame(&mut pixels).unwrap();
+        assert_eq!(pixels, rgb);
     }
 }

@@ -287,7 +287,7 @@ fn about_text(c: &HairConfig, drawn: usize) -> String {
         p.iterations,
         p.stiffness,
         p.spring_damping,
-        crate::report::table::plural(c.substeps, "substep"),
+        crate::format::plural(c.substeps, "substep"),
         c.rate,
         p.margin,
         c.schedule()

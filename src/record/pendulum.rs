@@ -21,7 +21,7 @@ use super::{
 };
 use crate::integrate::EvalsPerStep;
 use crate::scene::harness::{Event, Frame, Run, Scene as _, SeriesBatch, WHOLE};
-use crate::scene::pendulum::reference::ExactPendulum;
+use crate::scene::pendulum::exact::ExactPendulum;
 use crate::scene::pendulum::run::{PendulumConfig, PendulumLane, PendulumScene, QUANTITIES};
 
 /// The plotted quantities: entity name and plot title (with units).
@@ -467,11 +467,11 @@ fn about_text(scene: &PendulumScene) -> String {
          The phase portrait shows each lane's whole run as a curve and its current state as a dot.\n",
         p.gravity,
         p.length,
-        crate::report::table::trim_number(p.theta0.to_degrees(), 9),
+        crate::format::trim_number(p.theta0.to_degrees(), 9),
         p.omega0,
         c.dt,
         s.total,
-        crate::report::table::trim_number(s.end_time(), 9),
+        crate::format::trim_number(s.end_time(), 9),
         s.frames_text(),
         s.series_text(&scene.windows()),
         c.methods

@@ -2,7 +2,7 @@
 //! its energy and phase errors against theory, each row with the command that measures it.
 
 use super::table::Table;
-use crate::scene::params::shown;
+use crate::format::shown;
 use crate::scene::rope::RopeParams;
 use crate::study::drift::{Drift, FIT_SPAN, exponent, theory};
 

@@ -5,8 +5,9 @@
 //! re-runs the deterministic ones (no wall-clock column) and fails when a document disagrees
 //! with the code, so no figure can go stale.
 
+use crate::format::sci;
 use crate::integrate::Method;
-use crate::report::table::{Table, sci};
+use crate::report::table::Table;
 use crate::report::{methods::methods_table, study as study_tables};
 use crate::scene::hair::run::{HairConfig, HairScene};
 use crate::scene::harness::{LaneStats, NoObserver, run};
@@ -175,7 +176,7 @@ fn drift_pendulum() -> String {
 /// The runs of [`drift_pendulum`]'s table, which `docs/pendulum-drift.png` draws.
 pub fn drift_pendulum_runs() -> Vec<study::drift::Drift> {
     let p = crate::scene::pendulum::PendulumParams::default();
-    let exact = crate::scene::pendulum::reference::ExactPendulum::new(&p);
+    let exact = crate::scene::pendulum::exact::ExactPendulum::new(&p);
     let duration = study::drift::DEFAULT_PERIODS * exact.map_or(f64::NAN, |e| e.period());
     study::drift::default_methods()
         .into_iter()

@@ -1,6 +1,7 @@
 //! The hair run's summary table.
 
-use crate::report::table::{Table, figure, plural, sig, trim_number};
+use crate::format::{plural, sig, trim_number};
+use crate::report::table::{Table, figure};
 use crate::scene::hair::run::{HairConfig, HairLane, HairScene};
 use crate::scene::hair::{HairMethod, SPRING_STRETCH_BOUND, SPRING_WAVE_SPEEDS, Solver};
 use crate::scene::harness::{Run, divergence_cell};

@@ -1,6 +1,7 @@
 //! The pendulum run's summary table, as printed on stdout.
 
-use crate::report::table::{OWN_STEPS_NOTE, Table, figure, sig, trim_number};
+use crate::format::{sig, trim_number};
+use crate::report::table::{OWN_STEPS_NOTE, Table, figure};
 use crate::scene::harness::{Run, Scene as _, divergence_cell};
 use crate::scene::pendulum::run::{PendulumLane, PendulumScene};
 

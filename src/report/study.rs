@@ -3,8 +3,9 @@
 
 use std::fmt::Write as _;
 
-use crate::report::table::{Table, sci};
-use crate::scene::pendulum::reference::ExactPendulum;
+use crate::format::sci;
+use crate::report::table::Table;
+use crate::scene::pendulum::exact::ExactPendulum;
 use crate::scene::rope::RopeParams;
 use crate::study::{
     Limit, Problem, Row, SAMPLE_EVERY, Sweep, cheapest, error_floor, orders, proportionality,

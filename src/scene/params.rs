@@ -2,6 +2,9 @@
 //! and what is allowed, so the same message serves a flag and a scene-file key.
 
 pub use crate::error::Error as Invalid;
+use crate::format;
+// Named here too until `scene/rope/`, `scene/harness/` and `app/study/` name `crate::format`.
+pub use crate::format::{seconds, shown, shown_vector};
 
 /// Runs longer than this many steps per method are refused: a typo in --dt should not
 /// start an hours-long run.
@@ -31,23 +34,17 @@ pub fn positive(option: &str, value: f64, unit: &str) -> Result<(), Invalid> {
 
 /// A finite value within [lo, hi], the range the physics and f64 are trusted in.
 pub fn within(option: &str, value: f64, lo: f64, hi: f64, unit: &str) -> Result<(), Invalid> {
-    let rule = format!("must be between {} and {} [{unit}]", bound(lo), bound(hi));
+    let rule = format!(
+        "must be between {} and {} [{unit}]",
+        format::bound(lo),
+        format::bound(hi)
+    );
     require(
         value.is_finite() && (lo..=hi).contains(&value),
         option,
         value,
         rule,
     )
-}
-
-/// A value as given, in exponent form when long (1e155, 1e-9), so that a message keeps every
-/// digit without three hundred of them.
-pub fn shown(x: f64) -> String {
-    if x != 0.0 && x.is_finite() && !(1e-4..1e6).contains(&x.abs()) {
-        format!("{x:e}")
-    } else {
-        format!("{x}")
-    }
 }
 
 /// A vector whose every component is finite and within ±[`MAX_MAGNITUDE`]; `unit` follows the
@@ -61,20 +58,6 @@ pub fn vector(option: &str, v: glam::DVec3, unit: &str) -> Result<(), Invalid> {
             shown_vector(v),
             format!("every component must be a finite number within ±{MAX_MAGNITUDE:e}{unit}"),
         ))
-    }
-}
-
-/// A vector as given, x,y,z, each component as [`shown`].
-pub fn shown_vector(v: glam::DVec3) -> String {
-    format!("{},{},{}", shown(v.x), shown(v.y), shown(v.z))
-}
-
-/// A range's end as a person writes it: 0, 0.5, 1e6.
-fn bound(x: f64) -> String {
-    if x == 0.0 || (1e-3..1e4).contains(&x.abs()) {
-        format!("{x}")
-    } else {
-        format!("{x:e}")
     }
 }
 
@@ -364,13 +347,4 @@ pub trait SceneConfig: Clone + Default + serde::Serialize + serde::de::Deseriali
     fn step_warning(&self) -> Option<String> {
         None
     }
-}
-
-/// A time scale [s] to three significant digits: 4.04, 0.00447.
-pub fn seconds(t: f64) -> String {
-    if !t.is_finite() || t <= 0.0 {
-        return format!("{t}");
-    }
-    let decimals = (2 - t.log10().floor() as i32).max(0) as usize;
-    format!("{t:.decimals$}")
 }

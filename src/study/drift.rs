@@ -11,7 +11,7 @@
 
 use super::orders::fit;
 use crate::integrate::{Integrator, Method, MethodOptions};
-use crate::scene::pendulum::reference::ExactPendulum;
+use crate::scene::pendulum::exact::ExactPendulum;
 use crate::scene::pendulum::{Pendulum, PendulumParams};
 use crate::scene::rope::{Rope, RopeParams};
 

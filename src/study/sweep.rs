@@ -6,10 +6,12 @@ use std::time::Instant;
 use super::{
     DEFAULT_LEVELS, DEFAULT_REPEATS, Problem, default_rtols, default_schedule, steps, stop,
 };
+use crate::format;
 use crate::integrate::{Integrator, Method, MethodOptions, SecondOrderSystem};
 use crate::scene::params::{self, Invalid};
 use crate::scene::pendulum::Pendulum;
-use crate::scene::pendulum::reference::{ExactPendulum, FineStepReference};
+use crate::scene::pendulum::exact::ExactPendulum;
+use crate::scene::pendulum::reference::FineStepReference;
 use crate::scene::rope::Rope;
 
 impl Sweep {
@@ -198,8 +200,8 @@ impl Sweep {
             return Err(Invalid::Usage(format!(
                 "--dt {}: must not exceed --duration / {SAMPLE_EVERY} = {} s (errors are sampled \
                  every {SAMPLE_EVERY} coarsest steps)",
-                params::shown(self.dt0),
-                params::shown(longest),
+                format::shown(self.dt0),
+                format::shown(longest),
             )));
         }
         let reference_steps = self.reference_steps();
@@ -228,9 +230,9 @@ impl Sweep {
     pub fn schedule(&self) -> String {
         format!(
             "--dt {} with --levels {} over --duration {} s",
-            params::shown(self.dt0),
+            format::shown(self.dt0),
             self.levels,
-            params::shown(self.duration)
+            format::shown(self.duration)
         )
     }
 }
@@ -241,7 +243,7 @@ impl Sweep {
 /// Richardson estimate); after a stop request, the rows complete so far (none if the reference
 /// was not).
 ///
-/// [`theta_accuracy`]: crate::scene::pendulum::reference::ExactPendulum::theta_accuracy
+/// [`theta_accuracy`]: crate::scene::pendulum::exact::ExactPendulum::theta_accuracy
 pub fn sweep(problem: &Problem, s: &Sweep) -> (Vec<Row>, f64) {
     let sample_dt = SAMPLE_EVERY as f64 * s.dt0;
     let samples = ((s.duration / sample_dt).round() as usize).max(1);

@@ -3,6 +3,7 @@
 //! harness is one simulation frame.
 
 use super::{Hair, HairMethod, HairParams, HairStats};
+use crate::format;
 use crate::scene::harness::{Checked, Clock, Sampler, Scene, Schedule, Window, Windows};
 use crate::scene::params::{self, Invalid};
 
@@ -98,9 +99,9 @@ impl params::SceneConfig for HairConfig {
         if peak > max {
             return Err(Invalid::Usage(format!(
                 "--gust {} with --wind of {} m/s²: the gusts reach {} m/s²; at most {max:e} is allowed",
-                params::shown(p.gust),
-                params::shown(p.wind.length()),
-                params::shown(peak)
+                format::shown(p.gust),
+                format::shown(p.wind.length()),
+                format::shown(peak)
             )));
         }
         params::within("--damping", p.damping, 0.0, max, "1/s")?;
@@ -113,25 +114,7 @@ impl params::SceneConfig for HairConfig {
             "must be in [0, 0.5) head radii",
         )?;
         params::at_least_one("--iterations", iterations.into())?;
-        // The default stiffness follows the other parameters: it is refused only when a spring
-        // method would take it, and then by what it follows from.
-        let defaulted = p.stiffness == p.default_stiffness();
-        let springs = self.methods.iter().any(|m| m.is_spring());
-        if springs && defaulted && p.stiffness > MAX_STIFFNESS {
-            return Err(Invalid::Usage(format!(
-                "the springs' default --stiffness here is k/m = {:.3e} 1/s² (a wave speed \
-                 ℓ0·√(k/m) of {} × the strands' speed scale {:.3} m/s over --segment-length {} m), \
-                 beyond the {MAX_STIFFNESS:e} allowed: give --stiffness (the 1e-2 stretch bound is \
-                 then not stated) or a longer --segment-length",
-                p.stiffness,
-                super::SPRING_WAVE_SPEEDS,
-                p.speed_scale(),
-                params::shown(p.segment_length)
-            )));
-        }
-        if springs || !defaulted {
-            params::within("--stiffness", p.stiffness, 1.0 / max, MAX_STIFFNESS, "1/s²")?;
-        }
+        self.validate_stiffness()?;
         params::within("--spring-damping", p.spring_damping, 0.0, max, "1/s")?;
         params::at_least_one("--substeps", substeps.into())?;
         if self.log_strands == Some(0) {
@@ -141,25 +124,7 @@ impl params::SceneConfig for HairConfig {
                 "must be at least 1 (--no-record draws nothing at all)",
             ));
         }
-        params::positive("--rate", self.rate, "Hz")?;
-        params::positive("--duration", self.duration, "s")?;
-        let frames = self.duration * self.rate;
-        if frames < 1.0 {
-            return Err(Invalid::Usage(format!(
-                "--rate {} Hz over --duration {} s is less than one frame: raise --rate or lengthen --duration",
-                params::shown(self.rate),
-                params::shown(self.duration)
-            )));
-        }
-        if frames > params::MAX_STEPS {
-            return Err(Invalid::Usage(format!(
-                "--rate {} Hz over --duration {} s is {frames:.2e} frames; at most {:.0e} are allowed",
-                params::shown(self.rate),
-                params::shown(self.duration),
-                params::MAX_STEPS
-            )));
-        }
-        params::time(1.0 / self.rate, self.duration, self.fps, 1)?;
+        self.validate_frames()?;
         // Symplectic Euler's springs take their own inner steps.
         let inner = if self.methods.contains(&HairMethod::SemiImplicitEuler) {
             (self.step_dt() / p.spring_step_limit()).ceil().max(1.0)
@@ -190,6 +155,54 @@ impl params::SceneConfig for HairConfig {
 }
 
 impl HairConfig {
+    /// The springs' stiffness in range where a method reads it. The default follows the other
+    /// parameters: it is refused only when a spring method would take it, and then by what it
+    /// follows from.
+    fn validate_stiffness(&self) -> Result<(), Invalid> {
+        let (p, max) = (&self.params, params::MAX_MAGNITUDE);
+        let defaulted = p.stiffness == p.default_stiffness();
+        let springs = self.methods.iter().any(|m| m.is_spring());
+        if springs && defaulted && p.stiffness > MAX_STIFFNESS {
+            return Err(Invalid::Usage(format!(
+                "the springs' default --stiffness here is k/m = {:.3e} 1/s² (a wave speed \
+                 ℓ0·√(k/m) of {} × the strands' speed scale {:.3} m/s over --segment-length {} m), \
+                 beyond the {MAX_STIFFNESS:e} allowed: give --stiffness (the 1e-2 stretch bound is \
+                 then not stated) or a longer --segment-length",
+                p.stiffness,
+                super::SPRING_WAVE_SPEEDS,
+                p.speed_scale(),
+                format::shown(p.segment_length)
+            )));
+        }
+        if springs || !defaulted {
+            params::within("--stiffness", p.stiffness, 1.0 / max, MAX_STIFFNESS, "1/s²")?;
+        }
+        Ok(())
+    }
+
+    /// The frame rate and duration: at least one frame, at most [`params::MAX_STEPS`].
+    fn validate_frames(&self) -> Result<(), Invalid> {
+        params::positive("--rate", self.rate, "Hz")?;
+        params::positive("--duration", self.duration, "s")?;
+        let frames = self.duration * self.rate;
+        if frames < 1.0 {
+            return Err(Invalid::Usage(format!(
+                "--rate {} Hz over --duration {} s is less than one frame: raise --rate or lengthen --duration",
+                format::shown(self.rate),
+                format::shown(self.duration)
+            )));
+        }
+        if frames > params::MAX_STEPS {
+            return Err(Invalid::Usage(format!(
+                "--rate {} Hz over --duration {} s is {frames:.2e} frames; at most {:.0e} are allowed",
+                format::shown(self.rate),
+                format::shown(self.duration),
+                params::MAX_STEPS
+            )));
+        }
+        params::time(1.0 / self.rate, self.duration, self.fps, 1)
+    }
+
     /// The memory the run's state takes [B]: per node and method, position, previous position
     /// and velocity (3 × 24 B).
     pub fn memory_bytes(&self) -> f64 {
@@ -223,7 +236,7 @@ pub fn substeps_for_dt(rate: f64, dt: f64, substeps: Option<u32>) -> Result<u32,
     let whole = n.round();
     let step = |k: f64| {
         let plural = if k == 1.0 { "" } else { "s" };
-        format!("{} ({k} substep{plural})", params::shown(1.0 / (rate * k)))
+        format!("{} ({k} substep{plural})", format::shown(1.0 / (rate * k)))
     };
     if !(1.0..=1e6).contains(&whole) || (n - whole).abs() > 1e-9 * n {
         let below = n.floor().max(1.0);
@@ -234,12 +247,12 @@ pub fn substeps_for_dt(rate: f64, dt: f64, substeps: Option<u32>) -> Result<u32,
         };
         return Err(Invalid::param(
             "--dt",
-            params::shown(dt),
+            format::shown(dt),
             format!(
                 "a hair step is 1/(rate·substeps), and at --rate {} this is {} substeps per frame, \
                  not a whole number; nearest allowed: --dt {nearest}",
-                params::shown(rate),
-                params::shown(n)
+                format::shown(rate),
+                format::shown(n)
             ),
         ));
     }
@@ -248,9 +261,9 @@ pub fn substeps_for_dt(rate: f64, dt: f64, substeps: Option<u32>) -> Result<u32,
         Some(given) if given != whole => Err(Invalid::Usage(format!(
             "--dt {} and --substeps {given} disagree: at --rate {} that step is {whole} substeps \
              per frame, and --substeps {given} is --dt {}; give one of them",
-            params::shown(dt),
-            params::shown(rate),
-            params::shown(1.0 / (rate * f64::from(given)))
+            format::shown(dt),
+            format::shown(rate),
+            format::shown(1.0 / (rate * f64::from(given)))
         ))),
         _ => Ok(whole),
     }

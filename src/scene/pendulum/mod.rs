@@ -3,6 +3,7 @@
 //! Energy is per unit bob mass with the potential's zero at the lowest point,
 //! E = ½ L² ω² + g L (1 - cos θ) [J/kg], so E ≥ 0 and E = 0 only at rest at the bottom.
 
+pub mod exact;
 pub mod period;
 pub mod periodic;
 pub mod reference;

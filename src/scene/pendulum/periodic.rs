@@ -24,11 +24,11 @@
 //! the true period, so after n·dt/T periods the phase has moved by about that many times
 //! |δT| ≈ 2 eps T. Over 10⁸ steps of 0.01 s (10⁶ s) at the default T ≈ 4.0 s that is 2.5·10⁵
 //! periods × 1.8e-15 s ≈ 4.4e-10 s, i.e. up to |ω|max × 4.4e-10 ≈ 7e-10 rad, the same order as
-//! the closed form's own drift ([`super::reference::EXACT_THETA_DRIFT`] per radian of ωn t:
+//! the closed form's own drift ([`super::exact::EXACT_THETA_DRIFT`] per radian of ωn t:
 //! 1.7e-9 rad there), and far below any method's error after 10⁸ steps.
 
 use super::PendulumParams;
-use super::reference::ExactPendulum;
+use super::exact::ExactPendulum;
 
 /// The θ error [rad] the interpolant is refined to, against the closed form.
 pub const TARGET_THETA_ERROR: f64 = 1e-14;

@@ -1,9 +1,11 @@
 //! The pendulum as a [`Scene`]: every chosen method and the reference stepped over the same time
 //! grid, checked every step, with the period measured from each lane's motion.
 
+use super::exact::{ExactPendulum, exact_period};
 use super::period::PeriodMeter;
-use super::reference::{ExactPendulum, FineStepReference, Reference, exact_period};
+use super::reference::{FineStepReference, Reference};
 use super::{Pendulum, PendulumParams, step_block};
+use crate::format;
 use crate::integrate::{Counts, Integrator, Method, MethodOptions};
 use crate::scene::harness::{Checked, Sampler, Scene, Schedule, Window, Windows};
 use crate::scene::params::{self, Invalid};
@@ -88,7 +90,7 @@ impl params::SceneConfig for PendulumConfig {
                 .unwrap_or(f64::NAN);
             return Err(Invalid::param(
                 "--theta0",
-                params::shown(typed),
+                format::shown(typed),
                 format!(
                     "must be a finite angle within ±{turns} turns (±{}°) [degrees]",
                     turns * 360.0
@@ -119,8 +121,8 @@ impl params::SceneConfig for PendulumConfig {
                 "{flag} {} s exceeds a tenth of the pendulum's {what} {} s: fewer than ten steps \
                  a swing, so every method's error is of the order of the motion (milliseconds \
                  are {flag} 0.001)",
-                params::shown(h),
-                params::seconds(period)
+                format::shown(h),
+                format::seconds(period)
             )
         })
     }
@@ -151,11 +153,11 @@ impl PendulumConfig {
                 "--omega0 {} (θ0 {}°, --length {} m, --gravity {} m/s²) over --duration {} s: the fine-step \
                  reference needs {steps:.2e} RK4 steps (its step follows the fastest rate, here {:.3e} rad/s); \
                  at most {:.0e} are allowed (lower --omega0 or shorten --duration)",
-                params::shown(self.params.omega0),
+                format::shown(self.params.omega0),
                 degrees.trim_end_matches('0').trim_end_matches('.'),
-                params::shown(self.params.length),
-                params::shown(self.params.gravity),
-                params::shown(self.duration),
+                format::shown(self.params.length),
+                format::shown(self.params.gravity),
+                format::shown(self.duration),
                 self.params
                     .omega_n()
                     .max((2.0 * self.params.initial_energy()).sqrt() / self.params.length),
