@@ -139,15 +139,15 @@ pub fn check(flag: &str, path: &Path, dash: Dash) -> anyhow::Result<Output> {
     };
     let named = format!("{flag} {}", path.display());
     match std::fs::metadata(&target) {
-        Ok(m) if m.is_file() => {
-            if !may_replace(&target, &m) {
-                return Err(Error::Usage(format!(
-                    "{named}: is read-only (mode {:o}); physlab does not replace a file you may                      not write: make it writable or give another path",
-                    m.permissions().mode() & 0o7777
-                ))
-                .into());
-            }
+        Ok(m) if m.is_file() && !may_replace(&target, &m) => {
+            return Err(Error::Usage(format!(
+                "{named}: is read-only (mode {:o}); physlab does not replace a file you may not \
+                 write: make it writable or give another path",
+                m.permissions().mode() & 0o777
+            ))
+            .into());
         }
+        Ok(m) if m.is_file() => {}
         Ok(m) => {
             let t = m.file_type();
             // Bad input like any other (exit 2): the path names something that is no file.

@@ -347,7 +347,8 @@ mod outputs {
                     "-o".into(),
                     s(&under_file).into(),
                 ],
-                1,
+                // Any failure of `diff` is 2: 1 says "they differ".
+                2,
                 "cannot create the folder",
             ),
             (
