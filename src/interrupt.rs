@@ -180,25 +180,14 @@ pub fn reader_gone() -> bool {
     READER_GONE.load(Ordering::SeqCst)
 }
 
-/// The cause, when `message` is std's panic for a failed `print!`/`eprint!` (`failed printing
+/// The error, when `message` is std's panic for a failed `print!`/`eprint!` (`failed printing
 /// to stdout: …`), noting a reader that left.
 pub fn failed_print(message: Option<&str>) -> Option<String> {
-    let message = message?;
-    let cause = ["stdout", "stderr"]
-        .into_iter()
-        .find_map(|s| message.strip_prefix(&format!("failed printing to {s}: ")))?;
-    let epipe = std::io::Error::from_raw_os_error(libc::EPIPE).to_string();
-    if cause == epipe {
+    let cause = message?.strip_prefix("failed printing to std")?;
+    if cause.ends_with(&std::io::Error::from_raw_os_error(libc::EPIPE).to_string()) {
         READER_GONE.store(true, Ordering::SeqCst);
     }
-    Some(format!(
-        "standard {}: cannot write to it: {cause}",
-        if message.contains("stdout") {
-            "output"
-        } else {
-            "error"
-        }
-    ))
+    Some(format!("cannot print to std{cause}"))
 }
 
 /// A resource limit's soft value (`None`: unlimited or unknown).
@@ -212,8 +201,8 @@ pub fn limit(resource: libc::__rlimit_resource_t) -> Option<u64> {
     (ok && r.rlim_cur != libc::RLIM_INFINITY).then_some(r.rlim_cur)
 }
 
-/// Open files physlab may need at once (its files, Rerun's and the worker threads' handles).
-pub const MIN_OPEN_FILES: u64 = 64;
+/// Open files physlab may need at once: its inputs, outputs and their locks, Rerun's handles.
+pub const MIN_OPEN_FILES: u64 = 16;
 
 /// Refuses to start where the process cannot work: standard output closed (what is printed
 /// there would be lost), too few open files allowed.

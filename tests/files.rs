@@ -367,16 +367,17 @@ fn a_study_writes_its_outputs_as_one_set_while_holding_their_folder() {
 }
 
 /// Issue 44.8: under resource limits the error names its cause: too few open files
-/// (`ulimit -n`; a good file was called "unusable"), no threads (`ulimit -u`; "Resource
-/// temporarily unavailable" with no subject), and the address-space limit (`ulimit -v`), which
-/// the memory guard counts beside MemAvailable (a run it admitted aborted allocating).
+/// (`ulimit -n 4`; a good file was called "unusable"; physlab asks for 16 up front), no threads
+/// (`ulimit -u`; "Resource temporarily unavailable" with no subject), and the address-space
+/// limit (`ulimit -v`), which the memory guard counts beside MemAvailable (a run it admitted
+/// aborted allocating).
 #[test]
 fn errors_under_resource_limits_name_their_cause() {
     let dir = scratch_dir("files-limits");
     let good = good_recording(&dir, "a.rrd");
 
     let run = physlab_with(&["inspect", s(&good)], &[], || {
-        set_limit(libc::RLIMIT_NOFILE, 16)
+        set_limit(libc::RLIMIT_NOFILE, 4)
     });
     let err = text(&run.stderr);
     assert_eq!(run.status.code(), Some(2), "{err}");
