@@ -151,23 +151,20 @@ pub fn check(flag: &str, path: &Path, dash: Dash) -> anyhow::Result<Output> {
         Ok(m) => {
             let t = m.file_type();
             // Bad input like any other (exit 2): the path names something that is no file.
-            let what = if t.is_dir() {
-                return Err(Error::Usage(format!(
-                    "{named}: is a folder; give a file path such as {}/out",
-                    path.display()
-                ))
-                .into());
-            } else if t.is_fifo() {
-                "a FIFO"
-            } else if t.is_char_device() || t.is_block_device() {
-                "a device"
-            } else {
-                "a socket"
+            let what = match () {
+                _ if t.is_dir() => {
+                    format!("a folder; give a file path such as {}/out", path.display())
+                }
+                _ if t.is_fifo() => "a FIFO".into(),
+                _ if t.is_socket() => "a socket".into(),
+                _ => "a device".into(),
             };
-            return Err(Error::Usage(format!(
-                "{named}: is {what}; physlab writes only regular files (`-` is standard output)"
-            ))
-            .into());
+            let only = if t.is_dir() {
+                ""
+            } else {
+                "; physlab writes only regular files (`-` is standard output)"
+            };
+            return Err(Error::Usage(format!("{named}: is {what}{only}")).into());
         }
         // Not there (or under a file): making its folder below says why it cannot be.
         Err(_) => {}
@@ -410,31 +407,26 @@ pub fn lock_folders(dirs: &[PathBuf]) -> anyhow::Result<Vec<std::fs::File>> {
         .collect();
     dirs.sort();
     dirs.dedup();
-    let mut held = Vec::new();
-    for dir in dirs {
-        let failed = |e: std::io::Error| {
-            anyhow::anyhow!("{}: cannot lock the folder: {}", dir.display(), cause(&e))
-        };
-        let folder = std::fs::File::open(&dir).map_err(failed)?;
-        loop {
-            match folder.try_lock() {
-                Ok(()) => break,
-                Err(std::fs::TryLockError::WouldBlock) if crate::interrupt::requested() => {
-                    return Err(Error::Interrupted(format!(
+    let lock = |dir: &PathBuf| {
+        let failed =
+            |e| anyhow::anyhow!("{}: cannot lock the folder: {}", dir.display(), cause(&e));
+        let folder = std::fs::File::open(dir).map_err(failed)?;
+        while let Err(e) = folder.try_lock() {
+            match e {
+                std::fs::TryLockError::Error(e) => return Err(failed(e)),
+                _ if crate::interrupt::requested() => {
+                    let message = format!(
                         "interrupted while another physlab was writing to {}; nothing was written",
                         dir.display()
-                    ))
-                    .into());
+                    );
+                    return Err(Error::Interrupted(message).into());
                 }
-                Err(std::fs::TryLockError::WouldBlock) => {
-                    std::thread::sleep(std::time::Duration::from_millis(20))
-                }
-                Err(std::fs::TryLockError::Error(e)) => return Err(failed(e)),
+                _ => std::thread::sleep(std::time::Duration::from_millis(20)),
             }
         }
-        held.push(folder);
-    }
-    Ok(held)
+        Ok(folder)
+    };
+    dirs.iter().map(lock).collect()
 }
 
 enum Sink {
@@ -486,8 +478,9 @@ impl Partial {
             }
             .map_err(failed)?;
             // Held until the file is renamed or removed: a cleaner that can lock it takes it for
-            // a dead writer's. One that removed it before the lock was taken is seen here.
-            file.lock().map_err(failed)?;
+            // a dead writer's. One that removed it before the lock was taken is seen here. (Where
+            // the file system has no locks, no cleaner can lock it either, and it is kept.)
+            let _ = file.lock();
             if file.metadata().map_err(failed)?.nlink() > 0 {
                 // The umask narrowed the mode at creation; the old file's is set whole.
                 if old.is_some() {
