@@ -366,6 +366,43 @@ fn a_study_writes_its_outputs_as_one_set_while_holding_their_folder() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// Issue 44.4 as the user met it: two studies (RK4 and Verlet) writing one `--csv` and
+/// `--plots` at once, 8 times; each time the CSV, the SVG and the PNG's stamped data are all one
+/// study's (today's main mixed them in 8 of 12 tries).
+#[test]
+fn two_studies_writing_one_set_at_once_leave_one_study_s_set() {
+    let dir = scratch_dir("files-study-race");
+    let csv = dir.join("c.csv");
+    let study = |method: &str| {
+        Command::new(env!("CARGO_BIN_EXE_physlab"))
+            .args(["study", "convergence", "--levels", "2", "--methods", method])
+            .args(["--csv", s(&csv), "--plots", s(&dir)])
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap()
+    };
+    for _ in 0..8 {
+        let (mut a, mut b) = (study("rk4"), study("verlet"));
+        assert!(a.wait().unwrap().success() && b.wait().unwrap().success());
+        // The PNG's data is in its tEXt chunk (`rk4 dt=…` lines): a longer needle than its
+        // compressed pixels could hold by chance.
+        let rk4: Vec<bool> = [
+            ("c.csv", "rk4"),
+            ("pendulum-convergence.svg", "rk4"),
+            ("pendulum-convergence.png", "rk4 dt="),
+        ]
+        .iter()
+        .map(|(file, needle)| text(&std::fs::read(dir.join(file)).unwrap()).contains(needle))
+        .collect();
+        assert!(
+            rk4 == [true; 3] || rk4 == [false; 3],
+            "a mixed set: {rk4:?}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// Issue 44.8: under resource limits the error names its cause: too few open files
 /// (`ulimit -n 4`; a good file was called "unusable"; physlab asks for 16 up front), no threads
 /// (`ulimit -u`; "Resource temporarily unavailable" with no subject), and the address-space
