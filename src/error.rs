@@ -16,7 +16,8 @@ pub enum Error {
         value: String,
         rule: String,
     },
-    /// Anything else that failed while running (an I/O error, a failed write). Exit 1.
+    /// Anything else that failed while running (an I/O error, a failed write). Exit 1, or 2 in
+    /// `reproduce` and `diff` ([`Error::exit_code_for`]).
     Runtime(anyhow::Error),
     /// `reproduce` or `diff` found a difference (beyond the tolerance). Exit 1.
     Differs(String),
@@ -27,6 +28,20 @@ pub enum Error {
 }
 
 impl Error {
+    /// The exit code when standard output's reader left before the command ended (`physlab …
+    /// | head -1`): the command stops there quietly, its temporary and partial files removed;
+    /// 141 is what a shell reports for a process SIGPIPE ended, and says the output is cut.
+    pub const READER_GONE: u8 = 141;
+
+    /// The exit code in a command where 1 says "they differ" (`reproduce`, `diff`): any failure
+    /// there is 2, as for diff(1) and cmp(1).
+    pub fn exit_code_for(&self, compares: bool) -> u8 {
+        match self {
+            Error::Runtime(_) if compares => 2,
+            _ => self.exit_code(),
+        }
+    }
+
     pub fn exit_code(&self) -> u8 {
         match self {
             Error::Usage(_) | Error::Param { .. } => 2,

@@ -11,6 +11,12 @@ use std::sync::atomic::{AtomicBool, AtomicPtr, Ordering};
 static REQUESTED: AtomicBool = AtomicBool::new(false);
 /// A signal (not [`stop`]) asked for the stop.
 static SIGNALLED: AtomicBool = AtomicBool::new(false);
+/// Standard output's reader left: a write there failed with EPIPE ([`failed_print`],
+/// [`note_stdout_error`]).
+static READER_GONE: AtomicBool = AtomicBool::new(false);
+/// The private temporary folder (a leaked C string), removed by a second signal once the files
+/// in it are.
+static TEMP_DIR: AtomicPtr<libc::c_char> = AtomicPtr::new(std::ptr::null_mut());
 /// A write to standard output is under way ([`writing_stdout`]).
 static IN_STDOUT_WRITE: AtomicBool = AtomicBool::new(false);
 
@@ -38,6 +44,11 @@ fn remove_partials_and_exit() -> ! {
             // SAFETY: a non-null slot holds a C string leaked by `add_partial_file`.
             unsafe { libc::unlink(partial) };
         }
+    }
+    let dir = TEMP_DIR.load(Ordering::SeqCst);
+    if !dir.is_null() {
+        // SAFETY: a C string leaked by `set_temp_dir`.
+        unsafe { libc::rmdir(dir) };
     }
     // SAFETY: `_exit` ends the process without running anything else.
     unsafe { libc::_exit(130) }
@@ -147,4 +158,77 @@ pub fn stop() {
 /// Whether a stop was asked for. Scene runs check this once per block of steps.
 pub fn requested() -> bool {
     REQUESTED.load(Ordering::Relaxed)
+}
+
+/// Names the private temporary folder a second signal removes (after the files in it).
+pub fn set_temp_dir(path: &std::path::Path) {
+    use std::os::unix::ffi::OsStrExt as _;
+    if let Ok(c) = CString::new(path.as_os_str().as_bytes()) {
+        TEMP_DIR.store(c.into_raw(), Ordering::SeqCst);
+    }
+}
+
+/// Notes a failed write to standard output: EPIPE means its reader left.
+pub fn note_stdout_error(e: &std::io::Error) {
+    if e.raw_os_error() == Some(libc::EPIPE) {
+        READER_GONE.store(true, Ordering::SeqCst);
+    }
+}
+
+/// Whether standard output's reader left (the command's output ends there).
+pub fn reader_gone() -> bool {
+    READER_GONE.load(Ordering::SeqCst)
+}
+
+/// The error, when `message` is std's panic for a failed `print!`/`eprint!` (`failed printing
+/// to stdout: …`), noting a reader that left.
+pub fn failed_print(message: Option<&str>) -> Option<String> {
+    let cause = message?.strip_prefix("failed printing to std")?;
+    if cause.ends_with(&std::io::Error::from_raw_os_error(libc::EPIPE).to_string()) {
+        READER_GONE.store(true, Ordering::SeqCst);
+    }
+    Some(format!("cannot print to std{cause}"))
+}
+
+/// A resource limit's soft value (`None`: unlimited or unknown).
+pub fn limit(resource: libc::__rlimit_resource_t) -> Option<u64> {
+    let mut r = libc::rlimit {
+        rlim_cur: 0,
+        rlim_max: 0,
+    };
+    // SAFETY: one valid rlimit to fill.
+    let ok = unsafe { libc::getrlimit(resource, &mut r) } == 0;
+    (ok && r.rlim_cur != libc::RLIM_INFINITY).then_some(r.rlim_cur)
+}
+
+/// Open files physlab may need at once: its inputs, outputs and their locks, Rerun's handles.
+pub const MIN_OPEN_FILES: u64 = 16;
+
+/// Refuses to start where the process cannot work: standard output closed (what is printed
+/// there would be lost), too few open files allowed.
+pub fn check_process() -> Result<(), String> {
+    // Before `main`, std puts /dev/null opened read-write in place of a closed standard
+    // descriptor; a shell's `>/dev/null` opens it write-only.
+    // SAFETY: fcntl and fstat on descriptor 1 into a zeroed stat.
+    let closed = unsafe {
+        let mut st: libc::stat = std::mem::zeroed();
+        libc::fcntl(1, libc::F_GETFL) & libc::O_ACCMODE == libc::O_RDWR
+            && libc::fstat(1, &mut st) == 0
+            && st.st_mode & libc::S_IFMT == libc::S_IFCHR
+            && st.st_rdev == libc::makedev(1, 3)
+    };
+    if closed {
+        return Err(
+            "standard output is closed: physlab prints its summary and reports there; \
+                    give it somewhere to go (e.g. `>/dev/null`)"
+                .into(),
+        );
+    }
+    match limit(libc::RLIMIT_NOFILE) {
+        Some(n) if n < MIN_OPEN_FILES => Err(format!(
+            "too many open files: the limit of open files (`ulimit -n`) is {n}; physlab needs \
+             {MIN_OPEN_FILES}"
+        )),
+        _ => Ok(()),
+    }
 }

@@ -5,19 +5,29 @@
 //! - checked before any work ([`check`]): the folder can be created and written in, the name
 //!   fits, and no two outputs of a command, nor an output and an input, are one file
 //!   ([`distinct`]);
-//! - atomically ([`Partial`]): into a hidden `.NAME.PID.partial` beside the target, flushed and
-//!   fsynced, renamed over the target, the folder fsynced; any failure removes the hidden file
-//!   and leaves the old target untouched, and the error names the file and the cause;
+//! - atomically ([`Partial`]): into a hidden `.NAME.PID.partial` beside the target, created
+//!   exclusively (never through a symlink), locked (`flock`) for its life, given the old file's
+//!   mode, flushed and fsynced, renamed over the target, the folder fsynced; any failure removes
+//!   the hidden file and leaves the old target untouched, and the error names the file and the
+//!   cause; an old file its user may not write is refused, not replaced;
 //! - a second SIGINT/SIGTERM/SIGHUP removes the hidden file (`crate::interrupt`), and hidden
-//!   files of processes that no longer run are removed when their target is written again.
+//!   files nobody holds locked (their writer is gone, whatever its PID) are removed when their
+//!   target is written again;
+//! - scratch files ([`TempFile`]) in one private folder per process (mode 0700, a random name),
+//!   removed with it on every exit ([`remove_private_temp_dir`]).
 
 use std::ffi::OsString;
 use std::io::Write as _;
 use std::os::unix::ffi::{OsStrExt as _, OsStringExt as _};
-use std::os::unix::fs::FileTypeExt as _;
+use std::os::unix::fs::{
+    FileTypeExt as _, MetadataExt as _, OpenOptionsExt as _, PermissionsExt as _,
+};
 use std::path::{Path, PathBuf};
 
 use crate::error::Error;
+
+mod temp;
+pub use temp::{TempFile, private_temp_dir, remove_private_temp_dir};
 
 /// The longest file name the file systems physlab runs on take, in bytes.
 const NAME_MAX: usize = 255;
@@ -121,28 +131,40 @@ pub fn check(flag: &str, path: &Path, dash: Dash) -> anyhow::Result<Output> {
         });
     }
     let target = follow_links(path).map_err(|e| anyhow::anyhow!("{named}: {}", cause(&e)))?;
+    // A scratch file is no file the user named: its errors name the temporary folder.
+    let flag = if temp::is_scratch(&target) {
+        "the temporary file (TMPDIR, or /tmp when unset)"
+    } else {
+        flag
+    };
+    let named = format!("{flag} {}", path.display());
     match std::fs::metadata(&target) {
+        Ok(m) if m.is_file() && !may_replace(&target, &m) => {
+            return Err(Error::Usage(format!(
+                "{named}: is read-only (mode {:o}); physlab does not replace a file you may not \
+                 write: make it writable or give another path",
+                m.permissions().mode() & 0o777
+            ))
+            .into());
+        }
         Ok(m) if m.is_file() => {}
         Ok(m) => {
             let t = m.file_type();
             // Bad input like any other (exit 2): the path names something that is no file.
-            let what = if t.is_dir() {
-                return Err(Error::Usage(format!(
-                    "{named}: is a folder; give a file path such as {}/out",
-                    path.display()
-                ))
-                .into());
-            } else if t.is_fifo() {
-                "a FIFO"
-            } else if t.is_char_device() || t.is_block_device() {
-                "a device"
-            } else {
-                "a socket"
+            let what = match () {
+                _ if t.is_dir() => {
+                    format!("a folder; give a file path such as {}/out", path.display())
+                }
+                _ if t.is_fifo() => "a FIFO".into(),
+                _ if t.is_socket() => "a socket".into(),
+                _ => "a device".into(),
             };
-            return Err(Error::Usage(format!(
-                "{named}: is {what}; physlab writes only regular files (`-` is standard output)"
-            ))
-            .into());
+            let only = if t.is_dir() {
+                ""
+            } else {
+                "; physlab writes only regular files (`-` is standard output)"
+            };
+            return Err(Error::Usage(format!("{named}: is {what}{only}")).into());
         }
         // Not there (or under a file): making its folder below says why it cannot be.
         Err(_) => {}
@@ -210,7 +232,6 @@ pub fn distinct(outputs: &[&Output], inputs: &[(&str, &Path)]) -> Result<(), Err
 
 /// Whether two paths name one file: the same inode when both exist, else the same resolved path.
 fn same_file(a: &Path, b: &Path) -> bool {
-    use std::os::unix::fs::MetadataExt as _;
     match (std::fs::metadata(a), std::fs::metadata(b)) {
         (Ok(x), Ok(y)) => x.dev() == y.dev() && x.ino() == y.ino(),
         _ => resolved(a) == resolved(b),
@@ -268,6 +289,15 @@ pub fn cause(e: &std::io::Error) -> String {
         Some(libc::ENOENT) => "no such file or folder",
         Some(libc::ENOTDIR) => "a part of the path is not a folder",
         Some(libc::EIO) => "input/output error",
+        Some(libc::EMFILE | libc::ENFILE) => "too many open files (the limit is `ulimit -n`)",
+        Some(libc::EAGAIN) => "no threads or processes available (the limit is `ulimit -u`)",
+        Some(libc::EFBIG) => {
+            let limit = match crate::interrupt::limit(libc::RLIMIT_FSIZE) {
+                Some(bytes) => format!("the file-size limit of {bytes} bytes (`ulimit -f`)"),
+                None => "the largest file the file system takes".into(),
+            };
+            return format!("file too large: over {limit} ({e})");
+        }
         _ => return e.to_string(),
     };
     format!("{words} ({e})")
@@ -290,20 +320,17 @@ fn partial_name(name: &[u8], pid: u32, extension: bool) -> OsString {
     OsString::from_vec(out)
 }
 
-/// Removes the hidden files of `target` left by processes that no longer run (killed with
-/// SIGKILL, or by a power cut). Files of running processes are theirs.
+/// Removes the hidden files of `target` that nobody holds locked: their writer is gone (killed
+/// with SIGKILL, or by a power cut). A live writer holds its lock whatever its PID says here (a
+/// process in another PID namespace, on another NFS client).
 fn remove_stale_partials(target: &Path) {
     let (Some(name), Ok(entries)) = (target.file_name(), std::fs::read_dir(parent_dir(target)))
     else {
         return;
     };
     for entry in entries.flatten() {
-        let file = entry.file_name();
-        let Some(pid) = partial_pid(name.as_bytes(), file.as_bytes()) else {
-            continue;
-        };
-        if pid != std::process::id() && !process_runs(pid) {
-            let _ = std::fs::remove_file(entry.path());
+        if partial_pid(name.as_bytes(), entry.file_name().as_bytes()).is_some() {
+            remove_if_stale(&entry.path());
         }
     }
 }
@@ -320,13 +347,86 @@ fn partial_pid(name: &[u8], file: &[u8]) -> Option<u32> {
         .then_some(pid)
 }
 
-fn process_runs(pid: u32) -> bool {
-    let Ok(pid) = libc::pid_t::try_from(pid) else {
-        return false;
+/// Removes the hidden file `path` unless its writer holds it locked; a symlink there is nobody's
+/// hidden file (they are created exclusively) and is removed, never followed.
+fn remove_if_stale(path: &Path) {
+    let Ok(meta) = std::fs::symlink_metadata(path) else {
+        return;
     };
-    // SAFETY: signal 0 only asks whether the process exists.
-    let r = unsafe { libc::kill(pid, 0) };
-    r == 0 || std::io::Error::last_os_error().raw_os_error() == Some(libc::EPERM)
+    if !meta.file_type().is_symlink() {
+        let open = std::fs::OpenOptions::new()
+            .read(true)
+            .custom_flags(libc::O_NOFOLLOW | libc::O_NONBLOCK)
+            .open(path);
+        // Still the file looked at, and unlocked: its writer is gone.
+        let stale = open.is_ok_and(|f| {
+            f.try_lock().is_ok() && f.metadata().is_ok_and(|m| m.ino() == meta.ino())
+        });
+        if !stale {
+            return;
+        }
+    }
+    let _ = std::fs::remove_file(path);
+}
+
+/// Opens a new file at `path` for writing: created exclusively (a file or a symlink already there
+/// is an error, `EEXIST`), with `mode`.
+fn create_new(path: &Path, mode: u32) -> std::io::Result<std::fs::File> {
+    std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .custom_flags(libc::O_NOFOLLOW)
+        .mode(mode)
+        .open(path)
+}
+
+/// Whether this user may replace the old file `target` (the rename needs only its folder): root,
+/// who may write anything, unless nobody may (a read-only file, by its permission bits); anyone
+/// else as the kernel's access check says.
+fn may_replace(target: &Path, meta: &std::fs::Metadata) -> bool {
+    // SAFETY: geteuid has no preconditions.
+    if unsafe { libc::geteuid() } == 0 {
+        return meta.permissions().mode() & 0o222 != 0;
+    }
+    let Ok(c) = std::ffi::CString::new(target.as_os_str().as_bytes()) else {
+        return true;
+    };
+    // SAFETY: a valid C string, only read.
+    let r = unsafe { libc::faccessat(libc::AT_FDCWD, c.as_ptr(), libc::W_OK, libc::AT_EACCESS) };
+    r == 0 || std::io::Error::last_os_error().raw_os_error() != Some(libc::EACCES)
+}
+
+/// Holds the folders `dirs` locked (`flock`) until dropped. The writers of one set of outputs (a
+/// study's CSV, diagrams and recording) take it, so that two commands writing the same set at
+/// once leave one's set whole, never a mix; the folders are locked in one order (no deadlock),
+/// waiting for another holder while answering a stop request.
+pub fn lock_folders(dirs: &[PathBuf]) -> anyhow::Result<Vec<std::fs::File>> {
+    let mut dirs: Vec<PathBuf> = dirs
+        .iter()
+        .map(|d| d.canonicalize().unwrap_or(d.clone()))
+        .collect();
+    dirs.sort();
+    dirs.dedup();
+    let lock = |dir: &PathBuf| {
+        let failed =
+            |e| anyhow::anyhow!("{}: cannot lock the folder: {}", dir.display(), cause(&e));
+        let folder = std::fs::File::open(dir).map_err(failed)?;
+        while let Err(e) = folder.try_lock() {
+            match e {
+                std::fs::TryLockError::Error(e) => return Err(failed(e)),
+                _ if crate::interrupt::requested() => {
+                    let message = format!(
+                        "interrupted while another physlab was writing to {}; nothing was written",
+                        dir.display()
+                    );
+                    return Err(Error::Interrupted(message).into());
+                }
+                _ => std::thread::sleep(std::time::Duration::from_millis(20)),
+            }
+        }
+        Ok(folder)
+    };
+    dirs.iter().map(lock).collect()
 }
 
 enum Sink {
@@ -355,18 +455,41 @@ impl Partial {
         let name = target.file_name().unwrap_or_default();
         let tmp =
             parent_dir(target).join(partial_name(name.as_bytes(), std::process::id(), extension));
-        let file = std::fs::OpenOptions::new()
-            .write(true)
-            .create(true)
-            .truncate(true)
-            .open(&tmp)
-            .map_err(|e| {
-                anyhow::anyhow!(
-                    "{named}: cannot write in its folder {}: {}",
-                    parent_dir(target).display(),
-                    cause(&e)
-                )
-            })?;
+        let failed = |e: std::io::Error| {
+            anyhow::anyhow!(
+                "{named}: cannot write in its folder {}: {}",
+                parent_dir(target).display(),
+                cause(&e)
+            )
+        };
+        // The old file's mode is kept (a private recording stays private).
+        let old = std::fs::metadata(target)
+            .ok()
+            .map(|m| m.permissions().mode() & 0o777);
+        let mode = old.unwrap_or(0o666);
+        let file = loop {
+            let file = match create_new(&tmp, mode) {
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
+                    // Ours from a process of the same PID that is gone, or planted: not followed.
+                    remove_if_stale(&tmp);
+                    create_new(&tmp, mode)
+                }
+                other => other,
+            }
+            .map_err(failed)?;
+            // Held until the file is renamed or removed: a cleaner that can lock it takes it for
+            // a dead writer's. One that removed it before the lock was taken is seen here. (Where
+            // the file system has no locks, no cleaner can lock it either, and it is kept.)
+            let _ = file.lock();
+            if file.metadata().map_err(failed)?.nlink() > 0 {
+                // The umask narrowed the mode at creation; the old file's is set whole.
+                if old.is_some() {
+                    file.set_permissions(std::fs::Permissions::from_mode(mode))
+                        .map_err(failed)?;
+                }
+                break file;
+            }
+        };
         let slot = crate::interrupt::add_partial_file(&tmp);
         Ok(Partial {
             named,
@@ -416,7 +539,8 @@ impl std::io::Write for Partial {
     fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
         let n = match &mut self.sink {
             Sink::File(w) => w.write(buf),
-            Sink::Stdout(w) => crate::interrupt::writing_stdout(|| w.write(buf)),
+            Sink::Stdout(w) => crate::interrupt::writing_stdout(|| w.write(buf))
+                .inspect_err(crate::interrupt::note_stdout_error),
         }?;
         self.written
             .fetch_add(n as u64, std::sync::atomic::Ordering::Relaxed);

@@ -347,7 +347,8 @@ mod outputs {
                     "-o".into(),
                     s(&under_file).into(),
                 ],
-                1,
+                // Any failure of `diff` is 2: 1 says "they differ".
+                2,
                 "cannot create the folder",
             ),
             (
@@ -500,13 +501,16 @@ mod outputs {
     fn hidden_files_of_dead_processes_are_removed_and_live_ones_kept() {
         let dir = scratch_dir("out-stale");
         let out = dir.join("r.rrd");
-        // A pid above Linux's largest (4194304) never runs; ours does.
+        // A live writer holds its hidden file locked, whatever its pid (here one that never runs
+        // on Linux, above 4194304); a dead one's lock went with it.
         let dead = dir.join(".r.rrd.4194399.partial");
-        let live = dir.join(format!(".r.rrd.{}.partial", std::process::id()));
+        let live = dir.join(".r.rrd.4194398.partial");
         let other = dir.join(".x.rrd.4194399.partial");
         for p in [&dead, &live, &other] {
             std::fs::write(p, b"half a recording").unwrap();
         }
+        let writer = std::fs::File::open(&live).unwrap();
+        writer.lock().unwrap();
         let (code, _, err) = physlab(&["pendulum", "-q", "--duration", "0.2", "-o", s(&out)]);
         assert_eq!(code, 0, "{err}");
         assert!(!dead.exists(), "the dead process's hidden file was kept");
@@ -526,7 +530,8 @@ mod outputs {
             .output()
             .unwrap();
         let err = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(1), "{err}");
+        // A failure in `reproduce` exits 2: 1 says "it differs".
+        assert_eq!(out.status.code(), Some(2), "{err}");
         assert!(err.contains("TMPDIR") && err.contains(s(&missing)), "{err}");
         std::fs::remove_dir_all(&dir).unwrap();
     }
@@ -706,7 +711,9 @@ mod outputs {
                 .map(|a| a.replace("{out}", s(&keep)).replace("{dir}", s(&disk.0)))
                 .collect();
             let (code, _, err) = run_limited(&args, Duration::from_secs(120));
-            assert_eq!(code, 1, "{what}: {err}");
+            // `diff` exits 2 for any failure: 1 says "they differ".
+            let failed = if what.starts_with("diff") { 2 } else { 1 };
+            assert_eq!(code, failed, "{what}: {err}");
             assert!(err.contains("disk full"), "{what}: {err}");
             let named = if what.contains("PNG") {
                 s(&disk.0).to_string()

@@ -221,7 +221,9 @@ fn simulate(
     if let Some(n) = threads {
         pool = pool.num_threads(n);
     }
-    let pool = pool.build()?;
+    let pool = (pool.build()).map_err(|e| {
+        anyhow::anyhow!("cannot start the worker threads: no threads available (`ulimit -u`): {e}")
+    })?;
 
     let scenes: Vec<&'static str> = resolved.scenes.iter().map(|s| s.kind().name).collect();
     let single = match resolved.scenes.as_slice() {

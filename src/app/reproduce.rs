@@ -2,7 +2,7 @@
 //! and compares every logged value with it.
 
 use std::collections::BTreeSet;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Instant;
 
 use super::compared::{
@@ -14,6 +14,7 @@ use super::diff::entities_text;
 use super::scenes::{AllFlags, SCENES};
 use super::{Error, Plan, Replay, simulate};
 use crate::cli::{ReproduceArgs, RunArgs};
+use crate::output::TempFile;
 use crate::rrd::compare::{StreamSpec, compare_files};
 
 /// Why the re-run failed, in words true to the cause: a stop request stays an interruption (exit
@@ -41,32 +42,6 @@ fn rerun_failed(e: anyhow::Error, file: &Path, config: &Path) -> anyhow::Error {
         .into();
     }
     e.context(format!("re-running {}", file.display()))
-}
-
-/// A file in the temporary folder, removed when dropped.
-struct TempFile(PathBuf);
-
-impl TempFile {
-    /// Fails with a message naming TMPDIR when the temporary folder cannot be written.
-    fn new(name: &str) -> anyhow::Result<Self> {
-        let dir = std::env::temp_dir();
-        let path = dir.join(format!("physlab-{}-{name}", std::process::id()));
-        std::fs::File::create(&path).map_err(|e| {
-            anyhow::anyhow!(
-                "the temporary folder {} (TMPDIR, or /tmp when unset) cannot be written: {}; \
-                 set TMPDIR to a writable folder",
-                dir.display(),
-                crate::output::cause(&e)
-            )
-        })?;
-        Ok(TempFile(path))
-    }
-}
-
-impl Drop for TempFile {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_file(&self.0);
-    }
 }
 
 pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
@@ -179,18 +154,11 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
         );
     }
 
-    let config = TempFile::new("reproduce.toml")?;
-    std::fs::write(&config.0, &info.properties["config"]).map_err(|e| {
-        anyhow::anyhow!(
-            "{}: cannot write it: {}",
-            config.0.display(),
-            crate::output::cause(&e)
-        )
-    })?;
-    let scratch = TempFile::new("reproduce.rrd")?;
-    let output = args.output.clone().unwrap_or_else(|| scratch.0.clone());
+    let config = TempFile::create("reproduce.toml", info.properties["config"].as_bytes())?;
+    let scratch = TempFile::create("reproduce.rrd", b"")?;
+    let output = args.output.clone().unwrap_or_else(|| scratch.path().into());
     let run = RunArgs {
-        config: Some(config.0.clone()),
+        config: Some(config.path().into()),
         output: Some(output.clone()),
         quiet: true,
         timings,
@@ -202,7 +170,7 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
         .map(|s| s.flags(&AllFlags::default()))
         .collect();
     let started = Instant::now();
-    simulate(plan, &run, None, &replay).map_err(|e| rerun_failed(e, &args.file, &config.0))?;
+    simulate(plan, &run, None, &replay).map_err(|e| rerun_failed(e, &args.file, config.path()))?;
     header.push(format!(
         "re-ran in {:.1} s",
         started.elapsed().as_secs_f64()

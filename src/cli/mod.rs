@@ -130,7 +130,8 @@ pub struct AllArgs {
     pub fps: Option<f64>,
 
     /// Plot every Nth step of the pendulum and the rope (overrides the scene file)
-    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    #[arg(long, value_name = "N", allow_negative_numbers = true,
+          value_parser = clap::value_parser!(u64).range(..=i64::MAX as u64))]
     pub plot_every: Option<u64>,
 
     /// Methods, comma-separated (overrides the scene file); each scene runs those it supports

@@ -65,7 +65,8 @@ pub struct StepFlags {
     pub fps: Option<f64>,
 
     /// Plot every Nth step (beyond 10,000 plotted steps the plots are aggregated: see --window)
-    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    #[arg(long, value_name = "N", allow_negative_numbers = true,
+          value_parser = clap::value_parser!(u64).range(..=i64::MAX as u64))]
     pub plot_every: Option<u64>,
 
     /// A stretch of simulated time whose every sampled step is kept when the run is long enough

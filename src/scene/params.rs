@@ -201,23 +201,40 @@ fn step_count(option: &str, step: f64, duration: f64, work_per_step: usize) -> R
     Ok(())
 }
 
-/// The memory this machine has available [bytes] (MemAvailable), if it can be read.
+/// The memory a run may still take [bytes]: this machine's MemAvailable, or what is left under
+/// the process's address-space limit (`ulimit -v`) when that is less, with which of the two it is.
+pub fn memory_room() -> Option<(f64, &'static str)> {
+    let field = |file: &str, key: &str| -> Option<f64> {
+        let text = std::fs::read_to_string(file).ok()?;
+        let line = text.lines().find(|l| l.starts_with(key))?;
+        Some(line.split_whitespace().nth(1)?.parse::<f64>().ok()? * 1024.0)
+    };
+    let available = field("/proc/meminfo", "MemAvailable:").map(|a| (a, "available"));
+    let under_limit = crate::interrupt::limit(libc::RLIMIT_AS).map(|limit| {
+        let used = field("/proc/self/status", "VmSize:").unwrap_or(0.0);
+        let left = (limit as f64 - used).max(0.0);
+        (left, "left under the address-space limit (`ulimit -v`)")
+    });
+    [available, under_limit]
+        .into_iter()
+        .flatten()
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+}
+
+/// The memory a run may still take [bytes] ([`memory_room`]).
 pub fn available_memory() -> Option<f64> {
-    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
-    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kb * 1024.0)
+    memory_room().map(|(bytes, _)| bytes)
 }
 
 /// Refuses a run whose state would not fit in memory, naming the estimate and what to change.
 pub fn memory(what: &str, bytes: f64, change: &str) -> Result<(), Invalid> {
-    if let Some(available) = available_memory()
-        && bytes > 0.8 * available
+    if let Some((room, which)) = memory_room()
+        && bytes > 0.8 * room
     {
         return Err(Invalid::Usage(format!(
-            "{what} needs about {:.1} GB of memory, more than the {:.1} GB available; {change}",
+            "{what} needs about {:.1} GB of memory, more than the {:.1} GB {which}; {change}",
             bytes / 1e9,
-            available / 1e9
+            room / 1e9
         )));
     }
     Ok(())

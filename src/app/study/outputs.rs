@@ -18,6 +18,8 @@ pub(super) fn write_study(
     // With `-o -` or `--csv -` standard output carries the file: the tables go to stderr.
     let to_stdout = outputs.to_stdout();
     crate::output::print_beside(to_stdout, out);
+    // Another study writing the same files waits for this set to be whole, and vice versa.
+    let _held = crate::output::lock_folders(&outputs.folders())?;
     if let Some(csv_out) = &outputs.csv {
         csv_out.write(csv.as_bytes())?;
         if !csv_out.is_stdout() {
@@ -112,6 +114,14 @@ pub(super) struct Outputs {
 }
 
 impl Outputs {
+    /// The folders the outputs go to.
+    fn folders(&self) -> Vec<std::path::PathBuf> {
+        let files = [&self.csv, &self.recording].into_iter().flatten();
+        (files.filter_map(|o| o.target.as_deref().map(crate::output::parent_dir)))
+            .chain(self.plots.clone())
+            .collect()
+    }
+
     pub(super) fn to_stdout(&self) -> bool {
         [&self.csv, &self.recording]
             .into_iter()

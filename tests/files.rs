@@ -1,0 +1,483 @@
+//! The files physlab makes and the process around them (issues 43 and 44): temporary files and
+//! hidden partials never written through a planted symlink, a partial that a live writer holds
+//! locked left alone whatever its PID, a reader that leaves standard output early, failures of
+//! `reproduce` and `diff` exit 2 naming what failed, resource limits (file size, open files,
+//! threads, address space) named, a closed standard output refused, replaced outputs keeping
+//! their mode, a read-only output refused, and a study's outputs written as one set.
+//! The file system's own view (bytes, modes, listings) is the judge.
+
+#![cfg(feature = "rerun")]
+
+mod common;
+
+use std::os::unix::fs::PermissionsExt as _;
+use std::os::unix::process::CommandExt as _;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+use common::{partials, physlab, s, scratch_dir};
+
+/// A small, complete recording (about 60 KB).
+fn good_recording(dir: &Path, name: &str) -> PathBuf {
+    let path = dir.join(name);
+    let (code, _, err) = physlab(&["pendulum", "-q", "--duration", "2", "-o", s(&path)]);
+    assert_eq!(code, 0, "{err}");
+    path
+}
+
+/// physlab `args` with `setup` run in the child before it starts (limits, closed descriptors).
+fn physlab_with(
+    args: &[&str],
+    env: &[(&str, &Path)],
+    setup: fn() -> std::io::Result<()>,
+) -> Output {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_physlab"));
+    command.args(args).stdin(Stdio::null());
+    for (key, value) in env {
+        command.env(key, value);
+    }
+    // SAFETY: `setup` calls only async-signal-safe functions (setrlimit, close, umask, setuid).
+    unsafe { command.pre_exec(setup) };
+    command.output().unwrap()
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+fn set_limit(resource: libc::__rlimit_resource_t, value: u64) -> std::io::Result<()> {
+    let r = libc::rlimit {
+        rlim_cur: value,
+        rlim_max: value,
+    };
+    // SAFETY: one valid rlimit.
+    if unsafe { libc::setrlimit(resource, &r) } == 0 {
+        Ok(())
+    } else {
+        Err(std::io::Error::last_os_error())
+    }
+}
+
+/// The file-size limit the tests set: 32 KiB, under a recording's size.
+const FSIZE: u64 = 32 * 1024;
+
+fn file_size_limit() -> std::io::Result<()> {
+    set_limit(libc::RLIMIT_FSIZE, FSIZE)
+}
+
+/// The PIDs the next processes are likely to get (the last one given out, plus 1..=n).
+fn next_pids(n: u32) -> std::ops::RangeInclusive<u32> {
+    let last: u32 = std::fs::read_to_string("/proc/sys/kernel/ns_last_pid")
+        .unwrap()
+        .trim()
+        .parse()
+        .unwrap();
+    last + 1..=last + n
+}
+
+fn entries(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+/// Issue 43.1: `reproduce` used `$TMPDIR/physlab-PID-reproduce.{toml,rrd}`, following a
+/// symlink planted there (its embedded text and its re-run then replaced the link's target);
+/// a writer's hidden `.NAME.PID.partial` was opened through a symlink as well. Symlinks are
+/// planted at those names for the PIDs the command is about to get; the file they point at must
+/// stay as it was, and the temporary folder must be left as found.
+#[test]
+fn symlinks_planted_at_predictable_temporary_and_partial_names_are_never_followed() {
+    let dir = scratch_dir("files-symlinks");
+    let good = good_recording(&dir, "a.rrd");
+    let tmp = dir.join("tmp");
+    std::fs::create_dir(&tmp).unwrap();
+    let victim = dir.join("victim");
+    std::fs::write(&victim, "precious").unwrap();
+    let out = dir.join("out");
+    std::fs::create_dir(&out).unwrap();
+    for pid in next_pids(400) {
+        for name in [
+            format!("physlab-{pid}-reproduce.toml"),
+            format!("physlab-{pid}-reproduce.rrd"),
+        ] {
+            std::os::unix::fs::symlink(&victim, tmp.join(name)).unwrap();
+        }
+        std::os::unix::fs::symlink(&victim, out.join(format!(".r.rrd.{pid}.partial"))).unwrap();
+    }
+    let planted = entries(&tmp);
+    let run = physlab_with(&["reproduce", s(&good)], &[("TMPDIR", &tmp)], || Ok(()));
+    assert_eq!(run.status.code(), Some(0), "{}", text(&run.stderr));
+    assert_eq!(std::fs::read_to_string(&victim).unwrap(), "precious");
+    assert_eq!(entries(&tmp), planted, "reproduce left files in TMPDIR");
+
+    let r = out.join("r.rrd");
+    let (code, _, err) = physlab(&["pendulum", "-q", "--duration", "0.5", "-o", s(&r)]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(std::fs::read_to_string(&victim).unwrap(), "precious");
+    assert!(
+        std::fs::symlink_metadata(&r).unwrap().is_file(),
+        "r.rrd is no regular file"
+    );
+    common::decode(&r);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Issue 43 point 7: a hidden partial whose writer lives (in another PID namespace, on another
+/// NFS client: its PID is not running here) holds it locked; it is left alone. Unlocked, it is
+/// stale and removed when its target is written again.
+#[test]
+fn a_partial_a_live_writer_holds_locked_is_kept_whatever_its_pid() {
+    let dir = scratch_dir("files-locked-partial");
+    let out = dir.join("r.rrd");
+    // A PID above Linux's largest (4194304): no process here has it.
+    let partial = dir.join(".r.rrd.4194399.partial");
+    std::fs::write(&partial, "half a recording").unwrap();
+    let writer = std::fs::File::open(&partial).unwrap();
+    writer.lock().unwrap();
+    let (code, _, err) = physlab(&["pendulum", "-q", "--duration", "0.2", "-o", s(&out)]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(
+        std::fs::read_to_string(&partial).ok().as_deref(),
+        Some("half a recording"),
+        "a live writer's partial was removed"
+    );
+    drop(writer);
+    let (code, _, err) = physlab(&["pendulum", "-q", "--duration", "0.2", "-o", s(&out)]);
+    assert_eq!(code, 0, "{err}");
+    assert!(!partial.exists(), "a stale partial was kept");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Runs physlab with standard output a pipe whose reader has already left (`| head` done).
+fn with_reader_gone(args: &[&str], tmp: &Path) -> (Option<i32>, String) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_physlab"))
+        .args(args)
+        .env("TMPDIR", tmp)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    (out.status.code(), text(&out.stderr))
+}
+
+/// Issue 43.2: `reproduce … -v | head -1` was killed by SIGPIPE and left its temporary files;
+/// `diff … -o d.rrd | head -1` left its partial. Now the command ends quietly with 141 (the
+/// status a shell shows for a reader that left) and nothing is left behind; the same for a
+/// recording written to standard output (`-o -`).
+#[test]
+fn a_reader_that_leaves_standard_output_early_ends_the_command_and_leaves_nothing() {
+    let dir = scratch_dir("files-pipe");
+    let good = good_recording(&dir, "a.rrd");
+    let tmp = dir.join("tmp");
+    std::fs::create_dir(&tmp).unwrap();
+    let d = dir.join("d.rrd");
+    for args in [
+        vec!["reproduce", s(&good), "-v"],
+        vec!["diff", s(&good), s(&good), "-o", s(&d)],
+        vec!["pendulum", "--duration", "2", "-o", "-"],
+        vec!["methods"],
+    ] {
+        let (code, err) = with_reader_gone(&args, &tmp);
+        assert_eq!(code, Some(141), "{args:?}: {err}");
+        assert!(
+            !err.contains("error") && !err.contains("panicked"),
+            "{args:?}: {err}"
+        );
+        assert_eq!(entries(&tmp), Vec::<String>::new(), "{args:?}");
+        assert!(
+            !d.exists() && partials(&dir).is_empty(),
+            "{args:?}: {:?}",
+            entries(&dir)
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Issues 43.11 and 43.15: a failed write in `reproduce` or `diff` exited 1 ("they differ"), or
+/// died of SIGXFSZ under a file-size limit. Now it is 2, the message names what failed (the
+/// temporary file as such when no `-o` was given, else the `-o` path) and the limit, and
+/// nothing is left behind. A scene command's failed write exits 1 (a runtime failure, as
+/// documented) with the old file kept byte for byte.
+#[test]
+fn failed_writes_under_a_file_size_limit_are_named_and_leave_nothing() {
+    let dir = scratch_dir("files-fsize");
+    let good = good_recording(&dir, "a.rrd");
+    let tmp = dir.join("tmp");
+    std::fs::create_dir(&tmp).unwrap();
+    let limit = format!("file-size limit of {FSIZE} bytes");
+
+    let run = physlab_with(
+        &["reproduce", s(&good)],
+        &[("TMPDIR", &tmp)],
+        file_size_limit,
+    );
+    let err = text(&run.stderr);
+    assert_eq!(run.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("temporary file") && err.contains(&limit),
+        "{err}"
+    );
+    assert!(!err.contains("-o "), "blames an -o never given: {err}");
+    assert_eq!(entries(&tmp), Vec::<String>::new());
+
+    let d = dir.join("d.rrd");
+    let run = physlab_with(
+        &["diff", s(&good), s(&good), "-o", s(&d)],
+        &[],
+        file_size_limit,
+    );
+    let err = text(&run.stderr);
+    assert_eq!(run.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains(&format!("-o {}", s(&d))) && err.contains(&limit),
+        "{err}"
+    );
+    assert!(
+        !d.exists() && partials(&dir).is_empty(),
+        "{:?}",
+        entries(&dir)
+    );
+
+    let old = dir.join("old.rrd");
+    std::fs::write(&old, "a good old file").unwrap();
+    let run = physlab_with(&["pendulum", "-q", "-o", s(&old)], &[], file_size_limit);
+    let err = text(&run.stderr);
+    assert_eq!(run.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains(&format!("-o {}", s(&old))) && err.contains(&limit),
+        "{err}"
+    );
+    assert_eq!(std::fs::read_to_string(&old).unwrap(), "a good old file");
+    assert!(partials(&dir).is_empty(), "{:?}", entries(&dir));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Issue 43.15: with standard output closed the summary was lost and the run exited 0.
+#[test]
+fn a_closed_standard_output_is_refused() {
+    let run = physlab_with(
+        &["pendulum", "--duration", "0.2", "--no-record"],
+        &[],
+        || {
+            // SAFETY: closing a descriptor.
+            unsafe { libc::close(1) };
+            Ok(())
+        },
+    );
+    let err = text(&run.stderr);
+    assert_eq!(run.status.code(), Some(2), "{err}");
+    assert!(err.contains("standard output is closed"), "{err}");
+}
+
+/// Issue 44.3: a replaced output took the default mode (a 0600 recording became 0644), and a
+/// read-only CSV was replaced (the rename needs only the folder). The mode is read from the
+/// file's permission bits, so the test holds as root too.
+#[test]
+fn a_replaced_output_keeps_its_mode_and_a_read_only_one_is_refused() {
+    let dir = scratch_dir("files-mode");
+    let r = dir.join("r.rrd");
+    let umask = || {
+        // SAFETY: umask has no preconditions.
+        unsafe { libc::umask(0o022) };
+        Ok(())
+    };
+    let args = ["pendulum", "-q", "--duration", "0.2", "-o", s(&r)];
+    assert_eq!(physlab_with(&args, &[], umask).status.code(), Some(0));
+    std::fs::set_permissions(&r, std::fs::Permissions::from_mode(0o600)).unwrap();
+    let run = physlab_with(&args, &[], umask);
+    assert_eq!(run.status.code(), Some(0), "{}", text(&run.stderr));
+    let mode = std::fs::metadata(&r).unwrap().permissions().mode() & 0o777;
+    assert_eq!(mode, 0o600, "the replaced recording's mode is {mode:o}");
+
+    let csv = dir.join("c.csv");
+    std::fs::write(&csv, "a read-only table").unwrap();
+    std::fs::set_permissions(&csv, std::fs::Permissions::from_mode(0o444)).unwrap();
+    let started = Instant::now();
+    let (code, _, err) = physlab(&[
+        "study",
+        "convergence",
+        "--levels",
+        "2",
+        "--methods",
+        "rk4",
+        "--csv",
+        s(&csv),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("read-only") && err.contains(s(&csv)), "{err}");
+    assert!(
+        started.elapsed() < Duration::from_secs(5),
+        "refused after the work"
+    );
+    assert_eq!(std::fs::read_to_string(&csv).unwrap(), "a read-only table");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Issue 44.4: two studies writing the same `--csv`/`--plots` at once left the CSV of one and
+/// the figures of the other. A study writes its set with its folders locked: while another
+/// writer (here the test) holds the folder, it writes nothing; once released, it writes the
+/// whole set.
+#[test]
+fn a_study_writes_its_outputs_as_one_set_while_holding_their_folder() {
+    let dir = scratch_dir("files-study-lock");
+    let csv = dir.join("c.csv");
+    let other_writer = std::fs::File::open(&dir).unwrap();
+    other_writer.lock().unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_physlab"))
+        .args([
+            "study",
+            "convergence",
+            "--levels",
+            "2",
+            "--methods",
+            "rk4",
+            "--csv",
+            s(&csv),
+        ])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let started = Instant::now();
+    while started.elapsed() < Duration::from_secs(3) && child.try_wait().unwrap().is_none() {
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    assert!(
+        child.try_wait().unwrap().is_none() && !csv.exists(),
+        "the study wrote while another writer held its folder"
+    );
+    drop(other_writer);
+    let out = child.wait_with_output().unwrap();
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let written = std::fs::read_to_string(&csv).unwrap();
+    assert!(written.contains("rk4"), "{written}");
+    assert!(
+        dir.join("pendulum-convergence.png").exists(),
+        "{:?}",
+        entries(&dir)
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Issue 44.4 as the user met it: two studies (RK4 and Verlet) writing one `--csv` and
+/// `--plots` at once, 8 times; each time the CSV, the SVG and the PNG's stamped data are all one
+/// study's (today's main mixed them in 8 of 12 tries).
+#[test]
+fn two_studies_writing_one_set_at_once_leave_one_study_s_set() {
+    let dir = scratch_dir("files-study-race");
+    let csv = dir.join("c.csv");
+    let study = |method: &str| {
+        Command::new(env!("CARGO_BIN_EXE_physlab"))
+            .args(["study", "convergence", "--levels", "2", "--methods", method])
+            .args(["--csv", s(&csv), "--plots", s(&dir)])
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap()
+    };
+    for _ in 0..8 {
+        let (mut a, mut b) = (study("rk4"), study("verlet"));
+        assert!(a.wait().unwrap().success() && b.wait().unwrap().success());
+        // The PNG's data is in its tEXt chunk (`rk4 dt=…` lines): a longer needle than its
+        // compressed pixels could hold by chance.
+        let rk4: Vec<bool> = [
+            ("c.csv", "rk4"),
+            ("pendulum-convergence.svg", "rk4"),
+            ("pendulum-convergence.png", "rk4 dt="),
+        ]
+        .iter()
+        .map(|(file, needle)| text(&std::fs::read(dir.join(file)).unwrap()).contains(needle))
+        .collect();
+        assert!(
+            rk4 == [true; 3] || rk4 == [false; 3],
+            "a mixed set: {rk4:?}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Issue 44.8: under resource limits the error names its cause: too few open files
+/// (`ulimit -n 4`; a good file was called "unusable"; physlab asks for 16 up front), no threads
+/// (`ulimit -u`; "Resource temporarily unavailable" with no subject), and the address-space
+/// limit (`ulimit -v`), which the memory guard counts beside MemAvailable (a run it admitted
+/// aborted allocating).
+#[test]
+fn errors_under_resource_limits_name_their_cause() {
+    let dir = scratch_dir("files-limits");
+    let good = good_recording(&dir, "a.rrd");
+
+    let run = physlab_with(&["inspect", s(&good)], &[], || {
+        set_limit(libc::RLIMIT_NOFILE, 4)
+    });
+    let err = text(&run.stderr);
+    assert_eq!(run.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("too many open files") && err.contains("ulimit -n"),
+        "{err}"
+    );
+
+    let run = physlab_with(
+        &["pendulum", "--no-record", "--duration", "0.2"],
+        &[],
+        || {
+            set_limit(libc::RLIMIT_NPROC, 1)?;
+            // Root is not held to RLIMIT_NPROC: run as nobody.
+            // SAFETY: setgid and setuid have no memory preconditions.
+            unsafe {
+                if libc::geteuid() == 0 && (libc::setgid(65534) != 0 || libc::setuid(65534) != 0) {
+                    return Err(std::io::Error::last_os_error());
+                }
+            }
+            Ok(())
+        },
+    );
+    let err = text(&run.stderr);
+    assert_eq!(run.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("no threads available") && err.contains("ulimit -u"),
+        "{err}"
+    );
+
+    // About 2.5 GB of state under a 2 GiB address space: refused up front,
+    // naming the limit (it aborted allocating).
+    let started = Instant::now();
+    let run = physlab_with(
+        &[
+            "rope",
+            "--nodes",
+            "2000000",
+            "--no-record",
+            "--duration",
+            "0.001",
+        ],
+        &[],
+        || set_limit(libc::RLIMIT_AS, 2 << 30),
+    );
+    let err = text(&run.stderr);
+    assert_eq!(run.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("address-space limit") && err.contains("ulimit -v"),
+        "{err}"
+    );
+    assert!(started.elapsed() < Duration::from_secs(5));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Issue 44.8: a count too large for any scene file (over 2^63 - 1) said "u64 value was too
+/// large", exit 1, without naming its option.
+#[test]
+fn an_oversized_count_names_its_option() {
+    let (code, _, err) = physlab(&["pendulum", "--plot-every", "9223372036854775808"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("--plot-every") && err.contains("9223372036854775808"),
+        "{err}"
+    );
+}
