@@ -223,7 +223,7 @@ fn long_run_notice(
 }
 
 /// A duration rounded for reading: "45 s", "3 min 05 s", "7 h 12 min".
-fn duration_text(seconds: f64) -> String {
+pub(super) fn duration_text(seconds: f64) -> String {
     let s = seconds.round() as u64;
     match s {
         0..60 => format!("{s} s"),
@@ -233,7 +233,7 @@ fn duration_text(seconds: f64) -> String {
 }
 
 /// A size rounded for reading: "120 MB", "3.4 GB".
-fn size_text(bytes: f64) -> String {
+pub(super) fn size_text(bytes: f64) -> String {
     if bytes < 1e9 {
         format!("{:.0} MB", bytes / 1e6)
     } else {

@@ -191,6 +191,10 @@ pub struct ReproduceArgs {
     /// List every entity compared, identical ones too
     #[arg(short, long)]
     pub verbose: bool,
+    /// Re-run even when the recording's configuration asks for more than 10 min, a 1 GB
+    /// recording or 1 GB of memory (stated before it starts; refused without this flag)
+    #[arg(long)]
+    pub allow_long: bool,
 }
 
 #[derive(Args, Debug, Clone)]
