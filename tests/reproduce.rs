@@ -665,6 +665,7 @@ mod readers {
                     tolerance: None,
                     output: None,
                     verbose: false,
+                    quiet: false,
                 }),
             };
             if let Err(e) = physlab::app::run(cli)
@@ -1309,6 +1310,8 @@ mod untrusted {
     use std::process::{Command, Stdio};
     use std::time::{Duration, Instant};
 
+    use physlab::record::{escaped, shell_word, shell_words};
+
     use crate::common::{physlab, s, scratch_dir};
 
     /// A recording another program (or a hostile hand) made: the `physlab` properties `props`,
@@ -1653,5 +1656,100 @@ mod untrusted {
         );
         assert!(err.contains("--allow-long"), "{err}");
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// `diff` leads with the lanes whose outcome differs (issue 41.5); `-q` is accepted by
+    /// `inspect`, `reproduce` and `diff`, and a study recording is refused for what it is, not for
+    /// wall-clock timings a drift study does not have (41.6).
+    #[test]
+    fn diff_leads_with_outcomes_and_the_readers_take_q() {
+        let dir = scratch_dir("untrusted-outcomes");
+        let config = "[rope]\nduration = 3.0\nmethods = [\"explicit-euler\", \"verlet\"]\n";
+        let props = [
+            ("scenes", "rope"),
+            ("config", config),
+            ("methods", "explicit-euler,verlet"),
+        ];
+        let ended = |e: &'static str| [("rope_status", "complete"), ("rope_ended", e)];
+        let (a, b) = (dir.join("a.rrd"), dir.join("b.rrd"));
+        let diverged = "complete: t = 3 s, 300 ticks; explicit-euler stopped at t = 1.25 s \
+                        (tick 125): diverged";
+        craft(&a, "physlab-rope", &props, &ended(diverged), true);
+        craft(
+            &b,
+            "physlab-rope",
+            &props,
+            &ended("complete: t = 3 s, 300 ticks"),
+            true,
+        );
+        let (code, out, err) = physlab(&["diff", "-q", s(&a), s(&b)]);
+        assert!([0, 1].contains(&code), "{out}{err}");
+        let second = out.lines().nth(1).unwrap_or_default();
+        assert_eq!(
+            second, "  rope explicit-euler: diverged at t = 1.25 s in A, completed in B",
+            "{out}"
+        );
+        let (code, _, err) = physlab(&["inspect", "-q", s(&a)]);
+        assert_eq!(code, 0, "{err}");
+        let drift = dir.join("drift.rrd");
+        let study = [
+            ("scenes", "study pendulum"),
+            ("config", "[pendulum]\n"),
+            ("command_line", "physlab study drift"),
+        ];
+        craft(&drift, "physlab-study", &study, &[], true);
+        let (code, _, err) = physlab(&["reproduce", "-q", s(&drift)]);
+        assert_eq!(code, 2, "{err}");
+        assert!(err.contains("a study recording"), "{err}");
+        assert!(!err.contains("wall-clock"), "{err}");
+        assert!(
+            err.contains("run its command line again: physlab study drift)"),
+            "{err}"
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// Every word comes back byte for byte through bash's own reading of the quoting.
+    #[test]
+    fn words_are_quoted_losslessly_for_bash() {
+        let words: [&[u8]; 9] = [
+            b"pendulum",
+            b"--theta0=-30",
+            b"\xff\xfe.rrd",
+            b"a b",
+            b"it's",
+            b"back\\slash\n\ttab",
+            b"",
+            "\u{e9}t\u{e9} \u{7f}\u{85}".as_bytes(),
+            b"$HOME;`x`\"y\"",
+        ];
+        for word in words {
+            let quoted = shell_word(word);
+            assert!(!quoted.contains('\n'), "{quoted}");
+            let out = std::process::Command::new("bash")
+                .arg("-c")
+                .arg(format!("printf %s {quoted}"))
+                .env("LC_ALL", "C")
+                .output()
+                .expect("bash runs");
+            assert_eq!(out.stdout, word, "{quoted}");
+        }
+        // Read back by physlab too, word by word; text it cannot have made is refused.
+        let line: Vec<String> = words.iter().map(|w| shell_word(w)).collect();
+        let back = shell_words(&line.join(" ")).unwrap();
+        assert_eq!(back, words.map(<[u8]>::to_vec));
+        for forged in ["a; b", "$(x)", "a  b", "$'x", "`x`", "a ", "$'\\q'"] {
+            assert_eq!(shell_words(forged), None, "{forged}");
+        }
+    }
+
+    /// Control characters and bidirectional overrides come out as escapes; other text as it is.
+    #[test]
+    fn text_from_a_recording_is_shown_escaped() {
+        assert_eq!(escaped("physlab 0.1 — ω"), "physlab 0.1 — ω");
+        assert_eq!(
+            escaped("a\x1b[2J\nverdict: ok\r\t\u{7f}\u{85}\u{202e}"),
+            "a\\x1b[2J\\nverdict: ok\\r\\t\\x7f\\xc2\\x85\\xe2\\x80\\xae"
+        );
     }
 }

@@ -2,10 +2,9 @@
 //! tolerance, and reporting series differences entity by entity.
 
 use std::collections::{BTreeMap, BTreeSet};
+use std::ffi::OsString;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-
-use std::ffi::OsString;
 
 use super::scenes::SCENES;
 use super::{Error, SceneFile};
@@ -35,33 +34,25 @@ pub(super) fn tolerance(t: Option<f64>) -> Result<f64, Error> {
     }
 }
 
-/// A complete recording: one without its footer was cut off while being written (the process
-/// killed, the file truncated), and its last chunks are lost.
-pub(super) fn complete_recording(path: &Path) -> anyhow::Result<RecordingInfo> {
-    let info = read_recording(path)?;
-    if !info.has_footer {
-        return Err(Error::Usage(format!(
-            "{}: truncated: {}, so its last data are lost; `physlab inspect` shows what it holds",
-            path.display(),
-            info.why_no_footer
-        ))
-        .into());
-    }
-    Ok(info)
-}
-
-/// A complete recording made by physlab (`diff` and `reproduce` compare nothing else).
+/// A complete recording made by physlab (`diff` and `reproduce` compare nothing else): one
+/// without its footer was cut off while being written (the process killed, the file
+/// truncated), and its last chunks are lost.
 pub(super) fn physlab_made(path: &Path) -> anyhow::Result<RecordingInfo> {
-    let info = complete_recording(path)?;
-    if !info.application_id.starts_with("physlab") {
-        return Err(Error::Usage(format!(
-            "{}: a recording of another application ({:?}), not of physlab",
-            path.display(),
-            info.application_id
-        ))
-        .into());
-    }
-    Ok(info)
+    let info = read_recording(path)?;
+    let refused = if !info.has_footer {
+        format!(
+            "truncated: {}, so its last data are lost; `physlab inspect` shows what it holds",
+            info.why_no_footer
+        )
+    } else if !info.application_id.starts_with("physlab") {
+        format!(
+            "a recording of another application (\"{}\"), not of physlab",
+            escaped(&info.application_id)
+        )
+    } else {
+        return Ok(info);
+    };
+    Err(Error::Usage(format!("{}: {refused}", path.display())).into())
 }
 
 /// The command line a diff or study recording was made with, rebuilt: its words read back

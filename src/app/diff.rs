@@ -272,6 +272,7 @@ impl Differences {
             self.only_a.len(),
             self.only_b.len()
         )];
+        out.extend(outcome_lines(ia, ib, rename));
         out.extend(configuration_lines(ia, ib));
         let (va, vb) = (version_line(ia), version_line(ib));
         if va == vb && !args.verbose {
@@ -320,6 +321,53 @@ impl Differences {
         }
         out
     }
+}
+
+/// The lanes whose outcome differs, first of all: `  pendulum midpoint: diverged at t = 7.444 s
+/// in A, completed in B`.
+fn outcome_lines(
+    ia: &RecordingInfo,
+    ib: &RecordingInfo,
+    rename: &Option<(String, String)>,
+) -> Vec<String> {
+    let (a, b) = (outcomes(ia, &None), outcomes(ib, rename));
+    (a.iter())
+        .filter_map(|(lane, x)| match b.get(lane) {
+            Some(y) if x != y => Some(format!("  {lane}: {x} in A, {y} in B")),
+            _ => None,
+        })
+        .collect()
+}
+
+/// How each lane of each scene ended (`scene lane` → `diverged at t = 7.444 s`, `stopped at t =
+/// 3 s` in a run interrupted, `completed`), from the run properties: `<scene>_ended` names the
+/// lanes that diverged and when, `<scene>_status` and `_end_time` where the scene stopped. B's
+/// lanes are named as paired with A's.
+fn outcomes(info: &RecordingInfo, rename: &Option<(String, String)>) -> BTreeMap<String, String> {
+    let methods = info.properties.get("methods").map_or("", String::as_str);
+    let mut out = BTreeMap::new();
+    for scene in SCENES.iter().map(|s| s.name) {
+        let run = |k: &str| info.run.get(&format!("{scene}_{k}")).map(String::as_str);
+        let (Some(status), ended) = (run("status"), run("ended").unwrap_or_default()) else {
+            continue;
+        };
+        let whole = match status {
+            "interrupted" => format!("stopped at t = {} s", run("end_time").unwrap_or("?")),
+            _ => "completed".to_string(),
+        };
+        for lane in methods.split(',').filter(|m| !m.is_empty()) {
+            let diverged = ended.split("; ").find_map(|part| {
+                let at = part.strip_prefix(&format!("{lane} stopped at t = "))?;
+                Some(format!(
+                    "diverged at t = {} s",
+                    at.split_once(" s (tick")?.0
+                ))
+            });
+            let lane = renamed(lane, rename);
+            out.insert(format!("{scene} {lane}"), diverged.unwrap_or(whole.clone()));
+        }
+    }
+    out
 }
 
 /// What changed between the runs' configurations, key by key.

@@ -40,8 +40,9 @@ fn rerun_failed(e: anyhow::Error, file: &Path, config: &Path) -> anyhow::Error {
             "its embedded configuration: ",
         );
         return Error::Usage(format!(
-            "{}: its configuration does not run with this build: {message}",
-            file.display()
+            "{}: its configuration does not run with this build: {}",
+            file.display(),
+            escaped(&message)
         ))
         .into();
     }
@@ -93,7 +94,7 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
     let replay = recorded.replay(&args.file)?;
     let expected = recorded.expected();
     if let Some(e) = &expected
-        && e.beyond_bounds()
+        && e.over(MAX_SECONDS, MAX_BYTES)
         && !args.allow_long
     {
         return Err(Error::Usage(format!(
@@ -110,9 +111,12 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
 
     // Said before the re-run (which takes the run's time); the report comes after it, verdict
     // first.
-    eprintln!("re-running {} …", escaped(&args.file.display().to_string()));
-    if let Some(e) = expected.filter(Expected::long) {
-        eprintln!("{}", e.text());
+    if !args.quiet {
+        eprintln!("re-running {} …", escaped(&args.file.display().to_string()));
+        // As a scene command says it of a long or large run ([`LONG_SECONDS`], [`LARGE_BYTES`]).
+        if let Some(e) = expected.filter(|e| e.over(LONG_SECONDS, LARGE_BYTES)) {
+            eprintln!("{}", e.text());
+        }
     }
     let config = TempFile::new("reproduce.toml")?;
     std::fs::write(&config.0, &recorded.info.properties["config"]).map_err(|e| {
@@ -171,18 +175,10 @@ struct Expected {
 }
 
 impl Expected {
-    /// Long or large enough that a scene command would say so ([`LONG_SECONDS`],
-    /// [`LARGE_BYTES`], [`super::MEMORY_NOTICE_BYTES`]).
-    fn long(&self) -> bool {
-        self.seconds > LONG_SECONDS
-            || self.bytes > LARGE_BYTES
-            || self.memory > super::MEMORY_NOTICE_BYTES
-    }
-
-    fn beyond_bounds(&self) -> bool {
-        self.seconds > MAX_SECONDS
-            || self.bytes > MAX_BYTES
-            || self.memory > super::MEMORY_NOTICE_BYTES
+    /// Beyond `seconds` or `bytes`, or a state over what a scene command says so of
+    /// ([`super::MEMORY_NOTICE_BYTES`]).
+    fn over(&self, seconds: f64, bytes: f64) -> bool {
+        self.seconds > seconds || self.bytes > bytes || self.memory > super::MEMORY_NOTICE_BYTES
     }
 
     fn text(&self) -> String {
@@ -255,33 +251,30 @@ impl Recorded {
     fn read(copy: &Path, file: &Path) -> anyhow::Result<Recorded> {
         let info = physlab_made(copy)?;
         let p = |k| escaped(info.property(k)).into_owned();
-        let shown = file.display();
+        let refuse = |m: String| Err(Error::Usage(format!("{}: {m}", file.display())).into());
         let kind = info.properties.get("scenes").cloned().unwrap_or_default();
         if kind == "diff" {
             let again = recorded_command(&info);
-            return Err(Error::Usage(format!(
-                "{shown}: a diff recording (of {} and {}), not a run; write it again with: {}",
+            return refuse(format!(
+                "a diff recording (of {} and {}), not a run; write it again with: {}",
                 p("diff_a"),
                 p("diff_b"),
                 again.unwrap_or_else(|| "physlab diff A.rrd B.rrd -o D.rrd".into())
-            ))
-            .into());
+            ));
         }
         if !info.properties.contains_key("config") {
-            return Err(Error::Usage(format!(
-                "{shown}: holds no physlab configuration (recorded by a physlab older than its \
-                 provenance)"
-            ))
-            .into());
+            return refuse(
+                "holds no physlab configuration (recorded by a physlab older than its provenance)"
+                    .into(),
+            );
         }
         if kind.starts_with("study") {
-            return Err(Error::Usage(format!(
-                "{shown}: a study recording ({}); its numbers include wall-clock timings, so \
-                 reproduce re-runs scene recordings only (run its command line again: {})",
+            return refuse(format!(
+                "a study recording ({}); reproduce re-runs scene recordings only (run its \
+                 command line again: {})",
                 escaped(&kind),
                 recorded_command(&info).unwrap_or_else(|| "?".into())
-            ))
-            .into());
+            ));
         }
         let listed: Option<Vec<&'static str>> = (kind.split(',').filter(|s| !s.is_empty()))
             .map(|s| SCENES.iter().find(|k| k.name == s).map(|k| k.name))
@@ -296,11 +289,10 @@ impl Recorded {
                     }
                     _ => known.join(""),
                 };
-                return Err(Error::Usage(format!(
-                    "{shown}: its provenance names the scenes \"{}\"; expected {expected}",
+                return refuse(format!(
+                    "its provenance names the scenes \"{}\"; expected {expected}",
                     escaped(&kind)
-                ))
-                .into());
+                ));
             }
         };
         if info.entities.is_empty() {

@@ -175,6 +175,9 @@ pub struct InspectArgs {
     /// (`-` for standard output; the description then goes to stderr)
     #[arg(long, value_name = "FILE.toml")]
     pub config_out: Option<PathBuf>,
+    /// Print no notes on stderr (the report is the output; accepted by every command)
+    #[arg(short, long)]
+    pub quiet: bool,
 }
 
 #[derive(Args, Debug, Clone)]
@@ -195,6 +198,9 @@ pub struct ReproduceArgs {
     /// recording or 1 GB of memory (stated before it starts; refused without this flag)
     #[arg(long)]
     pub allow_long: bool,
+    /// Print no notes on stderr (the report is the output; accepted by every command)
+    #[arg(short, long)]
+    pub quiet: bool,
 }
 
 #[derive(Args, Debug, Clone)]
@@ -215,6 +221,9 @@ pub struct DiffArgs {
     /// List every entity compared, identical ones too, instead of one line per group
     #[arg(short, long)]
     pub verbose: bool,
+    /// Print no notes on stderr (the report is the output; accepted by every command)
+    #[arg(short, long)]
+    pub quiet: bool,
 }
 
 /// Parses the process's arguments (clap prints usage errors and exits with code 2).
