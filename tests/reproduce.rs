@@ -665,6 +665,7 @@ mod readers {
                     tolerance: None,
                     output: None,
                     verbose: false,
+                    quiet: false,
                 }),
             };
             if let Err(e) = physlab::app::run(cli)
@@ -1352,5 +1353,461 @@ mod ctrl_c {
             assert!(!err.contains("differ"), "{err}");
         }
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
+
+#[cfg(feature = "rerun")]
+mod untrusted {
+    //! A recording is a stranger's file (issue 43): what it says is printed escaped, the commands
+    //! physlab suggests are built by physlab and quoted, `reproduce` reads it once, a recording
+    //! without data never verifies, a refused input leaves no folder behind, and a re-run that
+    //! would take hours is refused before it starts.
+
+    use std::io::{BufRead as _, BufReader};
+    use std::path::Path;
+    use std::process::{Command, Stdio};
+    use std::time::{Duration, Instant};
+
+    use physlab::record::{escaped, shell_word, shell_words};
+
+    use crate::common::{physlab, s, scratch_dir};
+
+    /// A recording another program (or a hostile hand) made: the `physlab` properties `props`,
+    /// the `physlab_run` properties `run`, and (with `data`) ten rows of one pendulum series.
+    fn craft(
+        path: &Path,
+        app: &'static str,
+        props: &[(&str, &str)],
+        run: &[(&str, &str)],
+        data: bool,
+    ) {
+        let rec = rerun::RecordingStreamBuilder::new(app).save(path).unwrap();
+        let values = |pairs: &[(&str, &str)]| {
+            pairs.iter().fold(rerun::AnyValues::default(), |v, (k, x)| {
+                let key = rerun::ComponentIdentifier::try_new(*k).unwrap();
+                v.with_component::<rerun::components::Text>(key, [*x])
+            })
+        };
+        if !props.is_empty() {
+            rec.send_property("physlab", &values(props)).unwrap();
+        }
+        if !run.is_empty() {
+            rec.send_property("physlab_run", &values(run)).unwrap();
+        }
+        if data {
+            for i in 0..10 {
+                rec.set_duration_secs("sim_time", i as f64 * 0.01);
+                rec.log(
+                    "pendulum/plots/theta/verlet",
+                    &rerun::Scalars::single(i as f64),
+                )
+                .unwrap();
+            }
+        }
+        drop(rec);
+    }
+
+    const PENDULUM: &str = "[pendulum]\nduration = 0.1\nmethods = [\"verlet\"]\n";
+    /// A line of its own that claims the recording verified, the screen cleared and the
+    /// window retitled before it.
+    const FORGED: &str = "ok\n\x1b[2J\x1b]0;owned\x07verdict: bit-identical (3 entities)";
+
+    /// Every property a report prints holds escape sequences and a forged verdict: `inspect`,
+    /// `reproduce` and `diff` print none of their control characters (ESC shown as `\x1b`), and
+    /// no line but their own starts with `verdict:`.
+    #[test]
+    fn what_a_recording_says_is_printed_escaped() {
+        let dir = scratch_dir("untrusted-escape");
+        let bad = dir.join("bad.rrd");
+        let props = [
+            ("scenes", "pendulum"),
+            ("config", PENDULUM),
+            ("command_line", FORGED),
+            ("methods", FORGED),
+            ("git_commit", FORGED),
+            ("physlab_version", FORGED),
+            ("rerun_sdk_version", FORGED),
+        ];
+        let run = [("pendulum_status", "complete"), ("pendulum_ended", FORGED)];
+        craft(&bad, "physlab-pendulum", &props, &run, true);
+        let other = dir.join("other.rrd");
+        let mut b = props;
+        b[1].1 = "[pendulum]\nduration = 0.2\nmethods = [\"verlet\"]\n";
+        craft(&other, "physlab-pendulum", &b, &run, true);
+        for (args, verdicts) in [
+            (vec!["inspect", s(&bad)], 0),
+            (vec!["reproduce", s(&bad)], 1),
+            (vec!["reproduce", "-v", s(&bad)], 1),
+            (vec!["diff", s(&bad), s(&other)], 1),
+            (vec!["diff", "-v", s(&bad), s(&other)], 1),
+        ] {
+            let (code, out, err) = physlab(&args);
+            let all = format!("{out}{err}");
+            assert!([0, 1].contains(&code), "{args:?}: {all}");
+            assert!(
+                !all.contains('\x1b') && !all.contains('\x07'),
+                "{args:?}: {all:?}"
+            );
+            assert!(
+                all.contains("\\x1b[2J\\x1b]0;owned\\x07verdict"),
+                "{args:?}: {all}"
+            );
+            let claimed = all.lines().filter(|l| l.starts_with("verdict:")).count();
+            assert_eq!(claimed, verdicts, "{args:?}: {all}");
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// The lines of `text` that suggest a command.
+    fn suggested(text: &str) -> Vec<String> {
+        text.lines()
+            .filter_map(|l| {
+                ["made again by: ", "run it again with: "]
+                    .iter()
+                    .find_map(|m| {
+                        l.split_once(m)
+                            .map(|(_, c)| c.trim_end_matches(')').to_string())
+                    })
+            })
+            .collect()
+    }
+
+    /// Recordings whose command line, scenes, file name or scene file name carry shell syntax:
+    /// every command `inspect` suggests, read by bash, runs nothing of it (each payload would
+    /// create a file).
+    #[test]
+    fn suggested_commands_run_nothing_a_recording_holds() {
+        let dir = scratch_dir("untrusted-shell");
+        let pwned = |k: usize| dir.join(format!("pwned{k}"));
+        let scene = |scenes: String| -> Vec<(&str, String)> {
+            vec![
+                ("scenes", scenes),
+                ("config", PENDULUM.into()),
+                ("command_line", "physlab pendulum".into()),
+            ]
+        };
+        let cases: Vec<(String, Vec<(&str, String)>)> = vec![
+            (
+                "diff.rrd".into(),
+                vec![
+                    ("scenes", "diff".into()),
+                    (
+                        "command_line",
+                        "physlab diff a.rrd b.rrd -o d.rrd; >pwned1 #".into(),
+                    ),
+                ],
+            ),
+            ("scenes.rrd".into(), scene("pendulum $(>pwned2)".into())),
+            (
+                "study.rrd".into(),
+                vec![
+                    ("scenes", "study convergence".into()),
+                    (
+                        "command_line",
+                        "physlab study convergence --csv $(>pwned3)".into(),
+                    ),
+                ],
+            ),
+            ("x $(>pwned4).rrd".into(), scene("pendulum".into())),
+        ];
+        let config = dir.join("scene $(>pwned5).toml");
+        let mut shown = 0;
+        for (name, props) in &cases {
+            let path = dir.join(name);
+            let props: Vec<(&str, &str)> = props.iter().map(|(k, v)| (*k, v.as_str())).collect();
+            craft(&path, "physlab-pendulum", &props, &[], true);
+            for args in [
+                vec!["inspect", s(&path)],
+                vec!["inspect", s(&path), "--config-out", s(&config)],
+            ] {
+                let (code, out, err) = physlab(&args);
+                let _ = std::fs::remove_file(&config);
+                assert!([0, 2].contains(&code), "{args:?}: {out}{err}");
+                for command in suggested(&format!("{out}{err}")) {
+                    shown += 1;
+                    // Read by bash as words (`set --`): a command substitution or a `;` in
+                    // them would run here. Nothing is on this PATH.
+                    Command::new("/bin/bash")
+                        .arg("-c")
+                        .arg(format!("set -- {command}"))
+                        .current_dir(&dir)
+                        .env("PATH", s(&dir.join("nothing")))
+                        .stderr(Stdio::null())
+                        .status()
+                        .unwrap();
+                }
+            }
+        }
+        for k in 1..=5 {
+            assert!(!pwned(k).exists(), "payload {k} ran");
+        }
+        assert!(shown >= 3, "the scene recording still gets its commands");
+        // A diff recording's own command line, when it is one, is still suggested, quoted anew.
+        let good = dir.join("good diff.rrd");
+        let line = "target/release/physlab diff a.rrd $'b c.rrd' -o d.rrd";
+        craft(
+            &good,
+            "physlab-diff",
+            &[("scenes", "diff"), ("command_line", line)],
+            &[],
+            true,
+        );
+        let (code, out, err) = physlab(&["inspect", s(&good)]);
+        assert_eq!(code, 0, "{err}");
+        assert!(
+            out.contains("made again by: physlab diff a.rrd $'b c.rrd' -o d.rrd\n"),
+            "{out}"
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    fn record(out: &Path, theta0: &str) {
+        let (code, _, err) = physlab(&[
+            "pendulum",
+            "--duration",
+            "30",
+            "--theta0",
+            theta0,
+            "--methods",
+            "rk4,verlet,dop853",
+            "-q",
+            "-o",
+            s(out),
+        ]);
+        assert_eq!(code, 0, "{err}");
+    }
+
+    /// The file replaced by another run while `reproduce` re-runs it: the verdict is the first
+    /// file's (read once), not a comparison of one file's configuration with the other's data.
+    #[test]
+    fn reproduce_reads_its_file_once() {
+        let dir = scratch_dir("untrusted-once");
+        let (file, other) = (dir.join("run.rrd"), dir.join("other.rrd"));
+        record(&file, "30");
+        record(&other, "31");
+        let mut child = Command::new(env!("CARGO_BIN_EXE_physlab"))
+            .args(["reproduce", s(&file)])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let mut err = BufReader::new(child.stderr.take().unwrap());
+        let mut line = String::new();
+        while !line.starts_with("re-running") {
+            line.clear();
+            assert!(err.read_line(&mut line).unwrap() > 0, "no re-run");
+        }
+        std::fs::rename(&other, &file).unwrap();
+        let out = child.wait_with_output().unwrap();
+        let report = String::from_utf8_lossy(&out.stdout);
+        assert_eq!(out.status.code(), Some(0), "{report}");
+        assert!(report.starts_with("verdict: bit-identical"), "{report}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A configuration without data and without an end record (and two of them) verifies
+    /// nothing: refused, exit 2, not `bit-identical (0 entities)`.
+    #[test]
+    fn a_recording_without_data_never_verifies() {
+        let dir = scratch_dir("untrusted-empty");
+        let empty = dir.join("empty.rrd");
+        let props = [("scenes", "pendulum"), ("config", PENDULUM)];
+        craft(&empty, "physlab-pendulum", &props, &[], false);
+        let (code, out, err) = physlab(&["reproduce", s(&empty)]);
+        assert_eq!(code, 2, "{out}{err}");
+        assert!(err.contains("holds no data to compare"), "{err}");
+        assert!(!out.contains("bit-identical"), "{out}");
+        let (code, out, err) = physlab(&["diff", s(&empty), s(&empty)]);
+        assert_eq!(code, 2, "{out}{err}");
+        assert!(err.contains("hold no data to compare"), "{err}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A refused input leaves no output folder behind; another program's recording is not
+    /// called physlab's.
+    #[test]
+    fn a_refused_input_makes_no_folder_and_another_program_is_named() {
+        let dir = scratch_dir("untrusted-folders");
+        let text = dir.join("text.rrd");
+        std::fs::write(&text, "not a recording\n").unwrap();
+        let good = dir.join("good.rrd");
+        craft(
+            &good,
+            "physlab-pendulum",
+            &[("scenes", "pendulum"), ("config", PENDULUM)],
+            &[],
+            true,
+        );
+        let made = |k: usize| dir.join(format!("made{k}"));
+        let out = |k: usize| made(k).join("out").to_string_lossy().into_owned();
+        for (k, args) in [
+            vec!["inspect", s(&text), "--config-out"],
+            vec!["diff", s(&good), s(&text), "-o"],
+            vec!["reproduce", s(&text), "-o"],
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            let o = out(k);
+            let mut args = args;
+            args.push(&o);
+            let (code, _, err) = physlab(&args);
+            assert_eq!(code, 2, "{args:?}: {err}");
+            assert!(err.contains(s(&text)), "{args:?}: {err}");
+            assert!(!made(k).exists(), "{args:?} made {}", made(k).display());
+        }
+        let other = dir.join("other.rrd");
+        craft(&other, "someone_else", &[], &[], true);
+        let (code, report, err) = physlab(&["inspect", s(&other)]);
+        assert_eq!(code, 0, "{err}");
+        assert!(!report.contains("physlab (not recorded)"), "{report}");
+        assert!(
+            report.contains("written by: \"someone_else\", another application"),
+            "{report}"
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// An 11 KB recording asking for a 10^6-node rope over 200 s (hours and hundreds of GB by
+    /// the direct run's pace) is refused before the re-run starts, naming its time and size.
+    #[test]
+    fn a_reproduce_that_would_take_hours_is_refused_up_front() {
+        let dir = scratch_dir("untrusted-huge");
+        let huge = dir.join("huge.rrd");
+        let config =
+            "[rope]\nnodes = 1000000\ndt = 0.002\nduration = 200.0\nmethods = [\"verlet\"]\n";
+        craft(
+            &huge,
+            "physlab-rope",
+            &[("scenes", "rope"), ("config", config)],
+            &[],
+            true,
+        );
+        let size = std::fs::metadata(&huge).unwrap().len();
+        assert!(size < 20_000, "{size} B");
+        let started = Instant::now();
+        let mut child = Command::new(env!("CARGO_BIN_EXE_physlab"))
+            .args(["reproduce", s(&huge)])
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let code = loop {
+            if let Some(status) = child.try_wait().unwrap() {
+                break status.code();
+            }
+            if started.elapsed() > Duration::from_secs(10) {
+                child.kill().unwrap();
+                child.wait().unwrap();
+                panic!("still running after 10 s");
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        };
+        let took = started.elapsed();
+        let mut err = String::new();
+        std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut err).unwrap();
+        assert_eq!(code, Some(2), "{err}");
+        assert!(took < Duration::from_millis(800), "{took:?}");
+        assert!(
+            err.contains("1.0e11 node-steps (at least about 50 min") && err.contains("GB"),
+            "{err}"
+        );
+        assert!(err.contains("--allow-long"), "{err}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// `diff` leads with the lanes whose outcome differs (issue 41.5); `-q` is accepted by
+    /// `inspect`, `reproduce` and `diff`, and a study recording is refused for what it is, not for
+    /// wall-clock timings a drift study does not have (41.6).
+    #[test]
+    fn diff_leads_with_outcomes_and_the_readers_take_q() {
+        let dir = scratch_dir("untrusted-outcomes");
+        let config = "[rope]\nduration = 3.0\nmethods = [\"explicit-euler\", \"verlet\"]\n";
+        let props = [
+            ("scenes", "rope"),
+            ("config", config),
+            ("methods", "explicit-euler,verlet"),
+        ];
+        let ended = |e: &'static str| [("rope_status", "complete"), ("rope_ended", e)];
+        let (a, b) = (dir.join("a.rrd"), dir.join("b.rrd"));
+        let diverged = "complete: t = 3 s, 300 ticks; explicit-euler stopped at t = 1.25 s \
+                        (tick 125): diverged";
+        craft(&a, "physlab-rope", &props, &ended(diverged), true);
+        craft(
+            &b,
+            "physlab-rope",
+            &props,
+            &ended("complete: t = 3 s, 300 ticks"),
+            true,
+        );
+        let (code, out, err) = physlab(&["diff", "-q", s(&a), s(&b)]);
+        assert!([0, 1].contains(&code), "{out}{err}");
+        let second = out.lines().nth(1).unwrap_or_default();
+        assert_eq!(
+            second, "  rope explicit-euler: diverged at t = 1.25 s in A, completed in B",
+            "{out}"
+        );
+        let (code, _, err) = physlab(&["inspect", "-q", s(&a)]);
+        assert_eq!(code, 0, "{err}");
+        let drift = dir.join("drift.rrd");
+        let study = [
+            ("scenes", "study pendulum"),
+            ("config", "[pendulum]\n"),
+            ("command_line", "physlab study drift"),
+        ];
+        craft(&drift, "physlab-study", &study, &[], true);
+        let (code, _, err) = physlab(&["reproduce", "-q", s(&drift)]);
+        assert_eq!(code, 2, "{err}");
+        assert!(err.contains("a study recording"), "{err}");
+        assert!(!err.contains("wall-clock"), "{err}");
+        assert!(
+            err.contains("run its command line again: physlab study drift)"),
+            "{err}"
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// Every word comes back byte for byte through bash's own reading of the quoting.
+    #[test]
+    fn words_are_quoted_losslessly_for_bash() {
+        let words: [&[u8]; 9] = [
+            b"pendulum",
+            b"--theta0=-30",
+            b"\xff\xfe.rrd",
+            b"a b",
+            b"it's",
+            b"back\\slash\n\ttab",
+            b"",
+            "\u{e9}t\u{e9} \u{7f}\u{85}".as_bytes(),
+            b"$HOME;`x`\"y\"",
+        ];
+        for word in words {
+            let quoted = shell_word(word);
+            assert!(!quoted.contains('\n'), "{quoted}");
+            let out = std::process::Command::new("bash")
+                .arg("-c")
+                .arg(format!("printf %s {quoted}"))
+                .env("LC_ALL", "C")
+                .output()
+                .expect("bash runs");
+            assert_eq!(out.stdout, word, "{quoted}");
+        }
+        // Read back by physlab too, word by word; text it cannot have made is refused.
+        let line: Vec<String> = words.iter().map(|w| shell_word(w)).collect();
+        let back = shell_words(&line.join(" ")).unwrap();
+        assert_eq!(back, words.map(<[u8]>::to_vec));
+        for forged in ["a; b", "$(x)", "a  b", "$'x", "`x`", "a ", "$'\\q'"] {
+            assert_eq!(shell_words(forged), None, "{forged}");
+        }
+    }
+
+    /// Control characters and bidirectional overrides come out as escapes; other text as it is.
+    #[test]
+    fn text_from_a_recording_is_shown_escaped() {
+        assert_eq!(escaped("physlab 0.1 — ω"), "physlab 0.1 — ω");
+        assert_eq!(
+            escaped("a\x1b[2J\nverdict: ok\r\t\u{7f}\u{85}\u{202e}"),
+            "a\\x1b[2J\\nverdict: ok\\r\\t\\x7f\\xc2\\x85\\xe2\\x80\\xae"
+        );
     }
 }

@@ -2,13 +2,16 @@
 //! tolerance, and reporting series differences entity by entity.
 
 use std::collections::{BTreeMap, BTreeSet};
+use std::ffi::OsString;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use super::Error;
-use crate::report::table::{sig, sig_pair};
+use super::scenes::SCENES;
+use super::{Error, SceneFile};
 use crate::rrd::compare::{SeriesDiff, time_text};
 use crate::rrd::inspect::{RecordingInfo, read_recording};
+use crate::record::{escaped, shell_path, shell_word, shell_words};
+use crate::report::table::{sig, sig_pair};
 
 /// Entities whose values depend on the wall clock, so that no re-run can match them: the
 /// --timings plots, and with --timings the summaries (which then hold wall times, ns/step).
@@ -31,71 +34,70 @@ pub(super) fn tolerance(t: Option<f64>) -> Result<f64, Error> {
     }
 }
 
-/// A complete recording: one without its footer was cut off while being written (the process
-/// killed, the file truncated), and its last chunks are lost.
-pub(super) fn complete_recording(path: &Path) -> anyhow::Result<RecordingInfo> {
-    let info = read_recording(path)?;
-    if !info.has_footer {
-        return Err(Error::Usage(format!(
-            "{}: truncated: {}, so its last data are lost; `physlab inspect` shows what it holds",
-            path.display(),
-            info.why_no_footer
-        ))
-        .into());
-    }
-    Ok(info)
-}
-
-/// A complete recording made by physlab (`diff` and `reproduce` compare nothing else).
+/// A complete recording made by physlab (`diff` and `reproduce` compare nothing else): one
+/// without its footer was cut off while being written (the process killed, the file
+/// truncated), and its last chunks are lost.
 pub(super) fn physlab_made(path: &Path) -> anyhow::Result<RecordingInfo> {
-    let info = complete_recording(path)?;
-    if !info.application_id.starts_with("physlab") {
-        return Err(Error::Usage(format!(
-            "{}: a recording of another application ({:?}), not of physlab",
-            path.display(),
-            info.application_id
-        ))
-        .into());
-    }
-    Ok(info)
+    let info = read_recording(path)?;
+    let refused = if !info.has_footer {
+        format!(
+            "truncated: {}, so its last data are lost; `physlab inspect` shows what it holds",
+            info.why_no_footer
+        )
+    } else if !info.application_id.starts_with("physlab") {
+        format!(
+            "a recording of another application (\"{}\"), not of physlab",
+            escaped(&info.application_id)
+        )
+    } else {
+        return Ok(info);
+    };
+    Err(Error::Usage(format!("{}: {refused}", path.display())).into())
 }
 
-/// A physlab recording of simulated scenes, with what is needed to run it again.
-pub(super) fn physlab_recording(path: &Path) -> anyhow::Result<RecordingInfo> {
-    let info = physlab_made(path)?;
-    if !info.properties.contains_key("config") {
-        return Err(Error::Usage(format!(
-            "{}: holds no physlab configuration (recorded by a physlab older than its provenance)",
-            path.display()
-        ))
-        .into());
-    }
-    Ok(info)
-}
-
-/// The command line a recording was made with, its program named `physlab`.
+/// The command line a diff or study recording was made with, rebuilt: its words read back
+/// ([`shell_words`]), parsed as a physlab command of the recording's kind and quoted anew, the
+/// program named `physlab`; `None` when it does not parse as one. Never copied as it is: a
+/// recording is a stranger's text.
 pub(super) fn recorded_command(info: &RecordingInfo) -> Option<String> {
-    let line = info.properties.get("command_line")?;
-    let args = line.split_once(' ').map_or("", |(_, rest)| rest);
-    Some(format!("physlab {args}").trim_end().to_string())
+    use std::os::unix::ffi::{OsStrExt as _, OsStringExt as _};
+    let kind = info.properties.get("scenes")?;
+    let words = shell_words(info.properties.get("command_line")?)?;
+    let mut args: Vec<OsString> = vec!["physlab".into()];
+    args.extend(words.into_iter().skip(1).map(OsString::from_vec));
+    let parsed = crate::cli::command()
+        .try_get_matches_from(crate::cli::join_negative_values(args.clone()))
+        .ok()?;
+    let sub = parsed.subcommand_name()?;
+    let same_kind =
+        (sub == "diff" && kind == "diff") || (sub == "study" && kind.starts_with("study"));
+    same_kind.then(|| {
+        let quoted: Vec<String> = args.iter().map(|a| shell_word(a.as_bytes())).collect();
+        quoted.join(" ")
+    })
 }
 
 /// The command that runs a scene recording again on its scene file `config`: its scene
-/// subcommand (`all` for every scene), with `--timings` if it recorded them.
+/// subcommand from the registry (`all` for several scenes), with `--timings` if it recorded
+/// them; `None` unless every scene it names is one and its configuration parses.
 pub(super) fn scene_command(info: &RecordingInfo, config: &Path) -> Option<String> {
-    let scenes = info.properties.get("scenes")?;
-    if scenes == "diff" || scenes.starts_with("study") || !info.properties.contains_key("config") {
-        return None;
-    }
-    let subcommand = if scenes.contains(',') { "all" } else { scenes };
+    let listed: Vec<&'static str> = (info.properties.get("scenes")?.split(','))
+        .map(|s| SCENES.iter().find(|k| k.name == s).map(|k| k.name))
+        .collect::<Option<_>>()?;
+    let names: Vec<&str> = SCENES.iter().map(|s| s.name).collect();
+    SceneFile::parse(info.properties.get("config")?, &names).ok()?;
+    let subcommand = match listed[..] {
+        [one] => one,
+        _ => "all",
+    };
+    let timings = if recorded_timings(info) {
+        " --timings"
+    } else {
+        ""
+    };
     Some(format!(
-        "physlab {subcommand} --config {}{}",
-        config.display(),
-        if recorded_timings(info) {
-            " --timings"
-        } else {
-            ""
-        }
+        "physlab {subcommand} --config {}{timings}",
+        shell_path(config)
     ))
 }
 
@@ -105,8 +107,8 @@ pub(super) fn remake_commands(info: &RecordingInfo, file: &Path, config: &Path) 
     match scene_command(info, config) {
         Some(run) => Some(format!(
             "physlab inspect {} --config-out {} && {run}",
-            file.display(),
-            config.display()
+            shell_path(file),
+            shell_path(config)
         )),
         None => recorded_command(info),
     }
@@ -143,6 +145,23 @@ pub(super) fn check_output(
         .collect();
     crate::output::distinct(&[&out], &inputs)?;
     Ok(Some(out))
+}
+
+/// "1 entity", "3 entities".
+pub(super) fn entities_text(n: usize) -> String {
+    if n == 1 {
+        "1 entity".into()
+    } else {
+        format!("{n} entities")
+    }
+}
+
+/// Prints a report's lines on standard output (standard error when `to_stderr`), each through
+/// [`escaped`]: what a recording says reaches the terminal as text, never as its commands.
+pub(super) fn print_lines(lines: &[String], to_stderr: bool) {
+    for line in lines {
+        crate::output::print_beside(to_stderr, &format!("{}\n", escaped(line)));
+    }
 }
 
 /// One line per entity of the comparison of its components.

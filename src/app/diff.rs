@@ -9,18 +9,21 @@ use std::collections::{BTreeMap, BTreeSet};
 use super::Error;
 use super::SceneFile;
 use super::compared::{
-    EntityLine, by_entity, check_output, config_keys, difference_lines, lane_names, physlab_made,
-    single_method, tolerance, version_line,
+    EntityLine, by_entity, check_output, config_keys, difference_lines, entities_text, lane_names,
+    physlab_made, print_lines, single_method, tolerance, version_line,
 };
 use super::scenes::{AllFlags, SCENES};
 use crate::cli::{DiffArgs, RunArgs};
 use crate::record::Framing;
+use crate::rrd::compare::{Key, SeriesIndex, StreamSpec, Streamed, compare_files, renamed};
 use crate::record::diff::{DiffPlan, DiffWriter};
-use crate::rrd::compare::{Key, SeriesIndex, StreamSpec, compare_files, renamed};
+use crate::record::escaped;
 use crate::rrd::inspect::RecordingInfo;
 
 pub fn diff_command(args: &DiffArgs) -> anyhow::Result<()> {
     let tol = tolerance(args.tolerance)?;
+    // The inputs refused first: no folder is made for a difference that will not be written.
+    let (ia, ib) = (physlab_made(&args.a)?, physlab_made(&args.b)?);
     let output = check_output(
         args.output.as_ref(),
         crate::output::Dash::Binary,
@@ -28,7 +31,6 @@ pub fn diff_command(args: &DiffArgs) -> anyhow::Result<()> {
     )?;
     // With `-o -` standard output carries the difference recording: the report goes to stderr.
     let to_stdout = output.as_ref().is_some_and(|o| o.is_stdout());
-    let (ia, ib) = (physlab_made(&args.a)?, physlab_made(&args.b)?);
     // Runs of one method each: pair their lanes, so that Euler's series meet Verlet's.
     let rename = match (single_method(&ia), single_method(&ib)) {
         (Some(ma), Some(mb)) if ma != mb => Some((mb, ma)),
@@ -68,9 +70,309 @@ pub fn diff_command(args: &DiffArgs) -> anyhow::Result<()> {
             None => Ok(()),
         },
     )?;
+    let differences = Differences::new(&streamed, tol);
+    if differences.is_empty() {
+        return Err(Error::Usage(format!(
+            "{} and {}: hold no data to compare (configurations alone), so nothing can be said \
+             the same",
+            args.a.display(),
+            args.b.display()
+        ))
+        .into());
+    }
+    let lines = differences.lines(args, [&ia, &ib], &rename, &lanes);
+    print_lines(&lines, to_stdout);
+    if let (Some(w), Some(out)) = (writer, &args.output) {
+        let report: String = lines.iter().map(|l| format!("{}\n", escaped(l))).collect();
+        let n = w.finish(&report)?;
+        print_lines(
+            &[format!(
+                "wrote {} ({n} series: B − A per plotted quantity, both runs' 3D overlaid)",
+                out.display()
+            )],
+            to_stdout,
+        );
+    }
+    if !differences.same() {
+        return Err(Error::Differs("the recordings differ".into()).into());
+    }
+    Ok(())
+}
 
-    // What changed between the runs, key by key.
-    let (ka, kb) = (config_keys(&ia), config_keys(&ib));
+/// What differs between two recordings, entity by entity: computed in one place
+/// ([`Differences::new`]), then printed ([`Differences::lines`]).
+struct Differences {
+    tolerance: f64,
+    /// Per shared entity: whether it differs, what is said of it, when it first parts.
+    entries: Vec<EntityLine>,
+    /// Entities that one recording holds and the other does not.
+    only_a: BTreeSet<String>,
+    only_b: BTreeSet<String>,
+    /// Entities both hold.
+    shared: usize,
+    /// Entities whose rows are at times the other lacks and that differ by nothing else, those
+    /// that also differ otherwise, and the one whose row counts differ most (`name: A n, B m
+    /// rows`).
+    only_times: usize,
+    with_times: usize,
+    times_example: Option<(usize, String)>,
+}
+
+impl Differences {
+    fn new(streamed: &Streamed, tol: f64) -> Self {
+        // Series over time, and static data (summaries, styles, static 3D, study tables)
+        // compared as it is: a component that differs or that only one of them holds makes its
+        // entity differ (paired lanes' names and colours too: they are what the runs were told
+        // to be).
+        let (xa, xb) = (&streamed.index_a, &streamed.index_b);
+        let entities = |x: &BTreeMap<Key, SeriesIndex>| -> BTreeSet<String> {
+            x.keys().map(|k| k.0.clone()).collect()
+        };
+        let (ea, eb) = (entities(xa), entities(xb));
+        let shared_entity = |key: &(String, String)| ea.contains(&key.0) && eb.contains(&key.0);
+        let mut static_differs: BTreeMap<String, Vec<String>> = BTreeMap::new();
+        for (key, d) in &streamed.statics {
+            if shared_entity(key) && !d.same() {
+                let side = match (xa.get(key), xb.get(key)) {
+                    (Some(a), b) if b.is_none_or(|b| b.statics == 0) && a.statics > 0 => {
+                        " (only in A)"
+                    }
+                    (a, Some(b)) if a.is_none_or(|a| a.statics == 0) && b.statics > 0 => {
+                        " (only in B)"
+                    }
+                    _ => "",
+                };
+                static_differs
+                    .entry(key.0.clone())
+                    .or_default()
+                    .push(format!("{}{side}", key.1));
+            }
+        }
+        let diffs: Vec<_> = (streamed.timed.iter())
+            .filter(|(k, _)| shared_entity(k))
+            .map(|(k, d)| (k.clone(), d.clone()))
+            .collect();
+        let mut out = Differences {
+            tolerance: tol,
+            entries: Vec::new(),
+            only_a: ea.difference(&eb).cloned().collect(),
+            only_b: eb.difference(&ea).cloned().collect(),
+            shared: ea.intersection(&eb).count(),
+            only_times: 0,
+            with_times: 0,
+            times_example: None,
+        };
+        out.add_series(by_entity(diffs), &static_differs);
+        out
+    }
+
+    /// Each entity's line from its series' comparison and its static data's, then the entities
+    /// whose static data alone differs.
+    fn add_series(
+        &mut self,
+        reports: Vec<super::compared::EntityReport>,
+        static_differs: &BTreeMap<String, Vec<String>>,
+    ) {
+        let tol = self.tolerance;
+        for r in &reports {
+            let statics = static_differs.get(&r.entity);
+            let unpaired = r.unpaired() > 0;
+            if unpaired {
+                if r.values_differ() || statics.is_some() {
+                    self.with_times += 1;
+                } else {
+                    self.only_times += 1;
+                }
+                // The entity whose row counts differ most shows what changed.
+                let rows = r.diffs.iter().map(|d| (d.1.rows_a, d.1.rows_b)).max();
+                if let Some((a, b)) = rows
+                    && (self.times_example.as_ref()).is_none_or(|e| a.abs_diff(b) > e.0)
+                {
+                    let example = format!("{}: A {a}, B {b} rows", r.entity);
+                    self.times_example = Some((a.abs_diff(b), example));
+                }
+            }
+            let differs = !r.same() || statics.is_some();
+            let mut text = if !differs {
+                if r.bit_identical() {
+                    "identical".to_string()
+                } else {
+                    format!("within --tolerance {tol}: {}", r.describe("A", "B"))
+                }
+            } else if r.values_differ() || (!unpaired && !r.same()) {
+                r.describe("A", "B")
+            } else if unpaired {
+                "differs only by rows at times the other lacks".to_string()
+            } else {
+                "series identical".to_string()
+            };
+            if let Some(components) = statics {
+                text.push_str(&format!(
+                    " (static data differs: {})",
+                    components.join(", ")
+                ));
+            }
+            self.entries.push(EntityLine {
+                entity: r.entity.clone(),
+                differs,
+                text,
+                first: r.first_time(),
+            });
+        }
+        for (entity, components) in static_differs {
+            if !reports.iter().any(|r| &r.entity == entity) {
+                // After the series' partings: static data (summaries, about texts) follows from
+                // them.
+                self.entries.push(EntityLine {
+                    entity: entity.clone(),
+                    differs: true,
+                    text: format!("static data differs: {}", components.join(", ")),
+                    first: i64::MAX,
+                });
+            }
+        }
+    }
+
+    fn differing(&self) -> usize {
+        self.entries.iter().filter(|e| e.differs).count()
+    }
+
+    /// Neither recording holds any data: there is nothing to say the same.
+    fn is_empty(&self) -> bool {
+        self.shared == 0 && self.only_a.is_empty() && self.only_b.is_empty()
+    }
+
+    fn same(&self) -> bool {
+        self.differing() == 0 && self.only_a.is_empty() && self.only_b.is_empty()
+    }
+
+    /// The report: the verdict first, then what changed between the runs (configuration,
+    /// builds, ends, times), then what differs (`-v`: every entity).
+    fn lines(
+        &self,
+        args: &DiffArgs,
+        [ia, ib]: [&RecordingInfo; 2],
+        rename: &Option<(String, String)>,
+        lanes: &BTreeSet<String>,
+    ) -> Vec<String> {
+        let differing = self.differing();
+        let beyond = if self.tolerance > 0.0 {
+            format!(" beyond --tolerance {}", self.tolerance)
+        } else {
+            String::new()
+        };
+        let mut out = vec![format!(
+            "verdict: {}: {differing} of {} shared entities differ{beyond}; {} only in A, {} only in B",
+            if self.same() {
+                "the same"
+            } else {
+                "they differ"
+            },
+            self.shared,
+            self.only_a.len(),
+            self.only_b.len()
+        )];
+        out.extend(outcome_lines(ia, ib, rename));
+        out.extend(configuration_lines(ia, ib));
+        let (va, vb) = (version_line(ia), version_line(ib));
+        if va == vb && !args.verbose {
+            out.push(format!("built by: {va}, both"));
+        } else {
+            out.push(format!("A: {} — {va}", args.a.display()));
+            out.push(format!("B: {} — {vb}", args.b.display()));
+        }
+        for (name, info) in [("A", ia), ("B", ib)] {
+            for (k, v) in &info.run {
+                if k.ends_with("_ended") && !v.starts_with("complete") {
+                    out.push(format!("{name}: {}: {v}", k.trim_end_matches("_ended")));
+                }
+            }
+        }
+        if let Some((mb, ma)) = rename {
+            out.push(format!(
+                "pairing A's lane {ma} with B's lane {mb} (one method in each)"
+            ));
+        }
+        if let Some((_, example)) = &self.times_example {
+            let only = if self.only_times > 0 {
+                format!(", and {} differ by nothing else", self.only_times)
+            } else {
+                String::new()
+            };
+            out.push(format!(
+                "times: {} entities hold rows at times the other lacks (e.g. {example}); values \
+                 are compared where both have a row{only}",
+                self.only_times + self.with_times,
+            ));
+        }
+        let shown: Vec<EntityLine> = (self.entries.iter())
+            .filter(|e| args.verbose || e.differs)
+            .cloned()
+            .collect();
+        out.extend(difference_lines(&shown, lanes, args.verbose));
+        out.extend(self.only_a.iter().map(|e| format!("  only in A: {e}")));
+        out.extend(self.only_b.iter().map(|e| format!("  only in B: {e}")));
+        let identical = self.shared - differing;
+        if !args.verbose && identical > 0 {
+            out.push(format!(
+                "identical: {} (-v lists them)",
+                entities_text(identical)
+            ));
+        }
+        out
+    }
+}
+
+/// The lanes whose outcome differs, first of all: `  pendulum midpoint: diverged at t = 7.444 s
+/// in A, completed in B`.
+fn outcome_lines(
+    ia: &RecordingInfo,
+    ib: &RecordingInfo,
+    rename: &Option<(String, String)>,
+) -> Vec<String> {
+    let (a, b) = (outcomes(ia, &None), outcomes(ib, rename));
+    (a.iter())
+        .filter_map(|(lane, x)| match b.get(lane) {
+            Some(y) if x != y => Some(format!("  {lane}: {x} in A, {y} in B")),
+            _ => None,
+        })
+        .collect()
+}
+
+/// How each lane of each scene ended (`scene lane` → `diverged at t = 7.444 s`, `stopped at t =
+/// 3 s` in a run interrupted, `completed`), from the run properties: `<scene>_ended` names the
+/// lanes that diverged and when, `<scene>_status` and `_end_time` where the scene stopped. B's
+/// lanes are named as paired with A's.
+fn outcomes(info: &RecordingInfo, rename: &Option<(String, String)>) -> BTreeMap<String, String> {
+    let methods = info.properties.get("methods").map_or("", String::as_str);
+    let mut out = BTreeMap::new();
+    for scene in SCENES.iter().map(|s| s.name) {
+        let run = |k: &str| info.run.get(&format!("{scene}_{k}")).map(String::as_str);
+        let (Some(status), ended) = (run("status"), run("ended").unwrap_or_default()) else {
+            continue;
+        };
+        let whole = match status {
+            "interrupted" => format!("stopped at t = {} s", run("end_time").unwrap_or("?")),
+            _ => "completed".to_string(),
+        };
+        for lane in methods.split(',').filter(|m| !m.is_empty()) {
+            let diverged = ended.split("; ").find_map(|part| {
+                let at = part.strip_prefix(&format!("{lane} stopped at t = "))?;
+                Some(format!(
+                    "diverged at t = {} s",
+                    at.split_once(" s (tick")?.0
+                ))
+            });
+            let lane = renamed(lane, rename);
+            out.insert(format!("{scene} {lane}"), diverged.unwrap_or(whole.clone()));
+        }
+    }
+    out
+}
+
+/// What changed between the runs' configurations, key by key.
+fn configuration_lines(ia: &RecordingInfo, ib: &RecordingInfo) -> Vec<String> {
+    let (ka, kb) = (config_keys(ia), config_keys(ib));
     let keys: BTreeSet<&String> = ka.keys().chain(kb.keys()).collect();
     let changed: Vec<String> = keys
         .into_iter()
@@ -83,206 +385,16 @@ pub fn diff_command(args: &DiffArgs) -> anyhow::Result<()> {
             )),
         })
         .collect();
-
-    // Series over time, and static data (summaries, styles, static 3D, study tables) compared
-    // as it is: a component that differs or that only one of them holds makes its entity
-    // differ (paired lanes' names and colours too: they are what the runs were told to be).
-    let (xa, xb) = (&streamed.index_a, &streamed.index_b);
-    let entities = |x: &BTreeMap<Key, SeriesIndex>| -> BTreeSet<String> {
-        x.keys().map(|k| k.0.clone()).collect()
-    };
-    let (ea, eb) = (entities(xa), entities(xb));
-    let shared_entity = |key: &(String, String)| ea.contains(&key.0) && eb.contains(&key.0);
-    let mut static_differs: BTreeMap<String, Vec<String>> = BTreeMap::new();
-    for (key, d) in &streamed.statics {
-        if shared_entity(key) && !d.same() {
-            let side = match (xa.get(key), xb.get(key)) {
-                (Some(a), b) if b.is_none_or(|b| b.statics == 0) && a.statics > 0 => " (only in A)",
-                (a, Some(b)) if a.is_none_or(|a| a.statics == 0) && b.statics > 0 => " (only in B)",
-                _ => "",
-            };
-            static_differs
-                .entry(key.0.clone())
-                .or_default()
-                .push(format!("{}{side}", key.1));
-        }
-    }
-    let diffs: Vec<_> = streamed
-        .timed
-        .iter()
-        .filter(|(k, _)| shared_entity(k))
-        .map(|(k, d)| (k.clone(), d.clone()))
-        .collect();
-    let only_a: BTreeSet<&String> = ea.difference(&eb).collect();
-    let only_b: BTreeSet<&String> = eb.difference(&ea).collect();
-    let reports = by_entity(diffs);
-
-    // Per entity: whether it differs, its text, when it first parts.
-    let mut entries: Vec<EntityLine> = Vec::new();
-    // Entities that differ only by rows at times the other lacks, and those that also do.
-    let (mut only_times, mut with_times) = (0usize, 0usize);
-    let mut times_example: Option<(usize, String)> = None;
-    for r in &reports {
-        let statics = static_differs.get(&r.entity);
-        let unpaired = r.unpaired() > 0;
-        if unpaired {
-            if r.values_differ() || statics.is_some() {
-                with_times += 1;
-            } else {
-                only_times += 1;
-            }
-            // The entity whose row counts differ most shows what changed.
-            let rows = r.diffs.iter().map(|d| (d.1.rows_a, d.1.rows_b)).max();
-            if let Some((a, b)) = rows
-                && times_example.as_ref().is_none_or(|e| a.abs_diff(b) > e.0)
-            {
-                times_example = Some((a.abs_diff(b), format!("{}: A {a}, B {b} rows", r.entity)));
-            }
-        }
-        let differs = !r.same() || statics.is_some();
-        let mut text = if !differs {
-            if r.bit_identical() {
-                "identical".to_string()
-            } else {
-                format!("within --tolerance {tol}: {}", r.describe("A", "B"))
-            }
-        } else if r.values_differ() || (!unpaired && !r.same()) {
-            r.describe("A", "B")
-        } else if unpaired {
-            "differs only by rows at times the other lacks".to_string()
-        } else {
-            "series identical".to_string()
-        };
-        if let Some(components) = statics {
-            text.push_str(&format!(
-                " (static data differs: {})",
-                components.join(", ")
-            ));
-        }
-        entries.push(EntityLine {
-            entity: r.entity.clone(),
-            differs,
-            text,
-            first: r.first_time(),
-        });
-    }
-    for (entity, components) in &static_differs {
-        if !reports.iter().any(|r| &r.entity == entity) {
-            let text = format!("static data differs: {}", components.join(", "));
-            // After the series' partings: static data (summaries, about texts) follows from them.
-            entries.push(EntityLine {
-                entity: entity.clone(),
-                differs: true,
-                text,
-                first: i64::MAX,
-            });
-        }
-    }
-    let differing = entries.iter().filter(|e| e.differs).count();
-    let identical = ea.intersection(&eb).count() - differing;
-    let shared = ea.intersection(&eb).count();
-
-    let mut report = String::new();
-    let mut line = |s: String| {
-        let s = s + "\n";
-        crate::output::print_beside(to_stdout, &s);
-        report.push_str(&s);
-    };
-    let beyond = if tol > 0.0 {
-        format!(" beyond --tolerance {tol}")
-    } else {
-        String::new()
-    };
-    let same = differing == 0 && only_a.is_empty() && only_b.is_empty();
-    line(format!(
-        "verdict: {}: {differing} of {shared} shared entities differ{beyond}; {} only in A, {} only in B",
-        if same { "the same" } else { "they differ" },
-        only_a.len(),
-        only_b.len()
-    ));
     if ka.is_empty() || kb.is_empty() {
-        line("configuration: not recorded in one of them".into());
+        vec!["configuration: not recorded in one of them".into()]
     } else if changed.is_empty() {
-        line("configuration: identical".into());
-    } else if changed.len() == 1 {
-        line(format!("configuration: {}", changed[0]));
+        vec!["configuration: identical".into()]
+    } else if let [one] = &changed[..] {
+        vec![format!("configuration: {one}")]
     } else {
-        line(format!("configuration: {} keys differ", changed.len()));
-        for c in &changed {
-            line(format!("  {c}"));
-        }
-    }
-    let (va, vb) = (version_line(&ia), version_line(&ib));
-    if va == vb && !args.verbose {
-        line(format!("built by: {va}, both"));
-    } else {
-        line(format!("A: {} — {va}", args.a.display()));
-        line(format!("B: {} — {vb}", args.b.display()));
-    }
-    for (name, info) in [("A", &ia), ("B", &ib)] {
-        for (k, v) in &info.run {
-            if k.ends_with("_ended") && !v.starts_with("complete") {
-                line(format!("{name}: {}: {v}", k.trim_end_matches("_ended")));
-            }
-        }
-    }
-    if let Some((mb, ma)) = &rename {
-        line(format!(
-            "pairing A's lane {ma} with B's lane {mb} (one method in each)"
-        ));
-    }
-    if let Some((_, example)) = &times_example {
-        line(format!(
-            "times: {} entities hold rows at times the other lacks (e.g. {example}); values are \
-             compared where both have a row{}",
-            only_times + with_times,
-            if only_times > 0 {
-                format!(", and {only_times} differ by nothing else")
-            } else {
-                String::new()
-            }
-        ));
-    }
-    let shown: Vec<EntityLine> = entries
-        .iter()
-        .filter(|e| args.verbose || e.differs)
-        .cloned()
-        .collect();
-    for l in difference_lines(&shown, &lanes, args.verbose) {
-        line(l);
-    }
-    for e in &only_a {
-        line(format!("  only in A: {e}"));
-    }
-    for e in &only_b {
-        line(format!("  only in B: {e}"));
-    }
-    if !args.verbose && identical > 0 {
-        line(format!(
-            "identical: {} (-v lists them)",
-            entities_text(identical)
-        ));
-    }
-    if let (Some(w), Some(out)) = (writer, &args.output) {
-        let n = w.finish(&report)?;
-        let wrote = format!(
-            "wrote {} ({n} series: B − A per plotted quantity, both runs' 3D overlaid)\n",
-            out.display()
-        );
-        crate::output::print_beside(to_stdout, &wrote);
-    }
-    if !same {
-        return Err(Error::Differs("the recordings differ".into()).into());
-    }
-    Ok(())
-}
-
-/// "1 entity", "3 entities".
-pub(super) fn entities_text(n: usize) -> String {
-    if n == 1 {
-        "1 entity".into()
-    } else {
-        format!("{n} entities")
+        let mut out = vec![format!("configuration: {} keys differ", changed.len())];
+        out.extend(changed.iter().map(|c| format!("  {c}")));
+        out
     }
 }
 

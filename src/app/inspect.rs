@@ -1,14 +1,27 @@
 //! `physlab inspect`: prints what a recording holds; with --config-out, writes its embedded
 //! scene file.
 
+use std::path::Path;
+
+use super::compared::{print_lines, remake_commands, scene_command, version_line};
 use crate::cli::InspectArgs;
 use crate::error::Error;
-use crate::rrd::inspect::{LoggedEvent, read_recording};
+use crate::rrd::inspect::{LoggedEvent, RecordingInfo, read_recording};
+use crate::record::{escaped, shell_path};
 
 pub fn inspect_command(args: &InspectArgs) -> anyhow::Result<()> {
     use crate::output::{Dash, check, distinct};
-    // Checked before reading: never the recording itself; `-` is standard output, and the
-    // report then goes to stderr.
+    let info = read_recording(&args.file)?;
+    let config = info.properties.get("config");
+    // The recording refused first: no folder is made for a scene file that cannot be written.
+    if args.config_out.is_some() && config.is_none() {
+        return Err(Error::Usage(format!(
+            "{}: holds no physlab config to write",
+            args.file.display()
+        ))
+        .into());
+    }
+    // Never the recording itself; `-` is standard output, and the report then goes to stderr.
     let config_out = args
         .config_out
         .as_deref()
@@ -18,94 +31,89 @@ pub fn inspect_command(args: &InspectArgs) -> anyhow::Result<()> {
         distinct(&[o], &[("the recording inspected", &args.file)])?;
     }
     let to_stderr = config_out.as_ref().is_some_and(|o| o.is_stdout());
-    macro_rules! println {
-        ($($t:tt)*) => {
-            if to_stderr { eprintln!($($t)*) } else { std::println!($($t)*) }
-        };
-    }
-    let info = read_recording(&args.file)?;
-    let p = |k| info.property(k);
-    println!("recording: {}", args.file.display());
-    let what = match p("scenes") {
-        "diff" => format!(" (a diff recording of {} and {})", p("diff_a"), p("diff_b")),
-        _ => String::new(),
-    };
-    let build = super::compared::version_line(&info);
-    println!("  written by: {build}{what}");
-    println!("  command line: {}", p("command_line"));
     let scene_file = args
         .config_out
         .clone()
         .filter(|o| o.as_os_str() != "-")
         .unwrap_or_else(|| "scene.toml".into());
-    if let Some(again) = super::compared::remake_commands(&info, &args.file, &scene_file) {
-        println!("  made again by: {again}");
-    }
-    println!(
-        "  scenes: {}",
-        info.scenes().into_iter().collect::<Vec<_>>().join(", ")
-    );
-    if p("scenes") != "diff" {
-        println!("  methods: {}", p("methods"));
-    }
-    match info.time_range {
-        Some((a, b)) => println!("  sim_time: {a:.6} s to {b:.6} s"),
-        None => println!("  sim_time: (no timed data)"),
-    }
-    if info.has_footer {
-        println!("  {} chunks, footer written", info.chunks);
-    } else {
-        println!(
-            "  {} chunks, no footer: {}",
-            info.chunks, info.why_no_footer
-        );
-    }
-    let study = p("scenes").starts_with("study");
-    if info.run.is_empty() && info.properties.contains_key("config") && !study {
-        println!("  ended: (not recorded: killed before the end, or an older physlab)");
-    }
-    for scene in info.scenes() {
-        if let Some(ended) = info.run.get(&format!("{scene}_ended")) {
-            println!("  {scene}: {ended}");
-        }
-    }
-    let warnings: Vec<&LoggedEvent> = info
-        .events
-        .iter()
-        .filter(|e| e.level == "WARN" || e.level == "ERROR")
-        .collect();
-    println!("  warnings ({}):", warnings.len());
-    for e in &warnings {
-        println!("    t = {:.6} s  {}  {}", e.time, e.entity, e.text);
-    }
-    println!("  entities ({}):", info.entities.len());
-    for e in &info.entities {
-        println!("    {e}");
-    }
-    if p("scenes") == "diff" {
-        println!("  config: none (a diff recording compares two runs; each holds its own)");
-    } else {
-        println!("  config:");
-        for line in p("config").lines() {
-            println!("    {line}");
-        }
-    }
-    if let Some(out) = &config_out {
-        let config = info.properties.get("config").ok_or_else(|| {
-            Error::Usage(format!(
-                "{}: holds no physlab config to write",
-                args.file.display()
-            ))
-        })?;
+    print_lines(&described(&info, &args.file, &scene_file), to_stderr);
+    if let (Some(out), Some(config)) = (&config_out, config) {
         out.write(config.as_bytes())?;
         if !out.is_stdout() {
-            let run = super::compared::scene_command(&info, &out.given)
-                .unwrap_or_else(|| format!("--config {}", out.given.display()));
-            eprintln!(
-                "wrote the scene file to {} (run it again with: {run})",
-                out.given.display(),
+            let run = scene_command(&info, &out.given)
+                .unwrap_or_else(|| format!("--config {}", shell_path(&out.given)));
+            print_lines(
+                &[format!(
+                    "wrote the scene file to {} (run it again with: {run})",
+                    out.given.display(),
+                )],
+                true,
             );
         }
     }
     Ok(())
+}
+
+/// What `inspect` says of a recording, line by line (printed escaped: it is a stranger's text).
+fn described(info: &RecordingInfo, file: &Path, scene_file: &Path) -> Vec<String> {
+    let p = |k| info.property(k);
+    let mut out = vec![format!("recording: {}", file.display())];
+    let what = match p("scenes") {
+        "diff" => format!(" (a diff recording of {} and {})", p("diff_a"), p("diff_b")),
+        _ => String::new(),
+    };
+    if info.application_id.starts_with("physlab") {
+        out.push(format!("  written by: {}{what}", version_line(info)));
+    } else {
+        out.push(format!(
+            "  written by: \"{}\", another application than physlab (no physlab provenance)",
+            escaped(&info.application_id)
+        ));
+    }
+    out.push(format!("  command line: {}", p("command_line")));
+    if let Some(again) = remake_commands(info, file, scene_file) {
+        out.push(format!("  made again by: {again}"));
+    }
+    let scenes: Vec<String> = info.scenes().into_iter().collect();
+    out.push(format!("  scenes: {}", scenes.join(", ")));
+    if p("scenes") != "diff" {
+        out.push(format!("  methods: {}", p("methods")));
+    }
+    out.push(match info.time_range {
+        Some((a, b)) => format!("  sim_time: {a:.6} s to {b:.6} s"),
+        None => "  sim_time: (no timed data)".into(),
+    });
+    out.push(if info.has_footer {
+        format!("  {} chunks, footer written", info.chunks)
+    } else {
+        format!(
+            "  {} chunks, no footer: {}",
+            info.chunks, info.why_no_footer
+        )
+    });
+    let study = p("scenes").starts_with("study");
+    if info.run.is_empty() && info.properties.contains_key("config") && !study {
+        out.push("  ended: (not recorded: killed before the end, or an older physlab)".into());
+    }
+    for scene in info.scenes() {
+        if let Some(ended) = info.run.get(&format!("{scene}_ended")) {
+            out.push(format!("  {scene}: {ended}"));
+        }
+    }
+    let warnings: Vec<&LoggedEvent> = (info.events.iter())
+        .filter(|e| e.level == "WARN" || e.level == "ERROR")
+        .collect();
+    out.push(format!("  warnings ({}):", warnings.len()));
+    for e in &warnings {
+        out.push(format!("    t = {:.6} s  {}  {}", e.time, e.entity, e.text));
+    }
+    out.push(format!("  entities ({}):", info.entities.len()));
+    out.extend(info.entities.iter().map(|e| format!("    {e}")));
+    if p("scenes") == "diff" {
+        out.push("  config: none (a diff recording compares two runs; each holds its own)".into());
+    } else {
+        out.push("  config:".into());
+        out.extend(p("config").lines().map(|l| format!("    {l}")));
+    }
+    out
 }

@@ -2,20 +2,26 @@
 //! and compares every logged value with it.
 
 use std::collections::BTreeSet;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use super::compared::{
-    EntityLine, by_entity, check_output, difference_lines, lane_names, physlab_made,
-    physlab_recording, recorded_command, recorded_timings, tolerance, version_line, version_text,
+    EntityLine, by_entity, check_output, difference_lines, entities_text, lane_names, physlab_made,
+    print_lines, recorded_command, recorded_timings, tolerance, version_line, version_text,
     wall_clock,
 };
-use super::diff::entities_text;
-use super::scenes::{AllFlags, SCENES};
-use super::{Error, Plan, Replay, simulate};
+use super::progress::{LARGE_BYTES, LONG_SECONDS};
+use crate::format::{duration as duration_text, size as size_text};
+use super::scenes::{AllFlags, Bulk, SCENES};
+use super::{Error, Plan, Replay, SceneFile, simulate};
 use crate::cli::{ReproduceArgs, RunArgs};
 use crate::output::TempFile;
 use crate::rrd::compare::{StreamSpec, compare_files};
+use crate::record::escaped;
+use crate::record::hair::BYTES_PER_NODE_FRAME;
+use crate::rrd::inspect::RecordingInfo;
+use crate::rrd::read::{Messages, unusable};
+use crate::scene::params::NODE_STEP_SECONDS;
 
 /// Why the re-run failed, in words true to the cause: a stop request stays an interruption (exit
 /// 130), a configuration this build refuses says so without the temporary file's name, and
@@ -36,8 +42,9 @@ fn rerun_failed(e: anyhow::Error, file: &Path, config: &Path) -> anyhow::Error {
             "its embedded configuration: ",
         );
         return Error::Usage(format!(
-            "{}: its configuration does not run with this build: {message}",
-            file.display()
+            "{}: its configuration does not run with this build: {}",
+            file.display(),
+            escaped(&message)
         ))
         .into();
     }
@@ -46,6 +53,12 @@ fn rerun_failed(e: anyhow::Error, file: &Path, config: &Path) -> anyhow::Error {
 
 pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
     let tol = tolerance(args.tolerance)?;
+    // Read once: everything below reads this private copy, so that the file replaced meanwhile
+    // changes nothing (its configuration and its data are the same file's).
+    let input = read_once(&args.file)?;
+    let of_file = |e| of_the_file(e, input.path(), &args.file);
+    let recorded = Recorded::read(input.path(), &args.file).map_err(of_file)?;
+    // The input refused first: no folder is made for a re-run that will not happen.
     check_output(
         args.output.as_ref(),
         crate::output::Dash::Refused(
@@ -54,243 +67,445 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
         ),
         &[&args.file],
     )?;
-    let info = physlab_made(&args.file)?;
-    let scenes_property = info.properties.get("scenes").cloned().unwrap_or_default();
-    if scenes_property == "diff" {
+    let replay = recorded.replay(&args.file)?;
+    let expected = recorded.expected();
+    if let Some(e) = &expected
+        && e.over(MAX_SECONDS, MAX_BYTES)
+        && !args.allow_long
+    {
         return Err(Error::Usage(format!(
-            "{}: a diff recording (of {} and {}), not a run; write it again with: {}",
+            "{}: {}; reproduce re-runs at most {} min, a {} recording and {} of memory unless \
+             --allow-long is given",
             args.file.display(),
-            info.properties.get("diff_a").map_or("?", String::as_str),
-            info.properties.get("diff_b").map_or("?", String::as_str),
-            recorded_command(&info).unwrap_or_else(|| "physlab diff A.rrd B.rrd -o D.rrd".into())
+            e.text(),
+            MAX_SECONDS / 60.0,
+            size_text(MAX_BYTES),
+            size_text(super::MEMORY_NOTICE_BYTES),
         ))
         .into());
     }
-    let info = physlab_recording(&args.file)?;
-    if scenes_property.starts_with("study") {
-        return Err(Error::Usage(format!(
-            "{}: a study recording ({scenes_property}); its numbers include wall-clock timings, so \
-             reproduce re-runs scene recordings only (run its command line again: {})",
-            args.file.display(),
-            info.properties
-                .get("command_line")
-                .map(String::as_str)
-                .unwrap_or("?")
-        ))
-        .into());
-    }
-    let scenes: Vec<&str> = scenes_property
-        .split(',')
-        .filter(|s| !s.is_empty())
-        .collect();
-    let known: Vec<&str> = SCENES.iter().map(|s| s.name).collect();
-    if scenes.is_empty() || scenes.iter().any(|s| !known.contains(s)) {
-        let expected = match known.split_last() {
-            Some((last, rest)) if !rest.is_empty() => format!("{} and/or {last}", rest.join(", ")),
-            _ => known.join(""),
-        };
-        return Err(Error::Usage(format!(
-            "{}: its provenance names the scenes {scenes_property:?}; expected {expected}",
-            args.file.display()
-        ))
-        .into());
-    }
-    let timings = recorded_timings(&info);
 
     // Said before the re-run (which takes the run's time); the report comes after it, verdict
     // first.
-    eprintln!("re-running {} …", args.file.display());
-    let mut header: Vec<String> = Vec::new();
-    let now = version_text(
-        env!("CARGO_PKG_VERSION"),
-        crate::record::GIT_COMMIT,
-        crate::record::RERUN_SDK_VERSION,
-    );
-    let then = version_line(&info);
-    if then == now {
-        header.push(format!("recorded and re-run by the same build: {then}"));
-    } else {
-        header.push(format!("recorded by {then}"));
-        header.push(format!(
-            "re-run by {now}  (a different build: differences may come from it)"
-        ));
-    }
-
-    // Where each scene ended: the re-run stops at the same tick.
-    let mut replay = Replay {
-        silent: true,
-        ..Replay::default()
-    };
-    let killed = info.run.is_empty();
-    for scene in &scenes {
-        let status = info.run.get(&format!("{scene}_status")).map(String::as_str);
-        match status {
-            Some("interrupted") => {
-                let tick = info
-                    .run
-                    .get(&format!("{scene}_last_tick"))
-                    .and_then(|t| t.parse::<u64>().ok())
-                    .ok_or_else(|| {
-                        Error::Usage(format!(
-                            "{}: {scene} was interrupted but its last tick is not recorded",
-                            args.file.display()
-                        ))
-                    })?;
-                replay.stop_after.push((scene.to_string(), tick));
-            }
-            Some("not run") => replay.skip.push(scene.to_string()),
-            _ => {}
-        }
-        if let Some(ended) = info.run.get(&format!("{scene}_ended")) {
-            header.push(format!("{scene}: {ended}"));
+    if !args.quiet {
+        eprintln!("re-running {} …", escaped(&args.file.display().to_string()));
+        // As a scene command says it of a long or large run ([`LONG_SECONDS`], [`LARGE_BYTES`]).
+        if let Some(e) = expected.filter(|e| e.over(LONG_SECONDS, LARGE_BYTES)) {
+            eprintln!("{}", e.text());
         }
     }
-    if killed {
-        // No end record (an older physlab): compare each series as far as it goes.
-        header.push(
-            "the recording does not say where it ended: each series is compared up to its last \
-             recorded row"
-                .into(),
-        );
-    }
-
-    let config = TempFile::create("reproduce.toml", info.properties["config"].as_bytes())?;
+    let config = TempFile::create("reproduce.toml", recorded.info.properties["config"].as_bytes())?;
     let scratch = TempFile::create("reproduce.rrd", b"")?;
-    let output = args.output.clone().unwrap_or_else(|| scratch.path().into());
+    let output = args.output.clone().unwrap_or_else(|| scratch.path().to_path_buf());
     let run = RunArgs {
-        config: Some(config.path().into()),
+        config: Some(config.path().to_path_buf()),
         output: Some(output.clone()),
         quiet: true,
-        timings,
+        timings: recorded.timings,
         ..RunArgs::default()
     };
     let plan: Plan = SCENES
         .iter()
-        .filter(|s| scenes.contains(&s.name))
+        .filter(|s| recorded.scenes.contains(&s.name))
         .map(|s| s.flags(&AllFlags::default()))
         .collect();
     let started = Instant::now();
     simulate(plan, &run, None, &replay).map_err(|e| rerun_failed(e, &args.file, config.path()))?;
-    header.push(format!(
-        "re-ran in {:.1} s",
-        started.elapsed().as_secs_f64()
-    ));
-    if args.output.is_some() {
-        header.push(format!("wrote the re-run to {}", output.display()));
+    let seconds = started.elapsed().as_secs_f64();
+    let report = recorded.compare(input.path(), &output, tol).map_err(of_file)?;
+    if report.entries.is_empty() {
+        return Err(nothing_to_compare(&args.file).into());
     }
-    let skip = |entity: &str| wall_clock(entity, timings);
-    let spec = StreamSpec {
-        tolerance: tol,
-        skip: &skip,
-        rename_b: None,
-        cap_b: killed,
-    };
-    let streamed = compare_files(&args.file, &output, &spec, &mut |_, _, _| Ok(()))?;
-    let skipped: BTreeSet<&String> = streamed
-        .index_a
-        .keys()
-        .map(|k| &k.0)
-        .filter(|e| skip(e))
-        .collect();
-    // Static rows and timed rows of a series are compared apart; both count for its entity.
-    let mut diffs = Vec::new();
-    for (key, d) in streamed.statics.iter().chain(&streamed.timed) {
-        if streamed.index_a.contains_key(key) {
-            diffs.push((key.clone(), d.clone()));
-        }
+    let written = args.output.as_ref().map(|_| output.as_path());
+    print_lines(
+        &report.lines(&recorded, seconds, written, args.verbose),
+        false,
+    );
+    if report.differing > 0 {
+        return Err(Error::Differs(format!(
+            "{}: does not reproduce",
+            escaped(&args.file.display().to_string())
+        ))
+        .into());
     }
-    diffs.sort_by(|x, y| x.0.cmp(&y.0));
-    let only_recomputed: BTreeSet<&String> = streamed
-        .index_b
-        .keys()
-        .filter(|k| !streamed.index_a.contains_key(*k) && !skip(&k.0) && !killed)
-        .map(|k| &k.0)
-        .collect();
-    let reports = by_entity(diffs);
-    let (mut differing, mut within) = (0, 0);
-    // Per entity: whether it differs, its text, when it first parts.
-    let mut entries: Vec<EntityLine> = Vec::new();
-    for r in &reports {
-        let text = if r.bit_identical() {
-            format!("identical ({} rows)", r.rows())
-        } else if r.same() {
-            within += 1;
-            format!("within tolerance: {}", r.describe("recorded", "recomputed"))
-        } else {
-            differing += 1;
-            format!("DIFFERS: {}", r.describe("recorded", "recomputed"))
-        };
-        entries.push(EntityLine {
-            entity: r.entity.clone(),
-            differs: !r.same(),
-            text,
-            first: r.first_time(),
-        });
+    Ok(())
+}
+
+/// A re-run beyond any of these is refused unless `--allow-long`: a stranger's recording may
+/// ask for hours, hundreds of GB or all the memory, and nobody typed its command.
+const MAX_SECONDS: f64 = 600.0;
+const MAX_BYTES: f64 = 1e9;
+
+/// What a re-run will take, from its configuration alone, before anything runs: its seconds at
+/// [`NODE_STEP_SECONDS`] a node-step (the rope measured 65 ns at 2·10⁴ nodes and 133 ns at
+/// 2·10⁵ with verlet on a loaded 2-core machine: a floor, not a forecast), its recording at
+/// hair's [`BYTES_PER_NODE_FRAME`] (the rope wrote 9–10 B), its state's memory.
+struct Expected {
+    node_steps: f64,
+    seconds: f64,
+    bytes: f64,
+    memory: f64,
+}
+
+impl Expected {
+    /// Beyond `seconds` or `bytes`, or a state over what a scene command says so of
+    /// ([`super::MEMORY_NOTICE_BYTES`]).
+    fn over(&self, seconds: f64, bytes: f64) -> bool {
+        self.seconds > seconds || self.bytes > bytes || self.memory > super::MEMORY_NOTICE_BYTES
     }
-    for e in &only_recomputed {
-        differing += 1;
-        let text = "DIFFERS: only in the re-run, not in the recording".to_string();
-        entries.push(EntityLine {
-            entity: e.to_string(),
-            differs: true,
-            text,
-            first: i64::MAX,
-        });
-    }
-    let n = reports.len() + only_recomputed.len();
-    let verdict = if differing > 0 {
+
+    fn text(&self) -> String {
         format!(
-            "verdict: DIFFERS in {differing} of {n} entities{}",
-            if tol > 0.0 {
+            "its re-run does {:.1e} node-steps (at least about {}; more where its state \
+             outgrows the CPU's caches) and writes about {} to its recording; its state takes \
+             about {} of memory (from its configuration)",
+            self.node_steps,
+            duration_text(self.seconds),
+            size_text(self.bytes),
+            size_text(self.memory)
+        )
+    }
+}
+
+/// A recording that holds nothing the re-run could be compared with: it never verifies.
+fn nothing_to_compare(file: &Path) -> Error {
+    Error::Usage(format!(
+        "{}: holds no data to compare (a configuration alone: the run was killed before it \
+         logged anything, or the file was made so), so nothing can be reproduced",
+        file.display()
+    ))
+}
+
+/// Copies `file` into the temporary folder through one opened handle: the only time the path
+/// is opened. What is no regular file is refused by the reader's own checks, before any open.
+fn read_once(file: &Path) -> anyhow::Result<TempFile> {
+    if !std::fs::metadata(file).is_ok_and(|m| m.is_file()) {
+        Messages::open(file)?;
+    }
+    let mut source =
+        std::fs::File::open(file).map_err(|e| unusable(file, format!("cannot open it: {e}")))?;
+    let copy = TempFile::create("reproduce-input.rrd", b"")?;
+    let copied = std::fs::OpenOptions::new()
+        .write(true)
+        .open(copy.path())
+        .and_then(|mut sink| std::io::copy(&mut source, &mut sink));
+    copied.map_err(|e| {
+        anyhow::anyhow!(
+            "{}: cannot copy it into the temporary folder ({}): {}",
+            file.display(),
+            copy.path().display(),
+            crate::output::cause(&e)
+        )
+    })?;
+    Ok(copy)
+}
+
+/// An error the reader gave about the private copy, told of the file the user named.
+fn of_the_file(e: anyhow::Error, copy: &Path, file: &Path) -> anyhow::Error {
+    let (from, to) = (copy.display().to_string(), file.display().to_string());
+    match e.downcast::<Error>() {
+        Ok(Error::Usage(m)) => Error::Usage(m.replace(&from, &to)).into(),
+        Ok(Error::Interrupted(m)) => Error::Interrupted(m.replace(&from, &to)).into(),
+        Ok(other) => other.into(),
+        Err(e) => anyhow::anyhow!("{}", format!("{e:#}").replace(&from, &to)),
+    }
+}
+
+/// A scene recording as the re-run needs it: its provenance, its scenes (each the registry's),
+/// whether it recorded wall-clock timings.
+struct Recorded {
+    info: RecordingInfo,
+    scenes: Vec<&'static str>,
+    timings: bool,
+}
+
+impl Recorded {
+    /// Reads `copy` (of `file`, which messages name) and refuses what `reproduce` cannot re-run:
+    /// a diff or study recording, one without a configuration or with scenes this build lacks,
+    /// one that holds no data.
+    fn read(copy: &Path, file: &Path) -> anyhow::Result<Recorded> {
+        let info = physlab_made(copy)?;
+        let p = |k| escaped(info.property(k)).into_owned();
+        let refuse = |m: String| Err(Error::Usage(format!("{}: {m}", file.display())).into());
+        let kind = info.properties.get("scenes").cloned().unwrap_or_default();
+        if kind == "diff" {
+            let again = recorded_command(&info);
+            return refuse(format!(
+                "a diff recording (of {} and {}), not a run; write it again with: {}",
+                p("diff_a"),
+                p("diff_b"),
+                again.unwrap_or_else(|| "physlab diff A.rrd B.rrd -o D.rrd".into())
+            ));
+        }
+        if !info.properties.contains_key("config") {
+            return refuse(
+                "holds no physlab configuration (recorded by a physlab older than its provenance)"
+                    .into(),
+            );
+        }
+        if kind.starts_with("study") {
+            return refuse(format!(
+                "a study recording ({}); reproduce re-runs scene recordings only (run its \
+                 command line again: {})",
+                escaped(&kind),
+                recorded_command(&info).unwrap_or_else(|| "?".into())
+            ));
+        }
+        let listed: Option<Vec<&'static str>> = (kind.split(',').filter(|s| !s.is_empty()))
+            .map(|s| SCENES.iter().find(|k| k.name == s).map(|k| k.name))
+            .collect();
+        let scenes = match listed {
+            Some(scenes) if !scenes.is_empty() => scenes,
+            _ => {
+                let known: Vec<&str> = SCENES.iter().map(|s| s.name).collect();
+                let expected = match known.split_last() {
+                    Some((last, rest)) if !rest.is_empty() => {
+                        format!("{} and/or {last}", rest.join(", "))
+                    }
+                    _ => known.join(""),
+                };
+                return refuse(format!(
+                    "its provenance names the scenes \"{}\"; expected {expected}",
+                    escaped(&kind)
+                ));
+            }
+        };
+        if info.entities.is_empty() {
+            return Err(nothing_to_compare(file).into());
+        }
+        let timings = recorded_timings(&info);
+        Ok(Recorded {
+            info,
+            scenes,
+            timings,
+        })
+    }
+
+    /// What its re-run will take, from its configuration ([`Bulk`]: steps at
+    /// [`NODE_STEP_SECONDS`], 3D nodes at hair's measured [`BYTES_PER_NODE_FRAME`]); `None` when
+    /// the configuration does not resolve (the re-run then says why).
+    fn expected(&self) -> Option<Expected> {
+        let names: Vec<&str> = SCENES.iter().map(|s| s.name).collect();
+        let file = SceneFile::parse(&self.info.properties["config"], &names).ok()?;
+        let mut out = Expected {
+            node_steps: 0.0,
+            seconds: 0.0,
+            bytes: 0.0,
+            memory: 0.0,
+        };
+        for kind in SCENES.iter().filter(|s| self.scenes.contains(&s.name)) {
+            let ready = (kind.flags(&AllFlags::default()))
+                .resolve(&file, &RunArgs::default())
+                .ok()?;
+            let Bulk {
+                node_steps,
+                node_frames,
+            } = ready.bulk();
+            out.node_steps += node_steps;
+            out.seconds += node_steps * NODE_STEP_SECONDS;
+            out.bytes += node_frames * BYTES_PER_NODE_FRAME;
+            out.memory = out.memory.max(ready.memory_bytes());
+        }
+        Some(out)
+    }
+
+    /// The recording has no end record (an older physlab, or killed): each series is compared
+    /// as far as it goes.
+    fn killed(&self) -> bool {
+        self.info.run.is_empty()
+    }
+
+    /// Where each scene ended, as the re-run replays it: it stops at the same tick.
+    fn replay(&self, file: &Path) -> Result<Replay, Error> {
+        let mut replay = Replay {
+            silent: true,
+            ..Replay::default()
+        };
+        for scene in &self.scenes {
+            let run = |k: &str| self.info.run.get(&format!("{scene}_{k}"));
+            match run("status").map(String::as_str) {
+                Some("interrupted") => {
+                    let tick = run("last_tick")
+                        .and_then(|t| t.parse::<u64>().ok())
+                        .ok_or_else(|| {
+                            Error::Usage(format!(
+                                "{}: {scene} was interrupted but its last tick is not recorded",
+                                file.display()
+                            ))
+                        })?;
+                    replay.stop_after.push((scene.to_string(), tick));
+                }
+                Some("not run") => replay.skip.push(scene.to_string()),
+                _ => {}
+            }
+        }
+        Ok(replay)
+    }
+
+    /// The recording (`copy`) against the re-run's, entity by entity.
+    fn compare(&self, copy: &Path, rerun: &Path, tolerance: f64) -> anyhow::Result<Reproduced> {
+        let (timings, killed) = (self.timings, self.killed());
+        let skip = |entity: &str| wall_clock(entity, timings);
+        let spec = StreamSpec {
+            tolerance,
+            skip: &skip,
+            rename_b: None,
+            cap_b: killed,
+        };
+        let streamed = compare_files(copy, rerun, &spec, &mut |_, _, _| Ok(()))?;
+        let recorded = &streamed.index_a;
+        let skipped = recorded.keys().map(|k| k.0.clone()).filter(|e| skip(e));
+        // Static rows and timed rows of a series are compared apart; both count for its entity.
+        let mut diffs: Vec<_> = (streamed.statics.iter().chain(&streamed.timed))
+            .filter(|(key, _)| recorded.contains_key(*key))
+            .map(|(key, d)| (key.clone(), d.clone()))
+            .collect();
+        diffs.sort_by(|x, y| x.0.cmp(&y.0));
+        let only_recomputed: BTreeSet<&String> = (streamed.index_b.keys())
+            .filter(|k| !recorded.contains_key(*k) && !skip(&k.0) && !killed)
+            .map(|k| &k.0)
+            .collect();
+        let mut report = Reproduced {
+            tolerance,
+            skipped: skipped.collect(),
+            ..Reproduced::default()
+        };
+        for r in by_entity(diffs) {
+            let text = if r.bit_identical() {
+                format!("identical ({} rows)", r.rows())
+            } else if r.same() {
+                report.within += 1;
+                format!("within tolerance: {}", r.describe("recorded", "recomputed"))
+            } else {
+                report.differing += 1;
+                format!("DIFFERS: {}", r.describe("recorded", "recomputed"))
+            };
+            let (differs, first) = (!r.same(), r.first_time());
+            report.entries.push(EntityLine {
+                entity: r.entity,
+                differs,
+                text,
+                first,
+            });
+        }
+        for e in only_recomputed {
+            report.differing += 1;
+            report.entries.push(EntityLine {
+                entity: e.clone(),
+                differs: true,
+                text: "DIFFERS: only in the re-run, not in the recording".into(),
+                first: i64::MAX,
+            });
+        }
+        Ok(report)
+    }
+}
+
+/// What the re-run gave against the recording, entity by entity: computed in one place
+/// ([`Recorded::compare`]), then printed ([`Reproduced::lines`]).
+#[derive(Default)]
+struct Reproduced {
+    tolerance: f64,
+    /// Every entity compared (identical ones too), and those the re-run alone has.
+    entries: Vec<EntityLine>,
+    /// Entities that differ (beyond the tolerance), and those within it but not bit-identical.
+    differing: usize,
+    within: usize,
+    /// Entities left out: their values depend on the wall clock.
+    skipped: BTreeSet<String>,
+}
+
+impl Reproduced {
+    fn verdict(&self) -> String {
+        let (n, tol) = (self.entries.len(), self.tolerance);
+        if self.differing > 0 {
+            let beyond = if tol > 0.0 {
                 format!(" (beyond --tolerance {tol})")
             } else {
                 String::new()
+            };
+            format!(
+                "verdict: DIFFERS in {} of {n} entities{beyond}",
+                self.differing
+            )
+        } else if self.within > 0 {
+            format!(
+                "verdict: reproduces within --tolerance {tol} ({} of {n} entities not bit-identical)",
+                self.within
+            )
+        } else {
+            format!("verdict: bit-identical ({})", entities_text(n))
+        }
+    }
+
+    /// The report: the verdict first, the builds, where the scenes ended, then what differs
+    /// (`verbose`: every entity).
+    fn lines(
+        &self,
+        recorded: &Recorded,
+        seconds: f64,
+        written: Option<&Path>,
+        verbose: bool,
+    ) -> Vec<String> {
+        let mut out = vec![self.verdict()];
+        let now = version_text(
+            env!("CARGO_PKG_VERSION"),
+            crate::record::GIT_COMMIT,
+            crate::record::RERUN_SDK_VERSION,
+        );
+        let then = version_line(&recorded.info);
+        if then == now {
+            out.push(format!("recorded and re-run by the same build: {then}"));
+        } else {
+            out.push(format!("recorded by {then}"));
+            out.push(format!(
+                "re-run by {now}  (a different build: differences may come from it)"
+            ));
+        }
+        for scene in &recorded.scenes {
+            if let Some(ended) = recorded.info.run.get(&format!("{scene}_ended")) {
+                out.push(format!("{scene}: {ended}"));
             }
-        )
-    } else if within > 0 {
-        format!(
-            "verdict: reproduces within --tolerance {tol} ({within} of {n} entities not bit-identical)"
-        )
-    } else {
-        format!("verdict: bit-identical ({})", entities_text(n))
-    };
-    println!("{verdict}");
-    for h in &header {
-        println!("{h}");
-    }
-    let lanes = lane_names(&[&info]);
-    let shown: Vec<_> = entries
-        .iter()
-        .filter(|e| args.verbose || e.differs || e.text.starts_with("within"))
-        .cloned()
-        .collect();
-    for l in difference_lines(&shown, &lanes, args.verbose) {
-        println!("{l}");
-    }
-    let identical = n - differing - within;
-    if !args.verbose && identical > 0 {
-        println!("identical: {} (-v lists them)", entities_text(identical));
-    }
-    if !skipped.is_empty() {
-        println!(
-            "skipped: {} (wall-clock timings){}",
-            entities_text(skipped.len()),
-            if args.verbose {
-                format!(
-                    ": {}",
-                    skipped
-                        .iter()
-                        .map(|s| s.as_str())
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                )
+        }
+        if recorded.killed() {
+            out.push(
+                "the recording does not say where it ended: each series is compared up to its \
+                 last recorded row"
+                    .into(),
+            );
+        }
+        out.push(format!("re-ran in {seconds:.1} s"));
+        if let Some(path) = written {
+            out.push(format!("wrote the re-run to {}", path.display()));
+        }
+        let shown: Vec<_> = (self.entries.iter())
+            .filter(|e| verbose || e.differs || e.text.starts_with("within"))
+            .cloned()
+            .collect();
+        out.extend(difference_lines(
+            &shown,
+            &lane_names(&[&recorded.info]),
+            verbose,
+        ));
+        let identical = self.entries.len() - self.differing - self.within;
+        if !verbose && identical > 0 {
+            out.push(format!(
+                "identical: {} (-v lists them)",
+                entities_text(identical)
+            ));
+        }
+        if !self.skipped.is_empty() {
+            let list: Vec<&str> = self.skipped.iter().map(String::as_str).collect();
+            let list = if verbose {
+                format!(": {}", list.join(", "))
             } else {
                 String::new()
-            }
-        );
+            };
+            out.push(format!(
+                "skipped: {} (wall-clock timings){list}",
+                entities_text(self.skipped.len())
+            ));
+        }
+        out
     }
-    if differing > 0 {
-        return Err(Error::Differs(format!("{}: does not reproduce", args.file.display())).into());
-    }
-    Ok(())
 }

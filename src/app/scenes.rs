@@ -133,7 +133,34 @@ pub trait ReadyScene: Send {
     }
     /// Why its step is too large for its shortest time scale, if it is.
     fn step_warning(&self) -> Option<String>;
+    /// What it does, from its configuration alone.
+    fn bulk(&self) -> Bulk;
     fn run(self: Box<Self>, ctx: &mut RunContext) -> anyhow::Result<Ran>;
+}
+
+/// What a run does, from its configuration alone (nothing built or stepped): how `reproduce`
+/// bounds a stranger's recording before its re-run starts.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Bulk {
+    /// Steps of one node of one method, over the run (a method's fine-step reference too).
+    pub node_steps: f64,
+    /// Nodes drawn in 3D over every frame drawn and every method.
+    pub node_frames: f64,
+}
+
+/// A fixed-step scene's bulk: `nodes` nodes drawn and stepped by each of `methods`.
+fn fixed_step_bulk(
+    schedule: crate::scene::harness::Schedule,
+    step: f64,
+    duration: f64,
+    nodes: f64,
+    methods: usize,
+) -> Bulk {
+    let methods = methods as f64;
+    Bulk {
+        node_steps: methods * nodes * duration / step,
+        node_frames: methods * nodes * schedule.frames() as f64,
+    }
 }
 
 /// What every scene's run shares.
@@ -372,6 +399,7 @@ trait Runs: SceneConfig + Send {
     fn memory_bytes(&self) -> f64 {
         0.0
     }
+    fn bulk(&self) -> Bulk;
     fn run(self, ctx: &mut RunContext) -> anyhow::Result<Ran>;
 }
 
@@ -398,6 +426,9 @@ impl<C: Runs> ReadyScene for Ready<C> {
     fn step_warning(&self) -> Option<String> {
         self.0.step_warning()
     }
+    fn bulk(&self) -> Bulk {
+        self.0.bulk()
+    }
     fn run(self: Box<Self>, ctx: &mut RunContext) -> anyhow::Result<Ran> {
         self.0.run(ctx)
     }
@@ -413,6 +444,12 @@ impl Runs for PendulumConfig {
     }
     fn methods(&self) -> Vec<&'static str> {
         self.methods.iter().map(|m| m.name()).collect()
+    }
+    fn bulk(&self) -> Bulk {
+        let (_, h) = crate::scene::params::fixed_step(self.dt, &self.options);
+        let mut bulk = fixed_step_bulk(self.schedule(), h, self.duration, 1.0, self.methods.len());
+        bulk.node_steps += self.reference_steps();
+        bulk
     }
     fn run(self, ctx: &mut RunContext) -> anyhow::Result<Ran> {
         let reference_steps = self.reference_steps();
@@ -445,6 +482,11 @@ impl Runs for RopeConfig {
     fn memory_bytes(&self) -> f64 {
         RopeConfig::memory_bytes(self)
     }
+    fn bulk(&self) -> Bulk {
+        let (_, h) = crate::scene::params::fixed_step(self.dt, &self.options);
+        let nodes = self.params.nodes as f64;
+        fixed_step_bulk(self.schedule(), h, self.duration, nodes, self.methods.len())
+    }
     fn run(self, ctx: &mut RunContext) -> anyhow::Result<Ran> {
         ctx.run(
             RopeScene::new(self),
@@ -467,6 +509,15 @@ impl Runs for HairConfig {
     }
     fn memory_bytes(&self) -> f64 {
         HairConfig::memory_bytes(self)
+    }
+    fn bulk(&self) -> Bulk {
+        let nodes = (self.params.strands * self.params.nodes) as f64;
+        let steps = self.frames() as f64 * self.substeps as f64;
+        let plan = record::hair::strand_plan(self, self.log_strands);
+        Bulk {
+            node_steps: self.methods.len() as f64 * nodes * steps,
+            node_frames: plan.expected_bytes / record::hair::BYTES_PER_NODE_FRAME,
+        }
     }
     fn run(self, ctx: &mut RunContext) -> anyhow::Result<Ran> {
         // Said before anything is written: how many strands are drawn, and the expected size.

@@ -176,6 +176,9 @@ pub struct InspectArgs {
     /// (`-` for standard output; the description then goes to stderr)
     #[arg(long, value_name = "FILE.toml")]
     pub config_out: Option<PathBuf>,
+    /// Print no notes on stderr (the report is the output; accepted by every command)
+    #[arg(short, long)]
+    pub quiet: bool,
 }
 
 #[derive(Args, Debug, Clone)]
@@ -192,6 +195,13 @@ pub struct ReproduceArgs {
     /// List every entity compared, identical ones too
     #[arg(short, long)]
     pub verbose: bool,
+    /// Re-run even when the recording's configuration asks for more than 10 min, a 1 GB
+    /// recording or 1 GB of memory (stated before it starts; refused without this flag)
+    #[arg(long)]
+    pub allow_long: bool,
+    /// Print no notes on stderr (the report is the output; accepted by every command)
+    #[arg(short, long)]
+    pub quiet: bool,
 }
 
 #[derive(Args, Debug, Clone)]
@@ -212,6 +222,9 @@ pub struct DiffArgs {
     /// List every entity compared, identical ones too, instead of one line per group
     #[arg(short, long)]
     pub verbose: bool,
+    /// Print no notes on stderr (the report is the output; accepted by every command)
+    #[arg(short, long)]
+    pub quiet: bool,
 }
 
 /// Parses the process's arguments (clap prints usage errors and exits with code 2).

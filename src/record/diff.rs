@@ -243,44 +243,56 @@ impl DiffWriter {
         }
         self.push(series, time, distance)?;
         if n <= MAX_OVERLAID_COORDINATES {
-            let rec = self.recording.stream();
-            rec.set_time(
-                "sim_time",
-                std::time::Duration::from_nanos(time.max(0) as u64),
-            );
-            // A as rings facing the eye, B as points: where they coincide A rings B.
-            let scene = entity.split('/').next().unwrap_or_default();
-            match self.rings.get(scene) {
-                Some(ring) => {
-                    let strips: Vec<Vec<[f32; 3]>> = pa
-                        .iter()
-                        .map(|p| {
-                            ring.iter()
-                                .map(|r| [p[0] + r[0], p[1] + r[1], p[2] + r[2]])
-                                .collect()
-                        })
-                        .collect();
-                    rec.log(
-                        format!("diff/3d/A/{entity}"),
-                        &rerun::LineStrips3D::new(strips)
-                            .with_colors([A_COLOR])
-                            .with_radii([rerun::Radius::new_ui_points(1.5)]),
-                    )?;
-                }
-                None => rec.log(
-                    format!("diff/3d/A/{entity}"),
-                    &rerun::Points3D::new(pa.clone())
-                        .with_colors([A_COLOR])
-                        .with_radii([rerun::Radius::new_ui_points(8.0)]),
-                )?,
-            }
-            rec.log(
-                format!("diff/3d/B/{entity}"),
-                &rerun::Points3D::new(pb)
-                    .with_colors([B_COLOR])
-                    .with_radii([rerun::Radius::new_ui_points(5.0)]),
-            )?;
+            self.overlay(entity, time, pa, pb)?;
         }
+        Ok(())
+    }
+
+    /// Both runs' points of a 3D row at `time`: A as rings facing the eye, B as points, so that
+    /// where they coincide A rings B.
+    fn overlay(
+        &mut self,
+        entity: &str,
+        time: i64,
+        pa: Vec<[f32; 3]>,
+        pb: Vec<[f32; 3]>,
+    ) -> anyhow::Result<()> {
+        let rec = self.recording.stream();
+        rec.set_time(
+            "sim_time",
+            std::time::Duration::from_nanos(time.max(0) as u64),
+        );
+        let scene = entity.split('/').next().unwrap_or_default();
+        match self.rings.get(scene) {
+            Some(ring) => {
+                let strips: Vec<Vec<[f32; 3]>> = pa
+                    .iter()
+                    .map(|p| {
+                        ring.iter()
+                            .map(|r| [p[0] + r[0], p[1] + r[1], p[2] + r[2]])
+                            .collect()
+                    })
+                    .collect();
+                rec.log(
+                    format!("diff/3d/A/{entity}"),
+                    &rerun::LineStrips3D::new(strips)
+                        .with_colors([A_COLOR])
+                        .with_radii([rerun::Radius::new_ui_points(1.5)]),
+                )?;
+            }
+            None => rec.log(
+                format!("diff/3d/A/{entity}"),
+                &rerun::Points3D::new(pa)
+                    .with_colors([A_COLOR])
+                    .with_radii([rerun::Radius::new_ui_points(8.0)]),
+            )?,
+        }
+        rec.log(
+            format!("diff/3d/B/{entity}"),
+            &rerun::Points3D::new(pb)
+                .with_colors([B_COLOR])
+                .with_radii([rerun::Radius::new_ui_points(5.0)]),
+        )?;
         Ok(())
     }
 

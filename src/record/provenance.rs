@@ -28,13 +28,11 @@ pub fn send_diff_provenance(
     a: &std::path::Path,
     b: &std::path::Path,
 ) -> anyhow::Result<()> {
-    let path =
-        |p: &std::path::Path| shell_word(std::os::unix::ffi::OsStrExt::as_bytes(p.as_os_str()));
     send_properties(
         rec,
         build_properties("diff")
-            .with_component::<rerun::components::Text>("diff_a", [path(a)])
-            .with_component::<rerun::components::Text>("diff_b", [path(b)]),
+            .with_component::<rerun::components::Text>("diff_a", [shell_path(a)])
+            .with_component::<rerun::components::Text>("diff_b", [shell_path(b)]),
     )
 }
 
@@ -67,7 +65,16 @@ pub fn command_line() -> String {
         .join(" ")
 }
 
-fn shell_word(bytes: &[u8]) -> String {
+/// A path as one shell word ([`shell_word`]).
+pub fn shell_path(path: &std::path::Path) -> String {
+    shell_word(std::os::unix::ffi::OsStrExt::as_bytes(path.as_os_str()))
+}
+
+/// One argument as a shell word that bash reads back byte for byte and a terminal shows as it
+/// is: plain characters as they are, anything else in ANSI-C quoting (`$'a b'`,
+/// `$'\xff.rrd'`), its unsafe characters escaped as [`escaped`] shows them. No word it makes
+/// can run anything: `$(…)`, `;` and quotes stay inside the quotes.
+pub fn shell_word(bytes: &[u8]) -> String {
     let plain = |c: char| c.is_alphanumeric() || "-_./=:,+@%^".contains(c);
     if let Ok(s) = std::str::from_utf8(bytes)
         && !s.is_empty()
@@ -81,14 +88,7 @@ fn shell_word(bytes: &[u8]) -> String {
             match c {
                 '\\' => out.push_str("\\\\"),
                 '\'' => out.push_str("\\'"),
-                '\n' => out.push_str("\\n"),
-                '\t' => out.push_str("\\t"),
-                c if c.is_control() => {
-                    for b in c.to_string().bytes() {
-                        out.push_str(&format!("\\x{b:02x}"));
-                    }
-                }
-                c => out.push(c),
+                c => push_shown(&mut out, c),
             }
         }
         for b in chunk.invalid() {
@@ -97,6 +97,97 @@ fn shell_word(bytes: &[u8]) -> String {
     }
     out.push('\'');
     out
+}
+
+/// The words [`shell_word`] made, read back (words joined by single spaces); `None` for text it
+/// cannot have made. What a recording says its command was is rebuilt from these, never
+/// copied.
+pub fn shell_words(line: &str) -> Option<Vec<Vec<u8>>> {
+    let mut words = Vec::new();
+    let mut rest = line.as_bytes();
+    while !rest.is_empty() {
+        let mut word = Vec::new();
+        if let Some(quoted) = rest.strip_prefix(b"$'") {
+            let mut i = 0;
+            loop {
+                match *quoted.get(i)? {
+                    b'\'' => break,
+                    b'\\' => {
+                        let (byte, used) = match *quoted.get(i + 1)? {
+                            b'n' => (b'\n', 2),
+                            b't' => (b'\t', 2),
+                            b'r' => (b'\r', 2),
+                            b @ (b'\\' | b'\'') => (b, 2),
+                            b'x' => {
+                                let hex = std::str::from_utf8(quoted.get(i + 2..i + 4)?).ok()?;
+                                (u8::from_str_radix(hex, 16).ok()?, 4)
+                            }
+                            _ => return None,
+                        };
+                        word.push(byte);
+                        i += used;
+                    }
+                    b => {
+                        word.push(b);
+                        i += 1;
+                    }
+                }
+            }
+            rest = &quoted[i + 1..];
+        } else {
+            let end = rest.iter().position(|&b| b == b' ').unwrap_or(rest.len());
+            word.extend_from_slice(&rest[..end]);
+            rest = &rest[end..];
+            if shell_word(&word) != std::str::from_utf8(&word).ok()? {
+                return None;
+            }
+        }
+        words.push(word);
+        match rest {
+            [] => {}
+            [b' ', more @ ..] if !more.is_empty() => rest = more,
+            _ => return None,
+        }
+    }
+    Some(words)
+}
+
+/// Text from a recording as a terminal may show it: every control character (ESC, a line
+/// break, a C1 code) and every bidirectional override written out (`\x1b`, `\n`,
+/// `\xe2\x80\xae`), so that no recording moves the cursor, clears the screen, retitles the
+/// window or starts a line of its own. Everything `inspect`, `diff` and `reproduce` print
+/// passes through it (entity paths come escaped by Rerun already).
+pub fn escaped(text: &str) -> std::borrow::Cow<'_, str> {
+    if !text.chars().any(unsafe_char) {
+        return text.into();
+    }
+    let mut out = String::with_capacity(text.len() + 16);
+    for c in text.chars() {
+        push_shown(&mut out, c);
+    }
+    out.into()
+}
+
+/// A character a terminal acts on rather than shows, or that reorders what follows it.
+fn unsafe_char(c: char) -> bool {
+    c.is_control()
+        || matches!(c, '\u{200e}' | '\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}')
+}
+
+/// `c`, or its escape when it is unsafe: `\n`, `\t`, `\r`, else its UTF-8 bytes as `\xNN`
+/// (what bash's `$'…'` reads back).
+fn push_shown(out: &mut String, c: char) {
+    match c {
+        '\n' => out.push_str("\\n"),
+        '\t' => out.push_str("\\t"),
+        '\r' => out.push_str("\\r"),
+        c if unsafe_char(c) => {
+            for b in c.to_string().bytes() {
+                out.push_str(&format!("\\x{b:02x}"));
+            }
+        }
+        c => out.push(c),
+    }
 }
 
 /// Where one scene of a recording ended (`physlab inspect` and `reproduce` read it back).
@@ -199,35 +290,3 @@ pub const GIT_COMMIT: &str = env!("PHYSLAB_GIT_COMMIT");
 
 /// The Rerun SDK this build links (pinned in Cargo.toml).
 pub const RERUN_SDK_VERSION: &str = "0.36.3";
-
-#[cfg(test)]
-mod command_line_tests {
-    use super::shell_word;
-
-    /// Every word comes back byte for byte through bash's own reading of the quoting.
-    #[test]
-    fn words_are_quoted_losslessly_for_bash() {
-        let words: [&[u8]; 9] = [
-            b"pendulum",
-            b"--theta0=-30",
-            b"\xff\xfe.rrd",
-            b"a b",
-            b"it's",
-            b"back\\slash\n\ttab",
-            b"",
-            "\u{e9}t\u{e9} \u{7f}\u{85}".as_bytes(),
-            b"$HOME;`x`\"y\"",
-        ];
-        for word in words {
-            let quoted = shell_word(word);
-            assert!(!quoted.contains('\n'), "{quoted}");
-            let out = std::process::Command::new("bash")
-                .arg("-c")
-                .arg(format!("printf %s {quoted}"))
-                .env("LC_ALL", "C")
-                .output()
-                .expect("bash runs");
-            assert_eq!(out.stdout, word, "{quoted}");
-        }
-    }
-}

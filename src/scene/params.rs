@@ -10,8 +10,13 @@ pub use crate::format::{seconds, shown, shown_vector};
 /// start an hours-long run.
 pub const MAX_STEPS: f64 = 1e9;
 
-/// Node-steps per method beyond which a run is refused (about an hour at ~30 ns per node-step).
+/// Node-steps per method beyond which a run is refused (about an hour at
+/// [`NODE_STEP_SECONDS`]).
 pub const MAX_NODE_STEPS: f64 = 1e11;
+
+/// What one node's step of one method takes, roughly [s]: the rate a run's length is judged by
+/// before it starts.
+pub const NODE_STEP_SECONDS: f64 = 30e-9;
 
 /// `value` of `option` refused by `rule` unless `ok`: the one shape of every check here.
 pub fn require(ok: bool, option: &str, value: f64, rule: impl Into<String>) -> Result<(), Invalid> {
