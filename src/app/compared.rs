@@ -8,10 +8,10 @@ use std::path::{Path, PathBuf};
 
 use super::scenes::SCENES;
 use super::{Error, SceneFile};
-use crate::rrd::compare::{SeriesDiff, time_text};
-use crate::rrd::inspect::{RecordingInfo, read_recording};
 use crate::record::{escaped, shell_path, shell_word, shell_words};
 use crate::report::table::{sig, sig_pair};
+use crate::rrd::compare::{SeriesDiff, time_text};
+use crate::rrd::inspect::{RecordingInfo, read_recording};
 
 /// Entities whose values depend on the wall clock, so that no re-run can match them: the
 /// --timings plots, and with --timings the summaries (which then hold wall times, ns/step).

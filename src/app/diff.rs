@@ -15,9 +15,9 @@ use super::compared::{
 use super::scenes::{AllFlags, SCENES};
 use crate::cli::{DiffArgs, RunArgs};
 use crate::record::Framing;
-use crate::rrd::compare::{Key, SeriesIndex, StreamSpec, Streamed, compare_files, renamed};
 use crate::record::diff::{DiffPlan, DiffWriter};
 use crate::record::escaped;
+use crate::rrd::compare::{Key, SeriesIndex, StreamSpec, Streamed, compare_files, renamed};
 use crate::rrd::inspect::RecordingInfo;
 
 pub fn diff_command(args: &DiffArgs) -> anyhow::Result<()> {

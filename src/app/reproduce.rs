@@ -2,7 +2,7 @@
 //! and compares every logged value with it.
 
 use std::collections::BTreeSet;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Instant;
 
 use super::compared::{
@@ -11,14 +11,14 @@ use super::compared::{
     wall_clock,
 };
 use super::progress::{LARGE_BYTES, LONG_SECONDS};
-use crate::format::{duration as duration_text, size as size_text};
 use super::scenes::{AllFlags, Bulk, SCENES};
 use super::{Error, Plan, Replay, SceneFile, simulate};
 use crate::cli::{ReproduceArgs, RunArgs};
+use crate::format::{duration as duration_text, size as size_text};
 use crate::output::TempFile;
-use crate::rrd::compare::{StreamSpec, compare_files};
 use crate::record::escaped;
 use crate::record::hair::BYTES_PER_NODE_FRAME;
+use crate::rrd::compare::{StreamSpec, compare_files};
 use crate::rrd::inspect::RecordingInfo;
 use crate::rrd::read::{Messages, unusable};
 use crate::scene::params::NODE_STEP_SECONDS;
@@ -94,9 +94,15 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
             eprintln!("{}", e.text());
         }
     }
-    let config = TempFile::create("reproduce.toml", recorded.info.properties["config"].as_bytes())?;
+    let config = TempFile::create(
+        "reproduce.toml",
+        recorded.info.properties["config"].as_bytes(),
+    )?;
     let scratch = TempFile::create("reproduce.rrd", b"")?;
-    let output = args.output.clone().unwrap_or_else(|| scratch.path().to_path_buf());
+    let output = args
+        .output
+        .clone()
+        .unwrap_or_else(|| scratch.path().to_path_buf());
     let run = RunArgs {
         config: Some(config.path().to_path_buf()),
         output: Some(output.clone()),
@@ -112,7 +118,9 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
     let started = Instant::now();
     simulate(plan, &run, None, &replay).map_err(|e| rerun_failed(e, &args.file, config.path()))?;
     let seconds = started.elapsed().as_secs_f64();
-    let report = recorded.compare(input.path(), &output, tol).map_err(of_file)?;
+    let report = recorded
+        .compare(input.path(), &output, tol)
+        .map_err(of_file)?;
     if report.entries.is_empty() {
         return Err(nothing_to_compare(&args.file).into());
     }
