@@ -75,6 +75,18 @@ impl SceneFile {
         self.tables.push((scene.to_string(), table));
     }
 
+    /// Refuses a file read (`--config`) without a table for `scene`, for a command that runs
+    /// that scene alone: nothing in it would apply.
+    pub fn require(&self, scene: &str) -> Result<(), Error> {
+        match self.path() {
+            Some(path) if self.table(scene).is_none() => Err(Error::Usage(format!(
+                "--config {}: has no [{scene}] table, so nothing in it applies to this command",
+                path.display()
+            ))),
+            _ => Ok(()),
+        }
+    }
+
     /// The file it was read from.
     pub fn path(&self) -> Option<&Path> {
         self.source.as_ref().map(|s| s.0.as_path())

@@ -11,9 +11,9 @@ use crate::scene::pendulum::run::PendulumConfig;
 use crate::scene::rope::run::RopeConfig;
 
 /// The command line with every scene flag's default appended to its help, read from the scene's
-/// `Default` (so a default is written once, in the scene).
+/// `Default` (so a default is written once, in the scene), and every study kind's from the study.
 pub fn command() -> clap::Command {
-    Cli::command()
+    let cli = Cli::command()
         .mut_subcommand("pendulum", |c| {
             with_defaults(with_method_names(c), &PendulumConfig::default())
         })
@@ -22,10 +22,118 @@ pub fn command() -> clap::Command {
         })
         .mut_subcommand("hair", |c| {
             with_defaults(with_head_motions(c), &HairConfig::default())
-        })
-        .mut_subcommand("study", |c| {
-            with_shown_defaults(with_method_names(c), &super::study::study_defaults())
-        })
+        });
+    cli.mut_subcommand("study", |mut study| {
+        for (kind, defaults) in study_defaults() {
+            study = study.mut_subcommand(kind, |c| {
+                with_shown_defaults(with_method_names(c), &defaults)
+            });
+        }
+        study
+    })
+}
+
+/// Each study kind's defaults as its help shows them, read from the scenes and the study.
+fn study_defaults() -> [(&'static str, Vec<(&'static str, String)>); 5] {
+    use crate::study::{self, Problem, drift};
+    let p = study::default_schedule(&Problem::Pendulum(Default::default()));
+    let r = study::default_schedule(&Problem::Rope(study::study_rope(false)));
+    let both = |p: String, r: String| format!("{p} pendulum, {r} rope");
+    let pendulum = toml::Value::try_from(PendulumConfig::default()).ok();
+    let rope = toml::Value::try_from(RopeConfig::default()).ok();
+    let value = |file: &Option<toml::Value>, key: &'static str| {
+        let shown = file.as_ref().and_then(|f| f.get(key)).map(show);
+        (key, shown.unwrap_or_default())
+    };
+    let body = |stiffness: f64| {
+        let stiffness = ("stiffness", stiffness.to_string());
+        vec![value(&rope, "nodes"), value(&rope, "mass"), stiffness]
+    };
+    let all = ("methods", "all of `physlab methods`".to_string());
+    let mut sweep = body(study::STUDY_ROPE_STIFFNESS);
+    let rtols = study::default_rtols().into_iter().map(toml::Value::Float);
+    sweep.extend([
+        value(&pendulum, "theta0"),
+        value(&pendulum, "omega0"),
+        (
+            "spring_damping",
+            "0, so that the theory's orders apply; the rope's convergence study also shows the \
+             scene's damping"
+                .into(),
+        ),
+        ("air_drag", "0".into()),
+        ("dt", both(p.0.to_string(), r.0.to_string())),
+        ("duration", both(p.1.to_string(), r.1.to_string())),
+        ("levels", study::DEFAULT_LEVELS.to_string()),
+        all.clone(),
+        ("rtol", show(&toml::Value::Array(rtols.collect()))),
+        ("repeats", study::DEFAULT_REPEATS.to_string()),
+    ]);
+    let mut stability = body(study::study_rope(true).stiffness);
+    stability.extend([all, ("steps", study::DEFAULT_STABILITY_STEPS.to_string())]);
+    let mut long = body(study::STUDY_ROPE_STIFFNESS);
+    let fixed: Vec<&str> = drift::default_methods().iter().map(|m| m.name()).collect();
+    let rtol = crate::integrate::MethodOptions::default().rtol;
+    long.extend([
+        value(&pendulum, "theta0"),
+        (
+            "dt",
+            both(drift::DEFAULT_DT.to_string(), drift::ROPE_DT.to_string()),
+        ),
+        (
+            "duration",
+            both(
+                format!("{:e} periods", drift::DEFAULT_PERIODS),
+                drift::ROPE_DURATION.to_string(),
+            ),
+        ),
+        ("methods", fixed.join(",")),
+        ("rtol", show(&toml::Value::Float(rtol))),
+    ]);
+    let hair = vec![("duration", study::hair::DEFAULT_DURATION.to_string())];
+    [
+        ("convergence", sweep.clone()),
+        ("work-precision", sweep),
+        ("stability", stability),
+        ("hair", hair),
+        ("drift", long),
+    ]
+}
+
+/// An unknown flag that a sibling subcommand takes (`study drift --omega0`), said with the
+/// subcommands that take it.
+pub(super) fn with_takers(
+    mut e: clap::Error,
+    command: &clap::Command,
+    args: &[std::ffi::OsString],
+) -> clap::Error {
+    use clap::error::{ContextKind, ContextValue, ErrorKind};
+    let (ErrorKind::UnknownArgument, Some(ContextValue::String(arg))) =
+        (e.kind(), e.get(ContextKind::InvalidArg))
+    else {
+        return e;
+    };
+    let flag = arg.split('=').next().unwrap_or(arg).to_string();
+    let parent = args.get(1).and_then(|a| a.to_str());
+    let Some(parent) = parent.and_then(|p| command.find_subcommand(p)) else {
+        return e;
+    };
+    let takes = |c: &&clap::Command| {
+        (c.get_arguments()).any(|a| a.get_long().is_some_and(|l| format!("--{l}") == flag))
+    };
+    let takers: Vec<String> = (parent.get_subcommands().filter(takes))
+        .map(|c| format!("`{} {}`", parent.get_name(), c.get_name()))
+        .collect();
+    if takers.is_empty() {
+        return e;
+    }
+    let mut tips = match e.get(ContextKind::Suggested) {
+        Some(ContextValue::StyledStrs(tips)) => tips.clone(),
+        _ => Vec::new(),
+    };
+    tips.push(format!("{flag} is a flag of {} only", takers.join(", ")).into());
+    e.insert(ContextKind::Suggested, ContextValue::StyledStrs(tips));
+    e
 }
 
 /// `--head-motion` help listing its values, read from the scene.
@@ -34,9 +142,8 @@ fn with_head_motions(cmd: clap::Command) -> clap::Command {
         .iter()
         .map(|(name, _)| *name)
         .collect();
-    cmd.mut_arg("head_motion", |a| {
-        let help = a.get_help().map(|h| h.to_string()).unwrap_or_default();
-        a.help(format!("{help}: one of {}", names.join(", ")))
+    rewritten(cmd, "head_motion", |help| {
+        format!("{help}: one of {}", names.join(", "))
     })
 }
 
@@ -60,16 +167,30 @@ fn adaptive_names() -> String {
 fn with_method_names(cmd: clap::Command) -> clap::Command {
     let names = Method::names().collect::<Vec<_>>().join(", ");
     let adaptive = adaptive_names();
-    cmd.mut_arg("methods", |a| {
-        a.help(format!(
+    let cmd = rewritten(cmd, "methods", |_| {
+        format!(
             "Methods to run, comma-separated, any of: {names} (`physlab methods` describes them)"
-        ))
+        )
+    });
+    rewritten(cmd, "rtol", |help| {
+        format!("{help}; it drives the adaptive methods: {adaptive}")
     })
-    .mut_arg("rtol", |a| {
-        let help = a.get_help().map(|h| h.to_string()).unwrap_or_default();
-        a.help(format!(
-            "{help}; it drives the adaptive methods: {adaptive}"
-        ))
+}
+
+/// `cmd` with the short help of its argument `id` (if it has one) rewritten by `help`, and the
+/// long help, if any, with what `help` appends.
+fn rewritten(cmd: clap::Command, id: &str, help: impl Fn(&str) -> String) -> clap::Command {
+    if !cmd.get_arguments().any(|a| a.get_id() == id) {
+        return cmd;
+    }
+    cmd.mut_arg(id, |a| {
+        let short = a.get_help().map(|h| h.to_string()).unwrap_or_default();
+        let long = a.get_long_help().map(|h| h.to_string());
+        let a = a.help(help(&short));
+        match long {
+            Some(long) => a.long_help(help(&long)),
+            None => a,
+        }
     })
 }
 
@@ -78,32 +199,20 @@ fn with_defaults<T: Serialize>(cmd: clap::Command, defaults: &T) -> clap::Comman
     let Ok(toml::Value::Table(table)) = toml::Value::try_from(defaults) else {
         return cmd;
     };
-    let shown: Vec<(String, String)> = table.iter().map(|(k, v)| (k.clone(), show(v))).collect();
+    let shown: Vec<(&str, String)> = table.iter().map(|(k, v)| (k.as_str(), show(v))).collect();
     with_shown_defaults(cmd, &shown)
 }
 
 /// Appends ` [default: VALUE]` to the help of each named flag.
-fn with_shown_defaults(mut cmd: clap::Command, defaults: &[(String, String)]) -> clap::Command {
+fn with_shown_defaults(mut cmd: clap::Command, defaults: &[(&str, String)]) -> clap::Command {
     for (key, value) in defaults {
-        if !cmd.get_arguments().any(|a| a.get_id() == key.as_str()) {
-            continue;
-        }
-        let shown = format!("[default: {value}]");
-        cmd = cmd.mut_arg(key.as_str(), |a| {
-            let help = a.get_help().map(|h| h.to_string()).unwrap_or_default();
-            let long = a.get_long_help().map(|h| h.to_string());
-            let a = a.help(format!("{help} {shown}"));
-            match long {
-                Some(long) => a.long_help(format!("{long} {shown}")),
-                None => a,
-            }
-        });
+        cmd = rewritten(cmd, key, |help| format!("{help} [default: {value}]"));
     }
     cmd
 }
 
 /// A default as it is typed on the command line: 0.01, 0,-9.81,0, rk4,verlet.
-pub(super) fn show(value: &toml::Value) -> String {
+fn show(value: &toml::Value) -> String {
     match value {
         toml::Value::String(s) => s.clone(),
         toml::Value::Float(x) if *x != 0.0 && x.abs() < 1e-3 => format!("{x:e}"),
