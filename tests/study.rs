@@ -634,13 +634,13 @@ fn each_study_kind_shows_its_own_defaults_and_study_alone_lists_the_kinds() {
         assert_eq!(code, 0, "{err}");
         help
     };
-    // The help paragraph of `flag`, up to the next flag.
+    // The help paragraph of `flag` (the long help leaves a blank line after each).
     let paragraph = |help: &str, flag: &str| -> String {
         let start = help
             .find(&format!("{flag} <"))
             .unwrap_or_else(|| panic!("{flag}"));
         let rest = &help[start + flag.len()..];
-        rest[..rest.find("\n  -").unwrap_or(rest.len())].to_string()
+        rest[..rest.find("\n\n").unwrap_or(rest.len())].to_string()
     };
     let drift = help("drift");
     assert!(

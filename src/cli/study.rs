@@ -43,7 +43,7 @@ pub enum StudyKind {
     /// stretch target; with -o, --csv or --plots also draws stretch against cost, log-log. Takes
     /// minutes: a progress bar shows its ETA.
     Hair(HairStudyArgs),
-    /// Energy and phase error against time over many periods, growth fitted against theory
+    /// Energy and phase error over many periods, their growth fitted against theory
     ///
     /// Runs each method on the pendulum released from rest at --theta0 at step --dt for
     /// --duration (default 10⁵ periods at dt = 0.01 s; the fixed-step methods unless --methods
