@@ -168,7 +168,7 @@ fn resolve(plan: Plan, run: &RunArgs) -> anyhow::Result<Resolved> {
             );
         }
         let scene = flags.resolve(&file, run)?;
-        scene.effective(&mut resolved.file)?;
+        resolved.file.set(name, scene.table()?);
         resolved.scenes.push(scene);
     }
     Ok(resolved)

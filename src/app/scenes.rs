@@ -126,8 +126,8 @@ pub trait ReadyScene: Send {
     fn fps(&self) -> f64;
     /// Its methods' names, in the order they are shown.
     fn methods(&self) -> Vec<&'static str>;
-    /// Sets its table in `file` to every effective value: the scene file that runs it again.
-    fn effective(&self, file: &mut SceneFile) -> Result<(), Error>;
+    /// Every effective value, as its table in the scene file that runs it again.
+    fn table(&self) -> Result<toml::Table, Error>;
     /// The memory its state takes [B] (0 when small by construction).
     fn memory_bytes(&self) -> f64 {
         0.0
@@ -373,9 +373,8 @@ impl ReadyScene for PendulumConfig {
     fn kind(&self) -> &'static SceneKind {
         &PENDULUM
     }
-    fn effective(&self, file: &mut SceneFile) -> Result<(), Error> {
-        file.set(PENDULUM.name, table_of(self)?);
-        Ok(())
+    fn table(&self) -> Result<toml::Table, Error> {
+        table_of(self)
     }
     fn step_warning(&self) -> Option<String> {
         SceneConfig::step_warning(self)
@@ -410,9 +409,8 @@ impl ReadyScene for RopeConfig {
     fn kind(&self) -> &'static SceneKind {
         &ROPE
     }
-    fn effective(&self, file: &mut SceneFile) -> Result<(), Error> {
-        file.set(ROPE.name, table_of(self)?);
-        Ok(())
+    fn table(&self) -> Result<toml::Table, Error> {
+        table_of(self)
     }
     fn step_warning(&self) -> Option<String> {
         SceneConfig::step_warning(self)
@@ -442,9 +440,8 @@ impl ReadyScene for HairConfig {
     fn kind(&self) -> &'static SceneKind {
         &HAIR
     }
-    fn effective(&self, file: &mut SceneFile) -> Result<(), Error> {
-        file.set(HAIR.name, table_of(self)?);
-        Ok(())
+    fn table(&self) -> Result<toml::Table, Error> {
+        table_of(self)
     }
     fn step_warning(&self) -> Option<String> {
         SceneConfig::step_warning(self)

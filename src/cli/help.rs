@@ -21,7 +21,12 @@ pub fn command() -> clap::Command {
             with_defaults(with_method_names(c), &RopeConfig::default())
         })
         .mut_subcommand("hair", |c| {
-            with_defaults(with_head_motions(c), &HairConfig::default())
+            // `--head-motion` help listing its values, read from the scene.
+            let motions = crate::scene::hair::HeadMotion::ALL.map(|(name, _)| name);
+            let c = rewritten(c, "head_motion", |h| {
+                format!("{h}: one of {}", motions.join(", "))
+            });
+            with_defaults(c, &HairConfig::default())
         });
     cli.mut_subcommand("study", |mut study| {
         for (kind, defaults) in study_defaults() {
@@ -36,67 +41,60 @@ pub fn command() -> clap::Command {
 /// Each study kind's defaults as its help shows them, read from the scenes and the study.
 fn study_defaults() -> [(&'static str, Vec<(&'static str, String)>); 5] {
     use crate::study::{self, Problem, drift};
+    use std::fmt::Display;
     let p = study::default_schedule(&Problem::Pendulum(Default::default()));
     let r = study::default_schedule(&Problem::Rope(study::study_rope(false)));
-    let both = |p: String, r: String| format!("{p} pendulum, {r} rope");
-    let pendulum = toml::Value::try_from(PendulumConfig::default()).ok();
-    let rope = toml::Value::try_from(RopeConfig::default()).ok();
-    let value = |file: &Option<toml::Value>, key: &'static str| {
-        let shown = file.as_ref().and_then(|f| f.get(key)).map(show);
-        (key, shown.unwrap_or_default())
+    let both = |p: &dyn Display, r: &dyn Display| format!("{p} pendulum, {r} rope");
+    let files = [
+        toml::Value::try_from(PendulumConfig::default()),
+        toml::Value::try_from(RopeConfig::default()),
+    ];
+    let scene = |key| {
+        let value = files.iter().flatten().find_map(|f| f.get(key));
+        (key, value.map_or(String::new(), show))
     };
-    let body = |stiffness: f64| {
-        let stiffness = ("stiffness", stiffness.to_string());
-        vec![value(&rope, "nodes"), value(&rope, "mass"), stiffness]
-    };
-    let all = ("methods", "all of `physlab methods`".to_string());
-    let mut sweep = body(study::STUDY_ROPE_STIFFNESS);
+    let body = |ks: f64| vec![scene("nodes"), scene("mass"), ("stiffness", ks.to_string())];
+    let all = || ("methods", "all of `physlab methods`".to_string());
     let rtols = study::default_rtols().into_iter().map(toml::Value::Float);
-    sweep.extend([
-        value(&pendulum, "theta0"),
-        value(&pendulum, "omega0"),
-        (
-            "spring_damping",
-            "0, so that the theory's orders apply; the rope's convergence study also shows the \
-             scene's damping"
-                .into(),
-        ),
-        ("air_drag", "0".into()),
-        ("dt", both(p.0.to_string(), r.0.to_string())),
-        ("duration", both(p.1.to_string(), r.1.to_string())),
-        ("levels", study::DEFAULT_LEVELS.to_string()),
-        all.clone(),
-        ("rtol", show(&toml::Value::Array(rtols.collect()))),
-        ("repeats", study::DEFAULT_REPEATS.to_string()),
-    ]);
-    let mut stability = body(study::study_rope(true).stiffness);
-    stability.extend([all, ("steps", study::DEFAULT_STABILITY_STEPS.to_string())]);
-    let mut long = body(study::STUDY_ROPE_STIFFNESS);
+    let damping = "0, so that the theory's orders apply; the rope's convergence study also shows \
+                   the scene's damping";
+    let sweep = [
+        body(study::STUDY_ROPE_STIFFNESS),
+        vec![
+            scene("theta0"),
+            scene("omega0"),
+            ("spring_damping", damping.into()),
+            ("air_drag", "0".into()),
+            ("dt", both(&p.0, &r.0)),
+            ("duration", both(&p.1, &r.1)),
+            ("levels", study::DEFAULT_LEVELS.to_string()),
+            all(),
+            ("rtol", show(&toml::Value::Array(rtols.collect()))),
+            ("repeats", study::DEFAULT_REPEATS.to_string()),
+        ],
+    ];
+    let steps = ("steps", study::DEFAULT_STABILITY_STEPS.to_string());
+    let stability = [body(study::study_rope(true).stiffness), vec![all(), steps]];
     let fixed: Vec<&str> = drift::default_methods().iter().map(|m| m.name()).collect();
-    let rtol = crate::integrate::MethodOptions::default().rtol;
-    long.extend([
-        value(&pendulum, "theta0"),
-        (
-            "dt",
-            both(drift::DEFAULT_DT.to_string(), drift::ROPE_DT.to_string()),
-        ),
-        (
-            "duration",
-            both(
-                format!("{:e} periods", drift::DEFAULT_PERIODS),
-                drift::ROPE_DURATION.to_string(),
-            ),
-        ),
-        ("methods", fixed.join(",")),
-        ("rtol", show(&toml::Value::Float(rtol))),
-    ]);
+    let periods = format!("{:e} periods", drift::DEFAULT_PERIODS);
+    let rtol = toml::Value::Float(crate::integrate::MethodOptions::default().rtol);
+    let long = [
+        body(study::STUDY_ROPE_STIFFNESS),
+        vec![
+            scene("theta0"),
+            ("dt", both(&drift::DEFAULT_DT, &drift::ROPE_DT)),
+            ("duration", both(&periods, &drift::ROPE_DURATION)),
+            ("methods", fixed.join(",")),
+            ("rtol", show(&rtol)),
+        ],
+    ];
     let hair = vec![("duration", study::hair::DEFAULT_DURATION.to_string())];
     [
-        ("convergence", sweep.clone()),
-        ("work-precision", sweep),
-        ("stability", stability),
+        ("convergence", sweep.concat()),
+        ("work-precision", sweep.concat()),
+        ("stability", stability.concat()),
         ("hair", hair),
-        ("drift", long),
+        ("drift", long.concat()),
     ]
 }
 
@@ -107,66 +105,40 @@ pub(super) fn with_takers(
     command: &clap::Command,
     args: &[std::ffi::OsString],
 ) -> clap::Error {
-    use clap::error::{ContextKind, ContextValue, ErrorKind};
-    let (ErrorKind::UnknownArgument, Some(ContextValue::String(arg))) =
-        (e.kind(), e.get(ContextKind::InvalidArg))
+    use clap::error::{ContextKind, ContextValue};
+    let parent = args
+        .get(1)
+        .and_then(|a| command.find_subcommand(a.to_str()?));
+    let (clap::error::ErrorKind::UnknownArgument, Some(ContextValue::String(arg)), Some(parent)) =
+        (e.kind(), e.get(ContextKind::InvalidArg), parent)
     else {
         return e;
     };
     let flag = arg.split('=').next().unwrap_or(arg).to_string();
-    let parent = args.get(1).and_then(|a| a.to_str());
-    let Some(parent) = parent.and_then(|p| command.find_subcommand(p)) else {
-        return e;
-    };
     let takes = |c: &&clap::Command| {
         (c.get_arguments()).any(|a| a.get_long().is_some_and(|l| format!("--{l}") == flag))
     };
     let takers: Vec<String> = (parent.get_subcommands().filter(takes))
         .map(|c| format!("`{} {}`", parent.get_name(), c.get_name()))
         .collect();
-    if takers.is_empty() {
-        return e;
+    if !takers.is_empty() {
+        let tip = format!("{flag} is a flag of {} only", takers.join(", "));
+        e.insert(
+            ContextKind::Suggested,
+            ContextValue::StyledStrs(vec![tip.into()]),
+        );
     }
-    let mut tips = match e.get(ContextKind::Suggested) {
-        Some(ContextValue::StyledStrs(tips)) => tips.clone(),
-        _ => Vec::new(),
-    };
-    tips.push(format!("{flag} is a flag of {} only", takers.join(", ")).into());
-    e.insert(ContextKind::Suggested, ContextValue::StyledStrs(tips));
     e
-}
-
-/// `--head-motion` help listing its values, read from the scene.
-fn with_head_motions(cmd: clap::Command) -> clap::Command {
-    let names: Vec<&str> = crate::scene::hair::HeadMotion::ALL
-        .iter()
-        .map(|(name, _)| *name)
-        .collect();
-    rewritten(cmd, "head_motion", |help| {
-        format!("{help}: one of {}", names.join(", "))
-    })
-}
-
-/// The registry's adaptive methods, the ones `--rtol` drives.
-fn adaptive_names() -> String {
-    Method::ALL
-        .iter()
-        .filter(|m| {
-            matches!(
-                m.info().evals_per_step,
-                crate::integrate::EvalsPerStep::Adaptive(_)
-            )
-        })
-        .map(|m| m.name())
-        .collect::<Vec<_>>()
-        .join(", ")
 }
 
 /// `--methods` help naming every registry method, and `--rtol` help naming the adaptive ones
 /// it drives, read from the registry.
 fn with_method_names(cmd: clap::Command) -> clap::Command {
     let names = Method::names().collect::<Vec<_>>().join(", ");
-    let adaptive = adaptive_names();
+    let adaptive = (Method::ALL.iter().filter(|m| m.info().adaptive()))
+        .map(|m| m.name())
+        .collect::<Vec<_>>()
+        .join(", ");
     let cmd = rewritten(cmd, "methods", |_| {
         format!(
             "Methods to run, comma-separated, any of: {names} (`physlab methods` describes them)"

@@ -2,10 +2,9 @@
 //! refuses the others), the flags several kinds share in groups. The defaults each kind's help
 //! shows are read from the study and the scenes by `help::command`.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use clap::{Args, Subcommand};
-use serde::Serialize;
 
 use super::{PendulumStart, RopeBody, RopeLosses};
 use crate::integrate::Method;
@@ -66,26 +65,6 @@ impl StudyKind {
             StudyKind::Stability(_) => "stability",
             StudyKind::Hair(_) => "hair",
             StudyKind::Drift(_) => "drift",
-        }
-    }
-
-    /// What every kind writes.
-    pub fn outputs(&self) -> &StudyOutputs {
-        match self {
-            StudyKind::Convergence(a) | StudyKind::WorkPrecision(a) => &a.out,
-            StudyKind::Stability(a) => &a.out,
-            StudyKind::Hair(a) => &a.out,
-            StudyKind::Drift(a) => &a.out,
-        }
-    }
-
-    /// The scene file read (`--config`), for the kinds that read one.
-    pub fn config(&self) -> Option<&Path> {
-        match self {
-            StudyKind::Convergence(a) | StudyKind::WorkPrecision(a) => a.scene.config.as_deref(),
-            StudyKind::Stability(a) => a.scene.config.as_deref(),
-            StudyKind::Drift(a) => a.scene.config.as_deref(),
-            StudyKind::Hair(_) => None,
         }
     }
 }
@@ -200,8 +179,10 @@ pub struct DriftArgs {
     #[command(flatten)]
     pub scene: StudySceneArgs,
 
-    #[command(flatten)]
-    pub release: Release,
+    /// Release angle θ0 from straight down, from rest [degrees], 0 < |θ0| < 180 (with --scene
+    /// pendulum)
+    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
+    pub theta0: Option<f64>,
 
     /// Simulated time [s]
     #[arg(long, value_name = "S", allow_negative_numbers = true)]
@@ -217,15 +198,6 @@ pub struct DriftArgs {
 
     #[command(flatten)]
     pub out: StudyOutputs,
-}
-
-/// The pendulum's release from rest, which the drift study times against the closed form.
-#[derive(Args, Debug, Clone, Default, Serialize)]
-pub struct Release {
-    /// Release angle θ0 from straight down, from rest [degrees], 0 < |θ0| < 180 (with --scene
-    /// pendulum)
-    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
-    pub theta0: Option<f64>,
 }
 
 /// `study hair`: the hair scene's defaults over its solvers' settings.

@@ -26,20 +26,19 @@ struct Found {
 }
 
 pub fn study(kind: &StudyKind) -> anyhow::Result<()> {
-    let (
-        Setup {
-            problem,
-            sweep,
-            file,
-        },
-        steps,
-    ) = match kind {
+    let (setup, scene, out) = match kind {
         StudyKind::Hair(a) => return hair_study(a),
-        StudyKind::Convergence(a) => (setup::sweep_setup(a, true)?, 0),
-        StudyKind::WorkPrecision(a) => (setup::sweep_setup(a, false)?, 0),
-        StudyKind::Stability(a) => setup::stability_setup(a)?,
-        StudyKind::Drift(a) => (setup::drift_setup(a)?, 0),
+        StudyKind::Convergence(a) => (setup::sweep_setup(a, true)?, &a.scene, &a.out),
+        StudyKind::WorkPrecision(a) => (setup::sweep_setup(a, false)?, &a.scene, &a.out),
+        StudyKind::Stability(a) => (setup::stability_setup(a)?, &a.scene, &a.out),
+        StudyKind::Drift(a) => (setup::drift_setup(a)?, &a.scene, &a.out),
     };
+    let Setup {
+        problem,
+        sweep,
+        steps,
+        file,
+    } = setup;
     let stems: &[&str] = match kind {
         StudyKind::Convergence(_) => &["convergence", "convergence-damped"],
         _ => &[kind.name()],
@@ -47,7 +46,7 @@ pub fn study(kind: &StudyKind) -> anyhow::Result<()> {
     let stems: Vec<String> = (stems.iter())
         .map(|s| format!("{}-{s}", problem.name()))
         .collect();
-    let outputs = check_outputs(kind.outputs(), kind.config(), &stems)?;
+    let outputs = check_outputs(out, scene.config.as_deref(), &stems)?;
     let found = match kind {
         StudyKind::Stability(_) => {
             let limits: Vec<Limit> = stability(&problem, &sweep.methods, steps);
@@ -58,7 +57,7 @@ pub fn study(kind: &StudyKind) -> anyhow::Result<()> {
                 done: limits.len(),
             }
         }
-        StudyKind::Drift(a) => drift::drift_study(a.out.quiet, &problem, &sweep),
+        StudyKind::Drift(_) => drift::drift_study(out.quiet, &problem, &sweep),
         _ => sweep_study(kind, &problem, &sweep),
     };
     // Ctrl-C or SIGTERM: what is complete is shown and written, then the study ends with 130;
@@ -70,7 +69,6 @@ pub fn study(kind: &StudyKind) -> anyhow::Result<()> {
         let scene_file = file.to_toml()?;
         let scene = (scene_file.as_str(), methods.as_slice());
         let texts = (found.out.as_str(), found.csv.as_str());
-        let out = kind.outputs();
         write_study(out, &outputs, problem.name(), texts, &found.diagrams, scene)?;
     }
     if interrupted {

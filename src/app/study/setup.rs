@@ -47,6 +47,8 @@ pub(super) fn warn_if_long(node_steps: f64) {
 pub(super) struct Setup {
     pub(super) problem: Problem,
     pub(super) sweep: Sweep,
+    /// The steps each stability trial takes (`study stability`).
+    pub(super) steps: u64,
     pub(super) file: SceneFile,
 }
 
@@ -62,7 +64,7 @@ pub(super) fn sweep_setup(a: &SweepArgs, convergence: bool) -> Result<Setup, Err
 
 /// `study stability`: the methods' bisections of `--steps` steps each, within the limits. Its
 /// sweep holds the methods and the schedule its provenance states.
-pub(super) fn stability_setup(a: &StabilityArgs) -> Result<(Setup, u64), Error> {
+pub(super) fn stability_setup(a: &StabilityArgs) -> Result<Setup, Error> {
     let steps = a.steps.unwrap_or(study::DEFAULT_STABILITY_STEPS);
     study::validate_stability_steps(steps)?;
     let scene = Scene::resolve(&a.scene, Table::new(), Table::new(), true)?;
@@ -79,14 +81,18 @@ pub(super) fn stability_setup(a: &StabilityArgs) -> Result<(Setup, u64), Error> 
         )));
     }
     warn_if_long(work);
-    Ok((scene.with(sweep)?, steps))
+    Ok(Setup {
+        steps,
+        ..scene.with(sweep)?
+    })
 }
 
 /// `study drift`: the pendulum released from rest (the closed form gives the exact crossings)
 /// or the undamped rope (whose energy is kept or not), one tolerance for the adaptive methods,
 /// and its steps within the study's limits.
 pub(super) fn drift_setup(a: &DriftArgs) -> Result<Setup, Error> {
-    let scene = Scene::resolve(&a.scene, table_of(&a.release)?, Table::new(), false)?;
+    let theta0 = a.theta0.map(|t| ("theta0".to_string(), t.into()));
+    let scene = Scene::resolve(&a.scene, Table::from_iter(theta0), Table::new(), false)?;
     let methods = scene.methods(&a.scene, a.rtol.is_some(), |_| drift::default_methods())?;
     let (default_dt, default_duration, nodes) = drift_defaults(&scene.problem)?;
     let (dt, duration) = scene.schedule(a.dt, a.duration, (default_dt, default_duration));
@@ -291,6 +297,7 @@ impl Scene {
         Ok(Setup {
             problem: self.problem,
             sweep,
+            steps: 0,
             file,
         })
     }
