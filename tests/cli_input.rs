@@ -143,10 +143,14 @@ const REFUSALS: &[(&[&str], i32, &[&str])] = &[
             "energy is 0e0 J/kg",
         ],
     ),
+    // A flag of another kind: clap's refusal, with the kinds that take it.
     (
         &["study", "drift", "--omega0", "1"],
         2,
-        &["--omega0: `study drift` does not use it"],
+        &[
+            "unexpected argument '--omega0'",
+            "--omega0 is a flag of `study convergence`, `study work-precision` only",
+        ],
     ),
     (
         &[
@@ -817,18 +821,26 @@ fn refused(cases: &[(Vec<&str>, String)]) {
 /// Which study kinds use each flag, written from what each study measures (not read from the
 /// code): convergence and work-precision sweep a start over halved steps (and the adaptive
 /// methods over tolerances, timing repeats); stability bisects the linearised problem (no start,
-/// no damping, no schedule: `--steps` per trial); hair runs the hair scene's defaults over
-/// `--duration` and draws its trade diagram. Every flag given to a kind that does not use it is
-/// refused.
+/// no damping, no schedule: `--steps` per trial); drift runs each method once from rest over a
+/// long schedule (an angle but no ω0, no damping, one step); hair runs the hair scene's defaults
+/// over `--duration` and draws its trade diagram. Every flag given to a kind that does not use it
+/// is refused by clap, which names it and the kinds that take it.
 #[test]
 fn every_study_flag_is_used_or_refused_by_kind() {
-    const KINDS: [&str; 4] = ["convergence", "work-precision", "stability", "hair"];
+    const KINDS: [&str; 5] = [
+        "convergence",
+        "work-precision",
+        "stability",
+        "hair",
+        "drift",
+    ];
     let sweep = &["convergence", "work-precision"][..];
-    let measured = &["convergence", "work-precision", "stability"][..];
+    let measured = &["convergence", "work-precision", "stability", "drift"][..];
+    let started = &["convergence", "work-precision", "drift"][..];
     let flags: [(&[&str], &[&str]); 17] = [
         (&["--scene", "rope"], measured),
         (&["--config", "s.toml"], measured),
-        (&["--theta0", "10"], sweep),
+        (&["--theta0", "10"], started),
         (&["--omega0", "1"], sweep),
         (&["--scene", "rope", "--nodes", "9"], measured),
         (&["--scene", "rope", "--mass", "1"], measured),
@@ -837,12 +849,12 @@ fn every_study_flag_is_used_or_refused_by_kind() {
         (&["--scene", "rope", "--air-drag", "1"], sweep),
         (
             &["--duration", "5"],
-            &["convergence", "work-precision", "hair"],
+            &["convergence", "work-precision", "hair", "drift"],
         ),
-        (&["--dt", "0.01"], sweep),
+        (&["--dt", "0.01"], started),
         (&["--levels", "3"], sweep),
         (&["--methods", "rk4"], measured),
-        (&["--rtol", "1e-6"], sweep),
+        (&["--rtol", "1e-6"], started),
         (&["--repeats", "2"], sweep),
         (&["--steps", "100"], &["stability"]),
         (&["--plots", "plots"], &KINDS),
@@ -853,17 +865,81 @@ fn every_study_flag_is_used_or_refused_by_kind() {
         for kind in KINDS.iter().filter(|k| !users.contains(k)) {
             // The first flag a kind does not take is the one named (`--scene` for hair).
             let named = if *kind == "hair" { args[0] } else { flag };
+            let takers = if named == flag { users } else { measured };
+            let takers: Vec<String> = (KINDS.iter().filter(|k| takers.contains(k)))
+                .map(|k| format!("`study {k}`"))
+                .collect();
             let mut all = vec!["study", kind];
             all.extend_from_slice(args);
-            cases.push((all, format!("{named}: `study {kind}` does not use it")));
+            cases.push((all.clone(), format!("unexpected argument '{named}'")));
+            cases.push((
+                all,
+                format!("{named} is a flag of {} only", takers.join(", ")),
+            ));
         }
     }
     assert_eq!(
         cases.len(),
-        26,
+        2 * 32,
         "the table covers every flag a kind leaves out"
     );
     refused(&cases);
+}
+
+/// A study refuses a scene file with no table for its scene, as the scene commands do: nothing in
+/// it would apply, and the study would run on its defaults as if the file had been read.
+#[test]
+fn a_study_refuses_a_scene_file_without_its_scenes_table() {
+    let dir = scratch_dir("cli-input-study-table");
+    let file = |name: &str, text: &str| {
+        let p = dir.join(name);
+        std::fs::write(&p, text).unwrap();
+        p.to_str().unwrap().to_string()
+    };
+    let hair = file("hair.toml", "[hair]\nstrands = 10\n");
+    let pendulum = file("pendulum.toml", "[pendulum]\ntheta0 = 30.0\n");
+    let no_table = |path: &str, scene: &str| {
+        format!("--config {path}: has no [{scene}] table, so nothing in it applies to this command")
+    };
+    let cases: Vec<(Vec<&str>, String)> = vec![
+        (
+            vec!["study", "convergence", "--config", &hair],
+            no_table(&hair, "pendulum"),
+        ),
+        (
+            vec![
+                "study",
+                "work-precision",
+                "--scene",
+                "rope",
+                "--config",
+                &pendulum,
+            ],
+            no_table(&pendulum, "rope"),
+        ),
+        (
+            vec![
+                "study",
+                "stability",
+                "--scene",
+                "rope",
+                "--config",
+                &pendulum,
+            ],
+            no_table(&pendulum, "rope"),
+        ),
+        (
+            vec!["study", "drift", "--config", &hair],
+            no_table(&hair, "pendulum"),
+        ),
+        // The scene command's refusal, for comparison: the same words.
+        (
+            vec!["pendulum", "--config", &hair, "--no-record"],
+            no_table(&hair, "pendulum"),
+        ),
+    ];
+    refused(&cases);
+    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// Tolerances with no adaptive method to take them, and empty method lists from a flag or a
@@ -889,7 +965,7 @@ fn tolerances_without_an_adaptive_method_and_empty_method_lists_are_refused() {
                 "--rtol",
                 "1e-6",
             ],
-            "--rtol: no adaptive method among --methods (rk4,verlet)".into(),
+            "--rtol: only dopri5,dop853,vern9,dprkn6,dprkn8,dprkn12 read it, and --methods is rk4,verlet; add one of them to --methods or drop --rtol".into(),
         ),
         (
             vec![
@@ -900,7 +976,7 @@ fn tolerances_without_an_adaptive_method_and_empty_method_lists_are_refused() {
                 "--rtol",
                 "1e-6",
             ],
-            "--rtol: no adaptive method".into(),
+            "--rtol: only dopri5".into(),
         ),
         (
             vec!["study", "convergence", "--config", &pendulum],

@@ -771,6 +771,41 @@ mod cli {
         assert!(stderr.contains("[hair] dt = 0.01:"), "{stderr}");
         std::fs::write(&file, "[hair]\ndt = 0.008333333333333333\nsubsteps = 2\n").unwrap();
         assert_eq!(substeps(&["--config", file.to_str().unwrap()]).1, Some(2));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A flag overrides the scene file's value of the same thing however each spells it: `--dt`
+    /// a file's `substeps` (every file physlab prints states them) and `--substeps` a file's
+    /// `dt`. At 60 Hz, dt = 1/240 s is 4 substeps; 3 substeps are dt = 1/180 s.
+    #[test]
+    fn a_step_flag_overrides_the_scene_files_step_in_either_spelling() {
+        let dir = scratch_dir("hair-dt-over-file");
+        let printed = |args: &[&str]| -> toml::Table {
+            let mut all = args.to_vec();
+            all.push("--print-config");
+            let (code, toml, stderr) = physlab(&all);
+            assert_eq!(code, 0, "{all:?}: {stderr}");
+            toml.parse().unwrap()
+        };
+        let file = dir.join("all.toml");
+        let own = toml::to_string(&printed(&["all"])).unwrap();
+        assert!(own.contains("substeps = 1"), "{own}");
+        std::fs::write(&file, own).unwrap();
+        let file = file.to_str().unwrap();
+        let hair =
+            printed(&["all", "--config", file, "--dt", "0.004166666666666667"])["hair"].clone();
+        assert_eq!(hair["substeps"].as_integer(), Some(4), "{hair}");
+        let stepped = dir.join("stepped.toml");
+        std::fs::write(&stepped, "[hair]\ndt = 0.008333333333333333\n").unwrap();
+        let stepped = stepped.to_str().unwrap();
+        let hair = printed(&["hair", "--config", stepped, "--substeps", "3"])["hair"].clone();
+        assert_eq!(hair["substeps"].as_integer(), Some(3), "{hair}");
+        assert!(
+            hair.get("dt").is_none(),
+            "the file's dt is replaced: {hair}"
+        );
+        // Given together on one layer they still must agree (a row of `cli_input.rs`).
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }
 

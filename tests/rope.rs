@@ -652,6 +652,48 @@ mod cli {
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
+    /// "Nothing pinned" is said on the command line as in a scene file: `--pinned ""` is the
+    /// `pinned = []` of a file, a rope pinned nowhere (it falls freely), and runs.
+    #[test]
+    fn nothing_pinned_is_said_on_the_command_line_as_in_a_file() {
+        let c = config(&["--pinned", ""]);
+        assert_eq!(c.params.pinned, Vec::<usize>::new());
+        let dir = scratch_dir("rope-pinned-none");
+        let file = dir.join("free.toml");
+        std::fs::write(&file, "[rope]\npinned = []\n").unwrap();
+        let printed = |args: &[&str]| {
+            let mut all = vec!["rope", "--print-config"];
+            all.extend_from_slice(args);
+            let (code, out, err) = physlab(&all);
+            assert_eq!(code, 0, "{all:?}: {err}");
+            out
+        };
+        let from_flag = printed(&["--pinned", ""]);
+        assert!(from_flag.contains("pinned = []"), "{from_flag}");
+        assert_eq!(from_flag, printed(&["--config", file.to_str().unwrap()]));
+        let out = dir.join("free.rrd");
+        let (code, _, err) = physlab(&[
+            "rope",
+            "--pinned",
+            "",
+            "--methods",
+            "rk4",
+            "--spring-damping",
+            "0",
+            "--air-drag",
+            "0",
+            "--duration",
+            "0.5",
+            "--nodes",
+            "4",
+            "-q",
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{err}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
     fn config(args: &[&str]) -> physlab::scene::rope::run::RopeConfig {
         let Sub::Rope(a) = Cli::parse_from(["physlab", "rope"].iter().chain(args)).command else {
             unreachable!()

@@ -565,7 +565,7 @@ mod hair {
 #[cfg(feature = "rerun")]
 #[test]
 fn each_study_kind_has_a_help_page_of_its_own() {
-    let pages: [(&str, &str, &[&str], &[&str]); 4] = [
+    let pages: [(&str, &str, &[&str], &[&str]); 5] = [
         (
             "convergence",
             "fits each method's order",
@@ -590,6 +590,12 @@ fn each_study_kind_has_a_help_page_of_its_own() {
             &["--duration", "[default: 4]"],
             &["--methods", "--scene", "--levels", "--steps"],
         ),
+        (
+            "drift",
+            "closed form",
+            &["--theta0", "--dt", "--rtol", "--methods"],
+            &["--levels", "--omega0", "--repeats", "--steps"],
+        ),
     ];
     for (kind, measures, shown, left_out) in pages {
         let (code, help, err) = physlab(&["study", kind, "--help"]);
@@ -612,6 +618,109 @@ fn each_study_kind_has_a_help_page_of_its_own() {
         let (code, short, _) = physlab(&["study", kind, "-h"]);
         assert_eq!(code, 0);
         assert!(short.len() < help.len(), "{kind}");
+    }
+}
+
+/// Each study kind's `--help` shows its own defaults (issue 39.7), written from what each study
+/// runs: drift steps 0.01 s for 10⁵ periods (the rope 1 ms for 10⁴ s) over the fixed-step
+/// methods, not a sweep's coarsest step halved per level over every method; stability
+/// bisects the scene's rope (ks = 5000 N/m), not the sweeps' softer one (100 N/m). `physlab
+/// study` without a kind lists the kinds, one line each, and exits 2.
+#[cfg(feature = "rerun")]
+#[test]
+fn each_study_kind_shows_its_own_defaults_and_study_alone_lists_the_kinds() {
+    let help = |kind: &str| {
+        let (code, help, err) = physlab(&["study", kind, "--help"]);
+        assert_eq!(code, 0, "{err}");
+        help
+    };
+    // The help paragraph of `flag` (the long help leaves a blank line after each).
+    let paragraph = |help: &str, flag: &str| -> String {
+        let start = help
+            .find(&format!("{flag} <"))
+            .unwrap_or_else(|| panic!("{flag}"));
+        let rest = &help[start + flag.len()..];
+        rest[..rest.find("\n\n").unwrap_or(rest.len())].to_string()
+    };
+    let drift = help("drift");
+    assert!(
+        paragraph(&drift, "--dt").contains("[default: 0.01 pendulum, 0.001 rope]"),
+        "{drift}"
+    );
+    assert!(
+        paragraph(&drift, "--duration").contains("[default: 1e5 periods pendulum, 10000 rope]"),
+        "{drift}"
+    );
+    let methods = paragraph(&drift, "--methods");
+    let methods = &methods[methods.find("[default: ").expect("a default")..];
+    assert!(
+        methods.contains("rk4") && methods.contains("verlet"),
+        "{methods}"
+    );
+    assert!(
+        !methods.contains("dop853") && !methods.contains("all"),
+        "{methods}"
+    );
+    for other in [
+        "halves",
+        "10 pendulum, 1 rope",
+        "--levels",
+        "--omega0",
+        "--repeats",
+    ] {
+        assert!(!drift.contains(other), "drift shows {other}: {drift}");
+    }
+    let stability = help("stability");
+    assert!(
+        paragraph(&stability, "--stiffness").contains("[default: 5000]"),
+        "{stability}"
+    );
+    assert!(
+        !stability.contains("convergence and work-precision"),
+        "{stability}"
+    );
+    let convergence = help("convergence");
+    assert!(
+        paragraph(&convergence, "--stiffness").contains("[default: 100]"),
+        "{convergence}"
+    );
+    let (code, out, err) = physlab(&["study"]);
+    assert_eq!(code, 2, "{out}{err}");
+    let text = format!("{out}{err}");
+    let listed: Vec<&str> = (text.lines())
+        .filter_map(|l| l.split_whitespace().next())
+        .filter(|w| {
+            [
+                "convergence",
+                "work-precision",
+                "stability",
+                "hair",
+                "drift",
+                "help",
+            ]
+            .contains(w)
+        })
+        .collect();
+    assert_eq!(
+        listed,
+        [
+            "convergence",
+            "work-precision",
+            "stability",
+            "hair",
+            "drift"
+        ],
+        "{text}"
+    );
+    for line in text
+        .lines()
+        .filter(|l| listed.iter().any(|k| l.trim_start().starts_with(k)))
+    {
+        assert!(
+            line.split_whitespace().count() > 2,
+            "a kind without its line: {line}"
+        );
+        assert!(line.chars().count() <= 100, "wider than a terminal: {line}");
     }
 }
 

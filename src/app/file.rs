@@ -49,7 +49,7 @@ impl SceneFile {
                 }
                 _ => {
                     let line =
-                        line_of_table(text, &name).map_or(String::new(), |l| format!("line {l}: "));
+                        line_at(text, &[&name]).map_or(String::new(), |l| format!("line {l}: "));
                     return Err(format!(
                         "{line}`{name}` is not a scene table; expected {}",
                         listed(scenes)
@@ -75,6 +75,18 @@ impl SceneFile {
         self.tables.push((scene.to_string(), table));
     }
 
+    /// Refuses a file read (`--config`) without a table for `scene`, for a command that runs
+    /// that scene alone: nothing in it would apply.
+    pub fn require(&self, scene: &str) -> Result<(), Error> {
+        match self.path() {
+            Some(path) if self.table(scene).is_none() => Err(Error::Usage(format!(
+                "--config {}: has no [{scene}] table, so nothing in it applies to this command",
+                path.display()
+            ))),
+            _ => Ok(()),
+        }
+    }
+
     /// The file it was read from.
     pub fn path(&self) -> Option<&Path> {
         self.source.as_ref().map(|s| s.0.as_path())
@@ -82,7 +94,7 @@ impl SceneFile {
 
     /// The 1-based line where `key` is set inside `[scene]`, if it can be found.
     pub fn line_of(&self, scene: &str, key: &str) -> Option<usize> {
-        line_of_key(&self.source.as_ref()?.1, scene, key)
+        line_at(&self.source.as_ref()?.1, &[scene, key])
     }
 
     /// As TOML, its tables in order.
@@ -108,19 +120,6 @@ fn listed(scenes: &[&str]) -> String {
     }
 }
 
-/// The 1-based line of `name`'s table header or key at the top.
-fn line_of_table(text: &str, name: &str) -> Option<usize> {
-    text.lines()
-        .position(|line| {
-            let line = line.trim();
-            line.trim_matches(|c| c == '[' || c == ']').trim() == name
-                || line
-                    .strip_prefix(name)
-                    .is_some_and(|rest| rest.trim_start().starts_with('='))
-        })
-        .map(|i| i + 1)
-}
-
 /// A scene file is a few tables of numbers: a larger file is not one (and a path to an endless
 /// stream must not fill the memory).
 pub const MAX_SCENE_FILE_BYTES: u64 = 1 << 20;
@@ -141,18 +140,13 @@ fn read_capped(path: &Path) -> Result<Vec<u8>, Error> {
         .metadata()
         .map_err(|e| fail(format!("cannot read it: {e}")))?
         .file_type();
-    let special = if kind.is_fifo() {
-        Some("a FIFO (named pipe)")
-    } else if kind.is_char_device() {
-        Some("a character device")
-    } else if kind.is_block_device() {
-        Some("a block device")
-    } else if kind.is_socket() {
-        Some("a socket")
-    } else {
-        None
-    };
-    if let Some(special) = special {
+    let special = [
+        (kind.is_fifo(), "a FIFO (named pipe)"),
+        (kind.is_char_device(), "a character device"),
+        (kind.is_block_device(), "a block device"),
+        (kind.is_socket(), "a socket"),
+    ];
+    if let Some((_, special)) = special.into_iter().find(|s| s.0) {
         return Err(fail(format!(
             "is {special}, not a regular file; give a TOML scene file"
         )));
@@ -177,8 +171,8 @@ fn check_method_lists(text: &str, tables: &[(String, toml::Table)]) -> Result<()
         if let Some(toml::Value::Array(list)) = table.get("methods")
             && list.is_empty()
         {
-            let line = line_of_key(text, scene, "methods")
-                .map_or(String::new(), |l| format!("line {l}: "));
+            let line =
+                line_at(text, &[scene, "methods"]).map_or(String::new(), |l| format!("line {l}: "));
             return Err(format!(
                 "{line}[{scene}] methods = []: lists no method; name at least one, or leave the key \
                  out for the defaults (`physlab methods` lists them)"
@@ -188,20 +182,18 @@ fn check_method_lists(text: &str, tables: &[(String, toml::Table)]) -> Result<()
     Ok(())
 }
 
-/// The 1-based line where `key` is set inside `[scene]`, if it can be found.
-fn line_of_key(text: &str, scene: &str, key: &str) -> Option<usize> {
-    let mut in_table = false;
-    for (i, line) in text.lines().enumerate() {
-        let line = line.trim();
-        if line.starts_with('[') {
-            in_table = line.trim_matches(|c| c == '[' || c == ']').trim() == scene;
-        } else if in_table
-            && line
-                .strip_prefix(key)
-                .is_some_and(|rest| rest.trim_start().starts_with('='))
-        {
-            return Some(i + 1);
-        }
+/// The 1-based line of the key at `path` (a table's name, then a key inside it), from the TOML
+/// parser's spans.
+fn line_at(text: &str, path: &[&str]) -> Option<usize> {
+    let file = toml::de::DeTable::parse(text).ok()?;
+    let (mut table, mut start) = (Some(file.get_ref()), 0);
+    for name in path {
+        let (key, value) = table?.iter().find(|(k, _)| k.get_ref() == name)?;
+        start = key.span().start;
+        table = match value.get_ref() {
+            toml::de::DeValue::Table(inner) => Some(inner),
+            _ => None,
+        };
     }
-    None
+    Some(text[..start].matches('\n').count() + 1)
 }

@@ -55,7 +55,7 @@ impl Given<'_> {
         let scene = self.scene;
         for (key, value) in table {
             let alone = toml::Table::from_iter([(key.clone(), value.clone())]);
-            let read: C = match merged(&[&alone]).try_into() {
+            let read: C = match merged::<C>(&[&alone]).try_into() {
                 Ok(config) => config,
                 Err(e) => {
                     let why = refusal::<C>(key, value, &e);
@@ -95,7 +95,7 @@ fn refusal<C: SceneConfig>(key: &str, value: &toml::Value, error: &toml::de::Err
 /// The layers' configuration: over its defaults, or over the preset the layers name, with what
 /// follows from the given values settled.
 fn settled<C: SceneConfig>(layers: &[&toml::Table]) -> Result<C, Error> {
-    let given = merged(layers);
+    let given = merged::<C>(layers);
     let read = |below: &C| -> Result<C, Error> {
         let mut table = table_of(below)?;
         table.extend(given.clone());
@@ -112,10 +112,14 @@ fn settled<C: SceneConfig>(layers: &[&toml::Table]) -> Result<C, Error> {
     Ok(config)
 }
 
-/// Later layers' keys over earlier ones'.
-fn merged(layers: &[&toml::Table]) -> toml::Table {
+/// Later layers' keys over earlier ones', each with the keys that set the same value (a flag's
+/// `--dt` over a file's `substeps`).
+fn merged<C: SceneConfig>(layers: &[&toml::Table]) -> toml::Table {
     let mut out = toml::Table::new();
     for layer in layers {
+        for key in layer.keys() {
+            C::same_value(key).iter().for_each(|k| _ = out.remove(*k));
+        }
         out.extend((*layer).clone());
     }
     out

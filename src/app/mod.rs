@@ -157,23 +157,18 @@ fn resolve(plan: Plan, run: &RunArgs) -> anyhow::Result<Resolved> {
     };
     for flags in plan {
         let name = flags.kind().name;
-        if let Some(path) = &run.config
+        if single {
+            file.require(name)?;
+        } else if let Some(path) = &run.config
             && file.table(name).is_none()
         {
-            if single {
-                return Err(Error::Usage(format!(
-                    "--config {}: has no [{name}] table, so nothing in it applies to this command",
-                    path.display()
-                ))
-                .into());
-            }
             eprintln!(
                 "note: --config {}: no [{name}] table; {name} runs at its defaults",
                 path.display()
             );
         }
         let scene = flags.resolve(&file, run)?;
-        scene.effective(&mut resolved.file)?;
+        resolved.file.set(name, scene.table()?);
         resolved.scenes.push(scene);
     }
     Ok(resolved)

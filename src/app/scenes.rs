@@ -116,7 +116,8 @@ pub trait Flags {
     ) -> Result<Box<dyn ReadyScene>, Error>;
 }
 
-/// A scene with its validated configuration, ready to run.
+/// A scene's validated configuration, ready to run: what the commands need of it besides its
+/// layering.
 pub trait ReadyScene: Send {
     fn kind(&self) -> &'static SceneKind;
     /// What its layout needs: its 3D views' slots, its plots and its end.
@@ -125,8 +126,8 @@ pub trait ReadyScene: Send {
     fn fps(&self) -> f64;
     /// Its methods' names, in the order they are shown.
     fn methods(&self) -> Vec<&'static str>;
-    /// Sets its table in `file` to every effective value: the scene file that runs it again.
-    fn effective(&self, file: &mut SceneFile) -> Result<(), Error>;
+    /// Every effective value, as its table in the scene file that runs it again.
+    fn table(&self) -> Result<toml::Table, Error>;
     /// The memory its state takes [B] (0 when small by construction).
     fn memory_bytes(&self) -> f64 {
         0.0
@@ -196,7 +197,7 @@ impl Flags for PendulumArgs {
             &Method::ALL,
             Method::name,
         )?;
-        Ok(Box::new(Ready(config)))
+        Ok(Box::new(config))
     }
 }
 
@@ -218,7 +219,7 @@ impl Flags for RopeArgs {
             |m| m.info().implicit,
         ));
         refuse_unread(&flags, &config.methods, &Method::ALL, Method::name)?;
-        Ok(Box::new(Ready(config)))
+        Ok(Box::new(config))
     }
 }
 
@@ -250,7 +251,7 @@ impl Flags for HairArgs {
             &HairMethod::ALL,
             HairMethod::name,
         )?;
-        Ok(Box::new(Ready(config)))
+        Ok(Box::new(config))
     }
 }
 
@@ -273,7 +274,7 @@ pub fn given<'a, A: clap::Args + serde::Serialize>(
 }
 
 /// A flag that only some methods read.
-struct MethodFlag<M> {
+pub(super) struct MethodFlag<M> {
     flag: &'static str,
     /// Given on the command line. A scene file's key is not refused: a file written by
     /// `--config-out` or a recording states every parameter, whichever methods it names.
@@ -288,9 +289,17 @@ impl<M> MethodFlag<M> {
     }
 }
 
+impl MethodFlag<Method> {
+    /// `--rtol`, which only the adaptive methods read (the scenes' and the studies').
+    pub(super) fn rtol(given: bool) -> Self {
+        MethodFlag::new("--rtol", given, |m| m.info().adaptive())
+    }
+}
+
 /// Refuses a flag given on the command line that none of the methods run would read (it would
-/// change nothing), naming the flag, the methods that read it and those that run.
-fn refuse_unread<M: Copy>(
+/// change nothing), naming the flag, the methods that read it and those that run: for every
+/// scene and study.
+pub(super) fn refuse_unread<M: Copy>(
     flags: &[MethodFlag<M>],
     methods: &[M],
     all: &[M],
@@ -342,7 +351,7 @@ impl StepFlags {
             MethodFlag::new("--verlet-damping", self.verlet_damping.is_some(), |m| {
                 m == Method::Verlet
             }),
-            MethodFlag::new("--rtol", self.rtol.is_some(), |m| m.info().adaptive()),
+            MethodFlag::rtol(self.rtol.is_some()),
             MethodFlag::new("--compensated", self.compensated, |m| {
                 composition_weights(m).is_some()
             }),
@@ -372,9 +381,6 @@ impl HairArgs {
     }
 }
 
-/// A scene's validated configuration, ready to run.
-struct Ready<C>(C);
-
 impl RunContext<'_> {
     /// Runs `scene`, recorded (when a recording is made) by what `recorder` makes of the stream,
     /// and summarised by `summary`.
@@ -390,52 +396,16 @@ impl RunContext<'_> {
     }
 }
 
-/// What the commands need of a scene's configuration besides its layering.
-trait Runs: SceneConfig + Send {
-    const KIND: &'static SceneKind;
-    fn staging(&self) -> Staging;
-    fn fps(&self) -> f64;
-    fn methods(&self) -> Vec<&'static str>;
-    fn memory_bytes(&self) -> f64 {
-        0.0
-    }
-    fn bulk(&self) -> Bulk;
-    fn run(self, ctx: &mut RunContext) -> anyhow::Result<Ran>;
-}
-
-impl<C: Runs> ReadyScene for Ready<C> {
+impl ReadyScene for PendulumConfig {
     fn kind(&self) -> &'static SceneKind {
-        C::KIND
+        &PENDULUM
     }
-    fn staging(&self) -> Staging {
-        self.0.staging()
-    }
-    fn fps(&self) -> f64 {
-        self.0.fps()
-    }
-    fn methods(&self) -> Vec<&'static str> {
-        self.0.methods()
-    }
-    fn effective(&self, file: &mut SceneFile) -> Result<(), Error> {
-        file.set(C::KIND.name, table_of(&self.0)?);
-        Ok(())
-    }
-    fn memory_bytes(&self) -> f64 {
-        self.0.memory_bytes()
+    fn table(&self) -> Result<toml::Table, Error> {
+        table_of(self)
     }
     fn step_warning(&self) -> Option<String> {
-        self.0.step_warning()
+        SceneConfig::step_warning(self)
     }
-    fn bulk(&self) -> Bulk {
-        self.0.bulk()
-    }
-    fn run(self: Box<Self>, ctx: &mut RunContext) -> anyhow::Result<Ran> {
-        self.0.run(ctx)
-    }
-}
-
-impl Runs for PendulumConfig {
-    const KIND: &'static SceneKind = &PENDULUM;
     fn staging(&self) -> Staging {
         record::pendulum::staging(self)
     }
@@ -451,7 +421,7 @@ impl Runs for PendulumConfig {
         bulk.node_steps += self.reference_steps();
         bulk
     }
-    fn run(self, ctx: &mut RunContext) -> anyhow::Result<Ran> {
+    fn run(self: Box<Self>, ctx: &mut RunContext) -> anyhow::Result<Ran> {
         let reference_steps = self.reference_steps();
         if reference_steps > 3e7 && !ctx.quiet {
             // Allowed, but not instant: say what the time goes to (~0.1 µs per RK4 step).
@@ -461,15 +431,23 @@ impl Runs for PendulumConfig {
             );
         }
         ctx.run(
-            PendulumScene::new(self),
+            PendulumScene::new(*self),
             record::pendulum::recorder,
             report::pendulum::summary_text,
         )
     }
 }
 
-impl Runs for RopeConfig {
-    const KIND: &'static SceneKind = &ROPE;
+impl ReadyScene for RopeConfig {
+    fn kind(&self) -> &'static SceneKind {
+        &ROPE
+    }
+    fn table(&self) -> Result<toml::Table, Error> {
+        table_of(self)
+    }
+    fn step_warning(&self) -> Option<String> {
+        SceneConfig::step_warning(self)
+    }
     fn staging(&self) -> Staging {
         record::rope::staging(self)
     }
@@ -487,17 +465,25 @@ impl Runs for RopeConfig {
         let nodes = self.params.nodes as f64;
         fixed_step_bulk(self.schedule(), h, self.duration, nodes, self.methods.len())
     }
-    fn run(self, ctx: &mut RunContext) -> anyhow::Result<Ran> {
+    fn run(self: Box<Self>, ctx: &mut RunContext) -> anyhow::Result<Ran> {
         ctx.run(
-            RopeScene::new(self),
+            RopeScene::new(*self),
             record::rope::recorder,
             report::rope::summary_text,
         )
     }
 }
 
-impl Runs for HairConfig {
-    const KIND: &'static SceneKind = &HAIR;
+impl ReadyScene for HairConfig {
+    fn kind(&self) -> &'static SceneKind {
+        &HAIR
+    }
+    fn table(&self) -> Result<toml::Table, Error> {
+        table_of(self)
+    }
+    fn step_warning(&self) -> Option<String> {
+        SceneConfig::step_warning(self)
+    }
     fn staging(&self) -> Staging {
         record::hair::staging(self)
     }
@@ -519,7 +505,7 @@ impl Runs for HairConfig {
             node_frames: plan.expected_bytes / record::hair::BYTES_PER_NODE_FRAME,
         }
     }
-    fn run(self, ctx: &mut RunContext) -> anyhow::Result<Ran> {
+    fn run(self: Box<Self>, ctx: &mut RunContext) -> anyhow::Result<Ran> {
         // Said before anything is written: how many strands are drawn, and the expected size.
         let plan = record::hair::strand_plan(&self, self.log_strands);
         let recording = ctx.stream.is_some();
@@ -536,7 +522,7 @@ impl Runs for HairConfig {
         // Hair spreads its strands over the pool (--threads); the results do not depend on it.
         let pool = ctx.pool;
         let mut ran =
-            pool.install(|| ctx.run(HairScene::new(self), recorder, report::hair::summary_text))?;
+            pool.install(|| ctx.run(HairScene::new(*self), recorder, report::hair::summary_text))?;
         if recording {
             ran.summary.push_str(&format!(
                 "\n3D: {} of {} strands drawn per head (--log-strands); every strand is simulated and measured above\n",

@@ -11,9 +11,9 @@ use crate::scene::pendulum::run::PendulumConfig;
 use crate::scene::rope::run::RopeConfig;
 
 /// The command line with every scene flag's default appended to its help, read from the scene's
-/// `Default` (so a default is written once, in the scene).
+/// `Default` (so a default is written once, in the scene), and every study kind's from the study.
 pub fn command() -> clap::Command {
-    Cli::command()
+    let cli = Cli::command()
         .mut_subcommand("pendulum", |c| {
             with_defaults(with_method_names(c), &PendulumConfig::default())
         })
@@ -21,55 +21,148 @@ pub fn command() -> clap::Command {
             with_defaults(with_method_names(c), &RopeConfig::default())
         })
         .mut_subcommand("hair", |c| {
-            with_defaults(with_head_motions(c), &HairConfig::default())
-        })
-        .mut_subcommand("study", |c| {
-            with_shown_defaults(with_method_names(c), &super::study::study_defaults())
-        })
-}
-
-/// `--head-motion` help listing its values, read from the scene.
-fn with_head_motions(cmd: clap::Command) -> clap::Command {
-    let names: Vec<&str> = crate::scene::hair::HeadMotion::ALL
-        .iter()
-        .map(|(name, _)| *name)
-        .collect();
-    cmd.mut_arg("head_motion", |a| {
-        let help = a.get_help().map(|h| h.to_string()).unwrap_or_default();
-        a.help(format!("{help}: one of {}", names.join(", ")))
+            // `--head-motion` help listing its values, read from the scene.
+            let motions = crate::scene::hair::HeadMotion::ALL.map(|(name, _)| name);
+            let c = rewritten(c, "head_motion", |h| {
+                format!("{h}: one of {}", motions.join(", "))
+            });
+            with_defaults(c, &HairConfig::default())
+        });
+    cli.mut_subcommand("study", |mut study| {
+        for (kind, defaults) in study_defaults() {
+            study = study.mut_subcommand(kind, |c| {
+                with_shown_defaults(with_method_names(c), &defaults)
+            });
+        }
+        study
     })
 }
 
-/// The registry's adaptive methods, the ones `--rtol` drives.
-fn adaptive_names() -> String {
-    Method::ALL
-        .iter()
-        .filter(|m| {
-            matches!(
-                m.info().evals_per_step,
-                crate::integrate::EvalsPerStep::Adaptive(_)
-            )
-        })
-        .map(|m| m.name())
-        .collect::<Vec<_>>()
-        .join(", ")
+/// Each study kind's defaults as its help shows them, read from the scenes and the study.
+fn study_defaults() -> [(&'static str, Vec<(&'static str, String)>); 5] {
+    use crate::study::{self, Problem, drift};
+    use std::fmt::Display;
+    let p = study::default_schedule(&Problem::Pendulum(Default::default()));
+    let r = study::default_schedule(&Problem::Rope(study::study_rope(false)));
+    let both = |p: &dyn Display, r: &dyn Display| format!("{p} pendulum, {r} rope");
+    let files = [
+        toml::Value::try_from(PendulumConfig::default()),
+        toml::Value::try_from(RopeConfig::default()),
+    ];
+    let scene = |key| {
+        let value = files.iter().flatten().find_map(|f| f.get(key));
+        (key, value.map_or(String::new(), show))
+    };
+    let body = |ks: f64| vec![scene("nodes"), scene("mass"), ("stiffness", ks.to_string())];
+    let all = || ("methods", "all of `physlab methods`".to_string());
+    let rtols = study::default_rtols().into_iter().map(toml::Value::Float);
+    let damping = "0, so that the theory's orders apply; the rope's convergence study also shows \
+                   the scene's damping";
+    let sweep = [
+        body(study::STUDY_ROPE_STIFFNESS),
+        vec![
+            scene("theta0"),
+            scene("omega0"),
+            ("spring_damping", damping.into()),
+            ("air_drag", "0".into()),
+            ("dt", both(&p.0, &r.0)),
+            ("duration", both(&p.1, &r.1)),
+            ("levels", study::DEFAULT_LEVELS.to_string()),
+            all(),
+            ("rtol", show(&toml::Value::Array(rtols.collect()))),
+            ("repeats", study::DEFAULT_REPEATS.to_string()),
+        ],
+    ];
+    let steps = ("steps", study::DEFAULT_STABILITY_STEPS.to_string());
+    let stability = [body(study::study_rope(true).stiffness), vec![all(), steps]];
+    let fixed: Vec<&str> = drift::default_methods().iter().map(|m| m.name()).collect();
+    let periods = format!("{:e} periods", drift::DEFAULT_PERIODS);
+    let rtol = toml::Value::Float(crate::integrate::MethodOptions::default().rtol);
+    let long = [
+        body(study::STUDY_ROPE_STIFFNESS),
+        vec![
+            scene("theta0"),
+            ("dt", both(&drift::DEFAULT_DT, &drift::ROPE_DT)),
+            ("duration", both(&periods, &drift::ROPE_DURATION)),
+            ("methods", fixed.join(",")),
+            ("rtol", show(&rtol)),
+        ],
+    ];
+    let hair = vec![("duration", study::hair::DEFAULT_DURATION.to_string())];
+    [
+        ("convergence", sweep.concat()),
+        ("work-precision", sweep.concat()),
+        ("stability", stability.concat()),
+        ("hair", hair),
+        ("drift", long.concat()),
+    ]
+}
+
+/// An unknown flag that a sibling subcommand takes (`study drift --omega0`), said with the
+/// subcommands that take it.
+pub(super) fn with_takers(
+    mut e: clap::Error,
+    command: &clap::Command,
+    args: &[std::ffi::OsString],
+) -> clap::Error {
+    use clap::error::{ContextKind, ContextValue};
+    let parent = args
+        .get(1)
+        .and_then(|a| command.find_subcommand(a.to_str()?));
+    let (clap::error::ErrorKind::UnknownArgument, Some(ContextValue::String(arg)), Some(parent)) =
+        (e.kind(), e.get(ContextKind::InvalidArg), parent)
+    else {
+        return e;
+    };
+    let flag = arg.split('=').next().unwrap_or(arg).to_string();
+    let takes = |c: &&clap::Command| {
+        (c.get_arguments()).any(|a| a.get_long().is_some_and(|l| format!("--{l}") == flag))
+    };
+    let takers: Vec<String> = (parent.get_subcommands().filter(takes))
+        .map(|c| format!("`{} {}`", parent.get_name(), c.get_name()))
+        .collect();
+    if !takers.is_empty() {
+        let tip = format!("{flag} is a flag of {} only", takers.join(", "));
+        e.insert(
+            ContextKind::Suggested,
+            ContextValue::StyledStrs(vec![tip.into()]),
+        );
+    }
+    e
 }
 
 /// `--methods` help naming every registry method, and `--rtol` help naming the adaptive ones
 /// it drives, read from the registry.
 fn with_method_names(cmd: clap::Command) -> clap::Command {
     let names = Method::names().collect::<Vec<_>>().join(", ");
-    let adaptive = adaptive_names();
-    cmd.mut_arg("methods", |a| {
-        a.help(format!(
+    let adaptive = (Method::ALL.iter().filter(|m| m.info().adaptive()))
+        .map(|m| m.name())
+        .collect::<Vec<_>>()
+        .join(", ");
+    let cmd = rewritten(cmd, "methods", |_| {
+        format!(
             "Methods to run, comma-separated, any of: {names} (`physlab methods` describes them)"
-        ))
+        )
+    });
+    rewritten(cmd, "rtol", |help| {
+        format!("{help}; it drives the adaptive methods: {adaptive}")
     })
-    .mut_arg("rtol", |a| {
-        let help = a.get_help().map(|h| h.to_string()).unwrap_or_default();
-        a.help(format!(
-            "{help}; it drives the adaptive methods: {adaptive}"
-        ))
+}
+
+/// `cmd` with the short help of its argument `id` (if it has one) rewritten by `help`, and the
+/// long help, if any, with what `help` appends.
+fn rewritten(cmd: clap::Command, id: &str, help: impl Fn(&str) -> String) -> clap::Command {
+    if !cmd.get_arguments().any(|a| a.get_id() == id) {
+        return cmd;
+    }
+    cmd.mut_arg(id, |a| {
+        let short = a.get_help().map(|h| h.to_string()).unwrap_or_default();
+        let long = a.get_long_help().map(|h| h.to_string());
+        let a = a.help(help(&short));
+        match long {
+            Some(long) => a.long_help(help(&long)),
+            None => a,
+        }
     })
 }
 
@@ -78,32 +171,20 @@ fn with_defaults<T: Serialize>(cmd: clap::Command, defaults: &T) -> clap::Comman
     let Ok(toml::Value::Table(table)) = toml::Value::try_from(defaults) else {
         return cmd;
     };
-    let shown: Vec<(String, String)> = table.iter().map(|(k, v)| (k.clone(), show(v))).collect();
+    let shown: Vec<(&str, String)> = table.iter().map(|(k, v)| (k.as_str(), show(v))).collect();
     with_shown_defaults(cmd, &shown)
 }
 
 /// Appends ` [default: VALUE]` to the help of each named flag.
-fn with_shown_defaults(mut cmd: clap::Command, defaults: &[(String, String)]) -> clap::Command {
+fn with_shown_defaults(mut cmd: clap::Command, defaults: &[(&str, String)]) -> clap::Command {
     for (key, value) in defaults {
-        if !cmd.get_arguments().any(|a| a.get_id() == key.as_str()) {
-            continue;
-        }
-        let shown = format!("[default: {value}]");
-        cmd = cmd.mut_arg(key.as_str(), |a| {
-            let help = a.get_help().map(|h| h.to_string()).unwrap_or_default();
-            let long = a.get_long_help().map(|h| h.to_string());
-            let a = a.help(format!("{help} {shown}"));
-            match long {
-                Some(long) => a.long_help(format!("{long} {shown}")),
-                None => a,
-            }
-        });
+        cmd = rewritten(cmd, key, |help| format!("{help} [default: {value}]"));
     }
     cmd
 }
 
 /// A default as it is typed on the command line: 0.01, 0,-9.81,0, rk4,verlet.
-pub(super) fn show(value: &toml::Value) -> String {
+fn show(value: &toml::Value) -> String {
     match value {
         toml::Value::String(s) => s.clone(),
         toml::Value::Float(x) if *x != 0.0 && x.abs() < 1e-3 => format!("{x:e}"),

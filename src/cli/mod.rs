@@ -14,9 +14,14 @@ use clap::{Args, Parser, Subcommand};
 
 pub use help::command;
 pub use negative::join_negative_values;
-pub use scenes::{HairArgs, PendulumArgs, PendulumStart, RopeArgs, RopeBody, StepFlags};
-pub use study::{STUDY_FLAG_KINDS, StudyArgs, StudyKind, StudyScene};
-pub use vector::{Magnitude, Vector};
+pub use scenes::{
+    HairArgs, PendulumArgs, PendulumStart, RopeArgs, RopeBody, RopeLosses, StepFlags,
+};
+pub use study::{
+    DriftArgs, HairStudyArgs, StabilityArgs, StudyKind, StudyOutputs, StudyScene, StudySceneArgs,
+    SweepArgs,
+};
+pub use vector::{Indices, Magnitude, Vector};
 
 /// `physlab --version`: the version and the git commit the binary is built from (`-dirty` with
 /// modified sources, `unknown` outside a git checkout).
@@ -53,7 +58,13 @@ pub enum Command {
     /// sphere collision and wind
     Hair(HairCommand),
     /// Measure the speed/accuracy trade and the stability limits against theory
-    Study(StudyArgs),
+    #[command(
+        subcommand,
+        subcommand_value_name = "KIND",
+        subcommand_help_heading = "Kinds",
+        disable_help_subcommand = true
+    )]
+    Study(StudyKind),
     /// What a recording holds: provenance, scenes, methods, entity paths, time range, warnings
     Inspect(InspectArgs),
     /// Re-run what a recording holds from its embedded configuration and compare every series
@@ -231,23 +242,16 @@ pub struct DiffArgs {
 pub fn parse() -> Cli {
     use clap::FromArgMatches as _;
     let args = join_negative_values(std::env::args_os());
-    if let Some((kind, long)) = study::study_help_asked(&args) {
-        let mut help = study::study_kind_help(kind);
-        let shown = if long {
-            help.print_long_help()
-        } else {
-            help.print_help()
-        };
-        std::process::exit(if shown.is_ok() { 0 } else { 1 });
-    }
-    let matches = help::command()
-        .try_get_matches_from(args)
+    let command = help::command();
+    let matches = command
+        .clone()
+        .try_get_matches_from(&args)
         .unwrap_or_else(|e| {
             if let Some(message) = negative::negative_count(&e) {
                 eprintln!("error: {message}");
                 std::process::exit(2);
             }
-            e.exit()
+            help::with_takers(e, &command, &args).exit()
         });
     Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit())
 }

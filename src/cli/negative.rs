@@ -14,9 +14,13 @@ pub(super) fn negative_count(e: &clap::Error) -> Option<String> {
     ) else {
         return None;
     };
-    let negative = value.starts_with('-') && value[1..].parse::<u128>().is_ok();
+    // In a list of indices (`--pinned 0,-3`, whose items parse as integers) the first negative
+    // item is the one named.
+    let list = std::error::Error::source(e).is_some_and(|s| s.is::<std::num::ParseIntError>());
+    let mut items = value.split(',').take(if list { usize::MAX } else { 1 });
+    let negative = items.find(|v| v.starts_with('-') && v[1..].parse::<u128>().is_ok())?;
     let flag = arg.split_whitespace().next().unwrap_or(arg);
-    negative.then(|| format!("{flag} {value}: must be a whole number ≥ 0"))
+    Some(format!("{flag} {negative}: must be a whole number ≥ 0"))
 }
 
 /// `--flag -1e-3` as `--flag=-1e-3`: a long option followed by a negative number (or a

@@ -5,7 +5,7 @@
 use clap::Args;
 use serde::Serialize;
 
-use super::{Magnitude, Vector};
+use super::{Indices, Magnitude, Vector};
 use crate::integrate::Method;
 use crate::scene::hair::{HairMethod, HeadMotion, Solver};
 use crate::scene::harness::Window;
@@ -39,7 +39,11 @@ pub struct RopeBody {
     /// Spring stiffness ks [N/m]
     #[arg(long, value_name = "N/M", allow_negative_numbers = true)]
     pub stiffness: Option<f64>,
+}
 
+/// The rope's losses: the flags `physlab rope` and the sweeping studies share.
+#[derive(Args, Debug, Clone, Default, Serialize, PartialEq)]
+pub struct RopeLosses {
     /// Spring damping kd on the relative velocity along each spring [N·s/m]
     #[arg(long, value_name = "N·S/M", allow_negative_numbers = true)]
     pub spring_damping: Option<f64>,
@@ -135,6 +139,10 @@ pub struct RopeArgs {
     #[serde(flatten)]
     pub body: RopeBody,
 
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub losses: RopeLosses,
+
     /// First node's position x,y,z [m], z up
     #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
     pub start: Option<Vector>,
@@ -148,14 +156,9 @@ pub struct RopeArgs {
     #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
     pub gravity: Option<Vector>,
 
-    /// Indices of pinned nodes, comma-separated, e.g. 0,15 for both ends
-    #[arg(
-        long,
-        value_delimiter = ',',
-        value_name = "LIST",
-        allow_hyphen_values = true
-    )]
-    pub pinned: Option<Vec<usize>>,
+    /// Indices of pinned nodes, comma-separated, e.g. 0,15 for both ends; "" pins none
+    #[arg(long, value_name = "LIST", allow_hyphen_values = true)]
+    pub pinned: Option<Indices>,
 
     #[command(flatten)]
     #[serde(flatten)]

@@ -1,4 +1,4 @@
-//! A 3-vector flag value.
+//! Flag values that are lists: a 3-vector, a magnitude given as one, node indices.
 
 use std::fmt;
 use std::str::FromStr;
@@ -76,6 +76,28 @@ impl FromStr for Magnitude {
 }
 
 impl Serialize for Magnitude {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        self.0.serialize(s)
+    }
+}
+
+/// Node indices given as "0,15" on the command line and as [0, 15] in a scene file; "" is none
+/// (a rope pinned nowhere falls freely), as `pinned = []` is in a file.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Indices(pub Vec<usize>);
+
+impl FromStr for Indices {
+    type Err = std::num::ParseIntError;
+    fn from_str(text: &str) -> Result<Self, Self::Err> {
+        if text.trim().is_empty() {
+            return Ok(Indices(Vec::new()));
+        }
+        let parts = text.split(',').map(|p| p.trim().parse::<usize>());
+        parts.collect::<Result<_, _>>().map(Indices)
+    }
+}
+
+impl Serialize for Indices {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         self.0.serialize(s)
     }

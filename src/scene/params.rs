@@ -362,6 +362,11 @@ pub trait SceneConfig: Clone + Default + serde::Serialize + serde::de::Deseriali
     fn settle(&mut self, _given: &dyn Fn(&str) -> bool) -> Result<(), Invalid> {
         Ok(())
     }
+    /// The keys that set one value with `key` (hair's `dt` and `substeps`): a layer that gives
+    /// `key` replaces what the layers below it give of these, as it replaces `key`.
+    fn same_value(_key: &str) -> &'static [&'static str] {
+        &[]
+    }
     /// Every value in range, or the first that is not, named by its flag.
     fn validate(&self) -> Result<(), Invalid>;
     /// Why the step is too large for the scene's shortest time scale, naming the scale: allowed

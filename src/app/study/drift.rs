@@ -1,8 +1,7 @@
 //! `physlab study drift`: each method's long run, reported as it completes; the tables, CSV and
 //! diagram of the complete ones.
 
-use crate::cli::StudyArgs;
-use crate::diagram::Diagram;
+use super::Found;
 use crate::report::drift as report;
 use crate::scene::params::shown;
 use crate::study::drift::{Drift, pendulum_drift, rope_drift};
@@ -10,11 +9,7 @@ use crate::study::{Problem, Sweep};
 
 /// The study's printed text, CSV, diagram and how many methods' runs are complete (a run cut
 /// short by Ctrl-C is left out).
-pub(super) fn drift_study(
-    a: &StudyArgs,
-    problem: &Problem,
-    sw: &Sweep,
-) -> (String, String, Diagram, usize) {
+pub(super) fn drift_study(quiet: bool, problem: &Problem, sw: &Sweep) -> Found {
     let mut runs: Vec<Drift> = Vec::new();
     for &m in &sw.methods {
         if crate::interrupt::requested() {
@@ -26,7 +21,7 @@ pub(super) fn drift_study(
             Problem::Rope(p) => Some(rope_drift(p, m, sw.dt0, sw.duration, sw.options)),
         };
         if let Some(run) = run.filter(|_| !crate::interrupt::requested()) {
-            if !a.quiet {
+            if !quiet {
                 eprintln!(
                     "drift: {} done ({} of {}, {:.1} s)",
                     m.name(),
@@ -65,11 +60,10 @@ pub(super) fn drift_study(
         &runs,
         Some((flags.as_str(), sw.options.rtol)),
     ));
-    let diagram = crate::diagram::drift(problem.name(), &runs, &note);
-    (
+    Found {
         out,
-        report::drift_csv(problem.name(), &runs),
-        diagram,
-        runs.len(),
-    )
+        csv: report::drift_csv(problem.name(), &runs),
+        diagrams: vec![crate::diagram::drift(problem.name(), &runs, &note)],
+        done: runs.len(),
+    }
 }

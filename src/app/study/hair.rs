@@ -4,11 +4,11 @@ use crate::scene::params::SceneConfig as _;
 use std::fmt::Write as _;
 
 use super::outputs::{check_outputs, interrupted_after, write_study};
-use crate::cli::StudyArgs;
+use crate::cli::HairStudyArgs;
 
 /// `physlab study hair`: the hair scene's configurations (`study::hair::configurations`) at its
 /// defaults (200 strands, tour), over `--duration` (default 4 s).
-pub(super) fn hair_study(a: &StudyArgs) -> anyhow::Result<()> {
+pub(super) fn hair_study(a: &HairStudyArgs) -> anyhow::Result<()> {
     use crate::scene::hair::run::HairConfig;
     let duration = a.duration.unwrap_or(crate::study::hair::DEFAULT_DURATION);
     let base = HairConfig {
@@ -16,14 +16,14 @@ pub(super) fn hair_study(a: &StudyArgs) -> anyhow::Result<()> {
         ..HairConfig::default()
     };
     base.validate()?;
-    let outputs = check_outputs(a, &["hair-trade".to_string()])?;
+    let outputs = check_outputs(&a.out, None, &["hair-trade".to_string()])?;
     let configs = crate::study::hair::configurations(&base);
     // Minutes of work: a progress bar with an ETA, paced by each configuration's expected cost.
     let costs: Vec<f64> = configs
         .iter()
         .map(crate::study::hair::expected_cost)
         .collect();
-    let mut progress = crate::app::progress::Progress::new(a.quiet, None);
+    let mut progress = crate::app::progress::Progress::new(a.out.quiet, None);
     progress.stage("study hair", costs.iter().sum(), None);
     let mut reached = 0.0;
     let rows = crate::study::hair::hair_trade(&configs, |i| {
@@ -68,7 +68,7 @@ pub(super) fn hair_study(a: &StudyArgs) -> anyhow::Result<()> {
     let scene_file = format!("[hair]\nduration = {duration:?}\n");
     let methods = crate::scene::hair::HairMethod::ALL.map(|m| m.name());
     write_study(
-        a,
+        &a.out,
         &outputs,
         "hair",
         (&out, &csv),

@@ -2,10 +2,10 @@
 //! and writes the CSV and recording when asked.
 
 use super::Error;
-use super::SceneFile;
-use crate::cli::{StudyArgs, StudyKind};
+use crate::cli::StudyKind;
+use crate::diagram::{self, Diagram};
 use crate::report::study as report;
-use crate::study::{Limit, Problem, error_floor, stability, sweep};
+use crate::study::{Limit, Problem, Row, Sweep, error_floor, stability, sweep};
 
 mod drift;
 mod hair;
@@ -14,137 +14,136 @@ mod setup;
 
 use hair::hair_study;
 use outputs::{check_outputs, interrupted_error, write_study};
-use setup::{refuse_unused, setup};
+use setup::Setup;
 
-pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
-    refuse_unused(a)?;
-    if a.kind == StudyKind::Hair {
-        return hair_study(a);
-    }
-    let (problem, sw, steps, scene_file) = setup(a)?;
-    let stems: Vec<String> = match a.kind {
-        StudyKind::Convergence => vec!["convergence", "convergence-damped"],
-        StudyKind::WorkPrecision => vec!["work-precision"],
-        StudyKind::Drift => vec!["drift"],
-        _ => vec!["stability"],
-    }
-    .into_iter()
-    .map(|s| format!("{}-{s}", problem.name()))
-    .collect();
-    let outputs = check_outputs(a, &stems)?;
-    let mut out = String::new();
-    let csv;
-    let mut diagrams: Vec<crate::diagram::Diagram> = Vec::new();
-    // Runs (or methods' limits) complete: after Ctrl-C or SIGTERM only those are shown.
-    let done;
-    match a.kind {
-        StudyKind::Convergence | StudyKind::WorkPrecision => {
-            let (rows, reference_error) = sweep(&problem, &sw);
-            let floor = error_floor(reference_error);
-            done = rows.len();
-            let kind = a.kind.name();
-            out.push_str(&report::sweep_header(&problem, &kind, &sw, reference_error));
-            if a.kind == StudyKind::Convergence {
-                let by_velocity = problem.velocity_dependent();
-                out.push_str(&report::orders_table(&rows, floor, by_velocity));
-                let stalled = report::stalled_note(&rows, floor);
-                if !stalled.is_empty() {
-                    eprint!("{stalled}");
-                    out.push('\n');
-                    out.push_str(&stalled);
-                }
-                diagrams.push(crate::diagram::convergence(
-                    problem.name(),
-                    &rows,
-                    floor,
-                    by_velocity,
-                ));
-                out.push('\n');
-                if let Problem::Rope(p) = &problem
-                    && !crate::interrupt::requested()
-                    && p.spring_damping == 0.0
-                    && p.air_drag == 0.0
-                {
-                    // Velocity-dependent forces change what some methods' orders are: show the
-                    // same rope with the scene's damping beside the undamped one.
-                    let scene = crate::scene::rope::RopeParams::default();
-                    let damped = Problem::Rope(crate::scene::rope::RopeParams {
-                        spring_damping: scene.spring_damping,
-                        air_drag: scene.air_drag,
-                        ..p.clone()
-                    });
-                    let (damped_rows, damped_error) = sweep(&damped, &sw);
-                    // A stop during the damped sweep leaves it out: only complete tables are shown.
-                    if !crate::interrupt::requested() {
-                        out.push_str(&report::damped_header(&scene));
-                        out.push_str(&report::orders_table(
-                            &damped_rows,
-                            error_floor(damped_error),
-                            true,
-                        ));
-                        diagrams.push(crate::diagram::convergence(
-                            problem.name(),
-                            &damped_rows,
-                            error_floor(damped_error),
-                            true,
-                        ));
-                        out.push('\n');
-                    }
-                }
+/// What a study measured: its printed tables, its CSV, its diagrams, and how many runs (or
+/// methods' limits) are complete (after Ctrl-C or SIGTERM only those are shown).
+struct Found {
+    out: String,
+    csv: String,
+    diagrams: Vec<Diagram>,
+    done: usize,
+}
+
+pub fn study(kind: &StudyKind) -> anyhow::Result<()> {
+    let (setup, scene, out) = match kind {
+        StudyKind::Hair(a) => return hair_study(a),
+        StudyKind::Convergence(a) => (setup::sweep_setup(a, true)?, &a.scene, &a.out),
+        StudyKind::WorkPrecision(a) => (setup::sweep_setup(a, false)?, &a.scene, &a.out),
+        StudyKind::Stability(a) => (setup::stability_setup(a)?, &a.scene, &a.out),
+        StudyKind::Drift(a) => (setup::drift_setup(a)?, &a.scene, &a.out),
+    };
+    let Setup {
+        problem,
+        sweep,
+        steps,
+        file,
+    } = setup;
+    let stems: &[&str] = match kind {
+        StudyKind::Convergence(_) => &["convergence", "convergence-damped"],
+        _ => &[kind.name()],
+    };
+    let stems: Vec<String> = (stems.iter())
+        .map(|s| format!("{}-{s}", problem.name()))
+        .collect();
+    let outputs = check_outputs(out, scene.config.as_deref(), &stems)?;
+    let found = match kind {
+        StudyKind::Stability(_) => {
+            let limits: Vec<Limit> = stability(&problem, &sweep.methods, steps);
+            Found {
+                out: report::stability_header(&problem, steps) + &report::stability_table(&limits),
+                csv: report::limits_csv(&limits),
+                diagrams: vec![diagram::stability(problem.name(), &limits, problem.omega())],
+                done: limits.len(),
             }
-            if rows.iter().any(|r| r.rtol.is_some()) {
-                out.push_str(&report::proportionality_header(floor));
-                out.push_str(&report::proportionality_table(&rows, floor));
-                out.push('\n');
-            }
-            out.push_str(&report::rows_table(&rows));
-            if a.kind == StudyKind::WorkPrecision {
-                // A target is only claimed where the reference resolves it: 10× its accuracy.
-                let (targets, unresolved): (Vec<f64>, Vec<f64>) = [1e-3, 1e-6, 1e-9, 1e-12]
-                    .into_iter()
-                    .partition(|&t| t >= 10.0 * reference_error);
-                out.push_str(&report::cheapest_header(&unresolved, reference_error));
-                out.push_str(&report::cheapest_table(&rows, &targets));
-                diagrams.push(crate::diagram::work_precision(
-                    problem.name(),
-                    &rows,
-                    floor,
-                    &format!("wall times: median of {}; machine-dependent.", sw.repeats),
-                ));
-            }
-            csv = report::rows_csv(&rows);
         }
-        StudyKind::Stability => {
-            let limits: Vec<Limit> = stability(&problem, &sw.methods, steps);
-            done = limits.len();
-            out.push_str(&report::stability_header(&problem, steps));
-            out.push_str(&report::stability_table(&limits));
-            csv = report::limits_csv(&limits);
-            diagrams.push(crate::diagram::stability(
-                problem.name(),
-                &limits,
-                problem.omega(),
-            ));
-        }
-        StudyKind::Drift => {
-            let (text, table, diagram, complete) = drift::drift_study(a, &problem, &sw);
-            (out, csv, done) = (text, table, complete);
-            diagrams.push(diagram);
-        }
-        StudyKind::Hair => unreachable!("hair_study runs it"),
-    }
+        StudyKind::Drift(_) => drift::drift_study(out.quiet, &problem, &sweep),
+        _ => sweep_study(kind, &problem, &sweep),
+    };
     // Ctrl-C or SIGTERM: what is complete is shown and written, then the study ends with 130;
     // stopped before a single run was complete, nothing is.
     let interrupted = crate::interrupt::requested();
-    let complete = done > 0;
+    let complete = found.done > 0;
     if complete {
-        let methods: Vec<&str> = sw.methods.iter().map(|m| m.name()).collect();
-        let scene_file = scene_file.to_toml()?;
+        let methods: Vec<&str> = sweep.methods.iter().map(|m| m.name()).collect();
+        let scene_file = file.to_toml()?;
         let scene = (scene_file.as_str(), methods.as_slice());
-        write_study(a, &outputs, problem.name(), (&out, &csv), &diagrams, scene)?;
+        let texts = (found.out.as_str(), found.csv.as_str());
+        write_study(out, &outputs, problem.name(), texts, &found.diagrams, scene)?;
     }
     if interrupted {
-        return Err(interrupted_error(a, &sw, done, complete));
+        return Err(interrupted_error(kind, &sweep, found.done, complete));
     }
     Ok(())
+}
+
+/// `study convergence` and `study work-precision`: the sweep's runs, the fitted orders or the
+/// cheapest run per target, how the adaptive methods' error follows rtol, and every run.
+fn sweep_study(kind: &StudyKind, problem: &Problem, sw: &Sweep) -> Found {
+    let (rows, reference_error) = sweep(problem, sw);
+    let floor = error_floor(reference_error);
+    let mut found = Found {
+        out: report::sweep_header(problem, kind.name(), sw, reference_error),
+        csv: report::rows_csv(&rows),
+        diagrams: Vec::new(),
+        done: rows.len(),
+    };
+    if let StudyKind::Convergence(_) = kind {
+        convergence_tables(problem, sw, &rows, floor, &mut found);
+    }
+    let out = &mut found.out;
+    if rows.iter().any(|r| r.rtol.is_some()) {
+        out.push_str(&report::proportionality_header(floor));
+        out.push_str(&report::proportionality_table(&rows, floor));
+        out.push('\n');
+    }
+    out.push_str(&report::rows_table(&rows));
+    if let StudyKind::WorkPrecision(_) = kind {
+        // A target is only claimed where the reference resolves it: 10× its accuracy.
+        let (targets, unresolved): (Vec<f64>, Vec<f64>) = [1e-3, 1e-6, 1e-9, 1e-12]
+            .into_iter()
+            .partition(|&t| t >= 10.0 * reference_error);
+        out.push_str(&report::cheapest_header(&unresolved, reference_error));
+        out.push_str(&report::cheapest_table(&rows, &targets));
+        let note = format!("wall times: median of {}; machine-dependent.", sw.repeats);
+        (found.diagrams).push(diagram::work_precision(problem.name(), &rows, floor, &note));
+    }
+    found
+}
+
+/// The fitted orders, and on the undamped rope the same rope with the scene's damping beside
+/// it: velocity-dependent forces change what some methods' orders are.
+fn convergence_tables(problem: &Problem, sw: &Sweep, rows: &[Row], floor: f64, found: &mut Found) {
+    let by_velocity = problem.velocity_dependent();
+    let out = &mut found.out;
+    out.push_str(&report::orders_table(rows, floor, by_velocity));
+    let stalled = report::stalled_note(rows, floor);
+    if !stalled.is_empty() {
+        eprint!("{stalled}");
+        out.push('\n');
+        out.push_str(&stalled);
+    }
+    let name = problem.name();
+    (found.diagrams).push(diagram::convergence(name, rows, floor, by_velocity));
+    out.push('\n');
+    let Problem::Rope(p) = problem else { return };
+    if crate::interrupt::requested() || p.spring_damping != 0.0 || p.air_drag != 0.0 {
+        return;
+    }
+    let scene = crate::scene::rope::RopeParams::default();
+    let damped = Problem::Rope(crate::scene::rope::RopeParams {
+        spring_damping: scene.spring_damping,
+        air_drag: scene.air_drag,
+        ..p.clone()
+    });
+    let (damped_rows, damped_error) = sweep(&damped, sw);
+    // A stop during the damped sweep leaves it out: only complete tables are shown.
+    if crate::interrupt::requested() {
+        return;
+    }
+    let floor = error_floor(damped_error);
+    out.push_str(&report::damped_header(&scene));
+    out.push_str(&report::orders_table(&damped_rows, floor, true));
+    (found.diagrams).push(diagram::convergence(name, &damped_rows, floor, true));
+    out.push('\n');
 }

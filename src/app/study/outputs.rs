@@ -2,13 +2,13 @@
 //! study says.
 
 use super::Error;
-use crate::cli::{StudyArgs, StudyKind};
+use crate::cli::{StudyKind, StudyOutputs};
 use crate::study::Sweep;
 
 /// Prints a complete study's tables `out` and writes what was asked: the CSV, the diagrams (into
 /// the plots folder) and the recording, whose provenance is the study's scene file and methods.
 pub(super) fn write_study(
-    a: &StudyArgs,
+    a: &StudyOutputs,
     outputs: &Outputs,
     scene: &str,
     (out, csv): (&str, &str),
@@ -61,14 +61,14 @@ fn report_recording(path: &std::path::Path, bytes: Option<u64>, to_stdout: bool)
 /// What an interrupted study says: how many of its planned runs (or methods' limits) were
 /// complete, and whether anything was written.
 pub(super) fn interrupted_error(
-    a: &StudyArgs,
+    kind: &StudyKind,
     sw: &Sweep,
     done: usize,
     complete: bool,
 ) -> anyhow::Error {
     let adaptive = |m: &crate::integrate::Method| m.info().adaptive();
-    let (planned, what) = match a.kind {
-        StudyKind::Stability => (sw.methods.len(), "methods' limits"),
+    let (planned, what) = match kind {
+        StudyKind::Stability(_) => (sw.methods.len(), "methods' limits"),
         _ => (
             (sw.methods.iter())
                 .map(|m| {
@@ -130,7 +130,11 @@ impl Outputs {
     }
 }
 
-pub(super) fn check_outputs(a: &StudyArgs, stems: &[String]) -> anyhow::Result<Outputs> {
+pub(super) fn check_outputs(
+    a: &StudyOutputs,
+    config: Option<&std::path::Path>,
+    stems: &[String],
+) -> anyhow::Result<Outputs> {
     use crate::output::{Dash, check, distinct};
     use std::path::Path;
     let csv = a
@@ -177,10 +181,9 @@ pub(super) fn check_outputs(a: &StudyArgs, stems: &[String]) -> anyhow::Result<O
         .chain(recording.iter())
         .chain(diagrams.iter())
         .collect();
-    let inputs: Vec<(&str, &Path)> = a
-        .config
+    let inputs: Vec<(&str, &Path)> = config
         .iter()
-        .map(|p| ("the scene file read (--config)", p.as_path()))
+        .map(|p| ("the scene file read (--config)", *p))
         .collect();
     distinct(&all, &inputs)?;
     Ok(Outputs {

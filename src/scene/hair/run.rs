@@ -79,6 +79,13 @@ impl params::SceneConfig for HairConfig {
         self.methods = params::dedup_methods(&self.methods);
         Ok(())
     }
+    fn same_value(key: &str) -> &'static [&'static str] {
+        match key {
+            "dt" => &["substeps"],
+            "substeps" => &["dt"],
+            _ => &[],
+        }
+    }
 
     fn validate(&self) -> Result<(), Invalid> {
         let p = &self.params;
