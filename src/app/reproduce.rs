@@ -199,7 +199,7 @@ fn read_once(file: &Path) -> anyhow::Result<TempFile> {
         .and_then(|mut sink| std::io::copy(&mut source, &mut sink));
     copied.map_err(|e| {
         anyhow::anyhow!(
-            "{}: cannot copy it into the temporary folder ({}): {}",
+            "{}: cannot copy it into the temporary file (TMPDIR, or /tmp when unset) {}: {}",
             file.display(),
             copy.path().display(),
             crate::output::cause(&e)
