@@ -401,11 +401,7 @@ fn run_scene<S: Scene, D: Draw<S>>(
     stop_after: Option<u64>,
 ) -> anyhow::Result<Ran> {
     let schedule = scene.schedule();
-    let gap = schedule.gap().map(|(a, b)| {
-        let at = |k| schedule.time(schedule.frame_tick(k));
-        (at(a - 1), at(b + 1))
-    });
-    progress.stage(scene.name(), schedule.end_time(), gap);
+    progress.stage(scene.name(), schedule.total as f64, Some(schedule.frames()));
     let mut quiet = NoObserver;
     let inner: &mut dyn Observer<S> = match &mut recorder {
         Some(r) => r,
@@ -457,7 +453,7 @@ fn method_names(r: &Resolved) -> Vec<&'static str> {
 /// After a run: finalise the recording, print the summaries, then report an interruption
 /// (exit 130) or, with --fail-on-divergence, a divergence (exit 3).
 fn finish(
-    recording: Option<Recording>,
+    mut recording: Option<Recording>,
     d: &Destinations,
     started: Instant,
     summaries: &[String],
@@ -465,6 +461,7 @@ fn finish(
     run: &RunArgs,
 ) -> anyhow::Result<()> {
     let recorded = recording.is_some();
+    let live = recording.as_mut().map_or(Vec::new(), Recording::take_live);
     // A recording that cannot be written (a full disk) still shows the summaries first.
     let committed = recording.map(Recording::commit).transpose();
     // With `-o -` standard output carries the recording: the summary goes to stderr.
@@ -484,6 +481,8 @@ fn finish(
             started.elapsed().as_secs_f64()
         );
     }
+    // The viewers take what is left once the file and the summary are out.
+    live.into_iter().for_each(record::live::Live::finish);
     if crate::interrupt::requested() {
         let kept = match &d.file {
             Some(path) if recorded => format!(
