@@ -61,22 +61,32 @@ impl Shared {
         self.state.lock().unwrap_or_else(|e| e.into_inner())
     }
 
-    /// Ends the stream with one warning (none for a second reason); a viewer physlab started
-    /// that never listened is ended too.
-    fn drop_stream(&self, state: &mut State, why: &str) {
-        if !state.ended {
-            state.ended = true;
-            state.queue.clear();
-            state.bytes = 0;
+    /// Ends the stream, with one warning when `why` is given (none for a second reason); a
+    /// viewer physlab started that never listened is ended too.
+    fn drop_stream(&self, state: &mut State, why: Option<&str>) {
+        if let (false, Some(why)) = (state.ended, why) {
             eprintln!(
                 "warning: {}: {why}; streaming stopped, the run and its recording go on",
                 self.option
             );
-            self.changed.notify_all();
         }
-        if let Some(mut child) = self.child.lock().unwrap_or_else(|e| e.into_inner()).take() {
+        state.ended = true;
+        state.queue.clear();
+        state.bytes = 0;
+        self.changed.notify_all();
+        if let Some(mut child) = self.child().take() {
             let _ = child.kill();
         }
+    }
+
+    fn child(&self) -> MutexGuard<'_, Option<Child>> {
+        self.child.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// Waits for a change for at most 50 ms.
+    fn wait<'a>(&self, s: MutexGuard<'a, State>) -> MutexGuard<'a, State> {
+        let waited = self.changed.wait_timeout(s, Duration::from_millis(50));
+        waited.unwrap_or_else(|e| e.into_inner()).0
     }
 
     /// Why the stream should be dropped now, if it should; `waiting`: the run's thread waits
@@ -128,7 +138,10 @@ pub fn start(option: String, target: Target) -> (Live, LiveSink) {
         .name("physlab-viewer".into())
         .spawn(move || feed(&feeding, target));
     if let Err(e) = spawned {
-        shared.drop_stream(&mut shared.lock(), &format!("cannot start a thread ({e})"));
+        shared.drop_stream(
+            &mut shared.lock(),
+            Some(&format!("cannot start a thread ({e})")),
+        );
     }
     (Live(shared.clone()), LiveSink(shared))
 }
@@ -142,33 +155,18 @@ impl Live {
         self.0.changed.notify_all();
         while !s.ended {
             if let Some(why) = self.0.stalled(&s, true) {
-                self.0.drop_stream(&mut s, &why);
+                self.0.drop_stream(&mut s, Some(&why));
                 break;
             }
-            s = (self.0.changed)
-                .wait_timeout(s, Duration::from_millis(50))
-                .unwrap_or_else(|e| e.into_inner())
-                .0;
+            s = self.0.wait(s);
         }
     }
 }
 
 impl Drop for Live {
+    /// After a failed run too: the thread stops, and a viewer that never listened is ended.
     fn drop(&mut self) {
-        // After a failed run: the thread stops, and a viewer that never listened is ended.
-        let mut s = self.0.lock();
-        s.ended = true;
-        self.0.changed.notify_all();
-        drop(s);
-        if let Some(mut child) = self
-            .0
-            .child
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .take()
-        {
-            let _ = child.kill();
-        }
+        self.0.drop_stream(&mut self.0.lock(), None);
     }
 }
 
@@ -183,17 +181,14 @@ impl LogSink for LiveSink {
             }
             let full = !s.queue.is_empty() && s.bytes + size > BACKLOG_BYTES;
             if let Some(why) = shared.stalled(&s, full) {
-                shared.drop_stream(&mut s, &why);
+                shared.drop_stream(&mut s, Some(&why));
                 return;
             }
             if !full {
                 break;
             }
             // A full backlog waits for the viewer while it takes data (within the stall rule).
-            s = (shared.changed)
-                .wait_timeout(s, Duration::from_millis(50))
-                .unwrap_or_else(|e| e.into_inner())
-                .0;
+            s = shared.wait(s);
         }
         if s.queue.is_empty() {
             s.progress = Instant::now(); // the wait for the viewer starts now
@@ -221,28 +216,17 @@ fn size(msg: &LogMsg) -> usize {
 /// over and they are all taken, or the stream is dropped.
 fn feed(shared: &Shared, target: Target) {
     let uri = match target {
-        Target::Connect(uri) if !listens(&uri, Duration::from_secs(1)) => {
-            Err("no viewer answers there; writing the file only".to_string())
-        }
         Target::Connect(uri) => Ok(uri),
         Target::Spawn(exe) => spawn(shared, &exe),
-    }
-    .and_then(|uri| handshake(&uri).map(|()| uri));
-    let uri = match uri {
-        Ok(uri) => uri,
-        Err(why) => return shared.drop_stream(&mut shared.lock(), &why),
     };
-    {
-        let mut s = shared.lock();
-        s.starting = None;
-        s.progress = Instant::now();
-        shared
-            .child
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .take();
+    if let Err(why) = uri.as_ref().map_err(Clone::clone).and_then(handshake) {
+        return shared.drop_stream(&mut shared.lock(), Some(&why));
     }
-    let sink = GrpcSink::new(uri);
+    let mut s = shared.lock();
+    (s.starting, s.progress) = (None, Instant::now());
+    shared.child().take(); // it listens: it stays
+    drop(s);
+    let sink = GrpcSink::new(uri.expect("checked"));
     loop {
         let msg = {
             let mut s = shared.lock();
@@ -270,7 +254,7 @@ fn feed(shared: &Shared, target: Target) {
                 Ok(()) => "the viewer closed the connection".to_string(),
                 Err(e) => format!("the connection failed ({e})"),
             };
-            shared.drop_stream(&mut s, &why);
+            shared.drop_stream(&mut s, Some(&why));
             return std::mem::forget(sink);
         }
         shared.changed.notify_all();
@@ -287,10 +271,8 @@ fn feed(shared: &Shared, target: Target) {
             shared.changed.notify_all();
         }
         Err(e) => {
-            shared.drop_stream(
-                &mut s,
-                &format!("the viewer did not take the last data ({e})"),
-            );
+            let why = format!("the viewer did not take the last data ({e})");
+            shared.drop_stream(&mut s, Some(&why));
             std::mem::forget(sink);
         }
     }
@@ -326,12 +308,16 @@ fn handshake(uri: &ProxyUri) -> Result<(), String> {
         .and_then(|mut a| a.next())
         .ok_or("the viewer's address does not resolve")?;
     let mut head = [0u8; 9];
-    let answer = std::net::TcpStream::connect_timeout(&addr, limit).and_then(|mut c| {
+    let connected = std::net::TcpStream::connect_timeout(&addr, limit);
+    let Ok(mut c) = connected else {
+        return Err("no viewer answers there; writing the file only".into());
+    };
+    let answer = (|| {
         c.set_read_timeout(Some(limit))?;
         c.set_write_timeout(Some(limit))?;
         c.write_all(b"PRI * HTTP/2.0\r\n\r\nSM\r\n\r\n\0\0\0\x04\0\0\0\0\0")?;
         c.read_exact(&mut head)
-    });
+    })();
     let tls = matches!(origin.scheme, rerun::external::re_uri::Scheme::RerunHttps);
     match answer {
         Err(e)
@@ -391,17 +377,12 @@ fn spawn(shared: &Shared, exe: &std::path::Path) -> Result<ProxyUri, String> {
         .process_group(0)
         .spawn()
         .map_err(|e| format!("cannot start {} ({e})", exe.display()))?;
-    *shared.child.lock().unwrap_or_else(|e| e.into_inner()) = Some(child);
+    *shared.child() = Some(child);
     loop {
         if listens(&uri, Duration::from_millis(200)) {
             return Ok(uri);
         }
-        let exited = match shared
-            .child
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .as_mut()
-        {
+        let exited = match shared.child().as_mut() {
             Some(child) => child.try_wait().ok().flatten(),
             None => return Err("the stream was dropped".into()),
         };
