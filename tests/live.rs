@@ -201,9 +201,25 @@ fn still_runs(dir: &Path) -> bool {
         .is_ok_and(|stat| !stat.contains(") Z "))
 }
 
-/// Every `--spawn` case in one test: they share Rerun's port, which a fake that listens takes.
+/// Rerun's port, which `--spawn` takes a viewer already listening on instead of starting one:
+/// the `--spawn` tests take turns, each once nothing listens there (waited for up to a minute).
+fn rerun_port() -> std::sync::MutexGuard<'static, ()> {
+    static PORT: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    let turn = PORT.lock().unwrap_or_else(|e| e.into_inner());
+    let asked = Instant::now();
+    while std::net::TcpStream::connect("127.0.0.1:9876").is_ok() {
+        assert!(
+            asked.elapsed() < Duration::from_secs(60),
+            "port 9876 stays taken"
+        );
+        std::thread::sleep(Duration::from_millis(200));
+    }
+    turn
+}
+
 #[test]
 fn a_spawned_viewer_that_cannot_start_or_never_listens_costs_nothing_and_holds_no_output() {
+    let _port = rerun_port();
     let dir = scratch_dir("live-spawn");
     let own = own_time(&dir);
     // Exits 1 at once; hangs on `--version` (which physlab never waits on); never listens.
@@ -278,6 +294,7 @@ fn a_spawned_viewer_that_cannot_start_or_never_listens_costs_nothing_and_holds_n
 
 #[test]
 fn a_signal_is_answered_within_a_second_while_a_viewer_is_awaited() {
+    let _port = rerun_port();
     let dir = scratch_dir("live-signal");
     let bin = dir.join("never");
     fake_rerun(&bin, "exec sleep 100");
