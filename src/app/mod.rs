@@ -203,11 +203,10 @@ fn simulate(
 ) -> anyhow::Result<()> {
     let resolved = resolve(plan, run)?;
     let text = resolved.file.to_toml()?;
-    let no_record = run.no_record;
     if let Some(n) = threads {
         crate::scene::params::threads(n)?;
     }
-    refuse_contradictions(run, no_record)?;
+    refuse_contradictions(run, run.no_record)?;
     if run.print_config {
         print!("{text}");
         return Ok(());
@@ -219,15 +218,12 @@ fn simulate(
     let pool = (pool.build()).map_err(|e| {
         anyhow::anyhow!("cannot start the worker threads: no threads available (`ulimit -u`): {e}")
     })?;
-
-    let scenes: Vec<&'static str> = resolved.scenes.iter().map(|s| s.kind().name).collect();
-    let single = match resolved.scenes.as_slice() {
-        [one] => Some(one),
-        _ => None,
-    };
-    let name = single.map_or("all", |s| s.kind().name);
     let started = Instant::now();
-    let d = if no_record {
+    let name = match resolved.scenes.as_slice() {
+        [one] => one.kind().name,
+        _ => "all",
+    };
+    let d = if run.no_record {
         Destinations::default()
     } else {
         destinations(run, name)
@@ -239,61 +235,104 @@ fn simulate(
             &[("the scene file read (--config)", input.as_path())],
         )?;
     }
-    let recording = if no_record {
+    let recording = if run.no_record {
         None
     } else {
-        let layout = match single {
-            Some(one) => record::scene_layout(
-                one.kind().views,
-                run.timings,
-                &one.staging(),
-                &one.methods(),
-            ),
-            None => {
-                let views: Vec<_> = resolved
-                    .scenes
-                    .iter()
-                    .map(|s| (s.kind().views, s.staging(), s.methods()))
-                    .collect();
-                record::all_layout(run.timings, &views)
-            }
-        };
-        let application_id = single.map_or("physlab-all", |s| s.kind().application_id);
-        let recording = Recording::create(&d, application_id, name, layout)?;
-        send_provenance(
-            recording.stream(),
-            &scenes.join(","),
-            &text,
-            &method_names(&resolved),
-        )?;
-        Some(recording)
+        Some(open_recording(&resolved, run, &d, name, &text)?)
     };
-    // Said up front, before any work: a step too large for a scene is most often a unit mistake.
-    let warnings: Vec<Option<String>> = resolved.scenes.iter().map(|s| s.step_warning()).collect();
-    if !replay.silent {
-        for (scene, w) in resolved.scenes.iter().zip(&warnings) {
-            if let Some(w) = w {
-                eprintln!("warning: {}: {w}", scene.kind().name);
-            }
-        }
-    }
     let mut progress = Progress::new(run.quiet, recording.as_ref().and_then(|r| r.written()));
-    let mut summaries = Vec::new();
-    let mut diverged = Vec::new();
-    // One `frame` timeline for the whole recording: frame N at N / (the highest fps) s.
-    let frame_rate = resolved.scenes.iter().map(|s| s.fps()).fold(0.0, f64::max);
     let mut ctx = RunContext {
         stream: recording.as_ref().map(|r| r.stream().clone()),
         timings: run.timings,
-        frame_rate,
+        // One `frame` timeline for the whole recording: frame N at N / (the highest fps) s.
+        frame_rate: resolved.scenes.iter().map(|s| s.fps()).fold(0.0, f64::max),
         quiet: run.quiet,
         progress: &mut progress,
         pool: &pool,
         stop_after: None,
     };
-    // Scenes run one after another; after an interruption the remaining ones are skipped.
-    let mut ends: Vec<SceneEnd> = Vec::new();
-    for (scene, warning) in resolved.scenes.into_iter().zip(warnings) {
+    let ran = run_scenes(resolved.scenes, &mut ctx, run, replay)?;
+    let stream = ctx.stream.take();
+    progress.finish();
+    if let Some(s) = &stream {
+        record::send_run_status(s, &ran.ends)?;
+    }
+    drop(stream);
+    let summaries = if replay.silent {
+        &[][..]
+    } else {
+        &ran.summaries
+    };
+    finish(recording, &d, started, summaries, &ran.diverged, run)
+}
+
+/// The recording of the resolved scenes: its layout, its destinations and its provenance.
+fn open_recording(
+    resolved: &Resolved,
+    run: &RunArgs,
+    d: &Destinations,
+    name: &str,
+    text: &str,
+) -> anyhow::Result<Recording> {
+    let (layout, application_id) = match resolved.scenes.as_slice() {
+        [one] => (
+            record::scene_layout(
+                one.kind().views,
+                run.timings,
+                &one.staging(),
+                &one.methods(),
+            ),
+            one.kind().application_id,
+        ),
+        all => {
+            let views: Vec<_> = (all.iter())
+                .map(|s| (s.kind().views, s.staging(), s.methods()))
+                .collect();
+            (record::all_layout(run.timings, &views), "physlab-all")
+        }
+    };
+    let recording = Recording::create(d, application_id, name, layout)?;
+    let scenes: Vec<&str> = resolved.scenes.iter().map(|s| s.kind().name).collect();
+    send_provenance(
+        recording.stream(),
+        &scenes.join(","),
+        text,
+        &method_names(resolved),
+    )?;
+    Ok(recording)
+}
+
+/// What the scenes' runs leave: their summaries, the lanes that diverged and where each scene
+/// ended (those not run after an interruption said so).
+struct Ended {
+    summaries: Vec<String>,
+    diverged: Vec<String>,
+    ends: Vec<SceneEnd>,
+}
+
+/// Runs the scenes one after another; after an interruption the remaining ones are skipped.
+fn run_scenes(
+    scenes: Vec<Box<dyn scenes::ReadyScene>>,
+    ctx: &mut RunContext,
+    run: &RunArgs,
+    replay: &Replay,
+) -> anyhow::Result<Ended> {
+    // Said up front, before any work: a step too large for a scene is most often a unit mistake.
+    let warnings: Vec<Option<String>> = scenes.iter().map(|s| s.step_warning()).collect();
+    if !replay.silent {
+        for (scene, w) in scenes.iter().zip(&warnings) {
+            if let Some(w) = w {
+                eprintln!("warning: {}: {w}", scene.kind().name);
+            }
+        }
+    }
+    let names: Vec<&'static str> = scenes.iter().map(|s| s.kind().name).collect();
+    let mut ended = Ended {
+        summaries: Vec::new(),
+        diverged: Vec::new(),
+        ends: Vec::new(),
+    };
+    for (scene, warning) in scenes.into_iter().zip(warnings) {
         let name = scene.kind().name;
         if crate::interrupt::requested() || replay.skips(name) {
             continue;
@@ -310,39 +349,30 @@ fn simulate(
                     .unwrap_or_default()
             );
         }
-        let mut ran = scene.run(&mut ctx)?;
+        let mut ran = scene.run(ctx)?;
         if let Some(w) = warning {
             ran.summary.push_str(&format!("\nwarning: {w}\n"));
         }
         if let Some(s) = &ctx.stream {
             record::log_summary(s, ran.end.scene, &ran.summary, &ran.end.text, run.timings)?;
         }
-        summaries.push(ran.summary + &ran.printed_only);
-        diverged.extend(ran.diverged);
-        ends.push(ran.end);
+        ended.summaries.push(ran.summary + &ran.printed_only);
+        ended.diverged.extend(ran.diverged);
+        ended.ends.push(ran.end);
     }
-    let stream = ctx.stream.take();
-    progress.finish();
-    if let Some(s) = &stream {
-        // Scenes skipped after an interruption say so too.
-        for scene in &scenes {
-            if !ends.iter().any(|e| e.scene == *scene) {
-                ends.push(SceneEnd {
-                    scene,
-                    status: "not run",
-                    last_tick: 0,
-                    end_time: 0.0,
-                    text: "not run: the run was interrupted before this scene started".into(),
-                });
-            }
+    // Scenes skipped after an interruption say so too.
+    for scene in names {
+        if !ended.ends.iter().any(|e| e.scene == scene) {
+            ended.ends.push(SceneEnd {
+                scene,
+                status: "not run",
+                last_tick: 0,
+                end_time: 0.0,
+                text: "not run: the run was interrupted before this scene started".into(),
+            });
         }
-        record::send_run_status(s, &ends)?;
     }
-    drop(stream);
-    if replay.silent {
-        summaries.clear();
-    }
-    finish(recording, &d, started, &summaries, &diverged, run)
+    Ok(ended)
 }
 
 /// Output options that cannot hold together.
@@ -398,11 +428,7 @@ fn run_scene<S: Scene, D: Draw<S>>(
     stop_after: Option<u64>,
 ) -> anyhow::Result<Ran> {
     let schedule = scene.schedule();
-    let gap = schedule.gap().map(|(a, b)| {
-        let at = |k| schedule.time(schedule.frame_tick(k));
-        (at(a - 1), at(b + 1))
-    });
-    progress.stage(scene.name(), schedule.end_time(), gap);
+    progress.stage(scene.name(), schedule.total as f64, Some(schedule.frames()));
     let mut quiet = NoObserver;
     let inner: &mut dyn Observer<S> = match &mut recorder {
         Some(r) => r,
@@ -454,7 +480,7 @@ fn method_names(r: &Resolved) -> Vec<&'static str> {
 /// After a run: finalise the recording, print the summaries, then report an interruption
 /// (exit 130) or, with --fail-on-divergence, a divergence (exit 3).
 fn finish(
-    recording: Option<Recording>,
+    mut recording: Option<Recording>,
     d: &Destinations,
     started: Instant,
     summaries: &[String],
@@ -462,6 +488,7 @@ fn finish(
     run: &RunArgs,
 ) -> anyhow::Result<()> {
     let recorded = recording.is_some();
+    let live = recording.as_mut().map_or(Vec::new(), Recording::take_live);
     // A recording that cannot be written (a full disk) still shows the summaries first.
     let committed = recording.map(Recording::commit).transpose();
     // With `-o -` standard output carries the recording: the summary goes to stderr.
@@ -481,6 +508,8 @@ fn finish(
             started.elapsed().as_secs_f64()
         );
     }
+    // The viewers take what is left once the file and the summary are out.
+    live.into_iter().for_each(record::live::Live::finish);
     if crate::interrupt::requested() {
         let kept = match &d.file {
             Some(path) if recorded => format!(

@@ -29,54 +29,54 @@ pub struct Progress {
     pace: Pace,
 }
 
-/// How a stage's wall time and recording grow, measured as it goes. A stage that draws every 3D
-/// frame grows evenly with its simulated time. A long one draws its frames at its two ends only
-/// ([`crate::scene::harness::Schedule::gap`]): its first window (dense frames, short blocks of
-/// steps) costs more per simulated second than its gap, and its last window costs what its first
-/// did, so its pace is taken from each part. Its size is twice what its first window wrote, read a
-/// second into the gap (before then, the bytes written lag what was logged by the time Rerun
-/// holds chunks back).
+/// How a stage's wall time and recording grow: its ticks cost the same throughout, and so do the
+/// 3D frames it draws, which a long run draws at its two ends only
+/// ([`crate::scene::harness::Schedule::gap`]), so that a run whose first 3D window is the long
+/// part is told as early as one whose steps are. The cost of a frame is the recorder's time on
+/// it, the rest is the ticks'; the recording grows by frame (its plots are bounded, or come
+/// with the frames).
 struct Pace {
     started: Instant,
     /// Bytes written when the stage started.
     bytes0: u64,
-    /// Simulated time at the end.
+    /// Progress at the end (ticks; any unit for a stage without frames).
     end: f64,
-    /// The simulated times the gap starts and ends at, if there is one.
-    gap: Option<(f64, f64)>,
-    /// Wall time of the first window, once it is over [s].
-    window: Option<f64>,
+    /// 3D frames the stage draws, if it draws any.
+    frames: Option<u64>,
+    /// Frames drawn so far, and the recorder's time on them.
+    drawn: u64,
+    drawing: Duration,
 }
 
 impl Pace {
-    /// The whole stage's wall time [s] and, for an even stage, its bytes, from `t` reached with
-    /// `bytes` written so far; none before there is a pace to go by.
-    fn estimate(&mut self, t: f64, bytes: u64) -> Option<(f64, Option<f64>)> {
-        let elapsed = self.started.elapsed().as_secs_f64();
-        let done = t / self.end;
-        let Some((t1, t2)) = self.gap else {
-            let bytes = bytes.saturating_sub(self.bytes0) as f64;
-            return (done > 0.0).then(|| (elapsed / done, Some(bytes / done)));
-        };
-        if t <= t1 {
+    fn new(end: f64, frames: Option<u64>, bytes0: u64) -> Self {
+        Pace {
+            started: Instant::now(),
+            bytes0,
+            end: end.max(1e-12),
+            frames,
+            drawn: 0,
+            drawing: Duration::ZERO,
+        }
+    }
+
+    /// The whole stage's wall time [s] and bytes, from progress `at` reached with `bytes`
+    /// written so far; none before there is a pace to go by.
+    fn estimate(&self, at: f64, bytes: u64) -> Option<(f64, Option<f64>)> {
+        let done = at / self.end;
+        if done <= 0.0 {
             return None;
         }
-        let window = *self.window.get_or_insert(elapsed);
-        if t <= t2 {
-            // A second into the gap: its first blocks also wait for the window's chunks, which
-            // Rerun has written by then. The last window writes what the first did, and the
-            // gap's plots are bounded and small beside them.
-            if elapsed - window < 1.0 {
-                return None;
+        let elapsed = self.started.elapsed().as_secs_f64();
+        let bytes = bytes.saturating_sub(self.bytes0) as f64;
+        match self.frames.filter(|_| self.drawn > 0) {
+            Some(frames) => {
+                let per_frame = frames as f64 / self.drawn as f64;
+                let drawing = self.drawing.as_secs_f64();
+                let seconds = (elapsed - drawing).max(0.0) / done + drawing * per_frame;
+                Some((seconds, Some(bytes * per_frame)))
             }
-            // The gap's pace so far, over all of it: steps cost the same throughout (the rope
-            // zeroes the negligible coordinates that made its late steps dearer), and the
-            // whole gap's pace is the one least shaken by other work on the machine.
-            let gap = (elapsed - window) * (t2 - t1) / (t - t1);
-            let bytes = 2.0 * bytes.saturating_sub(self.bytes0) as f64;
-            Some((2.0 * window + gap, Some(bytes)))
-        } else {
-            Some((elapsed + window * (self.end - t) / (self.end - t2), None))
+            None => Some((elapsed / done, Some(bytes / done))),
         }
     }
 }
@@ -92,32 +92,26 @@ impl Progress {
             label: String::new(),
             shown: Instant::now(),
             noticed: false,
-            pace: Pace {
-                started: Instant::now(),
-                bytes0: 0,
-                end: 1.0,
-                gap: None,
-                window: None,
-            },
+            pace: Pace::new(1.0, None, 0),
         }
     }
 
-    /// Starts a new stage: `label` runs to simulated time `end` [s], drawing no 3D frame between
-    /// the simulated times `gap` gives.
-    pub fn stage(&mut self, label: &str, end: f64, gap: Option<(f64, f64)>) {
+    /// Starts a new stage: `label` runs to progress `end` (ticks, or any unit), drawing
+    /// `frames` 3D frames.
+    pub fn stage(&mut self, label: &str, end: f64, frames: Option<u64>) {
         self.label = label.to_string();
-        self.pace = Pace {
-            started: Instant::now(),
-            bytes0: self.bytes(),
-            end: end.max(1e-12),
-            gap,
-            window: None,
-        };
+        self.pace = Pace::new(end, frames, self.bytes());
         self.noticed = false;
         if let Some(bar) = &self.bar {
             bar.set_prefix(self.label.clone());
             bar.set_position(0);
         }
+    }
+
+    /// A 3D frame was drawn, taking the recorder `took`.
+    fn drawn(&mut self, took: Duration) {
+        self.pace.drawn += 1;
+        self.pace.drawing += took;
     }
 
     fn bytes(&self) -> u64 {
@@ -126,27 +120,20 @@ impl Progress {
             .map_or(0, |w| w.load(Ordering::Relaxed))
     }
 
-    /// Simulated time reached.
+    /// Progress reached (ticks, or the stage's unit).
     pub fn at(&mut self, t: f64) {
         let elapsed = self.pace.started.elapsed();
-        if !self.noticed && !self.quiet && elapsed >= NOTICE_AFTER {
+        let estimate = self.pace.estimate(t, self.bytes());
+        if let Some((seconds, bytes)) = estimate.filter(|_| !self.noticed && !self.quiet)
+            && elapsed >= NOTICE_AFTER
+        {
+            let bytes = bytes.filter(|_| self.written.is_some());
             let done = t / self.pace.end;
-            if let Some((seconds, bytes)) = self.pace.estimate(t, self.bytes()) {
+            if let Some(notice) = long_run_notice(&self.label, done, seconds, bytes) {
                 self.noticed = true;
-                let bytes = bytes.filter(|_| self.written.is_some());
-                let how = match self.pace.gap {
-                    None => "its pace so far, extrapolated",
-                    Some(_) => {
-                        "the pace of its first 3D window and of its gap so far, extrapolated, \
-                         its last window like its first; its recording twice what its first \
-                         window wrote, the 3D frame budget's two ends"
-                    }
-                };
-                if let Some(notice) = long_run_notice(&self.label, done, seconds, bytes, how) {
-                    match &self.bar {
-                        Some(bar) => bar.println(notice),
-                        None => eprintln!("{notice}"),
-                    }
+                match &self.bar {
+                    Some(bar) => bar.println(notice),
+                    None => eprintln!("{notice}"),
                 }
             }
         }
@@ -173,10 +160,7 @@ impl Progress {
             return;
         }
         self.shown = Instant::now();
-        let left = self
-            .pace
-            .estimate(t, self.bytes())
-            .map(|(seconds, _)| seconds - elapsed.as_secs_f64());
+        let left = estimate.map(|(seconds, _)| seconds - elapsed.as_secs_f64());
         if let Some(bar) = &self.bar {
             bar.set_position((1000.0 * (t / self.pace.end).clamp(0.0, 1.0)) as u64);
             bar.set_message(left.map_or("?".into(), format::eta));
@@ -198,16 +182,10 @@ pub const LONG_SECONDS: f64 = 10.0;
 /// ...or its recording beyond this many bytes.
 pub const LARGE_BYTES: f64 = 100e6;
 
-/// The notice of a scene at `done` (0–1) of its simulated time that will take `seconds` in all
-/// and write `bytes` (estimated `how`), when that is long or large.
-fn long_run_notice(
-    label: &str,
-    done: f64,
-    seconds: f64,
-    bytes: Option<f64>,
-    how: &str,
-) -> Option<String> {
-    if !(0.0..1.0).contains(&done) {
+/// The notice of a scene at `done` (0–1) of its way that will take `seconds` in all and write
+/// `bytes`, when that is long or large; none past half its way (too late to be of use).
+fn long_run_notice(label: &str, done: f64, seconds: f64, bytes: Option<f64>) -> Option<String> {
+    if !(0.0..0.5).contains(&done) {
         return None;
     }
     if seconds <= LONG_SECONDS && bytes.is_none_or(|b| b <= LARGE_BYTES) {
@@ -217,8 +195,8 @@ fn long_run_notice(
         format!(" and writes about {} to its recording", format::size(b))
     });
     Some(format!(
-        "{label}: this takes about {}{size} in all ({how}, at {:.2} % of its way); Ctrl-C \
-         stops it and keeps what is done",
+        "{label}: this takes about {}{size} in all (from the cost of its steps and 3D frames \
+         so far, at {:.2} % of its way); Ctrl-C stops it and keeps what is done",
         format::duration(seconds),
         100.0 * done
     ))
@@ -241,14 +219,17 @@ impl<S: Scene, O: Observer<S> + ?Sized> Observer<S> for WithProgress<'_, O> {
         self.inner.series(scene, lane, batch)
     }
     fn frame(&mut self, scene: &S, frame: &Frame<S::Lane>) -> anyhow::Result<()> {
-        self.progress.at(frame.time);
-        self.inner.frame(scene, frame)
+        let started = Instant::now();
+        let drawn = self.inner.frame(scene, frame);
+        self.progress.drawn(started.elapsed());
+        self.progress.at(frame.tick as f64);
+        drawn
     }
     fn event(&mut self, scene: &S, event: &Event) -> anyhow::Result<()> {
         self.inner.event(scene, event)
     }
     fn reached(&mut self, scene: &S, tick: u64) {
-        self.progress.at(scene.schedule().time(tick));
+        self.progress.at(tick as f64);
         self.inner.reached(scene, tick);
     }
     fn finish(&mut self, scene: &S, run: &Run<S::Lane>) -> anyhow::Result<()> {
@@ -262,49 +243,39 @@ mod tests {
 
     #[test]
     fn a_scene_is_said_long_or_large_from_its_pace_extrapolated() {
-        let how = "its pace so far";
-        let long = long_run_notice("pendulum", 0.01, 100.0, None, how).unwrap();
-        assert!(
-            long.contains("about 1 min 40 s in all (its pace so far"),
-            "{long}"
-        );
+        let long = long_run_notice("pendulum", 0.01, 100.0, None).unwrap();
+        assert!(long.contains("about 1 min 40 s in all (from"), "{long}");
         assert!(!long.contains("writes"), "{long}");
-        assert_eq!(long_run_notice("rope", 0.5, 2.0, Some(2e6), how), None);
-        let large = long_run_notice("hair", 0.2, 5.0, Some(200e6), how).unwrap();
+        assert_eq!(long_run_notice("rope", 0.2, 2.0, Some(2e6)), None);
+        let large = long_run_notice("hair", 0.2, 5.0, Some(200e6)).unwrap();
         assert!(
             large.contains("about 5 s and writes about 200 MB"),
             "{large}"
         );
-        let huge = long_run_notice("pendulum", 4e-5, 25000.0, Some(4e10), how).unwrap();
+        let huge = long_run_notice("pendulum", 4e-5, 25000.0, Some(4e10)).unwrap();
         assert!(
             huge.contains("6 h 56 min") && huge.contains("40.0 GB"),
             "{huge}"
         );
-        assert_eq!(long_run_notice("x", 1.0, 1e9, None, how), None);
+        assert_eq!(long_run_notice("x", 0.6, 1e9, None), None, "too late");
     }
 
-    /// A run with a gap: 1 s for its first window (to t = 100 of 10,000), then 1.5 s more for
-    /// 1,000 simulated seconds of gap, is 1 + 14.7 + 1 s in all, and writes twice what it has
-    /// written a second into the gap (its two 3D windows); even pace otherwise.
+    /// A run of 10,000 ticks drawing 100 frames, 10 of them drawn by tick 50 in 2 s of which
+    /// the recorder took 1.5 s and 4 MB: its ticks cost 0.5 s per 50, 100 s in all, its frames
+    /// 0.15 s and 0.4 MB each, 15 s and 40 MB in all, though the simulated time done says 400 s.
     #[test]
-    fn the_pace_of_a_long_run_is_taken_from_its_window_and_its_gap() {
-        let at = |ago: f64| Instant::now() - Duration::from_secs_f64(ago);
-        let mut pace = Pace {
-            started: at(1.0),
-            bytes0: 0,
-            end: 10_000.0,
-            gap: Some((100.0, 9_900.0)),
-            window: None,
-        };
-        assert_eq!(pace.estimate(50.0, 5_000_000), None, "in the first window");
-        assert_eq!(pace.estimate(100.5, 8_000_000), None, "just out of it");
-        pace.started = at(2.5);
-        let (seconds, bytes) = pace.estimate(1_100.0, 9_000_000).unwrap();
-        assert!((seconds - (2.0 + 14.7)).abs() < 0.02, "{seconds}");
-        assert_eq!(bytes, Some(18e6), "both windows");
-        let mut even = Pace { gap: None, ..pace };
-        even.started = at(2.0);
-        let (seconds, bytes) = even.estimate(1_000.0, 1_000_000).unwrap();
+    fn the_pace_of_a_run_is_its_ticks_and_its_frames_apart() {
+        let mut pace = Pace::new(10_000.0, Some(100), 1_000_000);
+        pace.started = Instant::now() - Duration::from_secs(2);
+        assert_eq!(pace.estimate(0.0, 1_000_000), None, "nothing done yet");
+        pace.drawn = 10;
+        pace.drawing = Duration::from_millis(1500);
+        let (seconds, bytes) = pace.estimate(50.0, 5_000_000).unwrap();
+        assert!((seconds - 115.0).abs() < 0.5, "{seconds}");
+        assert_eq!(bytes, Some(40e6));
+        let mut even = Pace::new(1_000.0, None, 0);
+        even.started = Instant::now() - Duration::from_secs(2);
+        let (seconds, bytes) = even.estimate(100.0, 1_000_000).unwrap();
         assert!((seconds - 20.0).abs() < 0.02 && bytes == Some(1e7));
     }
 }

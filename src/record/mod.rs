@@ -11,6 +11,7 @@ pub mod scene;
 pub mod study;
 
 pub mod layout;
+pub mod live;
 mod provenance;
 mod recording;
 mod sink;

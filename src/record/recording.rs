@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Context as _;
 
-use super::{Layout, sink};
+use super::{Layout, live, sink};
 
 /// Where a recording goes: a file (written beside its target and renamed when complete), a
 /// running viewer, a viewer started for it, or any combination.
@@ -67,18 +67,6 @@ fn parse_proxy_url(url: &str) -> anyhow::Result<rerun::external::re_uri::ProxyUr
     })
 }
 
-/// Whether something accepts connections at the viewer's address (within a second).
-fn viewer_listens(uri: &rerun::external::re_uri::ProxyUri) -> bool {
-    use std::net::ToSocketAddrs as _;
-    let origin = &uri.origin;
-    let Ok(addrs) = (origin.host.to_string(), origin.port).to_socket_addrs() else {
-        return false;
-    };
-    addrs.into_iter().any(|a| {
-        std::net::TcpStream::connect_timeout(&a, std::time::Duration::from_secs(1)).is_ok()
-    })
-}
-
 /// The first executable called `name` on PATH.
 pub fn find_on_path(name: &str) -> Option<PathBuf> {
     let path = std::env::var_os("PATH")?;
@@ -125,6 +113,8 @@ pub struct Recording {
     target: Option<PathBuf>,
     /// Bytes written to the file so far.
     written: Option<std::sync::Arc<std::sync::atomic::AtomicU64>>,
+    /// The live streams to viewers.
+    live: Vec<live::Live>,
 }
 
 impl Recording {
@@ -157,31 +147,26 @@ impl Recording {
             file = Some(shared);
             target = output.target;
         }
-        if d.spawn {
-            rerun::spawn(&rerun::SpawnOptions::default())
-                .context("--spawn: cannot start the Rerun viewer")?;
-            let url = format!(
-                "rerun+http://127.0.0.1:{}/proxy",
-                rerun::DEFAULT_SERVER_PORT
-            );
-            sinks.push(Box::new(rerun::sink::GrpcSink::new(parse_proxy_url(&url)?)));
+        // The viewers are side channels (`live`): nothing they do reaches the file.
+        let mut live = Vec::new();
+        if let Some(exe) = d.spawn.then(|| find_on_path("rerun")).flatten() {
+            live.push(live::start("--spawn".into(), live::Target::Spawn(exe)));
         }
         if let Some(url) = &d.connect {
             let uri = parse_proxy_url(url)?;
-            if viewer_listens(&uri) {
-                sinks.push(Box::new(rerun::sink::GrpcSink::new(uri)));
-            } else if d.file.is_some() {
-                // A missing viewer must not cost the user the recording.
-                eprintln!(
-                    "warning: --connect {url}: no viewer answers there; writing the file only"
-                );
-            } else {
+            if d.file.is_none() && !d.stdout && !d.spawn && !live::answers(&uri) {
                 anyhow::bail!(
                     "--connect {url}: no viewer answers there, and --no-save leaves nothing to write \
                      (start `rerun`, or drop --no-save)"
                 );
             }
+            live.push(live::start(
+                format!("--connect {url}"),
+                live::Target::Connect(uri),
+            ));
         }
+        let (live, live_sinks): (Vec<_>, Vec<_>) = live.into_iter().unzip();
+        sinks.extend(live_sinks.into_iter().map(|s| Box::new(s) as _));
         let mut builder = rerun::RecordingStreamBuilder::new(application_id)
             .enabled(true) // the recording is the product: ignore RERUN=off
             .send_properties(false);
@@ -199,7 +184,13 @@ impl Recording {
             file,
             target,
             written,
+            live,
         })
+    }
+
+    /// The live streams, for [`live::Live::finish`] once the file is written.
+    pub fn take_live(&mut self) -> Vec<live::Live> {
+        std::mem::take(&mut self.live)
     }
 
     /// The count of bytes written to the recording's file so far (none when only streamed).

@@ -280,17 +280,6 @@ pub fn threads(n: usize) -> Result<(), Invalid> {
     }
 }
 
-/// The windows asked for (`--window`) each hold a plotted step, and not too many together.
-pub fn windows(
-    schedule: &crate::scene::harness::Schedule,
-    asked: &[crate::scene::harness::Window],
-) -> Result<(), Invalid> {
-    schedule
-        .asked_windows(asked)
-        .map(|_| ())
-        .map_err(|(w, rule)| Invalid::param("--window", w, rule))
-}
-
 /// At least one method to run; `names` lists those allowed.
 pub fn some_methods<M>(methods: &[M], names: &str) -> Result<(), Invalid> {
     if methods.is_empty() {

@@ -112,7 +112,7 @@ impl params::SceneConfig for HairConfig {
             )));
         }
         params::within("--damping", p.damping, 0.0, max, "1/s")?;
-        params::windows(&self.schedule(), &self.window)?;
+        self.schedule().check_windows(&self.window)?;
         let margin_ok = p.margin.is_finite() && (0.0..0.5).contains(&p.margin);
         params::require(
             margin_ok,

@@ -7,16 +7,15 @@
 //! A "tick" is the scene's unit of time on the schedule: one step of dt for the pendulum and the
 //! rope, one simulation frame (of `substeps` steps) for hair.
 
-use std::time::{Duration, Instant};
-
 use crate::integrate::Counts;
 
 mod outcome;
+mod running;
 mod schedule;
 mod series;
 pub use outcome::{LaneStats, Run, divergence_cell};
+use running::Running;
 pub use schedule::{Clock, MAX_PLOT_POINTS, Schedule, Window, Windows};
-use series::SERIES_BATCH;
 pub use series::{LOG10, LaneSeries, Sampler, SeriesBatch, SeriesPlan, WHOLE, absent_when_zero};
 
 #[derive(Clone, Debug, PartialEq)]
@@ -190,250 +189,22 @@ pub fn run_until<S: Scene>(
     observer: &mut dyn Observer<S>,
     stop_after: Option<u64>,
 ) -> anyhow::Result<Run<S::Lane>> {
-    let schedule = scene.schedule();
-    let (names, mut lanes): (Vec<&'static str>, Vec<S::Lane>) = scene.lanes().into_iter().unzip();
-    let mut stats: Vec<LaneStats> = names
-        .iter()
-        .zip(&lanes)
-        .map(|(&name, lane)| LaneStats {
-            name,
-            is_method: scene.is_method(lane),
-            ticks: 0,
-            wall: Duration::ZERO,
-            timed_ticks: 0,
-            counts: scene.counts(lane),
-            divergence: None,
-        })
-        .collect();
-    let wanted = observer.rows();
-    let plan = match wanted {
-        WantedRows::Plotted => schedule.series_plan(&scene.windows()),
-        WantedRows::None | WantedRows::Every => None,
-    };
-    let mut series: Vec<LaneSeries> = lanes
-        .iter()
-        .map(|l| {
-            let absent: Vec<bool> = scene
-                .quantities(l)
-                .iter()
-                .map(|q| absent_when_zero(q))
-                .collect();
-            LaneSeries::new(
-                &schedule,
-                &absent,
-                plan.as_ref(),
-                wanted != WantedRows::None,
-            )
-        })
-        .collect();
-    let mut alive = vec![true; lanes.len()];
-    let mut accepted = vec![0usize; lanes.len()];
-    let mut cost = vec![Duration::ZERO; lanes.len()];
-    // The time of each lane's first missed implicit solve, once there was one.
-    let mut missed: Vec<Option<f64>> = vec![None; lanes.len()];
-    {
-        let named: Vec<(&'static str, &S::Lane)> = names.iter().copied().zip(&lanes).collect();
-        observer.start(scene, &named)?;
-    }
-
-    // Tick 0: the initial state is every lane's first sample and frame 0.
-    for (i, lane) in lanes.iter().enumerate() {
-        if let Some(values) = scene.initial(lane) {
-            Sampler::new(&schedule, &mut series[i]).push(0, &values);
-        }
-    }
-    observer.frame(
-        scene,
-        &Frame {
-            index: 0,
-            tick: 0,
-            time: 0.0,
-            lanes: lanes.iter().map(|l| Some((l, 0))).collect(),
-            cost_ms: vec![0.0; lanes.len()],
-        },
-    )?;
-    let mut frames = 1u64;
-
+    let mut run = Running::start(scene, observer)?;
     let mut first = 1u64;
     let mut interrupted = false;
-    while first <= schedule.total {
+    while first <= run.schedule.total {
         // A stop request (Ctrl-C) ends the run at a block boundary; what was done so far stands.
         if crate::interrupt::requested() || stop_after.is_some_and(|tick| first > tick) {
             interrupted = true;
             break;
         }
-        let mut last = schedule
-            .total
-            .min(first.saturating_add(scene.max_block() - 1));
-        if !scene.traced() {
-            last = last.min(schedule.frame_tick(schedule.next_frame(first)));
-        }
-        let len = (last - first + 1) as usize;
-        scene.prepare(first, len);
-        // Shared work can be long (the pendulum's fine-step reference): a stop asked for
-        // during it leaves this block unstepped, and what came before stands.
-        if crate::interrupt::requested() {
+        let Some(last) = run.block(scene, observer, first)? else {
             interrupted = true;
             break;
-        }
-
-        // Each live lane is stepped, checked and its series settled on its own; what reaches
-        // the observer is then handed on in lane order, so that the run is the same on any
-        // number of threads.
-        let step_lane =
-            |((lane, lane_series), &alive): ((&mut S::Lane, &mut LaneSeries), &bool)| {
-                if !alive {
-                    return None;
-                }
-                let started = Instant::now();
-                scene.advance(lane, first, len);
-                let elapsed = started.elapsed();
-                let checked =
-                    scene.check(lane, first, len, &mut Sampler::new(&schedule, lane_series));
-                lane_series.settle(&schedule);
-                if checked.divergence.is_some() {
-                    lane_series.finish(&schedule);
-                }
-                Some((elapsed, checked))
-            };
-        let stepped: Vec<Option<(Duration, Checked)>> = if scene.side_by_side() {
-            use rayon::prelude::*;
-            (lanes.par_iter_mut().zip(series.par_iter_mut()))
-                .zip(alive.par_iter())
-                .map(step_lane)
-                .collect()
-        } else {
-            (lanes.iter_mut().zip(series.iter_mut()))
-                .zip(&alive)
-                .map(step_lane)
-                .collect()
         };
-
-        for (i, (lane, stepped)) in lanes.iter().zip(stepped).enumerate() {
-            accepted[i] = 0;
-            let Some((elapsed, checked)) = stepped else {
-                continue;
-            };
-            let s = &mut stats[i];
-            s.wall += elapsed;
-            s.timed_ticks += len as u64;
-            cost[i] += elapsed;
-            accepted[i] = checked.accepted;
-            s.ticks += checked.accepted as u64;
-            s.counts = checked.counts.unwrap_or_else(|| scene.counts(lane));
-            if let Some((offset, what)) = checked.solver_miss
-                && missed[i].is_none()
-            {
-                // Reported once per lane, and the total at the end (as the summary counts it),
-                // so the log stays readable.
-                let tick = first + offset as u64;
-                let time = schedule.time(tick);
-                missed[i] = Some(time);
-                observer.event(
-                    scene,
-                    &Event {
-                        lane: i,
-                        time,
-                        tick,
-                        kind: EventKind::SolverNotConverged,
-                        message: format!(
-                            "{}: an implicit step at t = {time:.6} s missed its Newton tolerance \
-                             ({what}); the summary counts all such steps",
-                            s.name
-                        ),
-                    },
-                )?;
-            }
-            if let Some(why) = checked.divergence {
-                let tick = first + checked.accepted as u64;
-                let time = schedule.time(tick);
-                let event = Event {
-                    lane: i,
-                    time,
-                    tick,
-                    kind: EventKind::Divergence,
-                    message: format!(
-                        "{} diverged at t = {time:.6} s (tick {tick}): {why}",
-                        s.name
-                    ),
-                };
-                observer.event(scene, &event)?;
-                s.divergence = Some(event);
-                alive[i] = false;
-            }
-            let batch = &mut series[i].batch;
-            if !batch.is_empty() && (batch.len() >= SERIES_BATCH || !alive[i]) {
-                observer.series(scene, i, batch)?;
-                batch.clear();
-            }
-        }
-
-        // 3D frames that fall in this block.
-        let mut k = schedule.next_frame(first);
-        let mut tick = schedule.frame_tick(k);
-        while tick <= last {
-            let offset = (tick - first) as usize;
-            let view = Frame {
-                index: k,
-                tick,
-                time: schedule.time(tick),
-                lanes: lanes
-                    .iter()
-                    .enumerate()
-                    .map(|(i, l)| (offset < accepted[i]).then_some((l, offset)))
-                    .collect(),
-                cost_ms: cost.iter().map(|c| c.as_secs_f64() * 1e3).collect(),
-            };
-            observer.frame(scene, &view)?;
-            cost.fill(Duration::ZERO);
-            frames += 1;
-            k = schedule.drawn_from(k + 1);
-            tick = schedule.frame_tick(k);
-        }
-        observer.reached(scene, last);
         first = last + 1;
     }
-    for (i, lane_series) in series.iter_mut().enumerate() {
-        lane_series.finish(&schedule);
-        let batch = &mut lane_series.batch;
-        if !batch.is_empty() {
-            observer.series(scene, i, batch)?;
-            batch.clear();
-        }
-    }
-    // The log's last word on missed solves is the summary's count.
-    for (i, s) in stats.iter().enumerate() {
-        let failed = s.counts.failed_solves;
-        if let Some(first_time) = missed[i]
-            && failed > 1
-        {
-            let tick = s.ticks_taken();
-            let time = schedule.time(tick);
-            observer.event(
-                scene,
-                &Event {
-                    lane: i,
-                    time,
-                    tick,
-                    kind: EventKind::SolverNotConverged,
-                    message: format!(
-                        "{}: {failed} implicit steps in all missed their Newton tolerance, the first at \
-                         t = {first_time:.6} s",
-                        s.name
-                    ),
-                },
-            )?;
-        }
-    }
-    let run = Run {
-        lanes,
-        stats,
-        frames,
-        interrupted,
-        last_tick: first - 1,
-    };
-    observer.finish(scene, &run)?;
-    Ok(run)
+    run.end(scene, observer, interrupted, first - 1)
 }
 
 #[cfg(test)]

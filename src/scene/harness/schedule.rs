@@ -2,6 +2,7 @@
 //! plotted and which are drawn in 3D.
 
 use super::series::SeriesPlan;
+use crate::error::Error;
 use crate::scene::m4::MAX_COLUMNS;
 use crate::scene::params::shown;
 
@@ -22,7 +23,8 @@ fn seconds(t: f64) -> String {
 }
 
 /// A stretch of simulated time whose every sampled step is kept (`--window FROM:TO`, seconds).
-/// A negative end counts back from the end of the run; an empty one is the run's start or end.
+/// A negative end (`-0` too: the end itself) counts back from the end of the run; an empty one is
+/// the run's start or end.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Window {
     pub from: Option<f64>,
@@ -88,6 +90,23 @@ impl Windows {
             asked: asked.to_vec(),
         }
     }
+}
+
+/// `ranges` (in order, apart) with `range` added: those it overlaps or touches merged into one,
+/// so that a tick is in one range at most.
+fn merged_ranges(ranges: Vec<(u64, u64)>, range: (u64, u64)) -> Vec<(u64, u64)> {
+    let (mut from, mut to) = range;
+    let mut out = Vec::with_capacity(ranges.len() + 1);
+    for (a, b) in ranges {
+        if b.saturating_add(1) < from || to.saturating_add(1) < a {
+            out.push((a, b));
+        } else {
+            (from, to) = (from.min(a), to.max(b));
+        }
+    }
+    let at = out.partition_point(|r: &(u64, u64)| r.0 < from);
+    out.insert(at, (from, to));
+    out
 }
 
 /// 3D frames a run draws at most. A longer run draws the first and the last half of this many
@@ -276,7 +295,7 @@ impl Schedule {
     /// A window's sampled ticks (an inclusive range), or `None` when it holds none.
     fn window_ticks(&self, w: &Window) -> Option<(u64, u64)> {
         let end = self.end_time();
-        let at = |e: f64| if e < 0.0 { end + e } else { e };
+        let at = |e: f64| if e.is_sign_negative() { end + e } else { e };
         let (from, to) = (w.from.map_or(0.0, at), w.to.map_or(end, at));
         let per_tick = self.tick_seconds();
         let first = ((from / per_tick).ceil().max(0.0) as u64).next_multiple_of(self.plot_stride);
@@ -289,12 +308,11 @@ impl Schedule {
         last / self.plot_stride - first.div_ceil(self.plot_stride) + 1
     }
 
-    /// The windows asked for, each as an inclusive range of ticks; an error (the window and
-    /// why) for a window that holds no sampled step, or once they keep more than
-    /// [`MAX_ASKED_WINDOW_ROWS`] rows together.
+    /// The windows asked for as inclusive ranges of ticks, overlapping ones merged, in order; an
+    /// error (the window and why) for a window that holds no sampled step, or once together they
+    /// keep more than [`MAX_ASKED_WINDOW_ROWS`] rows.
     pub fn asked_windows(&self, asked: &[Window]) -> Result<Vec<(u64, u64)>, (Window, String)> {
         let mut ticks = Vec::new();
-        let mut rows = 0;
         for &w in asked {
             let Some(t) = self.window_ticks(&w) else {
                 return Err((
@@ -306,7 +324,8 @@ impl Schedule {
                     ),
                 ));
             };
-            rows += self.rows_in(t);
+            ticks = merged_ranges(ticks, t);
+            let rows: u64 = ticks.iter().map(|&t| self.rows_in(t)).sum();
             if rows > MAX_ASKED_WINDOW_ROWS {
                 return Err((
                     w,
@@ -317,9 +336,15 @@ impl Schedule {
                     ),
                 ));
             }
-            ticks.push(t);
         }
         Ok(ticks)
+    }
+
+    /// The windows asked for (`--window`) each hold a plotted step, and not too many together.
+    pub fn check_windows(&self, asked: &[Window]) -> Result<(), Error> {
+        self.asked_windows(asked)
+            .map(|_| ())
+            .map_err(|(w, rule)| Error::param("--window", w, rule))
     }
 
     /// The first window's ticks and the rows of the last one: `edge_seconds`, cut to
@@ -347,8 +372,10 @@ impl Schedule {
             return None;
         }
         let edge = self.edge_rows(windows.edge_seconds);
-        let mut ticks = vec![(0, (edge - 1) * self.plot_stride)];
-        ticks.extend(self.asked_windows(&windows.asked).unwrap_or_default());
+        let asked = self.asked_windows(&windows.asked).unwrap_or_default();
+        let ticks = asked
+            .into_iter()
+            .fold(vec![(0, (edge - 1) * self.plot_stride)], merged_ranges);
         Some(SeriesPlan {
             windows: ticks,
             last_rows: edge as usize,

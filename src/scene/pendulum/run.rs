@@ -101,7 +101,7 @@ impl params::SceneConfig for PendulumConfig {
         params::time(self.dt, self.duration, self.fps, 1)?;
         params::own_step(self.options.step, self.dt, self.duration, 1)?;
         self.reference_guard()?;
-        params::windows(&self.schedule(), &self.window)?;
+        self.schedule().check_windows(&self.window)?;
         params::plot_and_options(self.plot_every, &self.options)
     }
 

@@ -240,7 +240,7 @@ impl params::SceneConfig for RopeConfig {
             self.memory_bytes(),
             "use fewer --nodes or --methods",
         )?;
-        params::windows(&self.schedule(), &self.window)?;
+        self.schedule().check_windows(&self.window)?;
         params::plot_and_options(self.plot_every, &self.options)
     }
 
