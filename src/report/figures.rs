@@ -177,7 +177,7 @@ pub fn drift_pendulum_runs() -> Vec<study::drift::Drift> {
     let p = crate::scene::pendulum::PendulumParams::default();
     let exact = crate::scene::pendulum::reference::ExactPendulum::new(&p);
     let duration = study::drift::DEFAULT_PERIODS * exact.map_or(f64::NAN, |e| e.period());
-    study::drift::default_methods()
+    study::drift::default_methods(&Problem::Pendulum(p))
         .into_iter()
         .filter_map(|m| {
             let options = crate::integrate::MethodOptions::default();

@@ -5,7 +5,7 @@ use super::Error;
 use super::SceneFile;
 use crate::cli::{StudyArgs, StudyKind};
 use crate::report::study as report;
-use crate::study::{Limit, Problem, error_floor, stability, sweep};
+use crate::study::{Limit, damped_companion, error_floor, stability, sweep};
 
 mod drift;
 mod hair;
@@ -39,9 +39,9 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
     let done;
     match a.kind {
         StudyKind::Convergence | StudyKind::WorkPrecision => {
-            let (rows, reference_error) = sweep(&problem, &sw);
+            let (mut rows, reference_error) = sweep(&problem, &sw);
+            let mut damped_all = Vec::new();
             let floor = error_floor(reference_error);
-            done = rows.len();
             let kind = a.kind.name();
             out.push_str(&report::sweep_header(&problem, &kind, &sw, reference_error));
             if a.kind == StudyKind::Convergence {
@@ -60,19 +60,12 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
                     by_velocity,
                 ));
                 out.push('\n');
-                if let Problem::Rope(p) = &problem
+                if let Some(damped) = damped_companion(&problem)
                     && !crate::interrupt::requested()
-                    && p.spring_damping == 0.0
-                    && p.air_drag == 0.0
                 {
                     // Velocity-dependent forces change what some methods' orders are: show the
                     // same rope with the scene's damping beside the undamped one.
                     let scene = crate::scene::rope::RopeParams::default();
-                    let damped = Problem::Rope(crate::scene::rope::RopeParams {
-                        spring_damping: scene.spring_damping,
-                        air_drag: scene.air_drag,
-                        ..p.clone()
-                    });
                     let (damped_rows, damped_error) = sweep(&damped, &sw);
                     // A stop during the damped sweep leaves it out: only complete tables are shown.
                     if !crate::interrupt::requested() {
@@ -89,6 +82,7 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
                             true,
                         ));
                         out.push('\n');
+                        damped_all = damped_rows;
                     }
                 }
             }
@@ -97,6 +91,9 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
                 out.push_str(&report::proportionality_table(&rows, floor));
                 out.push('\n');
             }
+            // Every run in the runs table, the CSV and the count (the damped rope's too).
+            rows.extend(damped_all);
+            done = rows.len();
             out.push_str(&report::rows_table(&rows));
             if a.kind == StudyKind::WorkPrecision {
                 // A target is only claimed where the reference resolves it: 10× its accuracy.
@@ -144,7 +141,7 @@ pub fn study(a: &StudyArgs) -> anyhow::Result<()> {
         write_study(a, &outputs, problem.name(), (&out, &csv), &diagrams, scene)?;
     }
     if interrupted {
-        return Err(interrupted_error(a, &sw, done, complete));
+        return Err(interrupted_error(a, &problem, &sw, done, complete));
     }
     Ok(())
 }

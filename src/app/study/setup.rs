@@ -116,7 +116,7 @@ pub(super) fn setup(a: &StudyArgs) -> Result<(Problem, Sweep, u64, SceneFile), E
             given
         }
         (_, Some(given)) => given,
-        (_, None) if a.kind == StudyKind::Drift => crate::study::drift::default_methods(),
+        (_, None) if a.kind == StudyKind::Drift => crate::study::drift::default_methods(&problem),
         (problem, None) => problem.methods(),
     };
     if methods.is_empty() {
@@ -243,7 +243,7 @@ fn effective_file(
 }
 
 /// The drift study's problem and schedule: the pendulum released from rest (the closed form
-/// gives the exact crossings) or the undamped rope (whose energy is kept or not), one tolerance
+/// gives the exact crossings) or the rope (whose energy balance is kept or not), one tolerance
 /// for the adaptive methods, and its steps within the study's limits.
 fn drift_setup(
     a: &StudyArgs,
@@ -280,14 +280,6 @@ fn drift_setup(
             )
         }
         Problem::Rope(p) => {
-            if problem.velocity_dependent() {
-                return Err(Error::Usage(format!(
-                    "--spring-damping {} --air-drag {}: `study drift` measures how the energy of \
-                     the undamped rope is kept; set both to 0",
-                    crate::scene::params::shown(p.spring_damping),
-                    crate::scene::params::shown(p.air_drag)
-                )));
-            }
             let (dt, duration) = (
                 crate::study::drift::ROPE_DT,
                 crate::study::drift::ROPE_DURATION,
