@@ -853,8 +853,7 @@ mod cli {
             for q in [
                 "energy",
                 "work",
-                "log10_energy_error",
-                "log10_energy_change",
+                "log10_energy_balance",
                 "max_strain",
                 "frame_cost",
             ] {

@@ -18,19 +18,15 @@ use crate::scene::rope::run::{ENERGY_GAIN_BOUND, RopeConfig, RopeLane, RopeLayou
 
 /// The plotted quantities: entity name and plot title (with units).
 /// The balance error comes first: it is each method's own error, damping accounted for.
-pub const PLOTS: [(&str, &str); 5] = [
+pub const PLOTS: [(&str, &str); 4] = [
     (
-        "log10_energy_error",
+        "log10_energy_balance",
         "log10 |E + W − E0| / scale: energy error, damping accounted for",
     ),
     ("energy", "total energy E: kinetic + spring + gravity [J]"),
     (
         "work",
         "work W dissipated by spring damping and air drag [J]",
-    ),
-    (
-        "log10_energy_change",
-        "log10 |E − E0| [E in J]: energy change since the start, physical loss included",
     ),
     ("max_strain", "maximum strain max |ℓ − ℓ0| / ℓ0"),
 ];

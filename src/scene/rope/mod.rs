@@ -195,21 +195,6 @@ impl Rope {
         }
     }
 
-    /// The power the spring damping and air drag take out [W]: Σ kd (Δv·u)² + Σ ka |v|².
-    pub fn dissipated_power(&self, x: &[f64], v: &[f64]) -> f64 {
-        let p = &self.params;
-        let drag: f64 = (0..p.nodes).map(|i| node(v, i).length_squared()).sum();
-        let along: f64 = (0..p.nodes - 1)
-            .map(|i| {
-                let d = node(x, i + 1) - node(x, i);
-                let len = d.length();
-                let along = (node(v, i + 1) - node(v, i)).dot(d) / len;
-                if len == 0.0 { 0.0 } else { along * along }
-            })
-            .sum();
-        p.air_drag * drag + p.spring_damping * along
-    }
-
     pub fn nodes(&self) -> usize {
         self.params.nodes
     }
@@ -271,11 +256,7 @@ impl Rope {
 
     /// Kinetic + spring + gravitational energy [J], gravity's zero at the origin.
     pub fn energy(&self, x: &[f64], v: &[f64]) -> f64 {
-        let p = &self.params;
-        let gravity: f64 = (0..p.nodes)
-            .map(|i| -p.mass * p.gravity.dot(node(x, i)))
-            .sum();
-        self.kinetic_and_elastic_energy(x, v) + gravity
+        self.energy_and_strain(x, v).0
     }
 
     /// Kinetic + spring energy [J]: the energy in motion and stretch, without gravity.
@@ -293,9 +274,8 @@ impl Rope {
         kinetic + elastic
     }
 
-    /// Total energy (as [`Rope::energy`], to the bit) and largest strain (as
-    /// [`Rope::max_strain`]) in one pass that takes each spring's length once: the check every
-    /// step of a run pays.
+    /// Total energy and largest strain (as [`Rope::max_strain`]) in one pass that takes each
+    /// spring's length once: the check every step of a run pays.
     pub fn energy_and_strain(&self, x: &[f64], v: &[f64]) -> (f64, f64) {
         let p = &self.params;
         // -0.0 is the neutral element `Iterator::sum` starts from, so the sums match `energy`.
@@ -356,7 +336,8 @@ impl SecondOrderSystem for Rope {
         let solve = implicit::backward_euler_step(self, workspace, &mut x[..n3], &mut v[..n3], dt);
         if self.work {
             // Backward Euler on W' = P too: W1 = W0 + h P(x1, v1) (and its unused position).
-            v[n3] += dt * self.dissipated_power(&x[..n3], &v[..n3]);
+            let power = self.forces_with::<true>(&x[..n3], &v[..n3], &mut workspace.f);
+            v[n3] += dt * power;
             x[n3] += dt * v[n3];
         }
         solve
