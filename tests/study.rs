@@ -875,3 +875,38 @@ fn drift_runs_a_damped_rope_on_its_energy_balance() {
         );
     }
 }
+
+/// The undamped rope's convergence study runs the damped rope beside it with only the methods
+/// the damped rope accepts (not rkn4, which needs forces of position alone), and every run of
+/// both is in the CSV, the damped ones as `rope-damped` (12 rows for 24 runs before).
+#[test]
+fn the_ropes_damped_convergence_runs_only_accepted_methods_and_keeps_every_run() {
+    let dir = scratch_dir("study-convergence-damped");
+    let csv = dir.join("c.csv");
+    let (code, out, err) = physlab(&[
+        "study",
+        "convergence",
+        "--scene",
+        "rope",
+        "--levels",
+        "2",
+        "--methods",
+        "verlet,rkn4",
+        "--repeats",
+        "1",
+        "--csv",
+        csv.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let count = |prefix: &str| text.lines().filter(|l| l.starts_with(prefix)).count();
+    assert_eq!(count("rope,verlet,"), 2, "{text}");
+    assert_eq!(count("rope,rkn4,"), 2, "{text}");
+    assert_eq!(count("rope-damped,verlet,"), 2, "{text}");
+    assert_eq!(count("rope-damped,rkn4,"), 0, "{text}");
+    assert!(
+        !out.contains("theory order 0") && out.matches("| rkn4 ").count() == 3,
+        "{out}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
