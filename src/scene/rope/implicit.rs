@@ -101,8 +101,7 @@ pub const NEWTON_TOL: f64 = 1e-10;
 pub struct Workspace {
     x0: Vec<f64>,
     v0: Vec<f64>,
-    /// Forces at the iterate (and the dissipated power's scratch after the step).
-    pub(super) f: Vec<f64>,
+    f: Vec<f64>,
     /// Per spring: ∂F/∂d (F the spring's force on its first node, d = x_{i+1} - x_i) and kd u uᵀ.
     jac_x: Vec<DMat3>,
     jac_v: Vec<DMat3>,
