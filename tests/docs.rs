@@ -46,10 +46,11 @@ fn the_documented_recording_sizes_are_what_the_default_runs_write() {
         std::fs::metadata(&out).unwrap().len()
     };
     let all_bytes = bytes("all");
-    // The budget the default `all` keeps to (its 3D frames, plots and layout together).
+    // The budget the default `all` keeps to (its 3D frames, plots and layout together); 0.5 MB
+    // above 25 MB since the rope's energy balance (its W and E + W − E0 per method) came in.
     assert!(
-        all_bytes <= 25_000_000,
-        "the default `all` writes {all_bytes} B, over 25 MB"
+        all_bytes <= 25_500_000,
+        "the default `all` writes {all_bytes} B, over 25.5 MB"
     );
     let mb = |b: u64| format!("{:.1} MB", b as f64 / 1e6);
     let (all, pendulum, rope, hair) = (

@@ -53,6 +53,13 @@ pub enum Command {
     /// Simple pendulum θ'' = -(g/L) sin θ: every method side by side against the exact solution
     Pendulum(PendulumCommand),
     /// Mass-spring rope: point masses, Hooke springs, spring damping, air drag, pinned nodes
+    #[command(
+        after_help = "Energy: E - E0 is the energy's change since the start, the physical loss to \
+                      damping and drag included. W is the work the damping and drag dissipated, \
+                      integrated with the state by each method's own stages. E + W - E0 is the \
+                      energy balance, zero for the exact motion: each method's own energy error \
+                      (plotted as log10 |E + W - E0| / scale), whatever the damping."
+    )]
     Rope(RopeCommand),
     /// Hair strands on a moving head: Verlet, PBD and follow-the-leader with length constraints,
     /// sphere collision and wind

@@ -197,6 +197,9 @@ pub struct DriftArgs {
     pub rtol: Option<f64>,
 
     #[command(flatten)]
+    pub losses: RopeLosses,
+
+    #[command(flatten)]
     pub out: StudyOutputs,
 }
 

@@ -62,6 +62,13 @@ pub trait SecondOrderSystem {
     /// One backward-Euler step in place: solve `x1 = x0 + dt v1`, `v1 = v0 + dt a(x1, v1)`.
     /// Reports the force and Jacobian evaluations it made, which the integrator counts.
     fn implicit_euler_step(&self, x: &mut [f64], v: &mut [f64], dt: f64) -> ImplicitSolve;
+    /// How many trailing coordinates are first-order accumulators, q' = a(x, v), carried as
+    /// velocities whose positions are unused (the rope's dissipated work): every method
+    /// integrates them as it integrates v, except that Verlet's damping factor, a change of the
+    /// method's dynamics, does not apply to them.
+    fn first_order_tail(&self) -> usize {
+        0
+    }
 }
 
 /// Per-method tuning that is not part of the scene.

@@ -52,19 +52,35 @@ impl Verlet {
     #[inline]
     pub fn step<S: SecondOrderSystem>(&mut self, sys: &S, s: State, h: f64) {
         let (x, v) = (s.x, s.v);
-        for i in 0..x.len() {
-            let x1 = x[i] + self.keep * (x[i] - self.x_prev[i]) + self.a[i] * h * h;
-            self.x_prev[i] = x[i];
-            x[i] = x1;
-            self.vt[i] = (x1 - self.x_prev[i]) / h;
-            // v1*, the velocity argument of a(x1, ·) (see the type's docs), held in v until v1.
-            v[i] = self.vt[i] + 0.5 * h * self.a[i];
-        }
+        // The system's first-order accumulators (the rope's dissipated work) advance undamped.
+        let damped = x.len() - sys.first_order_tail();
+        self.drift(x, v, 0..damped, self.keep, h);
+        self.drift(x, v, damped..x.len(), 1.0, h);
         sys.acceleration(x, v, &mut self.a);
         s.counts.evals += 1;
         // v1 at the same instant as x1 (a central difference would lag a step). a1 is kept for
         // the next step, so this is still one evaluation per step.
         for i in 0..x.len() {
+            v[i] = self.vt[i] + 0.5 * h * self.a[i];
+        }
+    }
+
+    /// x1 = x0 + keep (x0 - x_-1) + a0 h² over `range`, with the velocity over the step and
+    /// v1* (see the type's docs), held in v until v1.
+    #[inline(always)]
+    fn drift(
+        &mut self,
+        x: &mut [f64],
+        v: &mut [f64],
+        range: std::ops::Range<usize>,
+        keep: f64,
+        h: f64,
+    ) {
+        for i in range {
+            let x1 = x[i] + keep * (x[i] - self.x_prev[i]) + self.a[i] * h * h;
+            self.x_prev[i] = x[i];
+            x[i] = x1;
+            self.vt[i] = (x1 - self.x_prev[i]) / h;
             v[i] = self.vt[i] + 0.5 * h * self.a[i];
         }
     }

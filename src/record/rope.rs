@@ -17,11 +17,16 @@ use crate::scene::rope::node;
 use crate::scene::rope::run::{ENERGY_GAIN_BOUND, RopeConfig, RopeLane, RopeLayout, RopeScene};
 
 /// The plotted quantities: entity name and plot title (with units).
-pub const PLOTS: [(&str, &str); 3] = [
-    ("energy", "total energy: kinetic + spring + gravity [J]"),
+/// The balance error comes first: it is each method's own error, damping accounted for.
+pub const PLOTS: [(&str, &str); 4] = [
     (
-        "log10_energy_change",
-        "log10 |E − E0| [E in J]: energy change since the start",
+        "log10_energy_balance",
+        "log10 |E + W − E0| / scale: energy error, damping accounted for",
+    ),
+    ("energy", "total energy E: kinetic + spring + gravity [J]"),
+    (
+        "work",
+        "work W dissipated by spring damping and air drag [J]",
     ),
     ("max_strain", "maximum strain max |ℓ − ℓ0| / ℓ0"),
 ];
@@ -236,13 +241,13 @@ fn about_text(scene: &RopeScene) -> String {
         .collect();
     format!(
         "# rope\n\n\
-         {} point masses from {:?} to {:?} m, Hooke springs between neighbours (rest length = initial spacing \
-         {} m), spring damping along each spring, air drag, gravity; pinned nodes {:?}. f64.\n\n\
+         {} point masses from {:?} to {:?} m, springs' rest length = initial spacing \
+         {} m; forces: {}; pinned nodes {:?}. f64.\n\n\
          | parameter | value |\n|---|---|\n| mass per node | {} kg |\n| ks | {} N/m |\n| kd | {} N·s/m |\n\
          | ka | {} N·s/m |\n| gravity | {:?} m/s² |\n| dt | {} s |\n| steps | {} |\n| 3D frames | {} |\n\
          | plotted | {} |\n| Verlet damping d | {} |\n| implicit Newton iterations | {} |\n\n\
          The linearised rope's {}.\n\
-         Energy E0 = {:.6} J (gravity's zero at the origin), energy scale {:.4} J. A method stops when its \
+         Energy E0 = {} J (gravity's zero at the origin), energy scale {:.4} J. {}. A method stops when its \
          state is not finite, a strain exceeds {:.3}, or it gains more than {ENERGY_GAIN_BOUND} × \
          the energy scale (a passive rope never gains energy); the events panel shows when. Frame cost is \
          wall-clock time.\n\n\
@@ -251,6 +256,7 @@ fn about_text(scene: &RopeScene) -> String {
         p.start.to_array(),
         p.end.to_array(),
         trim_number(scene.rope.rest(), 9),
+        crate::report::rope::forces_text(p),
         p.pinned,
         p.mass,
         p.stiffness,
@@ -264,8 +270,9 @@ fn about_text(scene: &RopeScene) -> String {
         c.options.verlet_damping,
         p.newton_iterations,
         crate::report::rope::rates_text(scene),
-        scene.initial_energy,
+        crate::report::rope::e0_text(scene),
         scene.energy_scale,
+        crate::report::rope::ENERGY_COLUMNS,
         scene.strain_bound,
         methods.join("\n"),
     )

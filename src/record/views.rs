@@ -247,7 +247,7 @@ pub fn scene_layout(
 const ALL_PLOTS: [&str; 6] = [
     "theta",
     "log10_theta_error",
-    "log10_energy_change",
+    "log10_energy_balance",
     "max_strain",
     "log10_max_stretch",
     "max_penetration",

@@ -27,17 +27,24 @@ pub fn pendulum_header(theta0_degrees: f64, period: f64, dt: f64, duration: f64)
 /// The rope study's first lines.
 pub fn rope_header(p: &RopeParams, dt: f64, duration: f64) -> String {
     format!(
-        "rope drift: {} nodes, ks = {} N/m, undamped, released horizontal; dt = {} s over {} s \
-         ({:.3e} steps per method). Every step is checked: energy error |E − E0| over the \
+        "rope drift: {} nodes, ks = {} N/m, {}, released horizontal; dt = {} s over {} s \
+         ({:.3e} steps per method). Every step is checked: energy error {} over the \
          rope's energy scale (its largest since the previous point, 10 points a decade). No \
          phase: no closed form gives the rope's. Exponents: least-squares slopes of log error \
          against log t over the last {} decades (t ≥ end/{FIT_SPAN}); a method whose energy \
          left the scene's bound is marked lost.\n\n",
         p.nodes,
         shown(p.stiffness),
+        crate::report::rope::forces_text(p),
         shown(dt),
         shown(duration),
         duration / dt,
+        if p.velocity_dependent() {
+            "|E + W − E0| (the energy balance, W the dissipated work integrated with the state; \
+             the theory: bounded once the motion has decayed)"
+        } else {
+            "|E − E0|"
+        },
         FIT_SPAN.log10(),
     )
 }
@@ -86,7 +93,7 @@ pub fn drift_table(runs: &[Drift], command: Option<(&str, f64)>) -> String {
         let phase: Vec<(f64, f64)> = (r.checkpoints.iter())
             .filter_map(|c| c.phase.map(|p| (c.t, p)))
             .collect();
-        let (energy_theory, phase_theory) = theory(r.method);
+        let (energy_theory, phase_theory) = theory(r.method, r.damped);
         // A run without a single crossing measured has no phase to speak of (the rope).
         let phased = !phase.is_empty();
         let last = r.checkpoints.last();

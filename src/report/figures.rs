@@ -130,12 +130,22 @@ fn pendulum_default() -> String {
 fn rope_default() -> String {
     let mut scene = RopeScene::new(RopeConfig::default());
     let r = run(&mut scene, &mut NoObserver).expect("a run without observers cannot fail");
-    let mut t = Table::new(["method", "steps", "E − E0 [J]", "max strain", "diverged"]);
+    let mut t = Table::new([
+        "method",
+        "steps",
+        "E − E0 [J]",
+        "W [J]",
+        "E + W − E0 [J]",
+        "max strain",
+        "diverged",
+    ]);
     for (lane, s) in r.lanes.iter().zip(&r.stats) {
         t.row([
             s.name.to_string(),
             s.ticks_taken().to_string(),
             format!("{:+.3e}", lane.final_energy - scene.initial_energy),
+            format!("{:.3e}", lane.final_work),
+            format!("{:+.3e}", lane.balance_error(scene.initial_energy)),
             sci(lane.max_strain),
             diverged(s),
         ]);
@@ -178,7 +188,7 @@ pub fn drift_pendulum_runs() -> Vec<study::drift::Drift> {
     let p = crate::scene::pendulum::PendulumParams::default();
     let exact = crate::scene::pendulum::exact::ExactPendulum::new(&p);
     let duration = study::drift::DEFAULT_PERIODS * exact.map_or(f64::NAN, |e| e.period());
-    study::drift::default_methods()
+    study::drift::default_methods(&Problem::Pendulum(p))
         .into_iter()
         .filter_map(|m| {
             let options = crate::integrate::MethodOptions::default();

@@ -34,6 +34,14 @@ pub fn summary_text(scene: &PendulumScene, run: &Run<PendulumLane>) -> String {
         Some(t) => out.push_str(&format!("exact period from E0: {t:.9} s\n")),
         None => out.push_str("exact period: none (at rest at the bottom, or on the separatrix)\n"),
     }
+    if c.options.verlet_damping != 0.0 && c.methods.contains(&crate::integrate::Method::Verlet) {
+        // The pendulum has no dissipative force: a loss is a method's, and stays in its error.
+        out.push_str(&format!(
+            "verlet: --verlet-damping {} is the method's own artificial damping, not a force of the \
+             pendulum (which has none): the energy it takes out is part of verlet's energy error\n",
+            c.options.verlet_damping
+        ));
+    }
     let stiffness = c.dt * c.dt * p.gravity / p.length;
     if stiffness >= 1.0 && c.methods.contains(&crate::integrate::Method::ImplicitEuler) {
         // θ1 + (dt² g/L) sin θ1 = θ0 + dt ω0 has one root only while dt² g/L < 1.

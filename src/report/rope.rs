@@ -49,6 +49,45 @@ pub fn rates_text(scene: &RopeScene) -> String {
     )
 }
 
+/// The forces of this run, in words: springs always, then the damping, drag and gravity that
+/// are on (an undamped rope says so).
+pub fn forces_text(p: &crate::scene::rope::RopeParams) -> String {
+    let mut forces = vec!["Hooke springs between neighbours".to_string()];
+    if p.spring_damping != 0.0 {
+        forces.push(format!(
+            "spring damping kd = {} N·s/m along each spring",
+            p.spring_damping
+        ));
+    }
+    if p.air_drag != 0.0 {
+        forces.push(format!("air drag ka = {} N·s/m", p.air_drag));
+    }
+    if !p.velocity_dependent() {
+        forces.push("undamped (kd = ka = 0: no dissipative force)".to_string());
+    }
+    if p.gravity != glam::DVec3::ZERO {
+        forces.push("gravity".to_string());
+    }
+    forces.join(", ")
+}
+
+/// E0 as a figure that means something: its value, or 0 when it is below a 10⁻¹² of the scale,
+/// the round-off of summing the start's energies (the default rope starts straight at the
+/// height of gravity's zero, where E0 is 0 J exactly but sums to ~1e-28 J).
+pub fn e0_text(scene: &RopeScene) -> String {
+    if scene.initial_energy.abs() <= 1e-12 * scene.energy_scale {
+        "0".to_string()
+    } else {
+        sig(scene.initial_energy, 7)
+    }
+}
+
+/// What the energy columns say, one sentence each (the summary's and `--help`'s).
+pub const ENERGY_COLUMNS: &str = "E - E0: the energy's change since the start, the physical loss \
+     to damping and drag included; W: the work the damping and drag dissipated, integrated with \
+     the state by each method's own stages; E + W - E0: the energy balance, zero for the exact \
+     motion, so it is the method's own energy error whatever the damping";
+
 /// A nonzero gravity with no z component is horizontal (z is up in every scene): said, so that a
 /// y-up vector such as 0,-9.81,0 is not taken silently.
 fn sideways_note(g: glam::DVec3) -> &'static str {
@@ -66,9 +105,11 @@ pub fn summary_text(scene: &RopeScene, run: &Run<RopeLane>) -> String {
     let mut out = format!(
         "rope: {} nodes from {} to {} m, rest length {} m, mass {} kg/node, ks = {} N/m, kd = {} N·s/m, \
          ka = {} N·s/m, g = {} m/s²{}, pinned {:?}\n\
+         forces: {}\n\
          dt = {} s{}, {} steps to t = {} s; {}\n\
-         E0 = {} J, energy scale {} J; divergence = non-finite state, strain > {:.3}, \
-         or an energy gain > {ENERGY_GAIN_BOUND} × the scale, checked after every step\n\
+         E0 = {} J (gravity's zero at the origin), energy scale {} J; divergence = non-finite \
+         state, strain > {:.3}, or an energy gain > {ENERGY_GAIN_BOUND} × the scale, checked \
+         after every step\n{ENERGY_COLUMNS}\n\
          ns/step: wall time of the stepping and its O(N) energy and strain check \
          (`cargo bench --bench rope_step` times the stepping alone)\n\n",
         p.nodes,
@@ -82,12 +123,13 @@ pub fn summary_text(scene: &RopeScene, run: &Run<RopeLane>) -> String {
         vector_text(p.gravity),
         sideways_note(p.gravity),
         p.pinned,
+        forces_text(p),
         c.dt,
         crate::scene::params::own_step_text(&c.options),
         schedule.total,
         trim_number(schedule.end_time(), 9),
         rates_text(scene),
-        sig(scene.initial_energy, 7),
+        e0_text(scene),
         sig(scene.energy_scale, 5),
         scene.strain_bound,
     );
@@ -100,6 +142,8 @@ pub fn summary_text(scene: &RopeScene, run: &Run<RopeLane>) -> String {
         "ns/step",
         "final E [J]",
         "E - E0 [J]",
+        "W [J]",
+        "E + W - E0 [J]",
         "max strain",
         "diverged",
     ]);
@@ -115,6 +159,11 @@ pub fn summary_text(scene: &RopeScene, run: &Run<RopeLane>) -> String {
             figure(
                 s,
                 format!("{:+.3e}", lane.final_energy - scene.initial_energy),
+            ),
+            figure(s, format!("{:.3e}", lane.final_work)),
+            figure(
+                s,
+                format!("{:+.3e}", lane.balance_error(scene.initial_energy)),
             ),
             figure(s, format!("{:.3e}", lane.max_strain)),
             divergence_cell(s),

@@ -29,9 +29,9 @@ pub const DEFAULT_PERIODS: f64 = 1e5;
 
 /// The methods it runs unless told otherwise: the fixed-step ones of order 4 or less (the
 /// adaptive ones' growth depends on their tolerance, and the higher orders' energy error is
-/// round-off at the default step; name them to see it).
-pub fn default_methods() -> Vec<Method> {
-    (Method::ALL.into_iter())
+/// round-off at the default step; name them to see it), of those `problem` accepts.
+pub fn default_methods(problem: &super::Problem) -> Vec<Method> {
+    (problem.methods().into_iter())
         .filter(|m| !m.info().adaptive() && m.info().order <= 4)
         .collect()
 }
@@ -71,12 +71,19 @@ pub struct Drift {
     /// through zero length its potential k(ℓ − ℓ0)²/2 is not smooth, and the theory of bounded
     /// energy error (backward error analysis) needs a smooth one.
     pub shortest_spring: Option<f64>,
+    /// Whether dissipative forces act (the damped rope): its energy error is then the balance
+    /// error |E + W − E0|, the dissipated work W integrated with the state.
+    pub damped: bool,
 }
 
-/// What the theory says an error grows like, t^exponent, for a method on an integrable system.
-pub fn theory(method: Method) -> (Option<f64>, Option<f64>) {
+/// What the theory says an error grows like, t^exponent, for a method on an integrable system;
+/// `damped`: the balance error on a damped system, which every method that stays stable leaves
+/// bounded (exponent 0): its local errors shrink with the motion, which decays to rest, after
+/// which nothing is added to it.
+pub fn theory(method: Method, damped: bool) -> (Option<f64>, Option<f64>) {
     let info = method.info();
     match method {
+        _ if damped => (Some(0.0), None),
         // Explicit Euler's energy grows geometrically, implicit Euler's decays to rest: no
         // power law.
         Method::ExplicitEuler | Method::ImplicitEuler => (None, None),
@@ -184,13 +191,15 @@ pub fn pendulum_drift(
         evals: it.evals(),
         lost_at,
         shortest_spring: None,
+        damped: false,
     })
 }
 
-/// Runs `method` on the undamped rope from its start for `duration` [s] at step `dt`: the
-/// energy error |E − E0| over the run's energy scale (its start's E0 is about 0), no phase
-/// (no closed form gives the rope's). The rope is not integrable, but backward error analysis
-/// bounds a symplectic method's energy error on any Hamiltonian system all the same.
+/// Runs `method` on the rope from its start for `duration` [s] at step `dt`: the energy error
+/// over the run's energy scale, |E − E0| undamped and the balance error |E + W − E0| damped (W
+/// the dissipated work integrated with the state: [`Rope::balanced`]), no phase (no closed form
+/// gives the rope's). The rope is not integrable, but backward error analysis bounds a
+/// symplectic method's energy error on any Hamiltonian system all the same.
 pub fn rope_drift(
     p: &RopeParams,
     method: Method,
@@ -198,9 +207,8 @@ pub fn rope_drift(
     duration: f64,
     options: MethodOptions,
 ) -> Drift {
-    let rope = Rope::new(p.clone());
-    let x0 = p.initial_positions();
-    let v0 = vec![0.0; x0.len()];
+    let rope = Rope::balanced(p.clone());
+    let (x0, v0) = rope.start();
     let scale = crate::scene::rope::run::energy_scale(&rope, &x0, &v0);
     let e0 = rope.energy(&x0, &v0);
     let mut it = Integrator::new(method, &rope, &x0, &v0, dt, options);
@@ -215,7 +223,8 @@ pub fn rope_drift(
         if n % 4096 == 0 {
             it.zero_below(crate::scene::rope::run::NEGLIGIBLE);
         }
-        let error = (rope.energy(it.position(), it.velocity()) - e0).abs() / scale;
+        let (x, v) = (it.position(), it.velocity());
+        let error = (rope.energy(x, v) + rope.work(v) - e0).abs() / scale;
         // Diverged: the energy error beyond the scene's own bound.
         if !error.is_finite() || error > crate::scene::rope::run::ENERGY_GAIN_BOUND {
             lost_at = Some(n as f64 * dt);
@@ -240,6 +249,7 @@ pub fn rope_drift(
         evals: it.evals(),
         lost_at,
         shortest_spring: Some(shortest),
+        damped: rope.tracks_work(),
     }
 }
 

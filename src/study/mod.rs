@@ -26,7 +26,7 @@ pub use orders::{
     proportionality, stalled,
 };
 pub use roundoff::{energy_error_rms, growth_exponent};
-pub use sweep::{Row, SAMPLE_EVERY, Sweep, reference, sweep};
+pub use sweep::{Row, SAMPLE_EVERY, Sweep, damped_companion, planned_runs, reference, sweep};
 
 use crate::integrate::{Integrator, Method, SecondOrderSystem};
 use crate::scene::pendulum::PendulumParams;

@@ -237,6 +237,43 @@ impl Sweep {
     }
 }
 
+/// The methods of `s` that `problem` accepts: on velocity-dependent forces (a damped rope) not
+/// those that need forces of position alone, which the scene refuses.
+fn accepted<'a>(problem: &Problem, s: &'a Sweep) -> impl Iterator<Item = Method> + 'a {
+    let v = problem.velocity_dependent();
+    (s.methods.iter().copied()).filter(move |m| !v || m.info().accepts_velocity_dependent())
+}
+
+/// The runs [`sweep`] makes of `problem`: each accepted method over the levels, or the
+/// adaptive ones over the tolerances.
+pub fn planned_runs(problem: &Problem, s: &Sweep) -> usize {
+    accepted(problem, s)
+        .map(|m| {
+            if m.info().adaptive() {
+                s.rtols.len()
+            } else {
+                s.levels as usize
+            }
+        })
+        .sum()
+}
+
+/// The damped rope `study convergence` runs beside an undamped one (velocity-dependent forces
+/// change some methods' orders): the same rope with the scene's default damping and drag.
+pub fn damped_companion(problem: &Problem) -> Option<Problem> {
+    match problem {
+        Problem::Rope(p) if !p.velocity_dependent() => {
+            let scene = crate::scene::rope::RopeParams::default();
+            Some(Problem::Rope(crate::scene::rope::RopeParams {
+                spring_damping: scene.spring_damping,
+                air_drag: scene.air_drag,
+                ..p.clone()
+            }))
+        }
+        _ => None,
+    }
+}
+
 /// Every (method, dt) of the sweep: fixed-step methods over the halved steps, the adaptive
 /// methods (family `Adaptive`: dopri5, dop853, vern9) over their tolerances. Returns the rows and
 /// the reference's accuracy (the exact pendulum's [`theta_accuracy`] over the run, or the fine run's
@@ -270,7 +307,11 @@ pub fn sweep(problem: &Problem, s: &Sweep) -> (Vec<Row>, f64) {
         walls.sort_by(f64::total_cmp);
         let m = result.expect("at least one repeat");
         rows.push(Row {
-            scene: problem.name(),
+            // A damped rope's rows are told apart from the undamped one's in one table and CSV.
+            scene: match problem.velocity_dependent() {
+                true => "rope-damped",
+                false => problem.name(),
+            },
             method,
             dt,
             rtol,
@@ -281,7 +322,7 @@ pub fn sweep(problem: &Problem, s: &Sweep) -> (Vec<Row>, f64) {
             wall_seconds: walls[walls.len() / 2],
         });
     };
-    for &m in &s.methods {
+    for m in accepted(problem, s) {
         if m.info().adaptive() {
             // Adaptive: it is asked for the sample times only and chooses its steps itself.
             for &rtol in &s.rtols {

@@ -48,11 +48,17 @@ pub(super) fn drift_study(quiet: bool, problem: &Problem, sw: &Sweep) -> Found {
         Problem::Rope(p) => (
             report::rope_header(p, sw.dt0, sw.duration),
             format!(
-                "--scene rope --nodes {} --stiffness {}",
+                "--scene rope --nodes {} --stiffness {} --spring-damping {} --air-drag {}",
                 p.nodes,
-                shown(p.stiffness)
+                shown(p.stiffness),
+                shown(p.spring_damping),
+                shown(p.air_drag)
             ),
-            format!("dt = {} s, undamped rope.", shown(sw.dt0)),
+            format!(
+                "dt = {} s, {}.",
+                shown(sw.dt0),
+                crate::report::rope::forces_text(p)
+            ),
         ),
     };
     let mut out = header;

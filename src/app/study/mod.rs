@@ -5,7 +5,7 @@ use super::Error;
 use crate::cli::StudyKind;
 use crate::diagram::{self, Diagram};
 use crate::report::study as report;
-use crate::study::{Limit, Problem, Row, Sweep, error_floor, stability, sweep};
+use crate::study::{Limit, Problem, Row, Sweep, damped_companion, error_floor, stability, sweep};
 
 mod drift;
 mod hair;
@@ -72,7 +72,9 @@ pub fn study(kind: &StudyKind) -> anyhow::Result<()> {
         write_study(out, &outputs, problem.name(), texts, &found.diagrams, scene)?;
     }
     if interrupted {
-        return Err(interrupted_error(kind, &sweep, found.done, complete));
+        return Err(interrupted_error(
+            kind, &problem, &sweep, found.done, complete,
+        ));
     }
     Ok(())
 }
@@ -80,16 +82,17 @@ pub fn study(kind: &StudyKind) -> anyhow::Result<()> {
 /// `study convergence` and `study work-precision`: the sweep's runs, the fitted orders or the
 /// cheapest run per target, how the adaptive methods' error follows rtol, and every run.
 fn sweep_study(kind: &StudyKind, problem: &Problem, sw: &Sweep) -> Found {
-    let (rows, reference_error) = sweep(problem, sw);
+    let (mut rows, reference_error) = sweep(problem, sw);
     let floor = error_floor(reference_error);
     let mut found = Found {
         out: report::sweep_header(problem, kind.name(), sw, reference_error),
-        csv: report::rows_csv(&rows),
+        csv: String::new(),
         diagrams: Vec::new(),
-        done: rows.len(),
+        done: 0,
     };
+    let mut damped = Vec::new();
     if let StudyKind::Convergence(_) = kind {
-        convergence_tables(problem, sw, &rows, floor, &mut found);
+        damped = convergence_tables(problem, sw, &rows, floor, &mut found);
     }
     let out = &mut found.out;
     if rows.iter().any(|r| r.rtol.is_some()) {
@@ -97,8 +100,8 @@ fn sweep_study(kind: &StudyKind, problem: &Problem, sw: &Sweep) -> Found {
         out.push_str(&report::proportionality_table(&rows, floor));
         out.push('\n');
     }
-    out.push_str(&report::rows_table(&rows));
     if let StudyKind::WorkPrecision(_) = kind {
+        out.push_str(&report::rows_table(&rows));
         // A target is only claimed where the reference resolves it: 10× its accuracy.
         let (targets, unresolved): (Vec<f64>, Vec<f64>) = [1e-3, 1e-6, 1e-9, 1e-12]
             .into_iter()
@@ -107,13 +110,25 @@ fn sweep_study(kind: &StudyKind, problem: &Problem, sw: &Sweep) -> Found {
         out.push_str(&report::cheapest_table(&rows, &targets));
         let note = format!("wall times: median of {}; machine-dependent.", sw.repeats);
         (found.diagrams).push(diagram::work_precision(problem.name(), &rows, floor, &note));
+    } else {
+        // Every run in the runs table, the CSV and the count (the damped rope's too).
+        rows.extend(damped);
+        out.push_str(&report::rows_table(&rows));
     }
+    found.csv = report::rows_csv(&rows);
+    found.done = rows.len();
     found
 }
 
 /// The fitted orders, and on the undamped rope the same rope with the scene's damping beside
 /// it: velocity-dependent forces change what some methods' orders are.
-fn convergence_tables(problem: &Problem, sw: &Sweep, rows: &[Row], floor: f64, found: &mut Found) {
+fn convergence_tables(
+    problem: &Problem,
+    sw: &Sweep,
+    rows: &[Row],
+    floor: f64,
+    found: &mut Found,
+) -> Vec<Row> {
     let by_velocity = problem.velocity_dependent();
     let out = &mut found.out;
     out.push_str(&report::orders_table(rows, floor, by_velocity));
@@ -126,24 +141,23 @@ fn convergence_tables(problem: &Problem, sw: &Sweep, rows: &[Row], floor: f64, f
     let name = problem.name();
     (found.diagrams).push(diagram::convergence(name, rows, floor, by_velocity));
     out.push('\n');
-    let Problem::Rope(p) = problem else { return };
-    if crate::interrupt::requested() || p.spring_damping != 0.0 || p.air_drag != 0.0 {
-        return;
+    let Some(damped) = damped_companion(problem) else {
+        return Vec::new();
+    };
+    if crate::interrupt::requested() {
+        return Vec::new();
     }
-    let scene = crate::scene::rope::RopeParams::default();
-    let damped = Problem::Rope(crate::scene::rope::RopeParams {
-        spring_damping: scene.spring_damping,
-        air_drag: scene.air_drag,
-        ..p.clone()
-    });
     let (damped_rows, damped_error) = sweep(&damped, sw);
     // A stop during the damped sweep leaves it out: only complete tables are shown.
     if crate::interrupt::requested() {
-        return;
+        return Vec::new();
     }
     let floor = error_floor(damped_error);
-    out.push_str(&report::damped_header(&scene));
+    out.push_str(&report::damped_header(
+        &crate::scene::rope::RopeParams::default(),
+    ));
     out.push_str(&report::orders_table(&damped_rows, floor, true));
     (found.diagrams).push(diagram::convergence(name, &damped_rows, floor, true));
     out.push('\n');
+    damped_rows
 }

@@ -62,25 +62,22 @@ fn report_recording(path: &std::path::Path, bytes: Option<u64>, to_stdout: bool)
 /// complete, and whether anything was written.
 pub(super) fn interrupted_error(
     kind: &StudyKind,
+    problem: &crate::study::Problem,
     sw: &Sweep,
     done: usize,
     complete: bool,
 ) -> anyhow::Error {
-    let adaptive = |m: &crate::integrate::Method| m.info().adaptive();
+    use crate::study::{damped_companion, planned_runs};
     let (planned, what) = match kind {
         StudyKind::Stability(_) => (sw.methods.len(), "methods' limits"),
-        _ => (
-            (sw.methods.iter())
-                .map(|m| {
-                    if adaptive(m) {
-                        sw.rtols.len()
-                    } else {
-                        sw.levels as usize
-                    }
-                })
-                .sum(),
+        StudyKind::Drift(_) => (sw.methods.len(), "runs"),
+        // The undamped rope's convergence runs the damped one after it.
+        StudyKind::Convergence(_) => (
+            planned_runs(problem, sw)
+                + damped_companion(problem).map_or(0, |d| planned_runs(&d, sw)),
             "runs",
         ),
+        _ => (planned_runs(problem, sw), "runs"),
     };
     interrupted_after(done, planned, what, complete)
 }

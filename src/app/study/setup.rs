@@ -88,12 +88,14 @@ pub(super) fn stability_setup(a: &StabilityArgs) -> Result<Setup, Error> {
 }
 
 /// `study drift`: the pendulum released from rest (the closed form gives the exact crossings)
-/// or the undamped rope (whose energy is kept or not), one tolerance for the adaptive methods,
+/// or the rope (whose energy balance E + W − E0 is kept or not), one tolerance for the adaptive
+/// methods,
 /// and its steps within the study's limits.
 pub(super) fn drift_setup(a: &DriftArgs) -> Result<Setup, Error> {
     let theta0 = a.theta0.map(|t| ("theta0".to_string(), t.into()));
-    let scene = Scene::resolve(&a.scene, Table::from_iter(theta0), Table::new(), false)?;
-    let methods = scene.methods(&a.scene, a.rtol.is_some(), |_| drift::default_methods())?;
+    let losses = table_of(&a.losses)?;
+    let scene = Scene::resolve(&a.scene, Table::from_iter(theta0), losses, false)?;
+    let methods = scene.methods(&a.scene, a.rtol.is_some(), drift::default_methods)?;
     let (default_dt, default_duration, nodes) = drift_defaults(&scene.problem)?;
     let (dt, duration) = scene.schedule(a.dt, a.duration, (default_dt, default_duration));
     params::positive("--dt", dt, "s")?;
@@ -152,12 +154,6 @@ fn drift_defaults(problem: &Problem) -> Result<(f64, f64, f64), Error> {
             let duration = drift::DEFAULT_PERIODS * exact.period();
             Ok((drift::DEFAULT_DT, duration, 1.0))
         }
-        Problem::Rope(p) if problem.velocity_dependent() => Err(Error::Usage(format!(
-            "--spring-damping {} --air-drag {}: `study drift` measures how the energy of the \
-             undamped rope is kept; set both to 0",
-            shown(p.spring_damping),
-            shown(p.air_drag)
-        ))),
         Problem::Rope(p) => Ok((drift::ROPE_DT, drift::ROPE_DURATION, p.nodes as f64)),
     }
 }

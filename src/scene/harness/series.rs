@@ -287,7 +287,7 @@ fn push_rows(batch: &mut SeriesBatch, schedule: &Schedule, rows: &Kept, width: u
 pub const LOG10: [(&str, &str); 4] = [
     ("theta_error", "log10_theta_error"),
     ("energy_error", "log10_energy_error"),
-    ("energy_change", "log10_energy_change"),
+    ("energy_balance", "log10_energy_balance"),
     ("max_stretch", "log10_max_stretch"),
 ];
 

@@ -190,7 +190,6 @@ pub fn backward_euler_step<C: Chain>(
     h: f64,
 ) -> ImplicitSolve {
     let c = rope.constants();
-    let (n, m, air_drag) = (c.nodes, c.mass, c.air_drag);
     ws.x0.copy_from_slice(x);
     ws.v0.copy_from_slice(v);
     let iterations = c.newton_iterations.max(1);
@@ -201,74 +200,8 @@ pub fn backward_euler_step<C: Chain>(
     for k in 0..iterations {
         // One force and one Jacobian evaluation at the current iterate (x, v); on k = 0 that is
         // (x0, v0).
-        rope.forces(x, v, &mut ws.f);
-        for s in 0..n - 1 {
-            let (jx, jv) = spring_jacobians(rope, &c, x, v, s);
-            ws.jac_x[s] = jx;
-            ws.jac_v[s] = jv;
-        }
+        assemble(rope, &c, ws, x, v, h, k == 0);
         done += 1;
-
-        // A = M - h D - h² K, block tridiagonal.
-        let own = DMat3::from_diagonal(DVec3::splat(m + h * air_drag));
-        ws.diag.fill(own);
-        for s in 0..n - 1 {
-            let coupling = h * ws.jac_v[s] + h * h * ws.jac_x[s];
-            ws.diag[s] += coupling;
-            ws.diag[s + 1] += coupling;
-            ws.off[s] = -coupling;
-        }
-
-        for i in 0..n {
-            if let Some(stiff) = rope.node_stiffness(x, i) {
-                ws.diag[i] += h * h * stiff;
-                if k == 0 {
-                    // Its part of the first iteration's h K h v0 (K = -stiff), after the rhs.
-                    ws.c[i] = stiff;
-                } else {
-                    ws.c[i] = DMat3::ZERO;
-                }
-            } else {
-                ws.c[i] = DMat3::ZERO;
-            }
-        }
-
-        // r = h f + h K (x0 + h v - x) - M (v - v0); the K term is h K v0 on the first iteration
-        // (Baraff–Witkin) and vanishes afterwards, when x = x0 + h v holds.
-        for i in 0..n {
-            let fi = node(&ws.f, i);
-            ws.rhs[i] = h * fi - m * (node(v, i) - node(&ws.v0, i));
-        }
-        if k == 0 {
-            for s in 0..n - 1 {
-                let y = h * (node(&ws.v0, s + 1) - node(&ws.v0, s));
-                let ky = ws.jac_x[s] * y;
-                ws.rhs[s] += h * ky;
-                ws.rhs[s + 1] -= h * ky;
-            }
-        }
-        if k == 0 {
-            for i in 0..n {
-                if rope.node_stiffness(x, i).is_some() {
-                    ws.rhs[i] -= h * h * (ws.c[i] * node(&ws.v0, i));
-                }
-            }
-        }
-
-        // Pinned nodes: δ = 0, decoupled from their neighbours.
-        for i in 0..n {
-            if rope.is_pinned(i) {
-                ws.diag[i] = DMat3::IDENTITY;
-                ws.rhs[i] = DVec3::ZERO;
-                if i > 0 {
-                    ws.off[i - 1] = DMat3::ZERO;
-                }
-                if i + 1 < n {
-                    ws.off[i] = DMat3::ZERO;
-                }
-            }
-        }
-
         if !solve_block_tridiagonal(ws) {
             // Singular system: leave non-finite values so the run reports the divergence.
             x.fill(f64::NAN);
@@ -280,47 +213,8 @@ pub fn backward_euler_step<C: Chain>(
                 last_update: f64::NAN,
             };
         }
-
-        // Backtracking on the incremental potential, for chains that give one: from the
-        // consistent state of the current iterate, halve the step until E does not increase.
-        let mut alpha = 1.0;
-        if rope.merit(x, v, &ws.v0, h).is_some() {
-            for c in 0..3 * n {
-                x[c] = ws.x0[c] + h * v[c];
-            }
-            let e0 = rope.merit(x, v, &ws.v0, h).unwrap_or(f64::INFINITY);
-            ws.f.copy_from_slice(v);
-            for _ in 0..30 {
-                for i in 0..n {
-                    for c in 0..3 {
-                        let j = 3 * i + c;
-                        v[j] = ws.f[j] + alpha * ws.sol[i][c];
-                        x[j] = ws.x0[j] + h * v[j];
-                    }
-                }
-                let e = rope.merit(x, v, &ws.v0, h).unwrap_or(f64::INFINITY);
-                if e <= e0 {
-                    break;
-                }
-                alpha *= 0.5;
-            }
-            v.copy_from_slice(&ws.f);
-        }
-
-        let mut max_delta: f64 = 0.0;
-        let mut max_v: f64 = 0.0;
-        for i in 0..n {
-            let delta = ws.sol[i] * alpha;
-            // Convergence is judged on the full Newton step (a short line-search step is not
-            // convergence).
-            max_delta = max_delta.max(ws.sol[i].abs().max_element());
-            for c in 0..3 {
-                v[3 * i + c] += delta[c];
-                x[3 * i + c] = ws.x0[3 * i + c] + h * v[3 * i + c];
-                max_v = max_v.max(v[3 * i + c].abs());
-            }
-            max_delta = max_delta.max(delta.abs().max_element());
-        }
+        let alpha = line_search(rope, ws, x, v, h);
+        let (max_delta, max_v) = apply_update(ws, x, v, h, alpha);
         last_update = max_delta;
         if iterations > 1 && max_delta <= NEWTON_TOL * (1.0 + max_v) {
             converged = true;
@@ -337,6 +231,132 @@ pub fn backward_euler_step<C: Chain>(
         converged,
         last_update,
     }
+}
+
+/// The Newton system at the iterate (x, v): A = M - h D - h² K (block tridiagonal) and
+/// r = h f + h K (x0 + h v - x) - M (v - v0), whose K term is h K v0 on the first iteration
+/// (Baraff–Witkin) and vanishes afterwards, when x = x0 + h v holds; pinned nodes decoupled
+/// with δ = 0.
+fn assemble<C: Chain>(
+    rope: &C,
+    c: &ChainConstants,
+    ws: &mut Workspace,
+    x: &[f64],
+    v: &[f64],
+    h: f64,
+    first: bool,
+) {
+    let (n, m) = (c.nodes, c.mass);
+    rope.forces(x, v, &mut ws.f);
+    for s in 0..n - 1 {
+        let (jx, jv) = spring_jacobians(rope, c, x, v, s);
+        ws.jac_x[s] = jx;
+        ws.jac_v[s] = jv;
+    }
+    let own = DMat3::from_diagonal(DVec3::splat(m + h * c.air_drag));
+    ws.diag.fill(own);
+    for s in 0..n - 1 {
+        let coupling = h * ws.jac_v[s] + h * h * ws.jac_x[s];
+        ws.diag[s] += coupling;
+        ws.diag[s + 1] += coupling;
+        ws.off[s] = -coupling;
+    }
+    // A contact's stiffness on its node, kept in `c` for its part of the first iteration's
+    // h K h v0 (K = -stiff), added to the rhs below.
+    for i in 0..n {
+        ws.c[i] = DMat3::ZERO;
+        if let Some(stiff) = rope.node_stiffness(x, i) {
+            ws.diag[i] += h * h * stiff;
+            if first {
+                ws.c[i] = stiff;
+            }
+        }
+    }
+    for i in 0..n {
+        let fi = node(&ws.f, i);
+        ws.rhs[i] = h * fi - m * (node(v, i) - node(&ws.v0, i));
+    }
+    if first {
+        for s in 0..n - 1 {
+            let y = h * (node(&ws.v0, s + 1) - node(&ws.v0, s));
+            let ky = ws.jac_x[s] * y;
+            ws.rhs[s] += h * ky;
+            ws.rhs[s + 1] -= h * ky;
+        }
+        for i in 0..n {
+            if rope.node_stiffness(x, i).is_some() {
+                ws.rhs[i] -= h * h * (ws.c[i] * node(&ws.v0, i));
+            }
+        }
+    }
+    for i in 0..n {
+        if rope.is_pinned(i) {
+            ws.diag[i] = DMat3::IDENTITY;
+            ws.rhs[i] = DVec3::ZERO;
+            if i > 0 {
+                ws.off[i - 1] = DMat3::ZERO;
+            }
+            if i + 1 < n {
+                ws.off[i] = DMat3::ZERO;
+            }
+        }
+    }
+}
+
+/// Backtracking on the incremental potential, for chains that give one: from the consistent
+/// state of the current iterate, the Newton step `ws.sol` halved until E does not increase.
+/// Returns the step's fraction (1 for chains without a merit); leaves v as it was.
+fn line_search<C: Chain>(
+    rope: &C,
+    ws: &mut Workspace,
+    x: &mut [f64],
+    v: &mut [f64],
+    h: f64,
+) -> f64 {
+    let mut alpha = 1.0;
+    if rope.merit(x, v, &ws.v0, h).is_none() {
+        return alpha;
+    }
+    let n = ws.sol.len();
+    for c in 0..3 * n {
+        x[c] = ws.x0[c] + h * v[c];
+    }
+    let e0 = rope.merit(x, v, &ws.v0, h).unwrap_or(f64::INFINITY);
+    ws.f.copy_from_slice(v);
+    for _ in 0..30 {
+        for i in 0..n {
+            for c in 0..3 {
+                let j = 3 * i + c;
+                v[j] = ws.f[j] + alpha * ws.sol[i][c];
+                x[j] = ws.x0[j] + h * v[j];
+            }
+        }
+        let e = rope.merit(x, v, &ws.v0, h).unwrap_or(f64::INFINITY);
+        if e <= e0 {
+            break;
+        }
+        alpha *= 0.5;
+    }
+    v.copy_from_slice(&ws.f);
+    alpha
+}
+
+/// v += α δ and x = x0 + h v; returns the largest Newton update (convergence is judged on the
+/// full step: a short line-search step is not convergence) and the largest |v|.
+fn apply_update(ws: &Workspace, x: &mut [f64], v: &mut [f64], h: f64, alpha: f64) -> (f64, f64) {
+    let mut max_delta: f64 = 0.0;
+    let mut max_v: f64 = 0.0;
+    for (i, sol) in ws.sol.iter().enumerate() {
+        let delta = *sol * alpha;
+        max_delta = max_delta.max(sol.abs().max_element());
+        for c in 0..3 {
+            v[3 * i + c] += delta[c];
+            x[3 * i + c] = ws.x0[3 * i + c] + h * v[3 * i + c];
+            max_v = max_v.max(v[3 * i + c].abs());
+        }
+        max_delta = max_delta.max(delta.abs().max_element());
+    }
+    (max_delta, max_v)
 }
 
 /// Block Thomas elimination for the symmetric-structure block-tridiagonal system in `ws`

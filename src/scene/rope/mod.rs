@@ -4,6 +4,18 @@
 //! Coordinates are flat: node i occupies `x[3i..3i+3]`, z up like every scene (gravity
 //! defaults to (0, 0, −9.81)). Pinned nodes have zero acceleration and start at rest, so every
 //! method keeps them exactly where they were placed.
+//!
+//! The energy balance (DESIGN principle 7): a damped rope made with [`Rope::balanced`] carries
+//! one more coordinate, the work W the damping and drag have dissipated, as a *velocity*
+//! component whose "acceleration" is the dissipated power P(x, v) = Σ kd (Δv·u)² + Σ ka |v|²
+//! (its position component is unused). Every method then integrates W' = P with its own stages
+//! and weights, exactly as it integrates v' = a(x, v): the Runge–Kutta methods (explicit and
+//! adaptive) with their tableau, explicit and semi-implicit Euler with their one evaluation,
+//! the compositions with their kicks, Verlet through its velocity identity (W at the half steps
+//! advanced by h·P, the midpoint rule on the staggered grid: second order, and exempt from its
+//! damping factor, [`SecondOrderSystem::first_order_tail`]), implicit Euler by
+//! W1 = W0 + h P(x1, v1) after its Newton solve. So W has the method's order on these forces and
+//! E + W − E0 converges at it; a quadrature of P at the samples would not.
 
 pub mod implicit;
 pub mod run;
@@ -129,6 +141,8 @@ pub struct Rope {
     /// a run without an implicit method does not need). Behind a lock so that lanes can step
     /// side by side; only the implicit lane takes it.
     workspace: Mutex<Option<Workspace>>,
+    /// Whether the dissipated work is the last coordinate (see the module docs).
+    work: bool,
 }
 
 impl Rope {
@@ -144,7 +158,57 @@ impl Rope {
             workspace: Mutex::new(None),
             pinned,
             params,
+            work: false,
         }
+    }
+
+    /// The rope with its dissipated work W as one more coordinate when it is damped (see the
+    /// module docs); an undamped rope is [`Rope::new`]'s, at no cost.
+    pub fn balanced(params: RopeParams) -> Self {
+        let mut rope = Rope::new(params);
+        rope.work = rope.params.velocity_dependent();
+        rope
+    }
+
+    /// Whether the dissipated work is integrated (a damped [`Rope::balanced`]).
+    pub fn tracks_work(&self) -> bool {
+        self.work
+    }
+
+    /// The start at rest in the layout: the initial positions, zero velocities, and W = 0 with
+    /// its unused position when the work is tracked.
+    pub fn start(&self) -> (Vec<f64>, Vec<f64>) {
+        let mut x0 = self.params.initial_positions();
+        if self.work {
+            x0.push(0.0);
+        }
+        let v0 = vec![0.0; x0.len()];
+        (x0, v0)
+    }
+
+    /// The dissipated work W [J] in a state (0 when it is not tracked).
+    pub fn work(&self, v: &[f64]) -> f64 {
+        if self.work {
+            v[3 * self.params.nodes]
+        } else {
+            0.0
+        }
+    }
+
+    /// The power the damping and drag take out [W], Σ kd (Δv·d)²/|d|² + Σ ka |v|²: what
+    /// [`Rope::forces`] adds up with `POWER`, without the forces (no square root).
+    fn dissipated_power(&self, x: &[f64], v: &[f64]) -> f64 {
+        let p = &self.params;
+        let drag: f64 = (0..p.nodes).map(|i| node(v, i).length_squared()).sum();
+        let along: f64 = (0..p.nodes - 1)
+            .map(|i| {
+                let d = node(x, i + 1) - node(x, i);
+                let dot = (node(v, i + 1) - node(v, i)).dot(d);
+                let len2 = d.length_squared();
+                if len2 == 0.0 { 0.0 } else { dot * dot / len2 }
+            })
+            .sum();
+        p.air_drag * drag + p.spring_damping * along
     }
 
     pub fn nodes(&self) -> usize {
@@ -161,41 +225,54 @@ impl Rope {
 
     /// Total force on every node (flat), before pinning.
     pub fn forces(&self, x: &[f64], v: &[f64], f: &mut [f64]) {
+        self.forces_with::<false>(x, v, f);
+    }
+
+    /// [`Rope::forces`], and with `POWER` the dissipated power taken in the same pass (pinned
+    /// nodes are at rest, so their share is zero). Without it the same code as before.
+    #[inline(always)]
+    fn forces_with<const POWER: bool>(&self, x: &[f64], v: &[f64], f: &mut [f64]) -> f64 {
         let p = &self.params;
+        let mut power = 0.0;
         for i in 0..p.nodes {
-            let fi = p.mass * p.gravity - p.air_drag * node(v, i);
+            let vi = node(v, i);
+            let fi = p.mass * p.gravity - p.air_drag * vi;
+            if POWER {
+                power += p.air_drag * vi.length_squared();
+            }
             f[3 * i] = fi.x;
             f[3 * i + 1] = fi.y;
             f[3 * i + 2] = fi.z;
         }
         for i in 0..p.nodes - 1 {
-            let fs = self.spring_force(x, v, i);
+            let (fs, along) = self.spring_force(x, v, i);
+            if POWER {
+                power += p.spring_damping * along * along;
+            }
             add_to(f, i, fs);
             add_to(f, i + 1, -fs);
         }
+        power
     }
 
     /// Force of spring i (nodes i, i+1) on node i: Hooke along the spring plus damping of the
-    /// relative velocity's component along it. Node i+1 feels the opposite.
+    /// relative velocity's component along it, and that component. Node i+1 feels the opposite.
     #[inline]
-    fn spring_force(&self, x: &[f64], v: &[f64], i: usize) -> DVec3 {
+    fn spring_force(&self, x: &[f64], v: &[f64], i: usize) -> (DVec3, f64) {
         let d = node(x, i + 1) - node(x, i);
         let len = d.length();
         if len == 0.0 {
-            return DVec3::ZERO; // direction undefined; only reachable by a blown-up method
+            return (DVec3::ZERO, 0.0); // direction undefined; only reachable by a blown-up method
         }
         let u = d / len;
-        let dv = node(v, i + 1) - node(v, i);
-        (self.params.stiffness * (len - self.rest) + self.params.spring_damping * dv.dot(u)) * u
+        let along = (node(v, i + 1) - node(v, i)).dot(u);
+        let tension = self.params.stiffness * (len - self.rest);
+        ((tension + self.params.spring_damping * along) * u, along)
     }
 
     /// Kinetic + spring + gravitational energy [J], gravity's zero at the origin.
     pub fn energy(&self, x: &[f64], v: &[f64]) -> f64 {
-        let p = &self.params;
-        let gravity: f64 = (0..p.nodes)
-            .map(|i| -p.mass * p.gravity.dot(node(x, i)))
-            .sum();
-        self.kinetic_and_elastic_energy(x, v) + gravity
+        self.energy_and_strain(x, v).0
     }
 
     /// Kinetic + spring energy [J]: the energy in motion and stretch, without gravity.
@@ -213,9 +290,8 @@ impl Rope {
         kinetic + elastic
     }
 
-    /// Total energy (as [`Rope::energy`], to the bit) and largest strain (as
-    /// [`Rope::max_strain`]) in one pass that takes each spring's length once: the check every
-    /// step of a run pays.
+    /// Total energy and largest strain (as [`Rope::max_strain`]) in one pass that takes each
+    /// spring's length once: the check every step of a run pays.
     pub fn energy_and_strain(&self, x: &[f64], v: &[f64]) -> (f64, f64) {
         let p = &self.params;
         // -0.0 is the neutral element `Iterator::sum` starts from, so the sums match `energy`.
@@ -242,13 +318,22 @@ impl Rope {
 
 impl SecondOrderSystem for Rope {
     fn dim(&self) -> usize {
-        3 * self.params.nodes
+        3 * self.params.nodes + usize::from(self.work)
+    }
+
+    fn first_order_tail(&self) -> usize {
+        usize::from(self.work)
     }
 
     fn acceleration(&self, x: &[f64], v: &[f64], a: &mut [f64]) {
-        self.forces(x, v, a);
+        let n3 = 3 * self.params.nodes;
+        if self.work {
+            a[n3] = self.forces_with::<true>(x, v, &mut a[..n3]);
+        } else {
+            self.forces(x, v, a);
+        }
         let inv_m = 1.0 / self.params.mass;
-        for (i, ai) in a.chunks_exact_mut(3).enumerate() {
+        for (i, ai) in a[..n3].chunks_exact_mut(3).enumerate() {
             if self.pinned[i] {
                 ai.fill(0.0);
             } else {
@@ -263,7 +348,14 @@ impl SecondOrderSystem for Rope {
             .lock()
             .unwrap_or_else(PoisonError::into_inner);
         let workspace = workspace.get_or_insert_with(|| Workspace::new(self.params.nodes));
-        implicit::backward_euler_step(self, workspace, x, v, dt)
+        let n3 = 3 * self.params.nodes;
+        let solve = implicit::backward_euler_step(self, workspace, &mut x[..n3], &mut v[..n3], dt);
+        if self.work {
+            // Backward Euler on W' = P too: W1 = W0 + h P(x1, v1) (and its unused position).
+            v[n3] += dt * self.dissipated_power(&x[..n3], &v[..n3]);
+            x[n3] += dt * v[n3];
+        }
+        solve
     }
 }
 

@@ -300,15 +300,17 @@ impl RopeConfig {
 /// of order 10 J, is summed to a relative 1e-16.
 pub const NEGLIGIBLE: f64 = 1e-90;
 
-/// The plotted quantities, in order.
-pub const QUANTITIES: [&str; 3] = ["energy", "energy_change", "max_strain"];
+/// The plotted quantities, in order: the energy E, the dissipated work W, the balance error
+/// (E + W − E0) / scale (the method's own energy error, DESIGN principle 7; E − E0 is E less a
+/// constant, in the summary), the largest strain.
+pub const QUANTITIES: [&str; 4] = ["energy", "work", "energy_balance", "max_strain"];
 
 /// One method's rope and what has been measured on it.
 pub struct RopeLane {
     pub method: Method,
     integrator: Integrator,
-    /// Sampled rows of the current block: (step, [energy, E - E0, max strain]).
-    rows: Vec<(u64, [f64; 3])>,
+    /// Sampled rows of the current block: (step, the [`QUANTITIES`]).
+    rows: Vec<(u64, [f64; 4])>,
     /// The failed check of the current block: its offset and why.
     failed: Option<(usize, String)>,
     /// The first step of the current block whose implicit solve missed its tolerance.
@@ -317,11 +319,22 @@ pub struct RopeLane {
     pub max_strain: f64,
     /// Energy after the last accepted step [J].
     pub final_energy: f64,
+    /// Work the damping and drag dissipated up to the last accepted step [J].
+    pub final_work: f64,
+    /// Largest |E + W − E0| over every accepted step [J].
+    pub max_balance_error: f64,
 }
 
 impl RopeLane {
+    /// The nodes' positions (flat, 3 per node).
     pub fn positions(&self) -> &[f64] {
-        self.integrator.position()
+        let x = self.integrator.position();
+        &x[..x.len() / 3 * 3]
+    }
+
+    /// E + W − E0 after the last accepted step [J]: the method's error in the energy balance.
+    pub fn balance_error(&self, initial_energy: f64) -> f64 {
+        self.final_energy + self.final_work - initial_energy
     }
 }
 
@@ -348,7 +361,7 @@ pub struct RopeScene {
 
 impl RopeScene {
     pub fn new(config: RopeConfig) -> Self {
-        let rope = Rope::new(config.params.clone());
+        let rope = Rope::balanced(config.params.clone());
         let x0 = config.params.initial_positions();
         let v0 = vec![0.0; x0.len()];
         RopeScene {
@@ -411,8 +424,7 @@ impl Scene for RopeScene {
     }
 
     fn lanes(&self) -> Vec<(&'static str, RopeLane)> {
-        let x0 = &self.initial_positions;
-        let v0 = vec![0.0; x0.len()];
+        let (x0, v0) = self.rope.start();
         self.config
             .methods
             .iter()
@@ -422,7 +434,7 @@ impl Scene for RopeScene {
                     integrator: Integrator::new(
                         m,
                         &self.rope,
-                        x0,
+                        &x0,
                         &v0,
                         self.config.dt,
                         self.config.options,
@@ -430,8 +442,10 @@ impl Scene for RopeScene {
                     rows: Vec::new(),
                     failed: None,
                     first_miss: None,
-                    max_strain: self.rope.max_strain(x0),
+                    max_strain: self.rope.max_strain(&x0),
                     final_energy: self.initial_energy,
+                    final_work: 0.0,
+                    max_balance_error: 0.0,
                 };
                 (m.name(), lane)
             })
@@ -444,7 +458,12 @@ impl Scene for RopeScene {
 
     fn initial(&self, _lane: &RopeLane) -> Option<Vec<f64>> {
         let x0 = &self.initial_positions;
-        Some(vec![self.initial_energy, 0.0, self.rope.max_strain(x0)])
+        Some(vec![
+            self.initial_energy,
+            0.0,
+            0.0,
+            self.rope.max_strain(x0),
+        ])
     }
 
     /// Steps and checks every step: a rope cannot keep every step's state, so the O(N) energy
@@ -471,10 +490,13 @@ impl Scene for RopeScene {
             }
             lane.max_strain = lane.max_strain.max(strain);
             lane.final_energy = energy;
+            lane.final_work = self.rope.work(v);
+            let balance = lane.balance_error(self.initial_energy);
+            lane.max_balance_error = lane.max_balance_error.max(balance.abs());
             let step = first + k as u64;
             if schedule.samples(step) {
-                lane.rows
-                    .push((step, [energy, energy - self.initial_energy, strain]));
+                let relative = balance / self.energy_scale;
+                (lane.rows).push((step, [energy, lane.final_work, relative, strain]));
             }
         }
     }
