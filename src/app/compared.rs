@@ -8,8 +8,8 @@ use std::path::{Path, PathBuf};
 
 use super::scenes::SCENES;
 use super::{Error, SceneFile};
+use crate::format::{sig, sig_pair};
 use crate::record::{escaped, shell_path, shell_word, shell_words};
-use crate::report::table::{sig, sig_pair};
 use crate::rrd::compare::{SeriesDiff, time_text};
 use crate::rrd::inspect::{RecordingInfo, read_recording};
 

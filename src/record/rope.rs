@@ -10,8 +10,8 @@ use rerun::RecordingStream;
 
 use super::scene::{Draw, SceneRecorder, clear_diverged};
 use super::{Framing, Slot, Staging, method_color, slot_cells, view_above_text};
+use crate::format::trim_number;
 use crate::report::rope::cost_per_step;
-use crate::report::table::trim_number;
 use crate::scene::harness::{Event, Frame};
 use crate::scene::rope::node;
 use crate::scene::rope::run::{ENERGY_GAIN_BOUND, RopeConfig, RopeLane, RopeLayout, RopeScene};

@@ -7,6 +7,18 @@ use crate::scene::pendulum::run::{PendulumLane, PendulumScene};
 
 /// The summary: a few header lines (reference, energy, bounds) and one row per lane.
 pub fn summary_text(scene: &PendulumScene, run: &Run<PendulumLane>) -> String {
+    let mut out = header_text(scene);
+    out.push('\n');
+    out.push_str(&lanes_table(scene, run));
+    if run.stats.iter().any(|s| s.counts.own_steps.is_some()) {
+        out.push_str(OWN_STEPS_NOTE);
+    }
+    out
+}
+
+/// The lines above the table: the run, the reference, the energy and its bounds, and what a
+/// method's settings mean for its figures.
+fn header_text(scene: &PendulumScene) -> String {
     let c = &scene.config;
     let p = &c.params;
     let schedule = scene.schedule();
@@ -54,8 +66,11 @@ pub fn summary_text(scene: &PendulumScene, run: &Run<PendulumLane>) -> String {
             sig((p.length / p.gravity).sqrt(), 4)
         ));
     }
-    out.push('\n');
+    out
+}
 
+/// One row per lane: cost, errors against the reference, period, outcome.
+fn lanes_table(scene: &PendulumScene, run: &Run<PendulumLane>) -> String {
     let mut table = Table::new([
         "method",
         "steps",
@@ -101,9 +116,5 @@ pub fn summary_text(scene: &PendulumScene, run: &Run<PendulumLane>) -> String {
             divergence_cell(s),
         ]);
     }
-    out.push_str(&table.render());
-    if run.stats.iter().any(|s| s.counts.own_steps.is_some()) {
-        out.push_str(OWN_STEPS_NOTE);
-    }
-    out
+    table.render()
 }

@@ -1,7 +1,8 @@
 //! The rope run's summary table, as printed on stdout.
 
+use crate::format::{sig, trim_number};
 use crate::integrate::{EvalsPerStep, Method};
-use crate::report::table::{OWN_STEPS_NOTE, Table, figure, sig, trim_number};
+use crate::report::table::{OWN_STEPS_NOTE, Table, figure};
 use crate::scene::harness::{Run, Scene as _, divergence_cell};
 use crate::scene::rope::run::{ENERGY_GAIN_BOUND, RopeLane, RopeScene};
 

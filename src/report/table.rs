@@ -2,8 +2,6 @@
 //! cleanly into a bug report.
 
 use crate::scene::harness::LaneStats;
-// Named here too until `app/compared.rs` and `report/rope.rs` name `crate::format`.
-pub use crate::format::{plural, sci, sig, sig_pair, trim_number};
 
 /// A table under construction: a header row and data rows of the same width.
 pub struct Table {

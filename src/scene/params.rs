@@ -3,8 +3,7 @@
 
 pub use crate::error::Error as Invalid;
 use crate::format;
-// Named here too until `scene/rope/`, `scene/harness/` and `app/study/` name `crate::format`.
-pub use crate::format::{seconds, shown, shown_vector};
+use crate::format::{shown, shown_vector};
 
 /// Runs longer than this many steps per method are refused: a typo in --dt should not
 /// start an hours-long run.

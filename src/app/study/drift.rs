@@ -2,8 +2,8 @@
 //! diagram of the complete ones.
 
 use super::Found;
+use crate::format::shown;
 use crate::report::drift as report;
-use crate::scene::params::shown;
 use crate::study::drift::{Drift, pendulum_drift, rope_drift};
 use crate::study::{Problem, Sweep};
 
@@ -37,7 +37,7 @@ pub(super) fn drift_study(quiet: bool, problem: &Problem, sw: &Sweep) -> Found {
         Problem::Pendulum(p) => {
             // θ0 as given in degrees (its radians turned back carry a last-digit residue).
             let degrees = (p.theta0.to_degrees() * 1e9).round() / 1e9;
-            let period = crate::scene::pendulum::reference::ExactPendulum::new(p)
+            let period = crate::scene::pendulum::exact::ExactPendulum::new(p)
                 .map_or(f64::NAN, |e| e.period());
             (
                 report::pendulum_header(degrees, period, sw.dt0, sw.duration),

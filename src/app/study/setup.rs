@@ -12,8 +12,9 @@ use crate::app::scenes::{MethodFlag, given, refuse_unread};
 use crate::cli::{
     DriftArgs, PendulumArgs, RopeArgs, StabilityArgs, StudyScene, StudySceneArgs, SweepArgs,
 };
+use crate::format::shown;
 use crate::integrate::{Method, MethodOptions};
-use crate::scene::params::{self, MAX_NODE_STEPS, MAX_STEPS, shown};
+use crate::scene::params::{self, MAX_NODE_STEPS, MAX_STEPS};
 use crate::scene::pendulum::run::PendulumConfig;
 use crate::scene::rope::run::RopeConfig;
 use crate::study::{self, Problem, Sweep, drift};
@@ -133,7 +134,7 @@ pub(super) fn drift_setup(a: &DriftArgs) -> Result<Setup, Error> {
 fn drift_defaults(problem: &Problem) -> Result<(f64, f64, f64), Error> {
     match problem {
         Problem::Pendulum(p) => {
-            let Some(exact) = crate::scene::pendulum::reference::ExactPendulum::new(p) else {
+            let Some(exact) = crate::scene::pendulum::exact::ExactPendulum::new(p) else {
                 return Err(Error::Usage(format!(
                     "--theta0 {}: `study drift` needs a release from rest with |θ0| < 180° (the \
                      closed form's crossings are the reference)",

@@ -3,8 +3,8 @@
 
 use super::series::SeriesPlan;
 use crate::error::Error;
+use crate::format::shown;
 use crate::scene::m4::MAX_COLUMNS;
-use crate::scene::params::shown;
 
 /// A run that samples at most this many ticks keeps every sampled row; a longer one keeps an M4
 /// aggregate of its whole run and every row of its windows ([`super::LaneSeries`]).

@@ -3,9 +3,8 @@
 //! solution for every other start.
 
 use super::PendulumParams;
+use super::exact::ExactPendulum;
 use super::exact::closed_form_text;
-// Named here too until `app/study/` names `exact::ExactPendulum`.
-pub use super::exact::ExactPendulum;
 use super::periodic::PeriodicExact;
 
 /// RK4 on the pendulum with the state kept as compensated (Kahan) sums: each step's increment

@@ -117,7 +117,7 @@ pub fn refuse_position_only_methods(p: &RopeParams, methods: &[Method]) -> Resul
     ]
     .into_iter()
     .filter(|&(_, v)| v != 0.0)
-    .map(|(flag, v)| format!("{flag} {}", params::shown(v)))
+    .map(|(flag, v)| format!("{flag} {}", crate::format::shown(v)))
     .collect();
     let (make, fix) = match causes.len() {
         0 => return Ok(()),
@@ -205,7 +205,7 @@ impl params::SceneConfig for RopeConfig {
         if (p.end - p.start).length() == 0.0 {
             return Err(Invalid::param(
                 "--end",
-                params::shown_vector(p.end),
+                crate::format::shown_vector(p.end),
                 "must differ from --start (the spacing is the springs' rest length)",
             ));
         }
@@ -260,9 +260,9 @@ impl params::SceneConfig for RopeConfig {
                 "{flag} {} s exceeds 2/ω_max = {} s, the scale of the rope's stiffest spring mode \
                  (ω_max = {} rad/s): {} are stable only below about that step and are expected \
                  to diverge",
-                params::shown(h),
-                params::seconds(limit),
-                params::seconds(omega_max),
+                crate::format::shown(h),
+                crate::format::seconds(limit),
+                crate::format::seconds(omega_max),
                 bounded.join(", ")
             )
         })
@@ -424,7 +424,15 @@ impl Scene for RopeScene {
     }
 
     fn lanes(&self) -> Vec<(&'static str, RopeLane)> {
-        let (x0, v0) = self.rope.start();
+        // Undamped, the scene's own start serves: no second copy of a large rope's positions.
+        let with_work;
+        let x0: &[f64] = if self.rope.tracks_work() {
+            with_work = self.rope.start().0;
+            &with_work
+        } else {
+            &self.initial_positions
+        };
+        let v0 = vec![0.0; x0.len()];
         self.config
             .methods
             .iter()
@@ -434,7 +442,7 @@ impl Scene for RopeScene {
                     integrator: Integrator::new(
                         m,
                         &self.rope,
-                        &x0,
+                        x0,
                         &v0,
                         self.config.dt,
                         self.config.options,
@@ -442,7 +450,7 @@ impl Scene for RopeScene {
                     rows: Vec::new(),
                     failed: None,
                     first_miss: None,
-                    max_strain: self.rope.max_strain(&x0),
+                    max_strain: self.rope.max_strain(x0),
                     final_energy: self.initial_energy,
                     final_work: 0.0,
                     max_balance_error: 0.0,
