@@ -674,6 +674,51 @@ mod studies {
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
+    /// Issue 44.7: the undamped rope's convergence study runs the damped rope after it, and a stop
+    /// counts both: "N of M runs complete" with M the rows an uninterrupted run writes (its CSV,
+    /// damped rows included), N the rows the stopped one wrote, whether it stopped in the undamped
+    /// sweep or later (the damped one, on main said "138 of 138" having dropped it).
+    #[test]
+    fn the_ropes_convergence_counts_its_damped_runs_when_stopped() {
+        let dir = scratch_dir("edges-damped-count");
+        let csv = dir.join("c.csv");
+        let args = [
+            "study",
+            "convergence",
+            "--scene",
+            "rope",
+            "--levels",
+            "4",
+            "-q",
+        ];
+        let mut whole = args.to_vec();
+        whole.extend(["--csv", csv.to_str().unwrap()]);
+        let started = Instant::now();
+        let (code, _, stderr) = common::physlab(&whole);
+        let took = started.elapsed();
+        assert_eq!(code, 0, "{stderr}");
+        let text = std::fs::read_to_string(&csv).unwrap();
+        let planned = text.lines().count() - 1;
+        assert!(text.contains("\nrope-damped,"), "no damped runs:\n{text}");
+        for fraction in [0.25, 0.8] {
+            std::fs::remove_file(&csv).unwrap();
+            let (code, _, stderr, _) = interrupt(&whole, took.mul_f64(fraction), libc::SIGINT);
+            assert_eq!(code, 130, "{stderr}");
+            let said = stderr
+                .split("interrupted: ")
+                .nth(1)
+                .unwrap_or_else(|| panic!("{stderr}"));
+            let (done, of) = said.split_once(" of ").unwrap();
+            let total: usize = of.split(' ').next().unwrap().parse().unwrap();
+            assert_eq!(total, planned, "at {fraction} of the run: {stderr}");
+            let done: usize = done.parse().unwrap();
+            assert!(done < planned, "at {fraction} of the run: {stderr}");
+            let written = std::fs::read_to_string(&csv).map_or(0, |t| t.lines().count() - 1);
+            assert_eq!(written, done, "at {fraction} of the run: {stderr}");
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
     /// The pendulum's fine-step reference (a start with ω0 ≠ 0: `--omega0 1e4` takes ~3e8 RK4 steps,
     /// ~30 s) stops at once on SIGINT and SIGTERM, at several ω0 and moments, and finalises a
     /// readable recording in place of the good one, with no partial file.
