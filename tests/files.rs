@@ -32,7 +32,17 @@ fn physlab_with(
     env: &[(&str, &Path)],
     setup: fn() -> std::io::Result<()>,
 ) -> Output {
-    let mut command = Command::new(env!("CARGO_BIN_EXE_physlab"));
+    physlab_at(Path::new(env!("CARGO_BIN_EXE_physlab")), args, env, setup)
+}
+
+/// [`physlab_with`] for the binary at `program`.
+fn physlab_at(
+    program: &Path,
+    args: &[&str],
+    env: &[(&str, &Path)],
+    setup: fn() -> std::io::Result<()>,
+) -> Output {
+    let mut command = Command::new(program);
     command.args(args).stdin(Stdio::null());
     for (key, value) in env {
         command.env(key, value);
@@ -423,7 +433,16 @@ fn errors_under_resource_limits_name_their_cause() {
         "{err}"
     );
 
-    let run = physlab_with(
+    // A copy of the binary where nobody may run it (the build folder may be under a private
+    // home, as CI's is).
+    let open = scratch_dir("files-nproc-binary");
+    let program = open.join("physlab");
+    std::fs::copy(env!("CARGO_BIN_EXE_physlab"), &program).unwrap();
+    for path in [&open, &program] {
+        std::fs::set_permissions(path, std::fs::Permissions::from_mode(0o755)).unwrap();
+    }
+    let run = physlab_at(
+        &program,
         &["pendulum", "--no-record", "--duration", "0.2"],
         &[],
         || {
@@ -444,6 +463,7 @@ fn errors_under_resource_limits_name_their_cause() {
         err.contains("no threads available") && err.contains("ulimit -u"),
         "{err}"
     );
+    std::fs::remove_dir_all(&open).unwrap();
 
     // About 2.5 GB of state under a 2 GiB address space: refused up front,
     // naming the limit (it aborted allocating).
