@@ -56,10 +56,33 @@ impl RecordingInfo {
     }
 }
 
+/// The most text a recording's description may hold: its properties, event texts and entity
+/// names together. physlab's own take kilobytes; without a cap, text logged message by message
+/// piles up whatever the per-message cap (16 properties of 200 MB in a 13 MB file took 3.5 GB).
+pub const MAX_DESCRIPTION_BYTES: usize = 64 << 20;
+
 /// Reads a recording. A missing, empty, non-rrd, corrupt or truncated file is a usage error
 /// naming the file and what is wrong with it; a stop request `Error::Interrupted`.
 pub fn read_recording(path: &Path) -> anyhow::Result<RecordingInfo> {
+    read_recording_within(path, MAX_DESCRIPTION_BYTES)
+}
+
+/// [`read_recording`], refusing a file whose description holds more than `cap` bytes of text.
+pub(super) fn read_recording_within(path: &Path, cap: usize) -> anyhow::Result<RecordingInfo> {
     let mut info = RecordingInfo::default();
+    let mut held = 0usize;
+    // `each_chunk` names the file.
+    let mut hold = |bytes: usize, freed: usize| -> Result<(), String> {
+        held = (held + bytes).saturating_sub(freed);
+        if held > cap {
+            return Err(format!(
+                "its properties, event texts and entity names hold more than {} MiB (physlab's \
+                 own take kilobytes)",
+                cap >> 20
+            ));
+        }
+        Ok(())
+    };
     let sim_time = rerun::TimelineName::from("sim_time");
     let text = rerun::TextLog::descriptor_text().component;
     let level = rerun::TextLog::descriptor_level().component;
@@ -88,13 +111,18 @@ pub fn read_recording(path: &Path) -> anyhow::Result<RecordingInfo> {
                     if let Some(values) = chunk.iter_slices::<String>(descriptor.component).next()
                         && let Some(v) = values.first()
                     {
+                        let freed = target.get(&key).map_or(0, |old| key.len() + old.len());
+                        hold(key.len() + v.as_str().len(), freed)?;
                         target.insert(key, v.as_str().to_string());
                     }
                 }
             }
             return Ok(());
         }
-        info.entities.insert(entity.clone());
+        if !info.entities.contains(&entity) {
+            hold(entity.len(), 0)?;
+            info.entities.insert(entity.clone());
+        }
         if let Some(column) = chunk.timelines().get(&sim_time) {
             let range = column.time_range();
             let (lo, hi) = (
@@ -117,6 +145,7 @@ pub fn read_recording(path: &Path) -> anyhow::Result<RecordingInfo> {
                 .enumerate()
             {
                 for s in texts {
+                    hold(entity.len() + s.as_str().len(), 0)?;
                     info.events.push(LoggedEvent {
                         entity: entity.clone(),
                         time: t.as_i64() as f64 * 1e-9,

@@ -100,3 +100,32 @@ fn finds_the_first_difference_beyond_the_tolerance_and_the_largest() {
     assert_eq!(time_text(Some(-5)), "t = -0.000000005 s");
     assert_eq!(compare(&a, &b[..3], 0.0).unpaired, 1);
 }
+
+/// Text logged message by message is held by `inspect` (properties, events, entity names): past
+/// the cap the file is refused, naming it, however small each message; under it, read whole.
+#[test]
+fn a_description_beyond_the_cap_is_refused() {
+    let dir = std::env::temp_dir().join(format!("physlab-rrd-description-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("warnings.rrd");
+    let rec = rerun::RecordingStreamBuilder::new("physlab-test")
+        .save(&path)
+        .unwrap();
+    let warning = "w".repeat(1 << 20);
+    for t in 0..8 {
+        rec.set_time("sim_time", std::time::Duration::from_secs(t));
+        let log = rerun::TextLog::new(warning.as_str()).with_level(rerun::TextLogLevel::WARN);
+        rec.log("pendulum/events", &log).unwrap();
+    }
+    drop(rec);
+    let refused = super::inspect::read_recording_within(&path, 4 << 20).unwrap_err();
+    let why = refused.to_string();
+    assert!(
+        why.contains("warnings.rrd") && why.contains("more than 4 MiB"),
+        "{why}"
+    );
+    let info = super::inspect::read_recording_within(&path, 16 << 20).unwrap();
+    assert_eq!(info.events.len(), 8);
+    assert!(info.events.iter().all(|e| e.text.len() == 1 << 20));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
