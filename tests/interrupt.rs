@@ -700,9 +700,21 @@ mod studies {
         let text = std::fs::read_to_string(&csv).unwrap();
         let planned = text.lines().count() - 1;
         assert!(text.contains("\nrope-damped,"), "no damped runs:\n{text}");
-        for fraction in [0.25, 0.8] {
+        // The later stop lands in the damped sweep on a steady machine; one that the run
+        // outpaced (its pace varies with the load) ends complete, and says nothing to check.
+        let mut stopped = 0;
+        for fraction in [0.2, 0.5, 0.75] {
             std::fs::remove_file(&csv).unwrap();
             let (code, _, stderr, _) = interrupt(&whole, took.mul_f64(fraction), libc::SIGINT);
+            if code == 0 {
+                let rows = std::fs::read_to_string(&csv).unwrap().lines().count() - 1;
+                assert_eq!(
+                    rows, planned,
+                    "at {fraction} of the run, complete: {stderr}"
+                );
+                continue;
+            }
+            stopped += 1;
             assert_eq!(code, 130, "{stderr}");
             let said = stderr
                 .split("interrupted: ")
@@ -716,6 +728,7 @@ mod studies {
             let written = std::fs::read_to_string(&csv).map_or(0, |t| t.lines().count() - 1);
             assert_eq!(written, done, "at {fraction} of the run: {stderr}");
         }
+        assert!(stopped >= 1, "every run outpaced its stop");
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
