@@ -60,16 +60,7 @@ impl Output {
                 written: Default::default(),
                 done: None,
             }),
-            Some(target) => Partial::beside(self.named(), target, false),
-        }
-    }
-
-    /// Like [`Output::create`], the hidden file keeping the target's extension
-    /// (`.NAME.PID.partial.png`), for writers that choose a format by it.
-    pub fn create_keeping_extension(&self) -> anyhow::Result<Partial> {
-        match &self.target {
-            None => self.create(),
-            Some(target) => Partial::beside(self.named(), target, true),
+            Some(target) => Partial::beside(self.named(), target),
         }
     }
 
@@ -188,7 +179,7 @@ pub fn check(flag: &str, path: &Path, dash: Dash) -> anyhow::Result<Output> {
     })?;
     remove_stale_partials(&target);
     // Writable: the hidden file the write will use can be made (and is removed at once).
-    drop(Partial::beside(named, &target, false)?);
+    drop(Partial::beside(named, &target)?);
     Ok(Output {
         flag: flag.into(),
         given: path.into(),
@@ -305,7 +296,8 @@ pub fn cause(e: &std::io::Error) -> String {
 
 /// The hidden file's name for `name` written by process `pid`: `.NAME.PID.partial`, with NAME
 /// shortened (bytes from its end dropped) so that the whole fits in [`NAME_MAX`]; with
-/// `extension`, the name's extension is appended (`.NAME.PID.partial.png`).
+/// `extension`, the name's extension is appended (`.NAME.PID.partial.png`): the form earlier
+/// builds wrote diagrams under, still recognised so that their stale partials are removed.
 fn partial_name(name: &[u8], pid: u32, extension: bool) -> OsString {
     let ext = match name.iter().rposition(|&b| b == b'.') {
         Some(dot) if extension && dot > 0 && name.len() - dot <= 16 => &name[dot..],
@@ -451,10 +443,9 @@ impl Partial {
         self.written.clone()
     }
 
-    fn beside(named: String, target: &Path, extension: bool) -> anyhow::Result<Self> {
+    fn beside(named: String, target: &Path) -> anyhow::Result<Self> {
         let name = target.file_name().unwrap_or_default();
-        let tmp =
-            parent_dir(target).join(partial_name(name.as_bytes(), std::process::id(), extension));
+        let tmp = parent_dir(target).join(partial_name(name.as_bytes(), std::process::id(), false));
         let failed = |e: std::io::Error| {
             anyhow::anyhow!(
                 "{named}: cannot write in its folder {}: {}",

@@ -21,8 +21,7 @@ use common::{partials, physlab, s, scratch_dir};
 /// A small, complete recording (about 60 KB).
 fn good_recording(dir: &Path, name: &str) -> PathBuf {
     let path = dir.join(name);
-    let (code, _, err) = physlab(&["pendulum", "-q", "--duration", "2", "-o", s(&path)]);
-    assert_eq!(code, 0, "{err}");
+    common::record_pendulum(&path, "0.01", "2");
     path
 }
 
