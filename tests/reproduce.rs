@@ -609,7 +609,7 @@ mod readers {
     use physlab::error::Error;
     use proptest::prelude::*;
 
-    use crate::common::{peak_memory, physlab, record_pendulum, s, scratch_dir};
+    use crate::common::{physlab, s, scratch_dir};
 
     /// The corpus: small real recordings of every kind physlab writes (see its README).
     fn corpus() -> Vec<(PathBuf, Vec<u8>)> {
@@ -1124,43 +1124,6 @@ mod readers {
         let (code, out, err) = physlab(&["diff", s(&out), s(&again)]);
         assert_eq!(code, 0, "{out}\n{err}");
         std::fs::remove_dir_all(&dir).unwrap();
-    }
-
-    /// `reproduce` streams the files: reproducing a 29 MB recording takes less than 3 MB more
-    /// resident memory than the run it repeats takes on its own. A run's own peak varies by
-    /// 10 MB and more from one try to the next (how many chunks Rerun's batcher holds when the
-    /// peak comes), so each side is the least of three tries. What `diff` and `reproduce` hold
-    /// while comparing is measured exactly, on the heap, in `tests/stream_memory.rs`.
-    #[test]
-    fn reproduce_memory_does_not_grow_with_the_file() {
-        let dir = scratch_dir("streamed-memory");
-        let large = dir.join("large.rrd");
-        record_pendulum(&large, "1e-4", "60");
-        let size = std::fs::metadata(&large).unwrap().len();
-        assert!(size > 10_000_000, "{size} B");
-        let again = dir.join("again.rrd");
-        let least = |args: &[&str]| {
-            (0..3)
-                .map(|_| peak_memory(args))
-                .fold(f64::INFINITY, f64::min)
-        };
-        let run = least(&[
-            "pendulum",
-            "-q",
-            "--dt",
-            "1e-4",
-            "--plot-every",
-            "1",
-            "--duration",
-            "60",
-            "-o",
-            s(&again),
-        ]);
-        let reproduce = least(&["reproduce", s(&large)]);
-        assert!(
-            reproduce - run < 3e6,
-            "reproduce: {reproduce:.3e} B, the run alone {run:.3e} B, the file {size} B"
-        );
     }
 
     /// Every number an Arrow value holds, element by element, depth first (struct fields in order):
