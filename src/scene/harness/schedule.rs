@@ -3,7 +3,7 @@
 
 use super::series::SeriesPlan;
 use crate::error::Error;
-use crate::format::shown;
+use crate::format::{shown, trim_number};
 use crate::scene::m4::MAX_COLUMNS;
 
 /// A run that samples at most this many ticks keeps every sampled row; a longer one keeps an M4
@@ -15,12 +15,6 @@ pub const MAX_WINDOW_ROWS: u64 = MAX_PLOT_POINTS;
 
 /// Rows the windows asked for (`--window`) keep at most per lane, together.
 pub const MAX_ASKED_WINDOW_ROWS: u64 = 10 * MAX_PLOT_POINTS;
-
-/// A moment in words: milliseconds kept, trailing zeros dropped (99.967, 20.2).
-fn seconds(t: f64) -> String {
-    let text = format!("{t:.3}");
-    text.trim_end_matches('0').trim_end_matches('.').to_string()
-}
 
 /// A stretch of simulated time whose every sampled step is kept (`--window FROM:TO`, seconds).
 /// A negative end (`-0` too: the end itself) counts back from the end of the run; an empty one is
@@ -280,8 +274,8 @@ impl Schedule {
             "3D drawn over t ≤ {} s and t ≥ {} s only: {} of the {all} frames at the rate asked \
              for (at most {MAX_FRAMES} are drawn); the 3D view holds still between, while the \
              plots and every check cover every step",
-            seconds(self.time(self.frame_tick(a - 1))),
-            seconds(self.time(self.frame_tick(b + 1))),
+            trim_number(self.time(self.frame_tick(a - 1)), 3),
+            trim_number(self.time(self.frame_tick(b + 1)), 3),
             self.frames()
         ))
     }
@@ -392,7 +386,7 @@ impl Schedule {
         let Some(plan) = self.series_plan(windows) else {
             return format!("{every} of the run");
         };
-        let edge = seconds(self.time((plan.last_rows as u64 - 1) * self.plot_stride));
+        let edge = trim_number(self.time((plan.last_rows as u64 - 1) * self.plot_stride), 3);
         let asked = windows
             .asked
             .iter()
