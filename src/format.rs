@@ -96,13 +96,12 @@ pub fn trim_number(x: f64, decimals: usize) -> String {
     }
 }
 
-/// A count with its noun: "1 substep", "2 substeps".
+/// A count with its noun: "1 substep", "2 substeps", "3 entities".
 pub fn plural(n: impl Into<u64>, noun: &str) -> String {
-    let n = n.into();
-    if n == 1 {
-        format!("1 {noun}")
-    } else {
-        format!("{n} {noun}s")
+    match (n.into(), noun.strip_suffix('y')) {
+        (1, _) => format!("1 {noun}"),
+        (n, Some(stem)) => format!("{n} {stem}ies"),
+        (n, None) => format!("{n} {noun}s"),
     }
 }
 
@@ -187,5 +186,9 @@ mod tests {
             ["45 s", "3 min 05 s", "7 h 12 min"]
         );
         assert_eq!([1.2e8, 3.44e9].map(size), ["120 MB", "3.4 GB"]);
+        assert_eq!(
+            [0u64, 1, 2].map(|n| plural(n, "entity")),
+            ["0 entities", "1 entity", "2 entities"]
+        );
     }
 }

@@ -147,15 +147,6 @@ pub(super) fn check_output(
     Ok(Some(out))
 }
 
-/// "1 entity", "3 entities".
-pub(super) fn entities_text(n: usize) -> String {
-    if n == 1 {
-        "1 entity".into()
-    } else {
-        format!("{n} entities")
-    }
-}
-
 /// Prints a report's lines on standard output (standard error when `to_stderr`), each through
 /// [`escaped`]: what a recording says reaches the terminal as text, never as its commands.
 pub(super) fn print_lines(lines: &[String], to_stderr: bool) {

@@ -9,8 +9,8 @@ use std::collections::{BTreeMap, BTreeSet};
 use super::Error;
 use super::SceneFile;
 use super::compared::{
-    EntityLine, by_entity, check_output, config_keys, difference_lines, entities_text, lane_names,
-    physlab_made, print_lines, single_method, tolerance, version_line,
+    EntityLine, by_entity, check_output, config_keys, difference_lines, lane_names, physlab_made,
+    print_lines, single_method, tolerance, version_line,
 };
 use super::scenes::{AllFlags, SCENES};
 use crate::cli::{DiffArgs, RunArgs};
@@ -316,7 +316,7 @@ impl Differences {
         if !args.verbose && identical > 0 {
             out.push(format!(
                 "identical: {} (-v lists them)",
-                entities_text(identical)
+                crate::format::plural(identical as u64, "entity")
             ));
         }
         out

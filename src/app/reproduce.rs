@@ -6,9 +6,8 @@ use std::path::Path;
 use std::time::Instant;
 
 use super::compared::{
-    EntityLine, by_entity, check_output, difference_lines, entities_text, lane_names, physlab_made,
-    print_lines, recorded_command, recorded_timings, tolerance, version_line, version_text,
-    wall_clock,
+    EntityLine, by_entity, check_output, difference_lines, lane_names, physlab_made, print_lines,
+    recorded_command, recorded_timings, tolerance, version_line, version_text, wall_clock,
 };
 use super::progress::{LARGE_BYTES, LONG_SECONDS};
 use super::scenes::{AllFlags, Bulk, SCENES};
@@ -442,7 +441,10 @@ impl Reproduced {
                 self.within
             )
         } else {
-            format!("verdict: bit-identical ({})", entities_text(n))
+            format!(
+                "verdict: bit-identical ({})",
+                crate::format::plural(n as u64, "entity")
+            )
         }
     }
 
@@ -499,7 +501,7 @@ impl Reproduced {
         if !verbose && identical > 0 {
             out.push(format!(
                 "identical: {} (-v lists them)",
-                entities_text(identical)
+                crate::format::plural(identical as u64, "entity")
             ));
         }
         if !self.skipped.is_empty() {
@@ -511,7 +513,7 @@ impl Reproduced {
             };
             out.push(format!(
                 "skipped: {} (wall-clock timings){list}",
-                entities_text(self.skipped.len())
+                crate::format::plural(self.skipped.len() as u64, "entity")
             ));
         }
         out
