@@ -279,36 +279,6 @@ pub trait PairedRow {
     fn texts(&self) -> &[String];
 }
 
-impl<R: PairedRow + ?Sized> PairedRow for &R {
-    fn time(&self) -> Option<i64> {
-        (**self).time()
-    }
-    fn count(&self) -> usize {
-        (**self).count()
-    }
-    fn nums(&self) -> Box<dyn Iterator<Item = f64> + '_> {
-        (**self).nums()
-    }
-    fn texts(&self) -> &[String] {
-        (**self).texts()
-    }
-}
-
-impl PairedRow for LoggedRow {
-    fn time(&self) -> Option<i64> {
-        self.time
-    }
-    fn count(&self) -> usize {
-        self.nums.len()
-    }
-    fn nums(&self) -> Box<dyn Iterator<Item = f64> + '_> {
-        Box::new(self.nums.iter().copied())
-    }
-    fn texts(&self) -> &[String] {
-        &self.texts
-    }
-}
-
 impl PairedRow for RowView {
     fn time(&self) -> Option<i64> {
         self.time
@@ -324,44 +294,13 @@ impl PairedRow for RowView {
     }
 }
 
-/// One side's rows waiting to be paired, in time order.
-trait Pending {
-    /// The next row's time (`Some(None)` for a static row), `None` when no row is left.
-    fn next_time(&self) -> Option<Option<i64>>;
-    /// The next row, read in place.
-    fn row(&self) -> Option<Box<dyn PairedRow + '_>>;
-    fn advance(&mut self);
-}
-
-/// A series' queue: blocks of a chunk's rows.
-impl Pending for VecDeque<SeriesRows> {
-    fn next_time(&self) -> Option<Option<i64>> {
-        self.front().map(SeriesRows::time)
-    }
-    fn row(&self) -> Option<Box<dyn PairedRow + '_>> {
-        self.front()
-            .map(|rows| Box::new(rows.view()) as Box<dyn PairedRow>)
-    }
-    fn advance(&mut self) {
-        if let Some(rows) = self.front_mut() {
-            rows.advance();
-            if rows.is_empty() {
-                self.pop_front();
-            }
+/// Moves a queue (blocks of a chunk's rows, in time order) past its next row.
+fn advance(queue: &mut VecDeque<SeriesRows>) {
+    if let Some(rows) = queue.front_mut() {
+        rows.advance();
+        if rows.is_empty() {
+            queue.pop_front();
         }
-    }
-}
-
-/// Rows already read, each its own [`LoggedRow`].
-impl Pending for &[LoggedRow] {
-    fn next_time(&self) -> Option<Option<i64>> {
-        self.first().map(|r| r.time)
-    }
-    fn row(&self) -> Option<Box<dyn PairedRow + '_>> {
-        self.first().map(|row| Box::new(row) as Box<dyn PairedRow>)
-    }
-    fn advance(&mut self) {
-        *self = self.get(1..).unwrap_or_default();
     }
 }
 
@@ -387,25 +326,21 @@ impl Pairing {
     /// is read in place.
     fn merge(
         &mut self,
-        qa: &mut impl Pending,
-        qb: &mut impl Pending,
+        qa: &mut VecDeque<SeriesRows>,
+        qb: &mut VecDeque<SeriesRows>,
         on_pair: &mut Pairs,
     ) -> anyhow::Result<()> {
-        while let (Some(ta), Some(tb)) = (qa.next_time(), qb.next_time()) {
+        while let (Some(ra), Some(rb)) = (qa.front(), qb.front()) {
+            let (ta, tb) = (ra.time(), rb.time());
             if ta == tb {
-                if let (Some(ra), Some(rb)) = (qa.row(), qb.row()) {
-                    self.pair(ra.as_ref(), rb.as_ref());
-                    on_pair(ra.as_ref(), rb.as_ref())?;
-                }
-                qa.advance();
-                qb.advance();
+                let (ra, rb) = (ra.view(), rb.view());
+                self.pair(&ra, &rb);
+                on_pair(&ra, &rb)?;
+                advance(qa);
+                advance(qb);
             } else {
                 self.out.unpaired += 1;
-                if ta < tb {
-                    qa.advance();
-                } else {
-                    qb.advance();
-                }
+                advance(if ta < tb { qa } else { qb });
             }
         }
         Ok(())
@@ -519,29 +454,6 @@ impl SeriesDiff {
             (a, b) => a.or(b),
         }
     }
-}
-
-/// Compares two series row by row, pairing rows by time. A value differs when |b − a| exceeds
-/// `tolerance` × the series' scale (with tolerance 0: when its bits differ).
-pub fn compare(a: &[LoggedRow], b: &[LoggedRow], tolerance: f64) -> SeriesDiff {
-    let largest_finite = |rows: &[LoggedRow]| {
-        rows.iter()
-            .flat_map(|r| &r.nums)
-            .filter(|v| v.is_finite())
-            .fold(0.0f64, |m, v| m.max(v.abs()))
-    };
-    let mut scale = largest_finite(a);
-    if scale == 0.0 {
-        scale = largest_finite(b);
-    }
-    let mut pairing = Pairing::new(tolerance, scale);
-    pairing.out.rows_a = a.len();
-    pairing.out.rows_b = b.len();
-    let (mut qa, mut qb) = (a, b);
-    let merged = pairing.merge(&mut qa, &mut qb, &mut |_, _| Ok(()));
-    debug_assert!(merged.is_ok(), "pairing without a callback cannot fail");
-    pairing.out.unpaired += qa.len() + qb.len();
-    pairing.out
 }
 
 /// A time on `sim_time` in seconds, exactly as stored (ns), or "static".
