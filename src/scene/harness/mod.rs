@@ -206,6 +206,3 @@ pub fn run_until<S: Scene>(
     }
     run.end(scene, observer, interrupted, first - 1)
 }
-
-#[cfg(test)]
-mod tests;

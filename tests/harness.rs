@@ -1,7 +1,8 @@
-//! The run loop checked with scenes made for it: strides, frames, the frame budget, divergence,
-//! and lanes side by side on any number of threads.
+//! The run loop (`physlab::scene::harness`) checked with scenes made for it: strides, frames,
+//! the frame budget, divergence, and lanes side by side on any number of threads.
 
-use super::*;
+use physlab::integrate::Counts;
+use physlab::scene::harness::*;
 
 /// A scene whose one lane counts ticks and "diverges" at a given tick; series = the tick.
 struct Counter {
@@ -380,8 +381,8 @@ fn frames_come_at_the_rate_asked_each_within_half_a_tick_of_its_time() {
 /// loop.
 #[test]
 fn a_long_run_draws_its_frame_budget_at_its_two_ends_only() {
-    use super::schedule::MAX_FRAMES;
-
+    // The frame budget the recordings' `about` panels state ("at most 6000 are drawn").
+    const MAX_FRAMES: u64 = 6000;
     for (dt, duration, fps) in [(0.01, 1e4, 30.0), (1e-3, 500.0, 30.0), (0.01, 2e3, 7.0)] {
         let s = Schedule::fixed_step(dt, duration, fps, 1);
         let tpf = 1.0 / (fps * dt);
