@@ -460,6 +460,3 @@ impl M4 {
         self.completed
     }
 }
-
-#[cfg(test)]
-mod tests;

@@ -1,6 +1,7 @@
-//! The M4 property checked against plain rasterisations of every step.
+//! M4 aggregation (`physlab::scene::m4`): the reduced series checked against plain
+//! rasterisations of every step.
 
-use super::*;
+use physlab::scene::m4::*;
 use proptest::prelude::*;
 
 /// Rows of the test rasters.
