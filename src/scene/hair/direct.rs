@@ -22,7 +22,7 @@
 //! stationarity condition of the closest-point projection, a second tridiagonal system, which
 //! damps every transverse mode instead (backward Euler).
 //!
-//! The safeguard (chosen by measurement, see the tests): from a prediction stretched several
+//! The safeguard (chosen by measurement, see `tests/hair.rs`): from a prediction stretched several
 //! times over at 60 Hz the Newton iterates converge quadratically but from far away, so after
 //! the `iterations` Newton steps one root-to-tip pass places every node at rest length from its
 //! parent and outside the head (the follow-the-leader projection), so length and collision both

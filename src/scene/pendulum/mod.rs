@@ -173,7 +173,7 @@ impl SecondOrderSystem for Pendulum {
     /// on one that gains energy (×58 in one step at dt = 5 s). The step then takes the root that
     /// minimises the step's incremental potential ([`minimising_root`]), the one backward Euler
     /// means: its first step from rest provably never gains energy (Φ(θ1) ≤ Φ(θ0)), and runs
-    /// from rest keep E ≤ E0 at every dt tried (the tests below).
+    /// from rest keep E ≤ E0 at every dt tried (`tests/pendulum.rs`, `physics`).
     fn implicit_euler_step(&self, x: &mut [f64], v: &mut [f64], dt: f64) -> ImplicitSolve {
         let c = self.g_over_l;
         let a = dt * dt * c;
