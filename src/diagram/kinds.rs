@@ -371,9 +371,8 @@ fn hair_family(r: &HairRow) -> String {
     let method = r.method.name();
     match (r.solver, r.stiffness) {
         (Some(crate::scene::hair::Solver::GaussSeidel), _) => format!(
-            "{method} gauss-seidel, {} substep{}, over sweeps",
-            r.substeps,
-            if r.substeps == 1 { "" } else { "s" }
+            "{method} gauss-seidel, {}, over sweeps",
+            crate::format::plural(r.substeps, "substep")
         ),
         (Some(s), _) => format!("{method} {}, over Newton steps", s.name()),
         (None, Some(k)) if r.method == crate::scene::hair::HairMethod::ImplicitEuler => {
