@@ -19,11 +19,18 @@ pub const NODE_STEP_SECONDS: f64 = 30e-9;
 
 /// `value` of `option` refused by `rule` unless `ok`: the one shape of every check here.
 pub fn require(ok: bool, option: &str, value: f64, rule: impl Into<String>) -> Result<(), Invalid> {
-    if ok {
-        Ok(())
-    } else {
-        Err(Invalid::param(option, shown(value), rule))
-    }
+    refuse_unless(ok, option, shown(value), rule)
+}
+
+/// [`require`] for a value already in words (a vector, a count).
+fn refuse_unless(
+    ok: bool,
+    option: &str,
+    value: impl std::fmt::Display,
+    rule: impl Into<String>,
+) -> Result<(), Invalid> {
+    ok.then_some(())
+        .ok_or_else(|| Invalid::param(option, value, rule))
 }
 
 pub fn finite(option: &str, value: f64, unit: &str) -> Result<(), Invalid> {
@@ -54,15 +61,9 @@ pub fn within(option: &str, value: f64, lo: f64, hi: f64, unit: &str) -> Result<
 /// A vector whose every component is finite and within ±[`MAX_MAGNITUDE`]; `unit` follows the
 /// rule (" [m/s²]", or "").
 pub fn vector(option: &str, v: glam::DVec3, unit: &str) -> Result<(), Invalid> {
-    if v.is_finite() && v.abs().max_element() <= MAX_MAGNITUDE {
-        Ok(())
-    } else {
-        Err(Invalid::param(
-            option,
-            shown_vector(v),
-            format!("every component must be a finite number within ±{MAX_MAGNITUDE:e}{unit}"),
-        ))
-    }
+    let rule = format!("every component must be a finite number within ±{MAX_MAGNITUDE:e}{unit}");
+    let ok = v.is_finite() && v.abs().max_element() <= MAX_MAGNITUDE;
+    refuse_unless(ok, option, shown_vector(v), rule)
 }
 
 /// The largest magnitude accepted for a coordinate or a physical parameter: far beyond any lab
@@ -75,24 +76,13 @@ pub fn non_negative(option: &str, value: f64, unit: &str) -> Result<(), Invalid>
 }
 
 pub fn at_least_one(option: &str, value: u64) -> Result<(), Invalid> {
-    if value == 0 {
-        Err(Invalid::param(option, 0, "must be at least 1"))
-    } else {
-        Ok(())
-    }
+    refuse_unless(value != 0, option, value, "must be at least 1")
 }
 
 /// A count within [lo, hi].
 pub fn count_within(option: &str, value: u64, lo: u64, hi: u64) -> Result<(), Invalid> {
-    if (lo..=hi).contains(&value) {
-        Ok(())
-    } else {
-        Err(Invalid::param(
-            option,
-            value,
-            format!("must be between {lo} and {hi}"),
-        ))
-    }
+    let rule = format!("must be between {lo} and {hi}");
+    refuse_unless((lo..=hi).contains(&value), option, value, rule)
 }
 
 pub fn rtol(rtol: f64) -> Result<(), Invalid> {
@@ -106,13 +96,8 @@ pub fn plot_and_options(
     options: &crate::integrate::MethodOptions,
 ) -> Result<(), Invalid> {
     verlet_damping(options.verlet_damping)?;
-    if plot_every == 0 {
-        return Err(Invalid::param(
-            "--plot-every",
-            0,
-            "must be at least 1 (plot every Nth step)",
-        ));
-    }
+    let rule = "must be at least 1 (plot every Nth step)";
+    refuse_unless(plot_every != 0, "--plot-every", plot_every, rule)?;
     rtol(options.rtol)
 }
 
@@ -281,15 +266,8 @@ pub fn threads(n: usize) -> Result<(), Invalid> {
 
 /// At least one method to run; `names` lists those allowed.
 pub fn some_methods<M>(methods: &[M], names: &str) -> Result<(), Invalid> {
-    if methods.is_empty() {
-        Err(Invalid::param(
-            "--methods",
-            "[]",
-            format!("must name at least one method (any of: {names})"),
-        ))
-    } else {
-        Ok(())
-    }
+    let rule = format!("must name at least one method (any of: {names})");
+    refuse_unless(!methods.is_empty(), "--methods", "[]", rule)
 }
 
 /// How a configuration reads and writes its settings (the scene file's schema is the
