@@ -23,7 +23,7 @@ pub fn require(ok: bool, option: &str, value: f64, rule: impl Into<String>) -> R
 }
 
 /// [`require`] for a value already in words (a vector, a count).
-fn refuse_unless(
+pub fn refuse_unless(
     ok: bool,
     option: &str,
     value: impl std::fmt::Display,

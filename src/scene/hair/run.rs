@@ -124,13 +124,8 @@ impl params::SceneConfig for HairConfig {
         self.validate_stiffness()?;
         params::within("--spring-damping", p.spring_damping, 0.0, max, "1/s")?;
         params::at_least_one("--substeps", substeps.into())?;
-        if self.log_strands == Some(0) {
-            return Err(Invalid::param(
-                "--log-strands",
-                0,
-                "must be at least 1 (--no-record draws nothing at all)",
-            ));
-        }
+        let rule = "must be at least 1 (--no-record draws nothing at all)";
+        params::refuse_unless(self.log_strands != Some(0), "--log-strands", 0, rule)?;
         self.validate_frames()?;
         // Symplectic Euler's springs take their own inner steps.
         let inner = if self.methods.contains(&HairMethod::SemiImplicitEuler) {

@@ -202,13 +202,9 @@ impl params::SceneConfig for RopeConfig {
         )?;
         refuse_position_only_methods(p, &self.methods)?;
         params::count_within("--nodes", p.nodes as u64, 2, MAX_NODES as u64)?;
-        if (p.end - p.start).length() == 0.0 {
-            return Err(Invalid::param(
-                "--end",
-                crate::format::shown_vector(p.end),
-                "must differ from --start (the spacing is the springs' rest length)",
-            ));
-        }
+        let rule = "must differ from --start (the spacing is the springs' rest length)";
+        let end = crate::format::shown_vector(p.end);
+        params::refuse_unless((p.end - p.start).length() != 0.0, "--end", end, rule)?;
         let max = params::MAX_MAGNITUDE;
         for (option, v) in [
             ("--start", p.start),
