@@ -1159,3 +1159,35 @@ mod large_steps {
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }
+
+/// The registry's names and defaults (`physlab::integrate::Method`).
+mod registry {
+    use physlab::integrate::*;
+
+    #[test]
+    fn names_are_unique_and_defaults_are_marked() {
+        let mut names: Vec<_> = Method::names().collect();
+        names.sort_unstable();
+        names.dedup();
+        assert_eq!(names.len(), Method::ALL.len());
+        let marked: Vec<_> = Method::ALL
+            .into_iter()
+            .filter(|m| m.info().default)
+            .collect();
+        assert_eq!(Method::DEFAULT, marked.as_slice());
+        assert!(Method::DEFAULT.contains(&Method::Verlet));
+        assert!(!Method::DEFAULT.contains(&Method::Dopri5));
+    }
+
+    #[test]
+    fn names_round_trip_and_unknown_names_list_the_allowed_ones() {
+        for m in Method::ALL {
+            assert_eq!(m.name().parse::<Method>().unwrap(), m);
+        }
+        let err = "euler".parse::<Method>().unwrap_err().to_string();
+        assert!(
+            err.contains("'euler'") && err.contains("semi-implicit-euler"),
+            "{err}"
+        );
+    }
+}

@@ -250,35 +250,3 @@ impl FromStr for Method {
             .ok_or_else(|| UnknownMethod(s.to_string()))
     }
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn names_are_unique_and_defaults_are_marked() {
-        let mut names: Vec<_> = Method::names().collect();
-        names.sort_unstable();
-        names.dedup();
-        assert_eq!(names.len(), Method::ALL.len());
-        let marked: Vec<_> = Method::ALL
-            .into_iter()
-            .filter(|m| m.info().default)
-            .collect();
-        assert_eq!(Method::DEFAULT, marked.as_slice());
-        assert!(Method::DEFAULT.contains(&Method::Verlet));
-        assert!(!Method::DEFAULT.contains(&Method::Dopri5));
-    }
-
-    #[test]
-    fn names_round_trip_and_unknown_names_list_the_allowed_ones() {
-        for m in Method::ALL {
-            assert_eq!(m.name().parse::<Method>().unwrap(), m);
-        }
-        let err = "euler".parse::<Method>().unwrap_err().to_string();
-        assert!(
-            err.contains("'euler'") && err.contains("semi-implicit-euler"),
-            "{err}"
-        );
-    }
-}
