@@ -1829,3 +1829,30 @@ mod files {
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }
+
+/// Each outcome's exit code and line (`physlab::error::Error`).
+mod error_codes {
+    use physlab::error::Error;
+
+    #[test]
+    fn each_outcome_keeps_its_exit_code_through_anyhow() {
+        type Make = fn(String) -> Error;
+        let cases: [(Make, u8, &str); 4] = [
+            (Error::Usage, 2, "error: m"),
+            (Error::Differs, 1, "m"),
+            (Error::Diverged, 3, "m"),
+            (Error::Interrupted, 130, "m"),
+        ];
+        for (make, code, line) in cases {
+            let through: Error = anyhow::Error::from(make("m".into())).into();
+            assert_eq!(
+                (through.exit_code(), through.report().as_str()),
+                (code, line)
+            );
+        }
+        let io = std::io::Error::other("disk full");
+        let runtime: Error = anyhow::Error::from(io).context("writing x").into();
+        assert_eq!(runtime.exit_code(), 1);
+        assert_eq!(runtime.report(), "error: writing x: disk full");
+    }
+}
