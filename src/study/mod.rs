@@ -13,6 +13,7 @@
 //! never shown), and the caller says the study was interrupted.
 
 pub mod drift;
+mod grid;
 pub mod hair;
 mod limits;
 mod orders;
@@ -26,7 +27,10 @@ pub use orders::{
     proportionality, stalled,
 };
 pub use roundoff::{energy_error_rms, growth_exponent};
-pub use sweep::{Row, SAMPLE_EVERY, Sweep, damped_companion, planned_runs, reference, sweep};
+pub use sweep::{
+    Row, SAMPLE_EVERY, Sweep, damped_companion, planned_runs, planned_work, reference, sweep,
+    sweep_with,
+};
 
 use crate::integrate::{Integrator, Method, SecondOrderSystem};
 use crate::scene::pendulum::PendulumParams;

@@ -5,7 +5,9 @@ use super::Error;
 use crate::cli::StudyKind;
 use crate::diagram::{self, Diagram};
 use crate::report::study as report;
-use crate::study::{Limit, Problem, Row, Sweep, damped_companion, error_floor, stability, sweep};
+use crate::study::{
+    Limit, Problem, Row, Sweep, damped_companion, error_floor, stability, sweep_with,
+};
 
 mod drift;
 mod hair;
@@ -82,7 +84,8 @@ pub fn study(kind: &StudyKind) -> anyhow::Result<()> {
 /// `study convergence` and `study work-precision`: the sweep's runs, the fitted orders or the
 /// cheapest run per target, how the adaptive methods' error follows rtol, and every run.
 fn sweep_study(kind: &StudyKind, problem: &Problem, sw: &Sweep) -> Found {
-    let (mut rows, reference_error) = sweep(problem, sw);
+    let by_order = matches!(kind, StudyKind::Convergence(_));
+    let (mut rows, reference_error) = sweep_with(problem, sw, by_order, &mut |_| {});
     let floor = error_floor(reference_error);
     let mut found = Found {
         out: report::sweep_header(problem, kind.name(), sw, reference_error),
@@ -147,7 +150,7 @@ fn convergence_tables(
     if crate::interrupt::requested() {
         return Vec::new();
     }
-    let (damped_rows, damped_error) = sweep(&damped, sw);
+    let (damped_rows, damped_error) = sweep_with(&damped, sw, true, &mut |_| {});
     // A stop during the damped sweep leaves it out: only complete tables are shown.
     if crate::interrupt::requested() {
         return Vec::new();
