@@ -20,7 +20,9 @@ mod orders;
 mod roundoff;
 mod sweep;
 
-pub use limits::{Limit, composition_limit, stability, validate_stability_steps, yoshida4_limit};
+pub use limits::{
+    Limit, composition_limit, stability, stability_with, validate_stability_steps, yoshida4_limit,
+};
 use orders::fit;
 pub use orders::{
     Order, Proportionality, STALL_BELOW, cheapest, error_floor, methods_of, orders,
