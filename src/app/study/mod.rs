@@ -52,10 +52,19 @@ pub fn study(kind: &StudyKind) -> anyhow::Result<()> {
         .map(|s| format!("{}-{s}", problem.name()))
         .collect();
     let outputs = check_outputs(out, scene.config.as_deref(), &stems)?;
+    let damped = damped_companion(&problem).filter(|_| stems.len() > 1);
+    // Said before it starts, as a scene says it: the methods whose order drops on its forces.
+    let ropes = [(Some(&problem), ""), (damped.as_ref(), "the damped rope: ")];
+    for (p, which) in ropes.into_iter().filter(|_| !out.quiet) {
+        if let Some(Problem::Rope(rope)) = p {
+            for w in crate::scene::rope::run::order_drops(rope, &sweep.methods) {
+                eprintln!("warning: {which}{w}");
+            }
+        }
+    }
     // The scenes' bar and notice: the study's parts as they complete, its time said up front.
     let mut progress = Progress::new(out.quiet, None);
     let label = format!("study {}", kind.name());
-    let damped = damped_companion(&problem).filter(|_| stems.len() > 1);
     progress.stage(
         &label,
         match kind {
