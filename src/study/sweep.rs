@@ -249,15 +249,7 @@ fn accepted<'a>(problem: &Problem, s: &'a Sweep) -> impl Iterator<Item = Method>
 /// The runs [`sweep`] makes of `problem`: each accepted method over the levels, or the
 /// adaptive ones over the tolerances.
 pub fn planned_runs(problem: &Problem, s: &Sweep) -> usize {
-    accepted(problem, s)
-        .map(|m| {
-            if m.info().adaptive() {
-                s.rtols.len()
-            } else {
-                s.levels as usize
-            }
-        })
-        .sum()
+    planned(problem, s).len() - 1
 }
 
 /// The damped rope `study convergence` runs beside an undamped one (velocity-dependent forces
@@ -387,24 +379,18 @@ fn planned(problem: &Problem, s: &Sweep) -> Vec<f64> {
     let repeats = f64::from(s.repeats.max(1)) * coordinates;
     let mut work = vec![reference];
     for m in accepted(problem, s) {
-        let info = m.info();
-        match info.evals_per_step {
+        let (order, evals) = (f64::from(m.info().order), m.info().evals_per_step);
+        match evals {
             EvalsPerStep::Adaptive(e) => work.extend(s.rtols.iter().map(|&rtol| {
-                let steps = 1.0 + 0.2 * rtol.powf(-1.0 / f64::from(info.order));
+                let steps = 1.0 + 0.2 * rtol.powf(-1.0 / order);
                 repeats * samples * steps * f64::from(e.accepted)
             })),
-            evals => {
-                let per_step = match evals {
-                    EvalsPerStep::Fixed(n) => f64::from(n),
-                    _ => 3.0,
-                };
-                let steps = s.duration / s.dt0;
-                work.extend(
-                    grid::halving(s)
-                        .iter()
-                        .enumerate()
-                        .map(|(k, _)| repeats * steps * 2f64.powi(k as i32) * per_step),
-                );
+            EvalsPerStep::Fixed(n) => {
+                work.extend((0..s.levels).map(|k| repeats * s.duration / s.dt0 * f64::from(n << k)))
+            }
+            // Newton: about three evaluations a step.
+            _ => {
+                work.extend((0..s.levels).map(|k| repeats * s.duration / s.dt0 * f64::from(3 << k)))
             }
         }
     }
