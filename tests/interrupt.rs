@@ -445,7 +445,9 @@ mod studies {
             assert!(!stdout.contains(method), "no limit shown: {stdout}");
             if nodes == "100000" {
                 assert!(
-                    stderr.starts_with("warning: this study is") && stderr.contains("minutes"),
+                    stderr.starts_with("study stability: this takes about")
+                        && stderr.contains(" min ")
+                        && stderr.contains("node-steps"),
                     "{stderr}"
                 );
             }

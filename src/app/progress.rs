@@ -129,7 +129,11 @@ impl Progress {
         {
             let bytes = bytes.filter(|_| self.written.is_some());
             let done = t / self.pace.end;
-            if let Some(notice) = long_run_notice(&self.label, done, seconds, bytes) {
+            let basis = format!(
+                "from the cost of its steps and 3D frames so far, at {:.2} % of its way",
+                100.0 * done
+            );
+            if let Some(notice) = long_run_notice(&self.label, done, seconds, bytes, &basis) {
                 self.noticed = true;
                 match &self.bar {
                     Some(bar) => bar.println(notice),
@@ -167,6 +171,17 @@ impl Progress {
         }
     }
 
+    /// Says before the stage starts that it will take about `seconds` (estimated from `basis`),
+    /// when that is long: the notice a scene gives from its pace, given up front.
+    pub fn expect(&mut self, seconds: f64, basis: &str) {
+        if let Some(notice) = long_run_notice(&self.label, 0.0, seconds, None, basis) {
+            self.noticed = true;
+            if !self.quiet {
+                eprintln!("{notice}");
+            }
+        }
+    }
+
     pub fn finish(&mut self) {
         if let Some(bar) = self.bar.take() {
             bar.finish_and_clear();
@@ -182,9 +197,16 @@ pub const LONG_SECONDS: f64 = 10.0;
 /// ...or its recording beyond this many bytes.
 pub const LARGE_BYTES: f64 = 100e6;
 
-/// The notice of a scene at `done` (0–1) of its way that will take `seconds` in all and write
-/// `bytes`, when that is long or large; none past half its way (too late to be of use).
-fn long_run_notice(label: &str, done: f64, seconds: f64, bytes: Option<f64>) -> Option<String> {
+/// The notice of a scene at `done` (0–1) of its way that will take `seconds` in all (as `basis`
+/// estimates it) and write `bytes`, when that is long or large; none past half its way (too late
+/// to be of use).
+fn long_run_notice(
+    label: &str,
+    done: f64,
+    seconds: f64,
+    bytes: Option<f64>,
+    basis: &str,
+) -> Option<String> {
     if !(0.0..0.5).contains(&done) {
         return None;
     }
@@ -195,10 +217,9 @@ fn long_run_notice(label: &str, done: f64, seconds: f64, bytes: Option<f64>) -> 
         format!(" and writes about {} to its recording", format::size(b))
     });
     Some(format!(
-        "{label}: this takes about {}{size} in all (from the cost of its steps and 3D frames \
-         so far, at {:.2} % of its way); Ctrl-C stops it and keeps what is done",
+        "{label}: this takes about {}{size} in all ({basis}); Ctrl-C stops it and keeps what is \
+         done",
         format::duration(seconds),
-        100.0 * done
     ))
 }
 
@@ -243,21 +264,21 @@ mod tests {
 
     #[test]
     fn a_scene_is_said_long_or_large_from_its_pace_extrapolated() {
-        let long = long_run_notice("pendulum", 0.01, 100.0, None).unwrap();
+        let long = long_run_notice("pendulum", 0.01, 100.0, None, "from").unwrap();
         assert!(long.contains("about 1 min 40 s in all (from"), "{long}");
         assert!(!long.contains("writes"), "{long}");
-        assert_eq!(long_run_notice("rope", 0.2, 2.0, Some(2e6)), None);
-        let large = long_run_notice("hair", 0.2, 5.0, Some(200e6)).unwrap();
+        assert_eq!(long_run_notice("rope", 0.2, 2.0, Some(2e6), ""), None);
+        let large = long_run_notice("hair", 0.2, 5.0, Some(200e6), "").unwrap();
         assert!(
             large.contains("about 5 s and writes about 200 MB"),
             "{large}"
         );
-        let huge = long_run_notice("pendulum", 4e-5, 25000.0, Some(4e10)).unwrap();
+        let huge = long_run_notice("pendulum", 4e-5, 25000.0, Some(4e10), "").unwrap();
         assert!(
             huge.contains("6 h 56 min") && huge.contains("40.0 GB"),
             "{huge}"
         );
-        assert_eq!(long_run_notice("x", 0.6, 1e9, None), None, "too late");
+        assert_eq!(long_run_notice("x", 0.6, 1e9, None, ""), None, "too late");
     }
 
     /// A run of 10,000 ticks drawing 100 frames, 10 of them drawn by tick 50 in 2 s of which

@@ -159,6 +159,18 @@ impl MethodInfo {
         self.order_velocity_dependent > 0
     }
 
+    /// Why its order drops where the force depends on the velocity, if it does: the
+    /// compositions' kicks take the mid-kick velocity predicted from the last acceleration, exact
+    /// only for forces of position alone (an exact one would make each kick implicit).
+    pub const fn order_drop(&self) -> Option<&'static str> {
+        match self.family {
+            Family::Composition if self.order_velocity_dependent < self.order => {
+                Some("its kicks take a predicted mid-kick velocity")
+            }
+            _ => None,
+        }
+    }
+
     /// Whether it chooses its own steps by error control (and takes --rtol).
     pub const fn adaptive(&self) -> bool {
         matches!(self.evals_per_step, EvalsPerStep::Adaptive(_))

@@ -203,7 +203,7 @@ fn convergence(problem: &Problem) -> String {
         repeats: 1,
         ..Sweep::defaults(problem)
     };
-    let (rows, reference_error) = study::sweep(problem, &sweep);
+    let (rows, reference_error) = study::sweep_with(problem, &sweep, true, &mut |_| {});
     study_tables::orders_table(
         &rows,
         error_floor(reference_error),

@@ -63,6 +63,17 @@ pub fn methods_table() -> String {
             out.push_str(&list_item(m.name(), &e.to_string(), WIDTH));
         }
     }
+    out.push_str("\nOrder drops where the force depends on the velocity (damping, drag):\n");
+    for m in Method::ALL {
+        let i = m.info();
+        if let Some(why) = i.order_drop() {
+            let text = format!(
+                "order {}, not {}: {why}",
+                i.order_velocity_dependent, i.order
+            );
+            out.push_str(&list_item(m.name(), &text, WIDTH));
+        }
+    }
     out.push_str("\nNotes:\n");
     for m in Method::ALL {
         let notes = m.info().notes;

@@ -125,10 +125,20 @@ fn bounded(
 /// A run is stable when its displacement stays within 10⁴ of the start over `steps` steps.
 /// After a stop request, the limits of the methods complete so far.
 pub fn stability(problem: &Problem, methods: &[Method], steps: u64) -> Vec<Limit> {
+    stability_with(problem, methods, steps, &mut |_| {})
+}
+
+/// [`stability`], telling `done` how many methods' bisections are done (in fractions of one).
+pub fn stability_with(
+    problem: &Problem,
+    methods: &[Method],
+    steps: u64,
+    done: &mut dyn FnMut(f64),
+) -> Vec<Limit> {
     let (lin, start) = linearised(problem);
     let w = lin.omega();
     let mut limits = Vec::new();
-    for &m in methods {
+    for (i, &m) in methods.iter().enumerate() {
         if stop() {
             break;
         }
@@ -176,10 +186,11 @@ pub fn stability(problem: &Problem, methods: &[Method], steps: u64) -> Vec<Limit
                         None
                     } else {
                         let mut hi = hi.expect("an upper end");
-                        for _ in 0..40 {
+                        for k in 0..40 {
                             if stop() {
                                 break;
                             }
+                            done(i as f64 + f64::from(k) / 40.0);
                             let mid = (lo * hi).sqrt();
                             if bounded(&lin, &start, m, mid, steps) {
                                 lo = mid;
@@ -207,6 +218,7 @@ pub fn stability(problem: &Problem, methods: &[Method], steps: u64) -> Vec<Limit
         // A bisection cut short by a stop has no limit to show.
         if !stop() {
             limits.push(limit);
+            done((i + 1) as f64);
         }
     }
     limits

@@ -13,20 +13,26 @@
 //! never shown), and the caller says the study was interrupted.
 
 pub mod drift;
+mod grid;
 pub mod hair;
 mod limits;
 mod orders;
 mod roundoff;
 mod sweep;
 
-pub use limits::{Limit, composition_limit, stability, validate_stability_steps, yoshida4_limit};
+pub use limits::{
+    Limit, composition_limit, stability, stability_with, validate_stability_steps, yoshida4_limit,
+};
 use orders::fit;
 pub use orders::{
     Order, Proportionality, STALL_BELOW, cheapest, error_floor, methods_of, orders,
     proportionality, stalled,
 };
 pub use roundoff::{energy_error_rms, growth_exponent};
-pub use sweep::{Row, SAMPLE_EVERY, Sweep, damped_companion, planned_runs, reference, sweep};
+pub use sweep::{
+    Row, SAMPLE_EVERY, Sweep, damped_companion, planned_runs, planned_work, reference, sweep,
+    sweep_with,
+};
 
 use crate::integrate::{Integrator, Method, SecondOrderSystem};
 use crate::scene::pendulum::PendulumParams;

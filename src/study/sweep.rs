@@ -3,11 +3,12 @@
 
 use std::time::Instant;
 
+use super::grid;
 use super::{
     DEFAULT_LEVELS, DEFAULT_REPEATS, Problem, default_rtols, default_schedule, steps, stop,
 };
 use crate::format;
-use crate::integrate::{Integrator, Method, MethodOptions, SecondOrderSystem};
+use crate::integrate::{EvalsPerStep, Integrator, Method, MethodOptions, SecondOrderSystem};
 use crate::scene::params::{self, Invalid};
 use crate::scene::pendulum::Pendulum;
 use crate::scene::pendulum::exact::ExactPendulum;
@@ -60,8 +61,9 @@ struct Measured {
     wall: f64,
 }
 
-/// One run of a sweep: the method, its step, its options and its steps per sample.
-type Trial = (Method, f64, MethodOptions, u64);
+/// One run of a sweep: the method, its step, its options, its steps between compared samples
+/// and how many samples apart those are.
+type Trial = (Method, f64, MethodOptions, u64, usize);
 
 /// Steps the trial's method over the reference's sample times and measures it (`None` when
 /// stopped).
@@ -69,12 +71,12 @@ fn measure<S: SecondOrderSystem>(
     sys: &S,
     start: &(Vec<f64>, Vec<f64>),
     reference: &[Vec<f64>],
-    (method, dt, options, per_sample): Trial,
+    (method, dt, options, per_sample, every): Trial,
 ) -> Option<Measured> {
     let began = Instant::now();
     let mut it = Integrator::new(method, sys, &start.0, &start.1, dt, options);
     let mut worst: f64 = 0.0;
-    for r in reference {
+    for r in reference.iter().skip(every - 1).step_by(every) {
         if !steps(&mut it, sys, per_sample) {
             return None;
         }
@@ -247,15 +249,7 @@ fn accepted<'a>(problem: &Problem, s: &'a Sweep) -> impl Iterator<Item = Method>
 /// The runs [`sweep`] makes of `problem`: each accepted method over the levels, or the
 /// adaptive ones over the tolerances.
 pub fn planned_runs(problem: &Problem, s: &Sweep) -> usize {
-    accepted(problem, s)
-        .map(|m| {
-            if m.info().adaptive() {
-                s.rtols.len()
-            } else {
-                s.levels as usize
-            }
-        })
-        .sum()
+    planned(problem, s).len() - 1
 }
 
 /// The damped rope `study convergence` runs beside an undamped one (velocity-dependent forces
@@ -282,23 +276,38 @@ pub fn damped_companion(problem: &Problem) -> Option<Problem> {
 ///
 /// [`theta_accuracy`]: crate::scene::pendulum::exact::ExactPendulum::theta_accuracy
 pub fn sweep(problem: &Problem, s: &Sweep) -> (Vec<Row>, f64) {
+    sweep_with(problem, s, false, &mut |_| {})
+}
+
+/// [`sweep`], the fixed-step methods each on its own grid ([`grid::by_order`]) when `by_order`
+/// (`study convergence`), telling `done` the work of each part as it completes (the reference,
+/// then each run: the units of [`planned_work`]).
+pub fn sweep_with(
+    problem: &Problem,
+    s: &Sweep,
+    by_order: bool,
+    done: &mut dyn FnMut(f64),
+) -> (Vec<Row>, f64) {
     let sample_dt = SAMPLE_EVERY as f64 * s.dt0;
     let samples = ((s.duration / sample_dt).round() as usize).max(1);
     let Some((reference, reference_error)) = reference(problem, sample_dt, samples, s.finest())
     else {
         return (Vec::new(), 0.0);
     };
+    let work = planned(problem, s);
+    done(work[0]);
     let start = problem.start();
+    let run = |trial: Trial| match problem {
+        Problem::Pendulum(p) => measure(&Pendulum::new(p), &start, &reference, trial),
+        Problem::Rope(p) => measure(&Rope::new(p.clone()), &start, &reference, trial),
+    };
     let mut rows = Vec::new();
     let mut one = |trial: Trial, rtol: Option<f64>| {
         let (method, dt, ..) = trial;
         let mut walls = Vec::new();
         let mut result = None;
         for _ in 0..s.repeats.max(1) {
-            let Some(m) = (match problem {
-                Problem::Pendulum(p) => measure(&Pendulum::new(p), &start, &reference, trial),
-                Problem::Rope(p) => measure(&Rope::new(p.clone()), &start, &reference, trial),
-            }) else {
+            let Some(m) = run(trial) else {
                 return;
             };
             walls.push(m.wall);
@@ -322,6 +331,8 @@ pub fn sweep(problem: &Problem, s: &Sweep) -> (Vec<Row>, f64) {
             wall_seconds: walls[walls.len() / 2],
         });
     };
+    let floor = super::error_floor(reference_error);
+    let mut planned = work[1..].iter();
     for m in accepted(problem, s) {
         if m.info().adaptive() {
             // Adaptive: it is asked for the sample times only and chooses its steps itself.
@@ -330,21 +341,63 @@ pub fn sweep(problem: &Problem, s: &Sweep) -> (Vec<Row>, f64) {
                     break;
                 }
                 one(
-                    (m, sample_dt, MethodOptions { rtol, ..s.options }, 1),
+                    (m, sample_dt, MethodOptions { rtol, ..s.options }, 1, 1),
                     Some(rtol),
                 );
+                done(*planned.next().unwrap_or(&0.0));
             }
         } else {
-            for k in 0..s.levels {
+            let levels = match by_order {
+                true => grid::by_order(m, problem, s, floor, |l| {
+                    run((m, l.dt, s.options, l.per, l.every))?.error
+                }),
+                false => grid::halving(s),
+            };
+            for l in levels {
                 if stop() {
                     break;
                 }
-                one(
-                    (m, s.dt0 / 2f64.powi(k as i32), s.options, SAMPLE_EVERY << k),
-                    None,
-                );
+                one((m, l.dt, s.options, l.per, l.every), None);
+                done(*planned.next().unwrap_or(&0.0));
             }
         }
     }
     (rows, reference_error)
+}
+
+/// The work of a sweep of `problem` (force evaluations × coordinates): its reference's, then
+/// each planned run's over its repeats, in the order [`sweep_with`] makes them (a fixed-step
+/// method's levels as on the default grid; an adaptive run's steps guessed from its tolerance
+/// and order). What the progress bar paces by.
+fn planned(problem: &Problem, s: &Sweep) -> Vec<f64> {
+    let coordinates = problem.start().0.len() as f64;
+    let samples = s.duration / (SAMPLE_EVERY as f64 * s.dt0);
+    let reference = match problem {
+        Problem::Rope(_) => 1.5 * 4.0 * s.reference_steps() * coordinates,
+        Problem::Pendulum(_) => 0.0,
+    };
+    let repeats = f64::from(s.repeats.max(1)) * coordinates;
+    let mut work = vec![reference];
+    for m in accepted(problem, s) {
+        let (order, evals) = (f64::from(m.info().order), m.info().evals_per_step);
+        match evals {
+            EvalsPerStep::Adaptive(e) => work.extend(s.rtols.iter().map(|&rtol| {
+                let steps = 1.0 + 0.2 * rtol.powf(-1.0 / order);
+                repeats * samples * steps * f64::from(e.accepted)
+            })),
+            EvalsPerStep::Fixed(n) => {
+                work.extend((0..s.levels).map(|k| repeats * s.duration / s.dt0 * f64::from(n << k)))
+            }
+            // Newton: about three evaluations a step.
+            _ => {
+                work.extend((0..s.levels).map(|k| repeats * s.duration / s.dt0 * f64::from(3 << k)))
+            }
+        }
+    }
+    work
+}
+
+/// The whole work of a sweep of `problem`, in the units [`sweep_with`] reports.
+pub fn planned_work(problem: &Problem, s: &Sweep) -> f64 {
+    planned(problem, s).iter().sum()
 }

@@ -2,6 +2,7 @@
 //! diagram of the complete ones.
 
 use super::Found;
+use crate::app::progress::Progress;
 use crate::format::shown;
 use crate::report::drift as report;
 use crate::study::drift::{Drift, pendulum_drift, rope_drift};
@@ -9,28 +10,19 @@ use crate::study::{Problem, Sweep};
 
 /// The study's printed text, CSV, diagram and how many methods' runs are complete (a run cut
 /// short by Ctrl-C is left out).
-pub(super) fn drift_study(quiet: bool, problem: &Problem, sw: &Sweep) -> Found {
+pub(super) fn drift_study(progress: &mut Progress, problem: &Problem, sw: &Sweep) -> Found {
     let mut runs: Vec<Drift> = Vec::new();
-    for &m in &sw.methods {
+    for (i, &m) in sw.methods.iter().enumerate() {
         if crate::interrupt::requested() {
             break;
         }
-        let started = std::time::Instant::now();
         let run = match problem {
             Problem::Pendulum(p) => pendulum_drift(p, m, sw.dt0, sw.duration, sw.options),
             Problem::Rope(p) => Some(rope_drift(p, m, sw.dt0, sw.duration, sw.options)),
         };
         if let Some(run) = run.filter(|_| !crate::interrupt::requested()) {
-            if !quiet {
-                eprintln!(
-                    "drift: {} done ({} of {}, {:.1} s)",
-                    m.name(),
-                    runs.len() + 1,
-                    sw.methods.len(),
-                    started.elapsed().as_secs_f64()
-                );
-            }
             runs.push(run);
+            progress.at((i + 1) as f64);
         }
     }
     let (header, flags, note) = match problem {

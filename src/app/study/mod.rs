@@ -2,10 +2,14 @@
 //! and writes the CSV and recording when asked.
 
 use super::Error;
+use crate::app::progress::Progress;
 use crate::cli::StudyKind;
 use crate::diagram::{self, Diagram};
 use crate::report::study as report;
-use crate::study::{Limit, Problem, Row, Sweep, damped_companion, error_floor, stability, sweep};
+use crate::study::{
+    Limit, Problem, Row, Sweep, damped_companion, error_floor, planned_work, stability_with,
+    sweep_with,
+};
 
 mod drift;
 mod hair;
@@ -37,6 +41,7 @@ pub fn study(kind: &StudyKind) -> anyhow::Result<()> {
         problem,
         sweep,
         steps,
+        work,
         file,
     } = setup;
     let stems: &[&str] = match kind {
@@ -47,9 +52,40 @@ pub fn study(kind: &StudyKind) -> anyhow::Result<()> {
         .map(|s| format!("{}-{s}", problem.name()))
         .collect();
     let outputs = check_outputs(out, scene.config.as_deref(), &stems)?;
+    let damped = damped_companion(&problem).filter(|_| stems.len() > 1);
+    // Said before it starts, as a scene says it: the methods whose order drops on its forces.
+    let ropes = [(Some(&problem), ""), (damped.as_ref(), "the damped rope: ")];
+    for (p, which) in ropes.into_iter().filter(|_| !out.quiet) {
+        if let Some(Problem::Rope(rope)) = p {
+            for w in crate::scene::rope::run::order_drops(rope, &sweep.methods) {
+                eprintln!("warning: {which}{w}");
+            }
+        }
+    }
+    // The scenes' bar and notice: the study's parts as they complete, its time said up front.
+    let mut progress = Progress::new(out.quiet, None);
+    let label = format!("study {}", kind.name());
+    progress.stage(
+        &label,
+        match kind {
+            StudyKind::Stability(_) | StudyKind::Drift(_) => sweep.methods.len() as f64,
+            _ => [Some(&problem), damped.as_ref()]
+                .into_iter()
+                .flatten()
+                .map(|p| planned_work(p, &sweep))
+                .sum(),
+        },
+        None,
+    );
+    let basis = format!(
+        "estimated from its {work:.1e} node-steps at ~{:.0} ns each, more with implicit methods",
+        setup::SECONDS_PER_NODE_STEP * 1e9
+    );
+    progress.expect(work * setup::SECONDS_PER_NODE_STEP, &basis);
     let found = match kind {
         StudyKind::Stability(_) => {
-            let limits: Vec<Limit> = stability(&problem, &sweep.methods, steps);
+            let at = &mut |m| progress.at(m);
+            let limits: Vec<Limit> = stability_with(&problem, &sweep.methods, steps, at);
             Found {
                 out: report::stability_header(&problem, steps) + &report::stability_table(&limits),
                 csv: report::limits_csv(&limits),
@@ -57,9 +93,10 @@ pub fn study(kind: &StudyKind) -> anyhow::Result<()> {
                 done: limits.len(),
             }
         }
-        StudyKind::Drift(_) => drift::drift_study(out.quiet, &problem, &sweep),
-        _ => sweep_study(kind, &problem, &sweep),
+        StudyKind::Drift(_) => drift::drift_study(&mut progress, &problem, &sweep),
+        _ => sweep_study(kind, &problem, &sweep, &mut progress),
     };
+    progress.finish();
     // Ctrl-C or SIGTERM: what is complete is shown and written, then the study ends with 130;
     // stopped before a single run was complete, nothing is.
     let interrupted = crate::interrupt::requested();
@@ -81,8 +118,14 @@ pub fn study(kind: &StudyKind) -> anyhow::Result<()> {
 
 /// `study convergence` and `study work-precision`: the sweep's runs, the fitted orders or the
 /// cheapest run per target, how the adaptive methods' error follows rtol, and every run.
-fn sweep_study(kind: &StudyKind, problem: &Problem, sw: &Sweep) -> Found {
-    let (mut rows, reference_error) = sweep(problem, sw);
+fn sweep_study(kind: &StudyKind, problem: &Problem, sw: &Sweep, progress: &mut Progress) -> Found {
+    let by_order = matches!(kind, StudyKind::Convergence(_));
+    let mut reached = 0.0;
+    let mut done = |w: f64| {
+        reached += w;
+        progress.at(reached);
+    };
+    let (mut rows, reference_error) = sweep_with(problem, sw, by_order, &mut done);
     let floor = error_floor(reference_error);
     let mut found = Found {
         out: report::sweep_header(problem, kind.name(), sw, reference_error),
@@ -92,7 +135,7 @@ fn sweep_study(kind: &StudyKind, problem: &Problem, sw: &Sweep) -> Found {
     };
     let mut damped = Vec::new();
     if let StudyKind::Convergence(_) = kind {
-        damped = convergence_tables(problem, sw, &rows, floor, &mut found);
+        damped = convergence_tables(problem, sw, &rows, floor, &mut found, &mut done);
     }
     let out = &mut found.out;
     if rows.iter().any(|r| r.rtol.is_some()) {
@@ -128,6 +171,7 @@ fn convergence_tables(
     rows: &[Row],
     floor: f64,
     found: &mut Found,
+    done: &mut dyn FnMut(f64),
 ) -> Vec<Row> {
     let by_velocity = problem.velocity_dependent();
     let out = &mut found.out;
@@ -147,7 +191,7 @@ fn convergence_tables(
     if crate::interrupt::requested() {
         return Vec::new();
     }
-    let (damped_rows, damped_error) = sweep(&damped, sw);
+    let (damped_rows, damped_error) = sweep_with(&damped, sw, true, done);
     // A stop during the damped sweep leaves it out: only complete tables are shown.
     if crate::interrupt::requested() {
         return Vec::new();

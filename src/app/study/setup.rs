@@ -28,21 +28,6 @@ pub(super) const STUDY_MAX_STEPS: f64 = 10.0 * MAX_STEPS;
 /// 2-core x86-64 machine, rounded up; implicit methods cost more, the pendulum less.
 pub(super) const SECONDS_PER_NODE_STEP: f64 = 60e-9;
 
-/// Estimated wall time beyond which a study says, before it starts, how long it will take [s].
-pub(super) const LONG_STUDY_SECONDS: f64 = 60.0;
-
-/// Warns on stderr, before the work starts, when a study of `node_steps` will take minutes.
-pub(super) fn warn_if_long(node_steps: f64) {
-    let seconds = node_steps * SECONDS_PER_NODE_STEP;
-    if seconds > LONG_STUDY_SECONDS {
-        eprintln!(
-            "warning: this study is {node_steps:.1e} node-steps, roughly {:.0} minutes at ~{:.0} ns each (more with implicit methods); Ctrl-C stops it and keeps the complete rows",
-            (seconds / 60.0).ceil(),
-            SECONDS_PER_NODE_STEP * 1e9
-        );
-    }
-}
-
 /// A measuring study's problem and sweep, and its scene as a scene file (its problem, dt,
 /// duration and methods): the provenance of its recording.
 pub(super) struct Setup {
@@ -50,6 +35,8 @@ pub(super) struct Setup {
     pub(super) sweep: Sweep,
     /// The steps each stability trial takes (`study stability`).
     pub(super) steps: u64,
+    /// Its work in node-steps, which says up front how long it will take.
+    pub(super) work: f64,
     pub(super) file: SceneFile,
 }
 
@@ -59,8 +46,11 @@ pub(super) fn sweep_setup(a: &SweepArgs, convergence: bool) -> Result<Setup, Err
     let scene = Scene::resolve(&a.scene, table_of(&a.start)?, table_of(&a.losses)?, false)?;
     let methods = scene.methods(&a.scene, a.rtol.is_some(), Problem::methods)?;
     let sweep = scene.sweep(a, methods)?;
-    warn_if_long(sweep_work(&scene.problem, &sweep, convergence)?);
-    scene.with(sweep)
+    let work = sweep_work(&scene.problem, &sweep, convergence)?;
+    Ok(Setup {
+        work,
+        ..scene.with(sweep)?
+    })
 }
 
 /// `study stability`: the methods' bisections of `--steps` steps each, within the limits. Its
@@ -81,9 +71,9 @@ pub(super) fn stability_setup(a: &StabilityArgs) -> Result<Setup, Error> {
              {MAX_NODE_STEPS:.0e} are allowed (lower --steps or choose fewer --methods)"
         )));
     }
-    warn_if_long(work);
     Ok(Setup {
         steps,
+        work,
         ..scene.with(sweep)?
     })
 }
@@ -114,8 +104,7 @@ pub(super) fn drift_setup(a: &DriftArgs) -> Result<Setup, Error> {
             methods.len()
         )));
     }
-    warn_if_long(steps * nodes);
-    scene.with(Sweep {
+    let setup = scene.with(Sweep {
         dt0: dt,
         levels: 1,
         duration,
@@ -126,6 +115,10 @@ pub(super) fn drift_setup(a: &DriftArgs) -> Result<Setup, Error> {
         },
         repeats: 1,
         rtols: vec![rtol],
+    })?;
+    Ok(Setup {
+        work: steps * nodes,
+        ..setup
     })
 }
 
@@ -295,6 +288,7 @@ impl Scene {
             problem: self.problem,
             sweep,
             steps: 0,
+            work: 0.0,
             file,
         })
     }

@@ -111,14 +111,7 @@ pub fn refuse_position_only_methods(p: &RopeParams, methods: &[Method]) -> Resul
     else {
         return Ok(());
     };
-    let causes: Vec<String> = [
-        ("--spring-damping", p.spring_damping),
-        ("--air-drag", p.air_drag),
-    ]
-    .into_iter()
-    .filter(|&(_, v)| v != 0.0)
-    .map(|(flag, v)| format!("{flag} {}", crate::format::shown(v)))
-    .collect();
+    let causes = velocity_causes(p);
     let (make, fix) = match causes.len() {
         0 => return Ok(()),
         1 => ("makes", "set it to 0"),
@@ -133,6 +126,43 @@ pub fn refuse_position_only_methods(p: &RopeParams, methods: &[Method]) -> Resul
             causes.join(" and ")
         ),
     ))
+}
+
+/// The rope's flags that make its forces depend on the velocity, as typed.
+fn velocity_causes(p: &RopeParams) -> Vec<String> {
+    [
+        ("--spring-damping", p.spring_damping),
+        ("--air-drag", p.air_drag),
+    ]
+    .into_iter()
+    .filter(|&(_, v)| v != 0.0)
+    .map(|(flag, v)| format!("{flag} {}", crate::format::shown(v)))
+    .collect()
+}
+
+/// One line per method of `methods` whose order drops on this rope (registry
+/// `order_drop`): the order to expect, what it pays for it, and why. Said before the run
+/// starts, as the Nyström methods are refused.
+pub fn order_drops(p: &RopeParams, methods: &[Method]) -> Vec<String> {
+    let causes = velocity_causes(p);
+    if causes.is_empty() {
+        return Vec::new();
+    }
+    (methods.iter())
+        .filter_map(|m| {
+            let i = m.info();
+            i.order_drop().map(|why| {
+                format!(
+                    "{m} is order {} on this rope, not {} ({} evaluations per step): the rope's \
+                     {} make its forces depend on velocity, and {why}",
+                    i.order_velocity_dependent,
+                    i.order,
+                    i.evals_per_step,
+                    causes.join(" and ")
+                )
+            })
+        })
+        .collect()
 }
 
 /// Nodes beyond which a rope is refused (~1 kB per node per method including the implicit solver).
@@ -251,7 +281,7 @@ impl params::SceneConfig for RopeConfig {
             .map(|m| m.name())
             .collect();
         let (flag, h) = params::fixed_step(self.dt, &self.options);
-        (h > limit && !bounded.is_empty()).then(|| {
+        let step = (h > limit && !bounded.is_empty()).then(|| {
             format!(
                 "{flag} {} s exceeds 2/ω_max = {} s, the scale of the rope's stiffest spring mode \
                  (ω_max = {} rad/s): {} are stable only below about that step and are expected \
@@ -261,7 +291,11 @@ impl params::SceneConfig for RopeConfig {
                 crate::format::seconds(omega_max),
                 bounded.join(", ")
             )
-        })
+        });
+        // Both said up front, one warning a line.
+        let drops = order_drops(&self.params, &self.methods);
+        let warnings: Vec<String> = step.into_iter().chain(drops).collect();
+        (!warnings.is_empty()).then(|| warnings.join("\nwarning: "))
     }
 }
 
