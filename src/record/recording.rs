@@ -33,10 +33,10 @@ impl Destinations {
 
     /// The recording as a checked output (`crate::output`): a file or standard output.
     pub fn written(&self) -> anyhow::Result<Option<crate::output::Output>> {
-        use crate::output::{Dash, check};
+        use crate::output::{Dash, check_recording};
         match (&self.file, self.stdout) {
-            (Some(path), _) => check("-o", path, Dash::Binary).map(Some),
-            (None, true) => check("-o", Path::new("-"), Dash::Binary).map(Some),
+            (Some(path), _) => check_recording(path, Dash::Binary).map(Some),
+            (None, true) => check_recording(Path::new("-"), Dash::Binary).map(Some),
             (None, false) => Ok(None),
         }
     }
@@ -140,7 +140,7 @@ impl Recording {
         let mut target = None;
         let mut written = None;
         if let Some(output) = d.written()? {
-            let partial = output.create()?;
+            let partial = output.create()?.describing_old(super::provenance::made_by);
             written = Some(partial.written());
             let shared = std::sync::Arc::new(sink::Shared::new(partial)?);
             sinks.push(Box::new(sink::EncodedSink(shared.clone())));
