@@ -150,7 +150,11 @@ impl Recording {
         // The viewers are side channels (`live`): nothing they do reaches the file.
         let mut live = Vec::new();
         if let Some(exe) = d.spawn.then(|| find_on_path("rerun")).flatten() {
-            live.push(live::start("--spawn".into(), live::Target::Spawn(exe)));
+            let file = d.file.clone();
+            live.push(live::start(
+                "--spawn".into(),
+                live::Target::Spawn(exe, file),
+            ));
         }
         if let Some(url) = &d.connect {
             let uri = parse_proxy_url(url)?;
