@@ -490,13 +490,55 @@ fn errors_under_resource_limits_name_their_cause() {
 }
 
 /// Issue 44.8: a count too large for any scene file (over 2^63 - 1) said "u64 value was too
-/// large", exit 1, without naming its option.
+/// large", exit 1, and one over 2^64 - 1 clap's "number too large to fit in target type", neither
+/// naming the option's range. Every count now says its option, the value and the range, exit 2.
 #[test]
 fn an_oversized_count_names_its_option() {
-    let (code, _, err) = physlab(&["pendulum", "--plot-every", "9223372036854775808"]);
+    let (i64_max, u32_max) = ("9223372036854775807", "4294967295");
+    let cases = [
+        (
+            &["pendulum", "--plot-every"][..],
+            "9223372036854775808",
+            i64_max,
+        ),
+        (&["rope", "--nodes"], "9223372036854775808", i64_max),
+        (&["rope", "--nodes"], "99999999999999999999", i64_max),
+        (&["hair", "--strands"], "9223372036854775808", i64_max),
+        (&["hair", "--strands"], "99999999999999999999", i64_max),
+        (&["hair", "--log-strands"], "18446744073709551616", i64_max),
+        (&["hair", "--nodes"], "9223372036854775808", i64_max),
+        (&["hair", "--threads"], "99999999999999999999", i64_max),
+        (&["all", "--plot-every"], "99999999999999999999", i64_max),
+        (
+            &["study", "stability", "--steps"],
+            "99999999999999999999",
+            i64_max,
+        ),
+        (
+            &["rope", "--newton-iterations"],
+            "99999999999999999999",
+            u32_max,
+        ),
+        (&["rope", "--pinned"], "9223372036854775808", i64_max),
+    ];
+    for (command, value, max) in cases {
+        let args = [command, &[value]].concat();
+        let (code, _, err) = physlab(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        let flag = command.last().unwrap();
+        assert!(
+            err.contains(&format!("{flag} <N>"))
+                || err.contains(&format!("{flag} {value}:"))
+                || err.contains(&format!("'{value}' for '{flag}")),
+            "{args:?}: {err}"
+        );
+        assert!(err.contains(value) && err.contains(max), "{args:?}: {err}");
+    }
+    // An oversized item of a list is the one named.
+    let (code, _, err) = physlab(&["rope", "--pinned", "0,99999999999999999999"]);
     assert_eq!(code, 2, "{err}");
     assert!(
-        err.contains("--plot-every") && err.contains("9223372036854775808"),
+        err.contains("--pinned 99999999999999999999: must be a whole number from 0 to"),
         "{err}"
     );
 }

@@ -166,7 +166,8 @@ pub struct StabilityArgs {
     pub scene: StudySceneArgs,
 
     /// Steps each stability trial must stay bounded for
-    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    #[arg(long, value_name = "N", allow_negative_numbers = true,
+          value_parser = crate::cli::count::<u64>())]
     pub steps: Option<u64>,
 
     #[command(flatten)]
