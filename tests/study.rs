@@ -381,6 +381,11 @@ fn study_writes_csv_and_a_recording() {
         info.contains("(commit ") && !info.contains("(not recorded)"),
         "{info}"
     );
+    // No command suggested that does not run (`--config scene.toml` alone is none).
+    assert!(
+        err.contains("wrote the scene file to") && !err.contains("run it again"),
+        "{err}"
+    );
     let scene_text = std::fs::read_to_string(&scene).unwrap();
     assert!(
         scene_text.contains("[pendulum]") && scene_text.contains("theta0 = 60.0"),
