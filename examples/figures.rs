@@ -12,15 +12,15 @@ fn main() -> anyhow::Result<()> {
     if !std::env::args().any(|a| a == "--deterministic") {
         let runs = figures::work_precision_pendulum_runs(physlab::study::DEFAULT_REPEATS);
         all.extend(figures::timed_from(&runs));
-        let written =
-            physlab::diagram::pendulum_work_precision_picture(&runs).write(&root.join("docs"))?;
+        let written = physlab::diagram::pendulum_work_precision_picture(&runs)
+            .write(&root.join("docs"), "")?;
         // docs/results.md shows the PNG; the SVG beside it would only be a second copy to keep.
         std::fs::remove_file(&written.svg)?;
         println!("wrote {}", written.png.display());
     }
     // Deterministic: drawn in either mode.
     let drift = figures::drift_pendulum_runs();
-    let written = physlab::diagram::pendulum_drift_picture(&drift).write(&root.join("docs"))?;
+    let written = physlab::diagram::pendulum_drift_picture(&drift).write(&root.join("docs"), "")?;
     std::fs::remove_file(&written.svg)?;
     println!("wrote {}", written.png.display());
     for f in &all {

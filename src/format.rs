@@ -134,9 +134,48 @@ pub fn size(bytes: f64) -> String {
     }
 }
 
+/// Seconds since the Unix epoch as "2026-11-27 05:40:01 UTC" (the proleptic Gregorian calendar,
+/// days to dates by Howard Hinnant's `civil_from_days`).
+pub fn utc(seconds: i64) -> String {
+    let (days, s) = (seconds.div_euclid(86_400), seconds.rem_euclid(86_400));
+    let (era, doe) = (
+        (days + 719_468).div_euclid(146_097),
+        (days + 719_468).rem_euclid(146_097),
+    );
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let (d, m) = (
+        doy - (153 * mp + 2) / 5 + 1,
+        if mp < 10 { mp + 3 } else { mp - 9 },
+    );
+    let y = yoe + era * 400 + i64::from(m <= 2);
+    format!(
+        "{y:04}-{m:02}-{d:02} {:02}:{:02}:{:02} UTC",
+        s / 3600,
+        s / 60 % 60,
+        s % 60
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Against `date -u -d @N`: the epoch, a leap day, before the epoch, year 9999.
+    #[test]
+    fn utc_dates_are_gnu_dates() {
+        assert_eq!(
+            [0, 951_782_400, -1, 1_795_000_000, 253_402_300_799].map(utc),
+            [
+                "1970-01-01 00:00:00 UTC",
+                "2000-02-29 00:00:00 UTC",
+                "1969-12-31 23:59:59 UTC",
+                "2026-11-18 11:06:40 UTC",
+                "9999-12-31 23:59:59 UTC"
+            ]
+        );
+    }
 
     #[test]
     fn trims_float_noise_and_zeros() {

@@ -9,7 +9,8 @@
 //!   exclusively (never through a symlink), locked (`flock`) for its life, given the old file's
 //!   mode, flushed and fsynced, renamed over the target, the folder fsynced; any failure removes
 //!   the hidden file and leaves the old target untouched, and the error names the file and the
-//!   cause; an old file its user may not write is refused, not replaced;
+//!   cause; an old file its user may not write is refused, not replaced; one replaced is said on
+//!   stderr, with where it came from (`replaced FILE (from … at …)`);
 //! - a second SIGINT/SIGTERM/SIGHUP removes the hidden file (`crate::interrupt`), and hidden
 //!   files nobody holds locked (their writer is gone, whatever its PID) are removed when their
 //!   target is written again;
@@ -59,6 +60,7 @@ impl Output {
                 sink: Sink::Stdout(std::io::stdout()),
                 written: Default::default(),
                 done: None,
+                describe: None,
             }),
             Some(target) => Partial::beside(self.named(), target),
         }
@@ -91,6 +93,23 @@ pub enum Dash {
     Text,
     /// `-` makes no sense here (a folder, a file read back): refused.
     Refused(&'static str),
+}
+
+/// Checks `-o PATH`, a recording, as [`check`] does, after its extension: `.rrd`, or none (`-o
+/// out.png` would write a Rerun file under a picture's name). A usage error (exit 2).
+pub fn check_recording(path: &Path, dash: Dash) -> anyhow::Result<Output> {
+    if let (false, Some(ext)) = (path.as_os_str() == "-", path.extension())
+        && ext != "rrd"
+    {
+        return Err(Error::Usage(format!(
+            "-o {}: the extension .{} is not a recording's; -o writes a Rerun recording: give a \
+             name ending in .rrd (or - for standard output)",
+            path.display(),
+            ext.to_string_lossy()
+        ))
+        .into());
+    }
+    check("-o", path, dash)
 }
 
 /// Checks an output before any work: see the module documentation. Creates its folder.
@@ -435,6 +454,8 @@ pub struct Partial {
     written: std::sync::Arc<std::sync::atomic::AtomicU64>,
     /// The hidden file and the target, and the signal handler's slot for the hidden file.
     done: Option<(PathBuf, PathBuf, usize)>,
+    /// Where a replaced file came from (`from … at …`), when it can tell; else its mtime is said.
+    describe: Option<fn(&Path) -> Option<String>>,
 }
 
 impl Partial {
@@ -487,7 +508,14 @@ impl Partial {
             sink: Sink::File(std::io::BufWriter::with_capacity(1 << 20, file)),
             written: Default::default(),
             done: Some((tmp, target.to_path_buf(), slot)),
+            describe: None,
         })
+    }
+
+    /// Says where a file it replaces came from with `describe` (a recording's provenance).
+    pub fn describing_old(mut self, describe: fn(&Path) -> Option<String>) -> Self {
+        self.describe = Some(describe);
+        self
     }
 
     /// The hidden file, for a writer that takes a path (nothing is buffered for it here).
@@ -514,9 +542,20 @@ impl Partial {
         if let Sink::File(w) = &self.sink {
             w.get_ref().sync_all().map_err(|e| self.failed(&e))?;
         }
+        // Never replaced without a word: what the old file was, read before it goes.
+        let old = std::fs::metadata(target)
+            .ok()
+            .filter(|m| m.is_file())
+            .map(|m| {
+                (self.describe.and_then(|describe| describe(target)))
+                    .unwrap_or_else(|| format!("last written {}", crate::format::utc(m.mtime())))
+            });
         std::fs::rename(tmp, target).map_err(|e| self.failed(&e))?;
         let (_, target, slot) = self.done.take().expect("checked above");
         crate::interrupt::remove_partial_file(slot);
+        if let Some(old) = old {
+            eprintln!("replaced {} ({old})", target.display());
+        }
         // The rename is durable once the folder is.
         if let Ok(dir) = std::fs::File::open(parent_dir(&target)) {
             dir.sync_all()

@@ -368,7 +368,7 @@ fn a_study_writes_its_outputs_as_one_set_while_holding_their_folder() {
     let written = std::fs::read_to_string(&csv).unwrap();
     assert!(written.contains("rk4"), "{written}");
     assert!(
-        dir.join("pendulum-convergence.png").exists(),
+        dir.join("c-pendulum-convergence.png").exists(),
         "{:?}",
         entries(&dir)
     );
@@ -490,13 +490,217 @@ fn errors_under_resource_limits_name_their_cause() {
 }
 
 /// Issue 44.8: a count too large for any scene file (over 2^63 - 1) said "u64 value was too
-/// large", exit 1, without naming its option.
+/// large", exit 1, and one over 2^64 - 1 clap's "number too large to fit in target type", neither
+/// naming the option's range. Every count now says its option, the value and the range, exit 2.
 #[test]
 fn an_oversized_count_names_its_option() {
-    let (code, _, err) = physlab(&["pendulum", "--plot-every", "9223372036854775808"]);
+    let (i64_max, u32_max) = ("9223372036854775807", "4294967295");
+    let cases = [
+        (
+            &["pendulum", "--plot-every"][..],
+            "9223372036854775808",
+            i64_max,
+        ),
+        (&["rope", "--nodes"], "9223372036854775808", i64_max),
+        (&["rope", "--nodes"], "99999999999999999999", i64_max),
+        (&["hair", "--strands"], "9223372036854775808", i64_max),
+        (&["hair", "--strands"], "99999999999999999999", i64_max),
+        (&["hair", "--log-strands"], "18446744073709551616", i64_max),
+        (&["hair", "--nodes"], "9223372036854775808", i64_max),
+        (&["hair", "--threads"], "99999999999999999999", i64_max),
+        (&["all", "--plot-every"], "99999999999999999999", i64_max),
+        (
+            &["study", "stability", "--steps"],
+            "99999999999999999999",
+            i64_max,
+        ),
+        (
+            &["rope", "--newton-iterations"],
+            "99999999999999999999",
+            u32_max,
+        ),
+        (&["rope", "--pinned"], "9223372036854775808", i64_max),
+    ];
+    for (command, value, max) in cases {
+        let args = [command, &[value]].concat();
+        let (code, _, err) = physlab(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        let flag = command.last().unwrap();
+        assert!(
+            err.contains(&format!("{flag} <N>"))
+                || err.contains(&format!("{flag} {value}:"))
+                || err.contains(&format!("'{value}' for '{flag}")),
+            "{args:?}: {err}"
+        );
+        assert!(err.contains(value) && err.contains(max), "{args:?}: {err}");
+    }
+    // An oversized item of a list is the one named.
+    let (code, _, err) = physlab(&["rope", "--pinned", "0,99999999999999999999"]);
     assert_eq!(code, 2, "{err}");
     assert!(
-        err.contains("--plot-every") && err.contains("9223372036854775808"),
+        err.contains("--pinned 99999999999999999999: must be a whole number from 0 to"),
         "{err}"
     );
+}
+
+/// `date -u -d @SECONDS`: the clock's reading as GNU date writes it (independent of physlab's).
+fn gnu_date(seconds: u64) -> String {
+    let out = Command::new("date")
+        .args(["-u", "-d", &format!("@{seconds}"), "+%Y-%m-%d %H:%M:%S UTC"])
+        .output()
+        .unwrap();
+    text(&out.stdout).trim().to_string()
+}
+
+fn now() -> u64 {
+    std::time::UNIX_EPOCH.elapsed().unwrap().as_secs()
+}
+
+/// Issue 41.4: a second `physlab pendulum` replaced the first recording without a word. Now the
+/// line `replaced FILE (from `COMMAND` at TIME)` says it: the old recording's own command line
+/// and the time it was made (within the seconds the first run took, read by GNU date), its
+/// command line escaped when the old file holds control characters; a file that is no physlab
+/// recording is said with its last write.
+#[test]
+fn a_replaced_recording_is_said_with_the_command_and_time_that_made_it() {
+    let dir = scratch_dir("replaced-said");
+    let r = dir.join("r.rrd");
+    let first = ["pendulum", "-q", "--duration", "0.2", "-o", s(&r)];
+    let before = now();
+    let (code, _, err) = physlab(&first);
+    let after = now();
+    assert_eq!(code, 0, "{err}");
+    assert!(!err.contains("replaced"), "{err}");
+    let (code, _, err) = physlab(&["pendulum", "-q", "--duration", "0.3", "-o", s(&r)]);
+    assert_eq!(code, 0, "{err}");
+    let line = err
+        .lines()
+        .find(|l| l.starts_with("replaced"))
+        .unwrap_or("");
+    let made = format!(
+        "replaced {} (from `{}",
+        s(&r),
+        env!("CARGO_BIN_EXE_physlab")
+    );
+    let command = format!("{}` at ", first.join(" "));
+    assert!(line.starts_with(&made) && line.contains(&command), "{err}");
+    assert!(
+        (before..=after).any(|t| line.ends_with(&format!(" at {})", gnu_date(t)))),
+        "{line}: made between {} and {}",
+        gnu_date(before),
+        gnu_date(after)
+    );
+
+    // A recording whose command line would clear the screen: shown escaped.
+    let hostile = dir.join("hostile.rrd");
+    let rec = rerun::RecordingStreamBuilder::new("physlab-pendulum")
+        .save(&hostile)
+        .unwrap();
+    let props = rerun::AnyValues::default()
+        .with_component::<rerun::components::Text>("command_line", ["a\x1b[2Jb"]);
+    rec.send_property("physlab", &props).unwrap();
+    drop(rec);
+    let (code, _, err) = physlab(&["pendulum", "-q", "--duration", "0.2", "-o", s(&hostile)]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("(from `a\\x1b[2Jb` at ") && !err.contains('\x1b'),
+        "{err:?}"
+    );
+
+    // Not a recording: its last write.
+    let plain = dir.join("plain.rrd");
+    std::fs::write(&plain, "not a recording").unwrap();
+    let (code, _, err) = physlab(&["pendulum", "-q", "--duration", "0.2", "-o", s(&plain)]);
+    assert_eq!(code, 0, "{err}");
+    assert!(std::fs::metadata(&plain).unwrap().len() > 1000);
+    assert!(
+        err.contains(&format!("replaced {} (last written 20", s(&plain))),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Issue 41.4: `physlab pendulum -o out.png` wrote a Rerun file named out.png. Every command
+/// whose -o writes a recording refuses another extension by name (exit 2) and writes nothing.
+#[test]
+fn an_output_recording_named_as_another_kind_of_file_is_refused() {
+    let dir = scratch_dir("refused-extension");
+    let good = good_recording(&dir, "good.rrd");
+    let out = |name: &str| s(&dir.join(name)).to_string();
+    let cases: [(Vec<String>, &str); 5] = [
+        (vec!["pendulum".into(), "-o".into(), out("out.png")], "png"),
+        (vec!["all".into(), "-o".into(), out("all.txt")], "txt"),
+        (
+            ["study", "stability", "--methods", "rk4", "-o"]
+                .map(String::from)
+                .into_iter()
+                .chain([out("s.csv")])
+                .collect(),
+            "csv",
+        ),
+        (
+            vec![
+                "diff".into(),
+                s(&good).into(),
+                s(&good).into(),
+                "-o".into(),
+                out("d.svg"),
+            ],
+            "svg",
+        ),
+        (
+            vec![
+                "reproduce".into(),
+                s(&good).into(),
+                "-o".into(),
+                out("r.toml"),
+            ],
+            "toml",
+        ),
+    ];
+    for (args, ext) in &cases {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let (code, _, err) = physlab(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(
+            err.contains(&format!("the extension .{ext} is not a recording's")),
+            "{args:?}: {err}"
+        );
+    }
+    assert_eq!(entries(&dir), ["good.rrd"]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Issue 41.4: `study convergence -o first.rrd` then `-o second.rrd` overwrote one
+/// `pendulum-convergence.png`. Figures beside -o are named after it: each study keeps its own.
+#[test]
+fn two_studies_with_their_own_recordings_draw_their_own_figures() {
+    let dir = scratch_dir("figures-named");
+    let study = [
+        "study",
+        "convergence",
+        "--levels",
+        "2",
+        "--methods",
+        "rk4",
+        "-q",
+    ];
+    for (name, methods) in [("first.rrd", "rk4"), ("second.rrd", "verlet")] {
+        let out = dir.join(name);
+        let mut args = study.to_vec();
+        args[5] = methods;
+        args.extend(["-o", s(&out)]);
+        let (code, _, err) = physlab(&args);
+        assert_eq!(code, 0, "{err}");
+        assert!(!err.contains("replaced"), "{err}");
+    }
+    let svg = |stem: &str| std::fs::read_to_string(dir.join(format!("{stem}.svg"))).unwrap();
+    let (first, second) = (
+        svg("first-pendulum-convergence"),
+        svg("second-pendulum-convergence"),
+    );
+    assert!(first.contains("rk4") && !first.contains("verlet"));
+    assert!(second.contains("verlet") && !second.contains("rk4"));
+    assert!(!dir.join("pendulum-convergence.png").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -155,7 +155,7 @@ const MAY_IMPORT: &[(&str, &[&str])] = &[
         &["integrate", "elliptic", "interrupt", "error", "format"],
     ),
     ("integrate", &[]),
-    ("output", &["interrupt", "error"]),
+    ("output", &["interrupt", "error", "format"]),
     ("format", &[]),
     ("elliptic", &[]),
     ("interrupt", &["error"]),

@@ -227,8 +227,10 @@ mod outputs {
         std::fs::write(&scene, "[pendulum]\nduration = 2.0\n").unwrap();
         std::fs::write(&csv, b"keep me").unwrap();
         std::fs::copy(&good, &rec).unwrap();
-        let alias = dir.join("alias.csv");
+        let alias = dir.join("alias.rrd");
         std::os::unix::fs::symlink(&csv, &alias).unwrap();
+        let scene_alias = dir.join("scene-alias.rrd");
+        std::os::unix::fs::symlink(&scene, &scene_alias).unwrap();
         let plots = dir.join("plots");
         let png = plots.join("pendulum-convergence.png");
         std::fs::create_dir_all(&plots).unwrap();
@@ -240,7 +242,7 @@ mod outputs {
         let cases: Vec<(Vec<String>, &str)> = vec![
             (
                 cat(&study, &["-o", s(&csv), "--csv", s(&csv)]),
-                "both write",
+                "the extension .csv",
             ),
             (
                 cat(&study, &["-o", s(&rec), "--csv", s(&rec)]),
@@ -263,7 +265,10 @@ mod outputs {
                 "scene file",
             ),
             (
-                cat(&["pendulum", "--config", s(&scene)], &["-o", s(&scene)]),
+                cat(
+                    &["pendulum", "--config", s(&scene)],
+                    &["-o", s(&scene_alias)],
+                ),
                 "scene file",
             ),
             (
@@ -345,7 +350,7 @@ mod outputs {
                     g.clone(),
                     g.clone(),
                     "-o".into(),
-                    s(&under_file).into(),
+                    s(&under_file.with_extension("rrd")).into(),
                 ],
                 // Any failure of `diff` is 2: 1 says "they differ".
                 2,

@@ -350,9 +350,9 @@ fn study_writes_csv_and_a_recording() {
         "{:?}",
         d.entities
     );
-    // The diagram beside the recording (no --plots): an SVG with decade ticks, every method in
+    // The diagram beside the recording (no --plots), named after it: an SVG with decade ticks, every method in
     // its palette colour, and a PNG of the diagram's size.
-    let svg = std::fs::read_to_string(dir.join("pendulum-work-precision.svg")).unwrap();
+    let svg = std::fs::read_to_string(dir.join("s-pendulum-work-precision.svg")).unwrap();
     assert!(svg.contains("10⁻⁶") && svg.contains("force evaluations"));
     for m in Method::ALL {
         let [r, g, b] = physlab::palette::method_color(m.name());
@@ -363,7 +363,7 @@ fn study_writes_csv_and_a_recording() {
             m.name()
         );
     }
-    let png = std::fs::read(dir.join("pendulum-work-precision.png")).unwrap();
+    let png = std::fs::read(dir.join("s-pendulum-work-precision.png")).unwrap();
     assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
     let size = |at: usize| u32::from_be_bytes(png[at..at + 4].try_into().unwrap());
     assert_eq!((size(16), size(20)), (1600, 820));
@@ -380,6 +380,11 @@ fn study_writes_csv_and_a_recording() {
     assert!(
         info.contains("(commit ") && !info.contains("(not recorded)"),
         "{info}"
+    );
+    // No command suggested that does not run (`--config scene.toml` alone is none).
+    assert!(
+        err.contains("wrote the scene file to") && !err.contains("run it again"),
+        "{err}"
     );
     let scene_text = std::fs::read_to_string(&scene).unwrap();
     assert!(
@@ -535,8 +540,8 @@ mod hair {
         assert!(stretch("verlet", "direct", "2", "1") < 1e-6);
         assert!(stretch("ftl", "", "1", "1") < 1e-6);
         assert!(stretch("verlet", "gauss-seidel", "1", "1") > 1e-1);
-        assert!(dir.join("hair-trade.png").is_file(), "{stderr}");
-        let svg = std::fs::read_to_string(dir.join("hair-trade.svg")).unwrap();
+        assert!(dir.join("hair-hair-trade.png").is_file(), "{stderr}");
+        let svg = std::fs::read_to_string(dir.join("hair-hair-trade.svg")).unwrap();
         for family in [
             "verlet gauss-seidel, 1 substep, over sweeps",
             "verlet gauss-seidel, 8 substeps, over sweeps",

@@ -138,7 +138,7 @@ pub(super) fn check_output(
     let Some(path) = output else {
         return Ok(None);
     };
-    let out = crate::output::check("-o", path, dash)?;
+    let out = crate::output::check_recording(path, dash)?;
     let inputs: Vec<(&str, &Path)> = inputs
         .iter()
         .map(|p| ("the recording being compared", *p))

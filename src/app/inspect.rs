@@ -6,7 +6,7 @@ use std::path::Path;
 use super::compared::{print_lines, remake_commands, scene_command, version_line};
 use crate::cli::InspectArgs;
 use crate::error::Error;
-use crate::record::{escaped, shell_path};
+use crate::record::escaped;
 use crate::rrd::inspect::{LoggedEvent, RecordingInfo, read_recording};
 
 pub fn inspect_command(args: &InspectArgs) -> anyhow::Result<()> {
@@ -40,15 +40,11 @@ pub fn inspect_command(args: &InspectArgs) -> anyhow::Result<()> {
     if let (Some(out), Some(config)) = (&config_out, config) {
         out.write(config.as_bytes())?;
         if !out.is_stdout() {
+            // Only a command that runs (a study's scene file has none of its own).
             let run = scene_command(&info, &out.given)
-                .unwrap_or_else(|| format!("--config {}", shell_path(&out.given)));
-            print_lines(
-                &[format!(
-                    "wrote the scene file to {} (run it again with: {run})",
-                    out.given.display(),
-                )],
-                true,
-            );
+                .map_or(String::new(), |run| format!(" (run it again with: {run})"));
+            let wrote = format!("wrote the scene file to {}{run}", out.given.display());
+            print_lines(&[wrote], true);
         }
     }
     Ok(())

@@ -149,7 +149,7 @@ pub struct AllArgs {
 
     /// Plot every Nth step of the pendulum and the rope (overrides the scene file)
     #[arg(long, value_name = "N", allow_negative_numbers = true,
-          value_parser = clap::value_parser!(u64).range(..=i64::MAX as u64))]
+          value_parser = crate::cli::count::<u64>())]
     pub plot_every: Option<u64>,
 
     /// Methods, comma-separated (overrides the scene file); each scene runs those it supports
@@ -182,7 +182,8 @@ pub struct HairCommand {
     pub run: RunArgs,
     /// Worker threads for the strands, at most 4 × the cores [default: all cores]; results do
     /// not depend on it
-    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    #[arg(long, value_name = "N", allow_negative_numbers = true,
+          value_parser = crate::cli::count::<usize>())]
     pub threads: Option<usize>,
 }
 
@@ -245,6 +246,14 @@ pub struct DiffArgs {
     pub quiet: bool,
 }
 
+/// A count's parser: a whole number from 0 to 2^63 − 1, what a scene file holds (clap's own
+/// takes up to 2^64 − 1, which the file then cannot carry); `negative::count_error` words its
+/// refusals.
+pub(crate) fn count<T: TryFrom<u64> + Clone + Send + Sync + 'static>()
+-> clap::builder::RangedU64ValueParser<T> {
+    clap::builder::RangedU64ValueParser::new().range(..=i64::MAX as u64)
+}
+
 /// Parses the process's arguments (clap prints usage errors and exits with code 2).
 pub fn parse() -> Cli {
     use clap::FromArgMatches as _;
@@ -254,7 +263,7 @@ pub fn parse() -> Cli {
         .clone()
         .try_get_matches_from(&args)
         .unwrap_or_else(|e| {
-            if let Some(message) = negative::negative_count(&e) {
+            if let Some(message) = negative::count_error(&e, &command) {
                 eprintln!("error: {message}");
                 std::process::exit(2);
             }

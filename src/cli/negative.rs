@@ -1,10 +1,14 @@
-//! Negative numbers on the command line: joined to the option before them, and a negative
-//! count said as what is wrong.
+//! Numbers on the command line: a negative one joined to the option before it, and a count
+//! that is negative or too large said as what is wrong.
 
-/// A negative number given to a count or an index (`--pinned -1`), which clap reports only as
-/// "invalid digit found in string": said as what is wrong, with the flag and the value.
-pub(super) fn negative_count(e: &clap::Error) -> Option<String> {
+/// A count or an index given as a negative number (`--pinned -1`), which clap reports only as
+/// "invalid digit found in string", or as one too large for it, which clap reports as "number
+/// too large to fit in target type": said as what is wrong, with the flag, the value and the
+/// range. Every count takes at most 2^63 − 1 (what a scene file holds: `RangedU64`), or
+/// 2^32 − 1 where it is a `u32`.
+pub(super) fn count_error(e: &clap::Error, command: &clap::Command) -> Option<String> {
     use clap::error::{ContextKind, ContextValue};
+    use std::num::{IntErrorKind, ParseIntError};
     if e.kind() != clap::error::ErrorKind::ValueValidation {
         return None;
     }
@@ -14,13 +18,42 @@ pub(super) fn negative_count(e: &clap::Error) -> Option<String> {
     ) else {
         return None;
     };
-    // In a list of indices (`--pinned 0,-3`, whose items parse as integers) the first negative
+    // In a list of indices (`--pinned 0,-3`, whose items parse as integers) the first wrong
     // item is the one named.
-    let list = std::error::Error::source(e).is_some_and(|s| s.is::<std::num::ParseIntError>());
-    let mut items = value.split(',').take(if list { usize::MAX } else { 1 });
-    let negative = items.find(|v| v.starts_with('-') && v[1..].parse::<u128>().is_ok())?;
+    let source = std::error::Error::source(e).and_then(|s| s.downcast_ref::<ParseIntError>());
+    let items = || {
+        value
+            .split(',')
+            .take(if source.is_some() { usize::MAX } else { 1 })
+    };
     let flag = arg.split_whitespace().next().unwrap_or(arg);
-    Some(format!("{flag} {negative}: must be a whole number ≥ 0"))
+    let negative = items().find(|v| v.starts_with('-') && v[1..].parse::<u128>().is_ok());
+    if let Some(negative) = negative {
+        return Some(format!("{flag} {negative}: must be a whole number ≥ 0"));
+    }
+    if source?.kind() != &IntErrorKind::PosOverflow {
+        return None;
+    }
+    let too_large = |v: &&str| v.trim().parse::<i64>().is_err() && v.trim().parse::<u128>().is_ok();
+    let item = items().find(too_large).unwrap_or(value);
+    let long = flag.trim_start_matches('-');
+    let takes_u32 = std::iter::once(command)
+        .chain(
+            command
+                .get_subcommands()
+                .flat_map(|c| std::iter::once(c).chain(c.get_subcommands())),
+        )
+        .flat_map(|c| c.get_arguments())
+        .find(|a| a.get_long() == Some(long))
+        .is_some_and(|a| a.get_value_parser().type_id() == std::any::TypeId::of::<u32>());
+    let max = if takes_u32 {
+        u64::from(u32::MAX)
+    } else {
+        i64::MAX as u64
+    };
+    Some(format!(
+        "{flag} {item}: must be a whole number from 0 to {max}"
+    ))
 }
 
 /// `--flag -1e-3` as `--flag=-1e-3`: a long option followed by a negative number (or a

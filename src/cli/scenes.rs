@@ -29,7 +29,8 @@ pub struct PendulumStart {
 #[derive(Args, Debug, Clone, Default, Serialize, PartialEq)]
 pub struct RopeBody {
     /// Number of point masses, ≥ 2
-    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    #[arg(long, value_name = "N", allow_negative_numbers = true,
+          value_parser = crate::cli::count::<usize>())]
     pub nodes: Option<usize>,
 
     /// Mass of each node [kg]
@@ -70,7 +71,7 @@ pub struct StepFlags {
 
     /// Plot every Nth step (beyond 10,000 plotted steps the plots are aggregated: see --window)
     #[arg(long, value_name = "N", allow_negative_numbers = true,
-          value_parser = clap::value_parser!(u64).range(..=i64::MAX as u64))]
+          value_parser = crate::cli::count::<u64>())]
     pub plot_every: Option<u64>,
 
     /// A stretch of simulated time whose every sampled step is kept when the run is long enough
@@ -178,11 +179,13 @@ pub struct RopeArgs {
 #[derive(Args, Debug, Clone, Default, Serialize, PartialEq)]
 pub struct HairArgs {
     /// Number of strands, rooted by a golden-angle spiral over the upper head
-    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    #[arg(long, value_name = "N", allow_negative_numbers = true,
+          value_parser = crate::cli::count::<usize>())]
     pub strands: Option<usize>,
 
     /// Nodes per strand, the root included
-    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    #[arg(long, value_name = "N", allow_negative_numbers = true,
+          value_parser = crate::cli::count::<usize>())]
     pub nodes: Option<usize>,
 
     /// Rest length of every segment [m]
@@ -278,6 +281,7 @@ pub struct HairArgs {
 
     /// Strands drawn in 3D, spread evenly over the head; every strand is still simulated and
     /// measured [default: as many as keep the 3D part of the recording under 180 MB]
-    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    #[arg(long, value_name = "N", allow_negative_numbers = true,
+          value_parser = crate::cli::count::<usize>())]
     pub log_strands: Option<usize>,
 }

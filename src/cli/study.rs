@@ -106,8 +106,8 @@ pub struct StudyOutputs {
     #[arg(short, long, value_name = "FILE.rrd")]
     pub output: Option<PathBuf>,
 
-    /// Write the diagrams (SVG and PNG) into this folder [default: beside -o, else beside --csv;
-    /// with neither, no diagram]
+    /// Write the diagrams (SVG and PNG) into this folder [default: beside -o, else beside --csv,
+    /// named after it (`-o a.rrd`: a-pendulum-convergence.png); with neither, no diagram]
     #[arg(long, value_name = "DIR")]
     pub plots: Option<PathBuf>,
 
@@ -166,7 +166,8 @@ pub struct StabilityArgs {
     pub scene: StudySceneArgs,
 
     /// Steps each stability trial must stay bounded for
-    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    #[arg(long, value_name = "N", allow_negative_numbers = true,
+          value_parser = crate::cli::count::<u64>())]
     pub steps: Option<u64>,
 
     #[command(flatten)]

@@ -92,7 +92,8 @@ impl FromStr for Indices {
         if text.trim().is_empty() {
             return Ok(Indices(Vec::new()));
         }
-        let parts = text.split(',').map(|p| p.trim().parse::<usize>());
+        // At most 2^63 − 1, what a scene file holds (a larger one fails as an `i64`).
+        let parts = (text.split(',').map(str::trim)).map(|p| p.parse::<i64>().and(p.parse()));
         parts.collect::<Result<_, _>>().map(Indices)
     }
 }

@@ -109,12 +109,12 @@ impl Diagram {
         ]
     }
 
-    /// Writes `<dir>/<stem>.svg` and `<dir>/<stem>.png`, each whole or not at all
+    /// Writes `<dir>/<prefix><stem>.svg` and `.png`, each whole or not at all
     /// (`crate::output`).
-    pub fn write(&self, dir: &Path) -> anyhow::Result<Written> {
+    pub fn write(&self, dir: &Path, prefix: &str) -> anyhow::Result<Written> {
         use crate::output::{Dash, check};
         register_font();
-        let [svg, png] = Self::files(&self.stem, dir);
+        let [svg, png] = Self::files(&format!("{prefix}{}", self.stem), dir);
         let no_dash = Dash::Refused("is not a folder; --plots names the folder of the diagrams");
         let (svg_out, png_out) = (
             check("--plots", &svg, no_dash)?,

@@ -6,8 +6,9 @@
 //! connection, a viewer that takes no data for [`STALL`] while data waits, one that exits or
 //! never listens — ends the stream with one warning; the run, its summary and its file go on.
 //! The run's thread waits for the viewer only while the backlog is full and the viewer takes
-//! data, and at the end for what is queued, polling the stop flag; a viewer physlab started and
-//! that never listened is ended.
+//! data, and at the end for what is queued, polling the stop flag. A viewer physlab started is
+//! never waited for: one that does not listen yet when the run ends is ended, and a viewer that
+//! opens the run's file itself is started in its place (detached, not waited for).
 
 use std::collections::VecDeque;
 use std::path::PathBuf;
@@ -26,10 +27,11 @@ const SPAWN_WAIT: Duration = Duration::from_secs(10);
 /// Messages waiting for the viewer at most, in bytes of their Arrow buffers.
 const BACKLOG_BYTES: usize = 128 << 20;
 
-/// Where the stream goes: a viewer's URL, or a `rerun` executable to start.
+/// Where the stream goes: a viewer's URL, or a `rerun` executable to start (and the file the
+/// run writes, for a viewer still starting when the run ends).
 pub enum Target {
     Connect(ProxyUri),
-    Spawn(PathBuf),
+    Spawn(PathBuf, Option<PathBuf>),
 }
 
 struct State {
@@ -54,6 +56,8 @@ struct Shared {
     option: String,
     /// The viewer physlab started, until it listens.
     child: Mutex<Option<Child>>,
+    /// `rerun` and the run's file, for [`Live::finish`] to hand a viewer still starting.
+    hand_off: Option<(PathBuf, PathBuf)>,
 }
 
 impl Shared {
@@ -75,7 +79,12 @@ impl Shared {
         state.bytes = 0;
         self.changed.notify_all();
         if let Some(mut child) = self.child().take() {
-            let _ = child.kill();
+            // Its whole process group (pip's `rerun` is a script running the viewer as its child),
+            // while its id is still its own: not reaped yet.
+            if let Ok(None) = child.try_wait() {
+                // SAFETY: kill has no preconditions; the group is the child's own (`viewer`).
+                unsafe { libc::kill(-(child.id() as i32), libc::SIGKILL) };
+            }
         }
     }
 
@@ -118,7 +127,11 @@ pub struct LiveSink(Arc<Shared>);
 /// Starts the stream's thread (nothing waits on the caller's thread) and returns the handle and
 /// the sink for the recording stream.
 pub fn start(option: String, target: Target) -> (Live, LiveSink) {
-    let starting = matches!(target, Target::Spawn(_)).then(|| Instant::now() + SPAWN_WAIT);
+    let starting = matches!(target, Target::Spawn(..)).then(|| Instant::now() + SPAWN_WAIT);
+    let hand_off = match &target {
+        Target::Spawn(exe, Some(file)) => Some((exe.clone(), file.clone())),
+        _ => None,
+    };
     let shared = Arc::new(Shared {
         state: Mutex::new(State {
             queue: VecDeque::new(),
@@ -132,6 +145,7 @@ pub fn start(option: String, target: Target) -> (Live, LiveSink) {
         changed: Condvar::new(),
         option,
         child: Mutex::new(None),
+        hand_off,
     });
     let feeding = shared.clone();
     let spawned = std::thread::Builder::new()
@@ -148,11 +162,25 @@ pub fn start(option: String, target: Target) -> (Live, LiveSink) {
 
 impl Live {
     /// After the run: waits while the viewer takes the queued messages, until all are taken,
-    /// it stalls, or a signal comes.
+    /// it stalls, or a signal comes. A viewer physlab started that does not listen yet is not
+    /// waited for: it is ended, and one opening the run's file is started instead, if any.
     pub fn finish(self) {
         let mut s = self.0.lock();
         s.closed = true;
         self.0.changed.notify_all();
+        if s.starting.is_some() && !s.ended {
+            let why = match &self.0.hand_off {
+                Some((exe, file)) => {
+                    self.0.drop_stream(&mut s, None);
+                    return open_later(exe, file);
+                }
+                None => {
+                    "the viewer started was not listening when the run ended, and no file \
+                         was written for it to open"
+                }
+            };
+            return self.0.drop_stream(&mut s, Some(why));
+        }
         while !s.ended {
             if let Some(why) = self.0.stalled(&s, true) {
                 self.0.drop_stream(&mut s, Some(&why));
@@ -217,7 +245,7 @@ fn size(msg: &LogMsg) -> usize {
 fn feed(shared: &Shared, target: Target) {
     let uri = match target {
         Target::Connect(uri) => Ok(uri),
-        Target::Spawn(exe) => spawn(shared, &exe),
+        Target::Spawn(exe, _) => spawn(shared, &exe),
     };
     if let Err(why) = uri.as_ref().map_err(Clone::clone).and_then(handshake) {
         return shared.drop_stream(&mut shared.lock(), Some(&why));
@@ -351,12 +379,42 @@ fn listens(uri: &ProxyUri, limit: Duration) -> bool {
         .any(|a| std::net::TcpStream::connect_timeout(&a, limit).is_ok())
 }
 
-/// Starts the viewer `exe` on Rerun's port (or takes the one already listening there, as Rerun's
-/// own spawn does) with its own standard streams and process group, so that it writes nothing
-/// into physlab's output, holds no pipe of it open and is not stopped by a Ctrl-C meant for
-/// physlab; waits until it listens, it exits, the time runs out or the stream is dropped.
-fn spawn(shared: &Shared, exe: &std::path::Path) -> Result<ProxyUri, String> {
+/// Starts `exe FILE`, a viewer that opens the run's complete file itself, detached as
+/// [`viewer`] makes it and never waited for; says so on stderr.
+fn open_later(exe: &std::path::Path, file: &std::path::Path) {
+    let started = viewer(exe).arg(file).spawn();
+    match started {
+        Ok(_) => eprintln!(
+            "--spawn: the viewer was not listening yet when the run ended; one opening {} was \
+             started instead",
+            file.display()
+        ),
+        Err(e) => eprintln!(
+            "warning: --spawn: the viewer was not listening when the run ended, and cannot be \
+             started again ({e}); open {} later",
+            file.display()
+        ),
+    }
+}
+
+/// A `rerun` command with its own standard streams and process group, so that it writes
+/// nothing into physlab's output, holds no pipe of it open and is not stopped by a Ctrl-C meant
+/// for physlab.
+fn viewer(exe: &std::path::Path) -> Command {
     use std::os::unix::process::CommandExt as _;
+    let mut command = Command::new(exe);
+    command
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .process_group(0);
+    command
+}
+
+/// Starts the viewer `exe` on Rerun's port (or takes the one already listening there, as Rerun's
+/// own spawn does) as [`viewer`] makes it; waits until it listens, it exits, the time runs
+/// out or the stream is dropped.
+fn spawn(shared: &Shared, exe: &std::path::Path) -> Result<ProxyUri, String> {
     let port = rerun::DEFAULT_SERVER_PORT;
     let uri: ProxyUri = format!("rerun+http://127.0.0.1:{port}/proxy")
         .parse()
@@ -364,17 +422,13 @@ fn spawn(shared: &Shared, exe: &std::path::Path) -> Result<ProxyUri, String> {
     if listens(&uri, Duration::from_millis(500)) {
         return Ok(uri);
     }
-    let child = Command::new(exe)
+    let child = viewer(exe)
         .args([
             format!("--port={port}"),
             "--memory-limit=75%".into(),
             "--server-memory-limit=1GiB".into(),
             "--expect-data-soon".into(),
         ])
-        .stdin(Stdio::null())
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .process_group(0)
         .spawn()
         .map_err(|e| format!("cannot start {} ({e})", exe.display()))?;
     *shared.child() = Some(child);

@@ -152,6 +152,14 @@ pub fn shell_words(line: &str) -> Option<Vec<Vec<u8>>> {
     Some(words)
 }
 
+/// Where the physlab recording `path`, about to be replaced, came from: "from `COMMAND` at
+/// TIME", its command line escaped (the old file may be anyone's); `None` for another file.
+pub fn made_by(path: &std::path::Path) -> Option<String> {
+    let (command, nanos) = crate::rrd::inspect::made_by(path)?;
+    let at = crate::format::utc((nanos / 1_000_000_000) as i64);
+    Some(format!("from `{}` at {at}", escaped(&command)))
+}
+
 /// Text from a recording as a terminal may show it: every control character (ESC, a line
 /// break, a C1 code) and every bidirectional override written out (`\x1b`, `\n`,
 /// `\xe2\x80\xae`), so that no recording moves the cursor, clears the screen, retitles the

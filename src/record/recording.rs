@@ -33,10 +33,10 @@ impl Destinations {
 
     /// The recording as a checked output (`crate::output`): a file or standard output.
     pub fn written(&self) -> anyhow::Result<Option<crate::output::Output>> {
-        use crate::output::{Dash, check};
+        use crate::output::{Dash, check_recording};
         match (&self.file, self.stdout) {
-            (Some(path), _) => check("-o", path, Dash::Binary).map(Some),
-            (None, true) => check("-o", Path::new("-"), Dash::Binary).map(Some),
+            (Some(path), _) => check_recording(path, Dash::Binary).map(Some),
+            (None, true) => check_recording(Path::new("-"), Dash::Binary).map(Some),
             (None, false) => Ok(None),
         }
     }
@@ -140,7 +140,7 @@ impl Recording {
         let mut target = None;
         let mut written = None;
         if let Some(output) = d.written()? {
-            let partial = output.create()?;
+            let partial = output.create()?.describing_old(super::provenance::made_by);
             written = Some(partial.written());
             let shared = std::sync::Arc::new(sink::Shared::new(partial)?);
             sinks.push(Box::new(sink::EncodedSink(shared.clone())));
@@ -150,7 +150,11 @@ impl Recording {
         // The viewers are side channels (`live`): nothing they do reaches the file.
         let mut live = Vec::new();
         if let Some(exe) = d.spawn.then(|| find_on_path("rerun")).flatten() {
-            live.push(live::start("--spawn".into(), live::Target::Spawn(exe)));
+            let file = d.file.clone();
+            live.push(live::start(
+                "--spawn".into(),
+                live::Target::Spawn(exe, file),
+            ));
         }
         if let Some(url) = &d.connect {
             let uri = parse_proxy_url(url)?;

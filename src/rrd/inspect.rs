@@ -61,6 +61,36 @@ impl RecordingInfo {
 /// piles up whatever the per-message cap (16 properties of 200 MB in a 13 MB file took 3.5 GB).
 pub const MAX_DESCRIPTION_BYTES: usize = 64 << 20;
 
+/// A properties chunk's values by key (`command_line`, ...), the first of each.
+fn properties(chunk: &rerun::log::Chunk) -> impl Iterator<Item = (String, String)> + '_ {
+    chunk.component_descriptors().filter_map(|descriptor| {
+        let key = descriptor.component.as_str();
+        let key = key.rsplit(':').next().unwrap_or(key).to_string();
+        let values = chunk.iter_slices::<String>(descriptor.component).next()?;
+        Some((key, values.first()?.as_str().to_string()))
+    })
+}
+
+/// The command line that made the physlab recording `path`, and when: the nanoseconds since
+/// the epoch of its provenance chunk's id (Rerun draws chunk ids from the clock). Only the
+/// blueprint and properties at the file's start are read; `None` for a file that is no
+/// recording, or whose data starts without physlab's provenance.
+pub fn made_by(path: &Path) -> Option<(String, u64)> {
+    let mut messages = super::read::Messages::open(path).ok()?;
+    while let Ok(Some(msg)) = messages.next_chunk() {
+        let entity = msg.chunk.entity_path().to_string();
+        if !msg.recording {
+            continue; // the blueprint
+        } else if entity == "/__properties/physlab" {
+            let (_, command) = properties(&msg.chunk).find(|(k, _)| k == "command_line")?;
+            return Some((command, msg.chunk.id().as_tuid().nanos_since_epoch()));
+        } else if !entity.starts_with("/__properties") {
+            return None;
+        }
+    }
+    None
+}
+
 /// Reads a recording. A missing, empty, non-rrd, corrupt or truncated file is a usage error
 /// naming the file and what is wrong with it; a stop request `Error::Interrupted`.
 pub fn read_recording(path: &Path) -> anyhow::Result<RecordingInfo> {
@@ -105,16 +135,10 @@ pub(super) fn read_recording_within(path: &Path, cap: usize) -> anyhow::Result<R
                 None
             };
             if let Some(target) = target {
-                for descriptor in chunk.component_descriptors() {
-                    let key = descriptor.component.as_str();
-                    let key = key.rsplit(':').next().unwrap_or(key).to_string();
-                    if let Some(values) = chunk.iter_slices::<String>(descriptor.component).next()
-                        && let Some(v) = values.first()
-                    {
-                        let freed = target.get(&key).map_or(0, |old| key.len() + old.len());
-                        hold(key.len() + v.as_str().len(), freed)?;
-                        target.insert(key, v.as_str().to_string());
-                    }
+                for (key, v) in properties(&chunk) {
+                    let freed = target.get(&key).map_or(0, |old| key.len() + old.len());
+                    hold(key.len() + v.len(), freed)?;
+                    target.insert(key, v);
                 }
             }
             return Ok(());

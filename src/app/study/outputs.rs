@@ -27,9 +27,9 @@ pub(super) fn write_study(
         }
     }
     let mut images: Vec<(String, Vec<u8>)> = Vec::new();
-    if let Some(dir) = &outputs.plots {
+    if let Some((dir, prefix)) = &outputs.plots {
         for d in diagrams {
-            let w = d.write(dir)?;
+            let w = d.write(dir, prefix)?;
             eprintln!("wrote {} and {}", w.svg.display(), w.png.display());
             images.push((d.title.clone(), w.png_bytes));
         }
@@ -102,12 +102,14 @@ pub(super) fn interrupted_after(
 }
 
 /// A study's outputs, checked before it runs (`crate::output`): the CSV, the recording, and
-/// the diagrams' folder (--plots, else beside the recording or the CSV) with the files the
-/// diagrams `stems` will be written to; no two of them one file, none the scene file read.
+/// the diagrams' folder with the prefix of their names (--plots, else beside the recording or
+/// the CSV and named after it: `-o first.rrd` draws `first-pendulum-convergence.png`, so that
+/// two studies write one figure only when given one --plots), with the files the diagrams
+/// `stems` will be written to; no two of them one file, none the scene file read.
 pub(super) struct Outputs {
     pub(super) csv: Option<crate::output::Output>,
     pub(super) recording: Option<crate::output::Output>,
-    pub(super) plots: Option<std::path::PathBuf>,
+    pub(super) plots: Option<(std::path::PathBuf, String)>,
 }
 
 impl Outputs {
@@ -115,7 +117,7 @@ impl Outputs {
     fn folders(&self) -> Vec<std::path::PathBuf> {
         let files = [&self.csv, &self.recording].into_iter().flatten();
         (files.filter_map(|o| o.target.as_deref().map(crate::output::parent_dir)))
-            .chain(self.plots.clone())
+            .chain(self.plots.as_ref().map(|p| p.0.clone()))
             .collect()
     }
 
@@ -143,7 +145,11 @@ pub(super) fn check_outputs(
         Some(path) => crate::record::Destinations::output(path).written()?,
         None => None,
     };
-    let beside = |o: &crate::output::Output| o.target.as_deref().map(crate::output::parent_dir);
+    let beside = |o: &crate::output::Output| {
+        let t = o.target.as_deref()?;
+        let stem = t.file_stem().unwrap_or_default().to_string_lossy();
+        Some((crate::output::parent_dir(t), format!("{stem}-")))
+    };
     if a.plots.as_deref() == Some(Path::new("-")) {
         return Err(Error::Usage(
             "--plots -: standard output is not a folder; --plots names the folder of the diagrams"
@@ -151,14 +157,12 @@ pub(super) fn check_outputs(
         )
         .into());
     }
-    let plots = a
-        .plots
-        .clone()
+    let plots = (a.plots.clone().map(|dir| (dir, String::new())))
         .or_else(|| recording.as_ref().and_then(beside))
         .or_else(|| csv.as_ref().and_then(beside))
         .filter(|_| !stems.is_empty());
     let mut diagrams = Vec::new();
-    if let Some(dir) = &plots {
+    if let Some((dir, prefix)) = &plots {
         if dir.exists() && !dir.is_dir() {
             return Err(Error::Usage(format!(
                 "--plots {}: is not a folder; --plots names the folder the diagrams go to",
@@ -168,7 +172,7 @@ pub(super) fn check_outputs(
         }
         let no_dash = Dash::Refused("is not a folder");
         for stem in stems {
-            for file in crate::diagram::Diagram::files(stem, dir) {
+            for file in crate::diagram::Diagram::files(&format!("{prefix}{stem}"), dir) {
                 diagrams.push(check("--plots", &file, no_dash)?);
             }
         }
