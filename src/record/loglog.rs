@@ -101,7 +101,7 @@ fn log_panel(rec: &RecordingStream, path: &str, p: &Panel, area: [f32; 4]) -> an
     // Tick labels: under the cost axis, left of the error axis (a label's top is 5 px below
     // its point, centred on it).
     let ticks: Vec<([f32; 2], String)> = (bold_x.iter())
-        .map(|&k| ([k as f32, y0 - 2.0 / sy], decade_label(k.round() as i32)))
+        .map(|&k| ([k as f32, y0 - 8.0 / sy], decade_label(k.round() as i32)))
         .chain(bold_y.iter().map(|&k| {
             let text = decade_label(k.round() as i32);
             let half = 0.5 * CHAR_PX * text.chars().count() as f32;
@@ -119,7 +119,7 @@ fn log_panel(rec: &RecordingStream, path: &str, p: &Panel, area: [f32; 4]) -> an
     let names = [
         from_left(&p.title, -40.0, TOP - LINE_PX),
         from_left(p.y_desc, 4.0, 2.0 + LINE_PX),
-        ([0.5 * (x0 + x1), y0 - 30.0 / sy], p.x_desc.to_string()),
+        ([0.5 * (x0 + x1), y0 - 34.0 / sy], p.x_desc.to_string()),
     ];
     let (at, text) = names.into_iter().unzip();
     rec.log_static(format!("{path}/names"), &labels(at, text, INK))?;
