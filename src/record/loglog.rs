@@ -125,22 +125,22 @@ fn log_panel(rec: &RecordingStream, path: &str, p: &Panel, area: [f32; 4]) -> an
     rec.log_static(format!("{path}/names"), &labels(at, text, INK))?;
     log_guides(rec, path, p, [sx, sy])?;
     for s in &p.series {
-        let at: Vec<[f32; 2]> = (s.points.iter())
-            .filter(|(x, y)| *x > 0.0 && *y > 0.0)
-            .map(|(x, y)| [x.log10() as f32, y.log10() as f32])
-            .collect();
+        let (at, about): (Vec<[f32; 2]>, Vec<String>) = (s.points.iter().zip(&s.about))
+            .filter(|((x, y), _)| *x > 0.0 && *y > 0.0)
+            .map(|((x, y), about)| ([x.log10() as f32, y.log10() as f32], about.clone()))
+            .unzip();
         let color = s.key.rgb();
-        let entity = format!("{path}/runs/{}", s.key.name);
-        rec.log_static(
-            format!("{entity}/line"),
-            &lines(vec![at.clone()], color, 2.0, 3.0),
-        )?;
+        // One path part whatever the name holds (a hair family's "k/m", say).
+        let name = rerun::EntityPath::new(vec![s.key.name.as_str().into()]);
+        let entity = rerun::EntityPath::from(format!("{path}/runs")).join(&name);
+        let line = lines(vec![at.clone()], color, 2.0, 3.0);
+        rec.log_static(entity.join(&"line".into()), &line)?;
         rec.log_static(
             entity,
             &Points2D::new(at)
                 .with_colors([color])
                 .with_radii([Radius::new_ui_points(4.5)])
-                .with_labels(s.about.clone())
+                .with_labels(about)
                 .with_show_labels(false)
                 .with_draw_order(DrawOrder(4.0.into())),
         )?;
