@@ -345,7 +345,7 @@ fn study_writes_csv_and_a_recording() {
     let d = decode(&rrd);
     assert!(
         d.has_footer
-            && d.entities.contains("/study/diagrams/0")
+            && d.entities.contains("/study/diagrams/0/panel0/runs/rk4")
             && d.entities.contains("/study/tables"),
         "{:?}",
         d.entities

@@ -432,39 +432,282 @@ mod layout {
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
-    /// A study's diagram has the window to itself (a tab each, the tables in another): the
-    /// viewer draws the picture at 90 % of its own size or more, so its tick labels keep their
-    /// size. Beside the tables it was drawn at about two thirds.
-    #[test]
-    fn a_study_diagram_is_drawn_near_its_own_size() {
-        let dir = scratch_dir("viewer-study");
-        let plots = dir.to_str().unwrap().to_string();
-        let out = record(
-            &dir,
-            "s.rrd",
+    /// What a study recording draws under one entity: points (or the points of its strips),
+    /// labels and whether they show, and a transform (translation, scale).
+    #[derive(Debug, Default)]
+    struct Drawn2D {
+        points: Vec<[f32; 2]>,
+        strips: Vec<Vec<[f32; 2]>>,
+        labels: Vec<String>,
+        show_labels: Option<bool>,
+        transform: Option<([f32; 3], [f32; 3])>,
+    }
+
+    fn drawn_2d(path: &Path, prefix: &str) -> BTreeMap<String, Drawn2D> {
+        use rerun::{LineStrips2D, Points2D, Transform3D};
+        let file = std::io::BufReader::new(std::fs::File::open(path).unwrap());
+        let mut drawn: BTreeMap<String, Drawn2D> = BTreeMap::new();
+        for msg in DecoderApp::decode_lazy(file) {
+            let LogMsg::ArrowMsg(store_id, arrow_msg) = msg.unwrap() else {
+                continue;
+            };
+            let chunk = Chunk::from_arrow_msg(&arrow_msg).unwrap();
+            let entity = chunk.entity_path().to_string();
+            if !store_id.is_recording() || !entity.starts_with(prefix) {
+                continue;
+            }
+            let d = drawn.entry(entity).or_default();
+            let points = Points2D::descriptor_positions().component;
+            d.points.extend(
+                chunk
+                    .iter_slices::<[f32; 2]>(points)
+                    .flat_map(|s| s.to_vec()),
+            );
+            let strips = LineStrips2D::descriptor_strips().component;
+            for s in chunk.iter_slices::<&[[f32; 2]]>(strips) {
+                d.strips.extend(s.iter().map(|strip| strip.to_vec()));
+            }
+            d.labels
+                .extend(strings(&chunk, Points2D::descriptor_labels()));
+            let show = Points2D::descriptor_show_labels().component;
+            if let Some(b) = chunk.iter_slices::<bool>(show).next() {
+                d.show_labels = Some(b.value(0));
+            }
+            let [t, s] = [
+                Transform3D::descriptor_translation(),
+                Transform3D::descriptor_scale(),
+            ]
+            .map(|c| {
+                chunk
+                    .iter_slices::<[f32; 3]>(c.component)
+                    .next()
+                    .map(|v| v[0])
+            });
+            if let (Some(t), Some(s)) = (t, s) {
+                d.transform = Some((t, s));
+            }
+        }
+        drawn
+    }
+
+    /// A label's box on the canvas [px] as the viewer draws it: centred under its point, 5 px
+    /// below it, in a box 6 px wider each side, 22 px tall (measured on screenshots: 5.8 px a
+    /// character).
+    fn label_box(at: [f32; 2], text: &str) -> [f32; 4] {
+        let half = 0.5 * 5.8 * text.chars().count() as f32 + 6.0;
+        [at[0] - half, at[1] + 1.0, at[0] + half, at[1] + 23.0]
+    }
+
+    /// Every label shown in a study's diagram `prefix`, with its box on the canvas, through its
+    /// panel's transform.
+    fn shown_labels(drawn: &BTreeMap<String, Drawn2D>, prefix: &str) -> Vec<(String, [f32; 4])> {
+        let mut shown = Vec::new();
+        for (entity, d) in drawn {
+            if d.show_labels != Some(true) {
+                continue;
+            }
+            let place = canvas_of(drawn, entity, prefix);
+            for (p, text) in d.points.iter().zip(&d.labels) {
+                shown.push((text.clone(), label_box(place(*p), text)));
+            }
+        }
+        shown
+    }
+
+    /// The canvas position of a point of `entity`: through the transform of its panel, if any.
+    fn canvas_of(
+        drawn: &BTreeMap<String, Drawn2D>,
+        entity: &str,
+        prefix: &str,
+    ) -> impl Fn([f32; 2]) -> [f32; 2] {
+        let panel = entity[prefix.len()..].split('/').nth(1).unwrap_or("");
+        let (t, s) = drawn
+            .get(&format!("{prefix}/{panel}"))
+            .and_then(|d| d.transform)
+            .unwrap_or(([0.0; 3], [1.0; 3]));
+        move |p: [f32; 2]| [t[0] + s[0] * p[0], t[1] + s[1] * p[1]]
+    }
+
+    fn record_study(dir: &Path, kind: &[&str], csv: &Path) -> (std::path::PathBuf, String) {
+        let out = dir.join(format!("{}.rrd", kind[0]));
+        let mut args = vec!["study"];
+        args.extend(kind);
+        let (code, stdout, stderr) = physlab(
             &[
-                "study",
-                "work-precision",
-                "--scene",
-                "pendulum",
-                "--repeats",
-                "1",
-                "--plots",
-                &plots,
-            ],
+                &args[..],
+                &[
+                    "--scene",
+                    "pendulum",
+                    "--csv",
+                    csv.to_str().unwrap(),
+                    "-q",
+                    "-o",
+                    out.to_str().unwrap(),
+                ],
+            ]
+            .concat(),
         );
-        let blueprint = read_blueprint(&out);
-        let png = std::fs::read(dir.join("pendulum-work-precision.png")).unwrap();
-        let dimension = |at: usize| u32::from_be_bytes(png[at..at + 4].try_into().unwrap()) as f32;
-        let (width, height) = (dimension(16), dimension(20));
+        assert_eq!(code, 0, "{kind:?}\n{stdout}\n{stderr}");
+        (out, stdout)
+    }
+
+    /// The study's diagram opens on the canvas it is laid out on at about its own size (its
+    /// labels are drawn at a fixed size), every label shown inside it, no two overlapping.
+    fn check_study_view(out: &Path, drawn: &BTreeMap<String, Drawn2D>) {
+        use rerun::blueprint::components::VisualBounds2D;
+        let blueprint = read_blueprint(out);
         let views: Vec<&View> = blueprint.views_of("2D").collect();
         assert_eq!(views.len(), 1, "one diagram");
+        let bounds = &views[0].properties["VisualBounds2D"];
+        let range =
+            rerun::external::re_sdk_types::blueprint::archetypes::VisualBounds2D::descriptor_range(
+            );
+        let b = bounds
+            .component_mono::<VisualBounds2D>(range.component, 0)
+            .unwrap()
+            .unwrap();
+        let (x, y) = (b.0.x_range.0, b.0.y_range.0);
         let [w, h] = views[0].size;
-        let scale = (w / width).min(h / height);
+        let scale = (w / (x[1] - x[0]) as f32).min(h / (y[1] - y[0]) as f32);
         assert!(
-            scale >= 0.9,
-            "a {width}×{height} picture in a {w}×{h} view is drawn at {scale:.2}"
+            (0.95..1.1).contains(&scale),
+            "drawn at {scale:.2} of its canvas"
         );
+        let labels = shown_labels(drawn, "/study/diagrams/0");
+        assert!(labels.len() > 20, "{labels:?}");
+        for (i, (text, r)) in labels.iter().enumerate() {
+            assert!(
+                r[0] >= x[0] as f32
+                    && r[2] <= x[1] as f32
+                    && r[1] >= y[0] as f32
+                    && r[3] <= y[1] as f32,
+                "'{text}' at {r:?} is outside the view's {x:?} × {y:?}"
+            );
+            for (other, q) in &labels[i + 1..] {
+                let apart = r[2] <= q[0] || q[2] <= r[0] || r[3] <= q[1] || q[3] <= r[1];
+                assert!(apart, "'{text}' {r:?} and '{other}' {q:?} overlap");
+            }
+        }
+    }
+
+    /// The number after `word ` in a hover text.
+    fn number_after(text: &str, word: &str) -> f64 {
+        let at = text
+            .find(&format!("{word} "))
+            .unwrap_or_else(|| panic!("{word} in {text}"));
+        text[at + word.len() + 1..]
+            .split([' ', '\n', ','])
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap()
+    }
+
+    /// A study recording draws its diagram from data: each run of the CSV a point at
+    /// (log10 cost, log10 error) in its method's colour, joined by its method's line, whose
+    /// hover text names the method and says its error, wall time and evaluations as the CSV
+    /// does; the reference floor a flat line at the floor the study prints; decade grid lines and
+    /// tick labels; every label readable at 1600×1000.
+    #[test]
+    fn a_study_recording_draws_every_run_as_a_point_that_says_which_run_it_is() {
+        let dir = scratch_dir("viewer-study");
+        let csv = dir.join("runs.csv");
+        let (out, stdout) = record_study(&dir, &["work-precision", "--repeats", "1"], &csv);
+        let drawn = drawn_2d(&out, "/study/diagrams/0");
+        check_study_view(&out, &drawn);
+        let text = std::fs::read_to_string(&csv).unwrap();
+        let mut runs: BTreeMap<String, Vec<Vec<f64>>> = BTreeMap::new();
+        for line in text.lines().skip(1) {
+            let f: Vec<&str> = line.split(',').collect();
+            if let Ok(error) = f[4].parse::<f64>() {
+                let (evals, wall): (f64, f64) = (f[5].parse().unwrap(), f[8].parse().unwrap());
+                runs.entry(f[1].to_string())
+                    .or_default()
+                    .push(vec![wall, evals, error]);
+            }
+        }
+        assert!(runs.len() >= 10, "{runs:?}");
+        for (method, rows) in &runs {
+            for (panel, cost) in [(0, 0), (1, 1)] {
+                let entity = format!("/study/diagrams/0/panel{panel}/runs/{method}");
+                let points = &drawn[&entity];
+                let expected: Vec<[f32; 2]> = rows
+                    .iter()
+                    .map(|r| [r[cost].log10() as f32, r[2].log10() as f32])
+                    .collect();
+                assert_eq!(points.points.len(), expected.len(), "{entity}");
+                for (p, e) in points.points.iter().zip(&expected) {
+                    assert!(
+                        (p[0] - e[0]).abs() < 1e-5 && (p[1] - e[1]).abs() < 1e-5,
+                        "{entity}: {p:?} for {e:?}"
+                    );
+                }
+                assert_eq!(
+                    drawn[&format!("{entity}/line")].strips,
+                    vec![points.points.clone()]
+                );
+                assert_eq!(
+                    points.show_labels,
+                    Some(false),
+                    "{entity}: shown on hover only"
+                );
+                for (about, r) in points.labels.iter().zip(rows) {
+                    assert!(about.starts_with(method.as_str()), "{about}");
+                    let close = |a: f64, b: f64| (a / b - 1.0).abs() < 1e-3;
+                    assert!(close(number_after(about, "error"), r[2]), "{about}: {r:?}");
+                    assert!(close(number_after(about, "wall"), r[0]), "{about}: {r:?}");
+                    assert!(
+                        about.contains(&format!("{} force evaluations", r[1])),
+                        "{about}"
+                    );
+                }
+            }
+        }
+        // The floor: a flat dashed line across the panel at the floor the header names.
+        let floor = &drawn["/study/diagrams/0/panel0/guides"];
+        let ys: Vec<f32> = floor.strips.iter().flatten().map(|p| p[1]).collect();
+        assert!(ys.iter().all(|y| *y == ys[0]) && floor.strips.len() > 50);
+        let named = format!("{:.0e}", 10f64.powf(f64::from(ys[0])));
+        assert!(
+            stdout.contains(&format!("below {named}")),
+            "floor {named}: {stdout}"
+        );
+        // The decades: a grid line and a label for each.
+        let grid = &drawn["/study/diagrams/0/panel1/grid/decades"];
+        let ticks = &drawn["/study/diagrams/0/panel1/ticks"].labels;
+        let verticals: Vec<f32> = (grid.strips.iter())
+            .filter(|s| s[0][0] == s[1][0])
+            .map(|s| s[0][0])
+            .collect();
+        assert!(verticals.len() >= 4, "{verticals:?}");
+        for x in verticals {
+            assert_eq!(x.fract(), 0.0, "a decade line at 10^{x}");
+            let label = physlab::diagram::decade_label(x as i32);
+            assert!(ticks.contains(&label), "{label} among {ticks:?}");
+        }
+
+        // Convergence: each slope guide rises p decades per decade of dt, as its name says.
+        let (out, _) = record_study(&dir, &["convergence"], &csv);
+        let drawn = drawn_2d(&out, "/study/diagrams/0");
+        check_study_view(&out, &drawn);
+        let guides = &drawn["/study/diagrams/0/panel0/guides"];
+        let names = &drawn["/study/diagrams/0/panel0/guides/names"].labels;
+        let slopes: Vec<f32> = (guides.strips.iter())
+            .map(|s| (s[1][1] - s[0][1]) / (s[1][0] - s[0][0]))
+            .collect();
+        for p in [1, 2, 4] {
+            assert!(
+                names.contains(&format!(
+                    "~ dt{}",
+                    physlab::diagram::decade_label(p).trim_start_matches("10")
+                )),
+                "{names:?}"
+            );
+            assert!(
+                slopes.iter().any(|s| (s - p as f32).abs() < 1e-3),
+                "slope {p}: {slopes:?}"
+            );
+        }
         std::fs::remove_dir_all(&dir).unwrap();
     }
 

@@ -35,7 +35,7 @@ pub(super) fn decades(values: impl Iterator<Item = f64>) -> Range<f64> {
 
 /// Ticks at every decade (every second or third one when there are many, labelled), faint
 /// lines at 2…9 × 10ᵏ when the axis spans few decades.
-pub(super) fn log_axis(range: Range<f64>) -> (Vec<f64>, Vec<f64>) {
+pub fn log_axis(range: Range<f64>) -> (Vec<f64>, Vec<f64>) {
     let (lo, hi) = (range.start as i32, range.end as i32);
     let span = hi - lo;
     let step = if span > 16 {

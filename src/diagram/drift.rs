@@ -1,11 +1,8 @@
 //! The drift diagram: energy error and phase error against time, log-log, one series per
 //! method, with dashed guides of slopes 0, 1 and 2 (what the theory says they grow like).
 
-use plotters::coord::Shift;
-use plotters::prelude::*;
-
-use super::{BACKGROUND, Content, Diagram, Key, LEGEND_WIDTH, Res, decades, draw_legend};
-use super::{Panel, draw_panel};
+use super::{Content, Diagram, Key, LEGEND_WIDTH, Panel, Plot, Series, decades};
+use crate::format::sci;
 use crate::study::drift::Drift;
 
 /// Energy error (left) and phase error (right, where a run measured one) against simulated
@@ -32,26 +29,15 @@ pub fn pendulum_drift_picture(runs: &[Drift]) -> Diagram {
 /// A quantity of a checkpoint, positive where it was measured.
 type Quantity = fn(&crate::study::drift::Checkpoint) -> Option<f64>;
 
-pub(super) fn drift_on<DB: DrawingBackend>(
-    root: &DrawingArea<DB, Shift>,
-    scene: &str,
-    runs: &[Drift],
-    note: &str,
-) -> Res
-where
-    DB::ErrorType: 'static,
-{
-    root.fill(&BACKGROUND)?;
-    let (body, legend) = root.split_horizontally(root.dim_in_pixel().0 - LEGEND_WIDTH);
+pub(super) fn drift_plot(scene: &str, runs: &[Drift], note: &str) -> Plot {
     // The rope has no phase: its energy alone, over the whole width.
     let phased = (runs.iter().flat_map(|r| &r.checkpoints)).any(|c| c.phase.is_some());
-    let panels = body.split_evenly((1, if phased { 2 } else { 1 }));
     let energy_desc = if scene == "pendulum" {
         "max |E − E0| / E0 since the last point"
     } else {
         "max |E − E0| / energy scale since the last point"
     };
-    let quantities: [(&str, &str, Quantity); 2] = [
+    let quantities: [(&str, &'static str, Quantity); 2] = [
         ("energy error", energy_desc, |c| Some(c.energy)),
         (
             "phase error",
@@ -62,17 +48,31 @@ where
     let times = || runs.iter().flat_map(|r| r.checkpoints.iter().map(|c| c.t));
     let x = decades(times());
     let (x0, x1) = (10f64.powf(x.start), 10f64.powf(x.end));
-    for (area, (title, y_desc, quantity)) in panels.iter().zip(quantities) {
-        let series: Vec<(Key, Vec<(f64, f64)>)> = runs
-            .iter()
+    let panels = quantities.iter().take(if phased { 2 } else { 1 });
+    let panels = panels.map(|&(title, y_desc, quantity)| {
+        let series: Vec<Series> = (runs.iter())
             .map(|r| {
-                let points = (r.checkpoints.iter())
-                    .filter_map(|c| quantity(c).filter(|v| *v > 0.0).map(|v| (c.t, v)))
-                    .collect();
-                (Key::of(r.method), points)
+                let (points, about) = (r.checkpoints.iter())
+                    .filter_map(|c| {
+                        let v = quantity(c).filter(|v| *v > 0.0)?;
+                        let run = format!("{} (dt {} s", r.method.name(), sci(r.dt));
+                        let about = format!(
+                            "{run}, {} evaluations in all)\nt = {} s\n{title} {}",
+                            r.evals,
+                            sci(c.t),
+                            sci(v)
+                        );
+                        Some(((c.t, v), about))
+                    })
+                    .unzip();
+                Series {
+                    key: Key::of(r.method),
+                    points,
+                    about,
+                }
             })
             .collect();
-        let y = decades(series.iter().flat_map(|s| s.1.iter().map(|p| p.1)));
+        let y = decades(series.iter().flat_map(|s| s.points.iter().map(|p| p.1)));
         // Guides through the panel's middle value at the first time: t⁰, t¹, t².
         let mid = 10f64.powf(0.5 * (y.start + y.end));
         let guides = [(0, "t⁰"), (1, "t¹"), (2, "t²")]
@@ -82,27 +82,24 @@ where
                 (vec![(x0, mid), (x1, end)], name.to_string())
             })
             .collect();
-        draw_panel(
-            &area.margin(6, 6, 6, 6),
-            &Panel {
-                title: &format!("{scene}: {title} against time"),
-                x_desc: "simulated time [s]",
-                y_desc,
-                x: x.clone(),
-                y,
-                series,
-                guides,
-            },
-        )?;
-    }
-    let keys: Vec<Key> = runs.iter().map(|r| Key::of(r.method)).collect();
-    draw_legend(
-        &legend,
-        &keys,
-        &[
+        Panel {
+            title: format!("{scene}: {title} against time"),
+            x_desc: "simulated time [s]",
+            y_desc,
+            x: x.clone(),
+            y,
+            series,
+            guides,
+        }
+    });
+    Plot {
+        panels: panels.collect(),
+        keys: runs.iter().map(|r| Key::of(r.method)).collect(),
+        notes: vec![
             "symplectic: energy bounded, phase ∝ t; others: energy ∝ t, phase ∝ t².".into(),
             "dashed: slopes 0, 1 and 2.".into(),
             note.to_string(),
         ],
-    )
+        legend_px: LEGEND_WIDTH,
+    }
 }

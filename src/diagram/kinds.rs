@@ -2,8 +2,8 @@
 //! study's rows.
 
 use super::{
-    BACKGROUND, Content, Diagram, FAINT, FONT, GRID, INK, Key, LEGEND_WIDTH, PANEL, Panel, Res,
-    Ticks, decade_label, decades, draw_legend, draw_panel, label_of, marker,
+    BACKGROUND, Content, Diagram, FAINT, FONT, GRID, INK, Key, LEGEND_WIDTH, PANEL, Panel, Plot,
+    Res, Series, Ticks, decade_label, decades, draw_legend, label_of, marker,
 };
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -28,15 +28,22 @@ pub(super) fn runs(rows: &[Row], m: Method) -> Vec<&Row> {
         .collect()
 }
 
-/// Per method, its runs' (x, error), x given by `x`.
-fn series(rows: &[Row], methods: &[Method], x: fn(&Row) -> f64) -> Vec<(Key, Vec<(f64, f64)>)> {
+/// Per method, its runs' (x, error), x given by `x`, each point saying which run it is.
+fn series(rows: &[Row], methods: &[Method], x: fn(&Row) -> f64) -> Vec<Series> {
     let of = |m| {
-        runs(rows, m)
-            .iter()
-            .map(|r| (x(r), r.error.unwrap_or(0.0)))
-            .collect()
+        let runs = runs(rows, m);
+        Series {
+            key: Key::of(m),
+            points: (runs.iter())
+                .map(|r| (x(r), r.error.unwrap_or(0.0)))
+                .collect(),
+            about: runs
+                .iter()
+                .map(|r| crate::report::study::run_about(r))
+                .collect(),
+        }
     };
-    methods.iter().map(|&m| (Key::of(m), of(m))).collect()
+    methods.iter().map(|&m| of(m)).collect()
 }
 
 /// Work-precision: error against median wall time (left) and against force evaluations
@@ -69,22 +76,10 @@ pub fn pendulum_work_precision_picture(runs: &(Vec<Row>, f64)) -> Diagram {
 /// A work-precision panel: title, x axis description, and the cost it plots.
 type Axis = (&'static str, &'static str, fn(&Row) -> f64);
 
-pub(super) fn work_precision_on<DB: DrawingBackend>(
-    root: &DrawingArea<DB, Shift>,
-    scene: &str,
-    rows: &[Row],
-    floor: f64,
-    note: &str,
-) -> Res
-where
-    DB::ErrorType: 'static,
-{
-    root.fill(&BACKGROUND)?;
-    let (body, legend) = root.split_horizontally(root.dim_in_pixel().0 - LEGEND_WIDTH);
+pub(super) fn work_precision_plot(scene: &str, rows: &[Row], floor: f64, note: &str) -> Plot {
     let methods = methods_of(rows, |_| true);
     let errors = || rows.iter().filter_map(|r| r.error);
     let y = decades(errors().chain([floor]));
-    let panels = body.split_evenly((1, 2));
     let axes: [Axis; 2] = [
         (
             "error against median wall time",
@@ -97,32 +92,29 @@ where
             |r| r.evals as f64,
         ),
     ];
-    for (area, (title, x_desc, cost)) in panels.iter().zip(axes) {
+    let panels = axes.map(|(title, x_desc, cost)| {
         let x = decades(rows.iter().filter(|r| r.error.is_some()).map(cost));
-        let series = series(rows, &methods, cost);
         let (x0, x1) = (10f64.powf(x.start), 10f64.powf(x.end));
-        draw_panel(
-            &area.margin(6, 6, 6, 6),
-            &Panel {
-                title: &format!("{scene}: {title}"),
-                x_desc,
-                y_desc: error_desc(scene),
-                x,
-                y: y.clone(),
-                series,
-                guides: vec![(vec![(x1, floor), (x0, floor)], "reference floor".into())],
-            },
-        )?;
-    }
-    draw_legend(
-        &legend,
-        &methods.iter().map(|&m| Key::of(m)).collect::<Vec<_>>(),
-        &[
+        Panel {
+            title: format!("{scene}: {title}"),
+            x_desc,
+            y_desc: error_desc(scene),
+            x,
+            y: y.clone(),
+            series: series(rows, &methods, cost),
+            guides: vec![(vec![(x1, floor), (x0, floor)], "reference floor".into())],
+        }
+    });
+    Plot {
+        panels: panels.into(),
+        keys: methods.iter().map(|&m| Key::of(m)).collect(),
+        notes: vec![
             format!("{scene}: lower left is better."),
             format!("dashed: the reference's error floor {floor:.0e}."),
             note.to_string(),
         ],
-    )
+        legend_px: LEGEND_WIDTH,
+    }
 }
 
 /// Convergence: error against dt for the fixed-step methods, with dashed reference slopes for
@@ -133,7 +125,10 @@ pub fn convergence(scene: &str, rows: &[Row], floor: f64, velocity_dependent: bo
             "{scene}-convergence{}",
             if velocity_dependent { "-damped" } else { "" }
         ),
-        title: format!("{scene} convergence"),
+        title: format!(
+            "{scene} convergence{}",
+            if velocity_dependent { ", damped" } else { "" }
+        ),
         size: (1300, 860),
         content: Content::Convergence {
             scene: scene.to_string(),
@@ -144,18 +139,12 @@ pub fn convergence(scene: &str, rows: &[Row], floor: f64, velocity_dependent: bo
     }
 }
 
-pub(super) fn convergence_on<DB: DrawingBackend>(
-    root: &DrawingArea<DB, Shift>,
+pub(super) fn convergence_plot(
     scene: &str,
     rows: &[Row],
     floor: f64,
     velocity_dependent: bool,
-) -> Res
-where
-    DB::ErrorType: 'static,
-{
-    root.fill(&BACKGROUND)?;
-    let (body, legend) = root.split_horizontally(root.dim_in_pixel().0 - LEGEND_WIDTH);
+) -> Plot {
     let methods = methods_of(rows, |_| true);
     let x = decades(rows.iter().map(|r| r.dt));
     let y = decades(rows.iter().filter_map(|r| r.error).chain([floor]));
@@ -194,35 +183,33 @@ where
             format!("∝ dt{}", superscript(p)),
         ));
     }
-    draw_panel(
-        &body.margin(6, 6, 6, 6),
-        &Panel {
-            title: &format!(
-                "{scene}{}: error against step size, fixed-step methods",
-                if velocity_dependent {
-                    ", damped (velocity-dependent forces)"
-                } else {
-                    ""
-                }
-            ),
+    let title = format!(
+        "{scene}{}: error against step size, fixed-step methods",
+        if velocity_dependent {
+            ", damped (velocity-dependent forces)"
+        } else {
+            ""
+        }
+    );
+    Plot {
+        panels: vec![Panel {
+            title,
             x_desc: "dt [s]",
             y_desc: error_desc(scene),
             x,
             y,
             series,
             guides,
-        },
-    )?;
-    draw_legend(
-        &legend,
-        &methods.iter().map(|&m| Key::of(m)).collect::<Vec<_>>(),
-        &[
+        }],
+        keys: methods.iter().map(|&m| Key::of(m)).collect(),
+        notes: vec![
             "dashed slopes: dtᵖ for each theoretical order p, a quarter below that order's lowest curve."
                 .to_string(),
             format!("flat dashed: the reference's error floor {floor:.0e}."),
             "adaptive methods choose their own steps: see work-precision.".to_string(),
         ],
-    )
+        legend_px: LEGEND_WIDTH,
+    }
 }
 
 pub(super) fn superscript(p: u32) -> String {
@@ -383,16 +370,7 @@ fn hair_family(r: &HairRow) -> String {
     }
 }
 
-pub(super) fn hair_trade_on<DB: DrawingBackend>(
-    root: &DrawingArea<DB, Shift>,
-    rows: &[HairRow],
-    note: &str,
-) -> Res
-where
-    DB::ErrorType: 'static,
-{
-    root.fill(&BACKGROUND)?;
-    let (body, legend) = root.split_horizontally(root.dim_in_pixel().0 - LEGEND_WIDTH - 150);
+pub(super) fn hair_trade_plot(rows: &[HairRow], note: &str) -> Plot {
     let mut families: Vec<(String, crate::scene::hair::HairMethod)> = Vec::new();
     for r in rows {
         let f = hair_family(r);
@@ -416,40 +394,44 @@ where
             }
         })
         .collect();
-    let series: Vec<(Key, Vec<(f64, f64)>)> = keys
+    let series: Vec<Series> = keys
         .iter()
         .map(|key| {
-            let points = rows
-                .iter()
+            let (points, about) = (rows.iter())
                 .filter(|row| hair_family(row) == key.name)
-                .filter_map(|row| row.stretch.map(|s| (row.ms_per_frame, s)))
-                .collect();
-            (key.clone(), points)
+                .filter_map(|row| {
+                    let (ms, s) = (row.ms_per_frame, row.stretch?);
+                    let about = format!("{}\nstretch {s:.3e}\n{ms:.3} ms per frame", row.flags());
+                    Some(((ms, s), about))
+                })
+                .unzip();
+            Series {
+                key: key.clone(),
+                points,
+                about,
+            }
         })
         .collect();
-    let plotted = || series.iter().flat_map(|(_, p)| p.iter().copied());
+    let plotted = || series.iter().flat_map(|s| s.points.iter().copied());
     let x = decades(plotted().map(|(x, _)| x));
     let y = decades(plotted().map(|(_, y)| y).chain([1e-16]));
-    draw_panel(
-        &body.margin(6, 6, 6, 6),
-        &Panel {
-            title: "hair: largest stretch against cost per frame",
+    Plot {
+        panels: vec![Panel {
+            title: "hair: largest stretch against cost per frame".into(),
             x_desc: "wall time per frame [ms]",
             y_desc: "max stretch |ℓ − ℓ0|/ℓ0",
             x,
             y,
             series,
             guides: Vec::new(),
-        },
-    )?;
-    draw_legend(
-        &legend,
-        &keys,
-        &[
+        }],
+        keys,
+        notes: vec![
             "lower left is better; a diverged configuration has no point.".to_string(),
             "stretch near 1e-16 is round-off: the constraint holds to machine precision."
                 .to_string(),
             note.to_string(),
         ],
-    )
+        legend_px: LEGEND_WIDTH + 150,
+    }
 }

@@ -27,14 +27,15 @@ mod kinds;
 mod panel;
 pub mod stamp;
 
-pub use axes::decade_label;
 use axes::{Ticks, decades, label_of};
+pub use axes::{decade_label, log_axis};
 pub use drift::{drift, pendulum_drift_picture};
-use kinds::{LimitRow, convergence_on, hair_trade_on, stability_on, work_precision_on};
+use kinds::{LimitRow, convergence_plot, hair_trade_plot, stability_on, work_precision_plot};
 pub use kinds::{
     convergence, hair_trade, pendulum_work_precision_picture, stability, work_precision,
 };
-use panel::{Panel, draw_legend, draw_panel};
+pub use panel::{Panel, Plot, Series};
+use panel::{draw_legend, draw_plot};
 
 const FONT: &str = "sans-serif";
 const BACKGROUND: RGBColor = RGBColor(24, 26, 30);
@@ -81,11 +82,10 @@ enum Content {
     },
 }
 
-/// The files a diagram was written to, and the PNG's bytes (for the recording).
+/// The files a diagram was written to.
 pub struct Written {
     pub svg: PathBuf,
     pub png: PathBuf,
-    pub png_bytes: Vec<u8>,
 }
 
 fn register_font() {
@@ -123,15 +123,16 @@ impl Diagram {
         let mut text = String::new();
         self.paint(SVGBackend::with_string(&mut text, self.size))?;
         svg_out.write(text.as_bytes())?;
+        png_out.write(&self.png()?)?;
+        Ok(Written { svg, png })
+    }
+
+    /// The picture as PNG bytes, stamped with what it draws ([`stamp`]).
+    pub fn png(&self) -> anyhow::Result<Vec<u8>> {
+        register_font();
         let mut rgb = vec![0; 3 * self.size.0 as usize * self.size.1 as usize];
         self.paint(BitMapBackend::with_buffer(&mut rgb, self.size))?;
-        let png_bytes = stamp::png_with_text(&rgb, self.size, &self.data())?;
-        png_out.write(&png_bytes)?;
-        Ok(Written {
-            svg,
-            png,
-            png_bytes,
-        })
+        stamp::png_with_text(&rgb, self.size, &self.data())
     }
 
     /// What it draws, without wall times: a line per point (method or series, settings,
@@ -204,27 +205,40 @@ impl Diagram {
     where
         DB::ErrorType: 'static,
     {
-        match &self.content {
+        match (&self.content, self.plot()) {
+            (_, Some(plot)) => draw_plot(root, &plot),
+            (
+                Content::Stability {
+                    scene,
+                    limits,
+                    omega,
+                },
+                None,
+            ) => stability_on(root, scene, limits, *omega),
+            (_, None) => Ok(()),
+        }
+    }
+
+    /// What it draws as a log-log plot (every kind but stability, whose rows are methods): the
+    /// data the picture and the study's recording are both drawn from.
+    pub fn plot(&self) -> Option<Plot> {
+        Some(match &self.content {
             Content::WorkPrecision {
                 scene,
                 rows,
                 floor,
                 note,
-            } => work_precision_on(root, scene, rows, *floor, note),
+            } => work_precision_plot(scene, rows, *floor, note),
             Content::Convergence {
                 scene,
                 rows,
                 floor,
                 velocity_dependent,
-            } => convergence_on(root, scene, rows, *floor, *velocity_dependent),
-            Content::Stability {
-                scene,
-                limits,
-                omega,
-            } => stability_on(root, scene, limits, *omega),
-            Content::HairTrade { rows, note } => hair_trade_on(root, rows, note),
-            Content::Drift { scene, runs, note } => drift::drift_on(root, scene, runs, note),
-        }
+            } => convergence_plot(scene, rows, *floor, *velocity_dependent),
+            Content::Stability { .. } => return None,
+            Content::HairTrade { rows, note } => hair_trade_plot(rows, note),
+            Content::Drift { scene, runs, note } => drift::drift_plot(scene, runs, note),
+        })
     }
 }
 
@@ -236,13 +250,18 @@ fn err(e: Box<dyn std::error::Error>) -> anyhow::Error {
 
 /// What names a series in a diagram: its legend text, colour and marker shape.
 #[derive(Clone, Debug)]
-struct Key {
-    name: String,
-    color: RGBColor,
+pub struct Key {
+    pub name: String,
+    pub color: RGBColor,
     shape: usize,
 }
 
 impl Key {
+    /// Its colour as RGB bytes.
+    pub fn rgb(&self) -> [u8; 3] {
+        [self.color.0, self.color.1, self.color.2]
+    }
+
     /// A method's series: its name and colour (the recordings' own), and a shape by its place
     /// in the registry, so methods whose curves coincide still show both.
     fn of(m: Method) -> Key {

@@ -1,6 +1,7 @@
-//! One log-log panel with its series, and the legend in its own column.
+//! A log-log plot as data (its panels, legend and notes: what both the pictures and the
+//! recordings draw), and one panel and the legend drawn with `plotters`.
 
-use super::{FAINT, FONT, GRID, INK, Key, PANEL, Res, Ticks, label_of, marker};
+use super::{BACKGROUND, FAINT, FONT, GRID, INK, Key, PANEL, Res, Ticks, label_of, marker};
 use std::ops::Range;
 
 use plotters::coord::Shift;
@@ -9,26 +10,57 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use crate::report::table::wrap;
 
-/// One log-log panel: decades on both axes, the given series (x, y in linear units; points
-/// outside (0, ∞) dropped), plus extra dashed lines with labels.
-pub(super) struct Panel<'a> {
-    pub(super) title: &'a str,
-    pub(super) x_desc: &'a str,
-    pub(super) y_desc: &'a str,
-    pub(super) x: Range<f64>,
-    pub(super) y: Range<f64>,
-    pub(super) series: Vec<(Key, Vec<(f64, f64)>)>,
-    /// Dashed grey guides: points (linear units) and a label at the last point.
-    pub(super) guides: Vec<(Vec<(f64, f64)>, String)>,
+/// A log-log plot: its panels side by side, the legend's keys and the notes under them, in a
+/// column `legend_px` wide at the right.
+pub struct Plot {
+    pub panels: Vec<Panel>,
+    pub keys: Vec<Key>,
+    pub notes: Vec<String>,
+    pub legend_px: u32,
 }
 
-pub(super) fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel) -> Res
+/// One log-log panel: decades on both axes (log10 ranges), the given series (x, y in linear
+/// units; points outside (0, ∞) dropped), plus extra dashed lines with labels.
+pub struct Panel {
+    pub title: String,
+    pub x_desc: &'static str,
+    pub y_desc: &'static str,
+    pub x: Range<f64>,
+    pub y: Range<f64>,
+    pub series: Vec<Series>,
+    /// Dashed grey guides: points (linear units) and a label at the last point.
+    pub guides: Vec<(Vec<(f64, f64)>, String)>,
+}
+
+/// One series of a panel: its key, its points and what each point is (shown on hover in the
+/// viewer; empty where a point needs no more than its place).
+pub struct Series {
+    pub key: Key,
+    pub points: Vec<(f64, f64)>,
+    pub about: Vec<String>,
+}
+
+/// Draws `plot` whole: the panels side by side, the legend in its column.
+pub(super) fn draw_plot<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, plot: &Plot) -> Res
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&BACKGROUND)?;
+    let (body, legend) = root.split_horizontally(root.dim_in_pixel().0 - plot.legend_px);
+    let areas = body.split_evenly((1, plot.panels.len()));
+    for (area, panel) in areas.iter().zip(&plot.panels) {
+        draw_panel(&area.margin(6, 6, 6, 6), panel)?;
+    }
+    draw_legend(&legend, &plot.keys, &plot.notes)
+}
+
+fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel) -> Res
 where
     DB::ErrorType: 'static,
 {
     area.fill(&PANEL)?;
     let mut chart = ChartBuilder::on(area)
-        .caption(p.title, (FONT, 24).into_font().color(&INK))
+        .caption(&p.title, (FONT, 24).into_font().color(&INK))
         .margin(14)
         .x_label_area_size(56)
         .y_label_area_size(78)
@@ -73,8 +105,8 @@ where
                 .pos(Pos::new(h, VPos::Bottom)),
         )))?;
     }
-    for (key, pts) in &p.series {
-        let l: Vec<(f64, f64)> = pts.iter().copied().filter_map(log).collect();
+    for Series { key, points, .. } in &p.series {
+        let l: Vec<(f64, f64)> = points.iter().copied().filter_map(log).collect();
         chart.draw_series(LineSeries::new(l.clone(), key.color.stroke_width(2)))?;
         chart.draw_series(l.iter().map(|&q| EmptyElement::at(q) + marker(key, 4.5)))?;
     }

@@ -16,7 +16,7 @@
 use rerun::blueprint::components::{BackgroundKind, Corner2D};
 use rerun::blueprint::{Blueprint, BlueprintActivation, ContainerLike};
 use rerun::external::re_sdk_types::blueprint::archetypes::{
-    Background, EyeControls3D, LineGrid3D, PlotLegend, ScalarAxis, TimeAxis,
+    Background, EyeControls3D, LineGrid3D, PlotLegend, ScalarAxis, TimeAxis, VisualBounds2D,
 };
 use rerun::external::re_sdk_types::datatypes::{TimeInt, TimeRange, TimeRangeBoundary};
 use rerun::log::LogMsg;
@@ -189,6 +189,20 @@ impl ViewProperties {
             .with_look_target(target)
             .with_eye_up([0.0, 0.0, 1.0]);
         self.add(view, "EyeControls3D", &eye)
+    }
+
+    /// A 2D view opening on `min..max` (x right, y down) of its scene.
+    pub fn bounds_2d(
+        &mut self,
+        view: impl Into<ContainerLike>,
+        min: [f32; 2],
+        max: [f32; 2],
+    ) -> ContainerLike {
+        let range = rerun::datatypes::Range2D {
+            x_range: [f64::from(min[0]), f64::from(max[0])].into(),
+            y_range: [f64::from(min[1]), f64::from(max[1])].into(),
+        };
+        self.add(view, "VisualBounds2D", &VisualBounds2D::new(range))
     }
 
     /// A 3D view on a plain dark background without the grid: the default gradient tints the

@@ -5,6 +5,7 @@
 
 pub mod diff;
 pub mod hair;
+pub mod loglog;
 pub mod pendulum;
 pub mod rope;
 pub mod scene;

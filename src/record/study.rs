@@ -1,29 +1,34 @@
-//! A study as a recording: its diagrams (log-log PNGs drawn by `crate::diagram`, the scenes'
-//! colours), each in a tab of its own, and its tables as a rendered markdown document in the last.
+//! A study as a recording: its diagrams drawn from their data (`loglog`: each run a point that
+//! says on hover which run it is), a stability diagram as its picture, each in a tab of its own,
+//! and its tables as a rendered markdown document in the last.
 
 use rerun::blueprint::{
     Blueprint, ContainerLike, Spatial2DView, Tabs, TextDocumentView, TimePanel,
 };
 
-use super::{Destinations, Recording};
+use super::loglog::{CANVAS, log_plot};
+use super::{Destinations, Recording, ViewProperties};
+use crate::diagram::Diagram;
 
-/// Writes the study recording: one 2D view per diagram (title, PNG bytes), the tables after.
+/// Writes the study recording: one 2D view per diagram, the tables after.
 pub fn record_study(
     d: &Destinations,
     scene: &str,
-    diagrams: &[(String, Vec<u8>)],
+    diagrams: &[Diagram],
     tables: &str,
     (config, methods): (&str, &[&str]),
 ) -> anyhow::Result<Option<u64>> {
-    let mut views: Vec<ContainerLike> = diagrams
-        .iter()
-        .enumerate()
-        .map(|(i, (title, _))| {
-            Spatial2DView::new(title.as_str())
-                .with_origin(format!("/study/diagrams/{i}"))
-                .into()
-        })
-        .collect();
+    let mut properties = ViewProperties::default();
+    let mut views: Vec<ContainerLike> = Vec::new();
+    for (i, diagram) in diagrams.iter().enumerate() {
+        let view =
+            Spatial2DView::new(diagram.title.as_str()).with_origin(format!("/study/diagrams/{i}"));
+        views.push(match diagram.plot() {
+            // Opened on the canvas the plot is laid out on.
+            Some(_) => properties.bounds_2d(view, [0.0, 0.0], CANVAS),
+            None => view.into(),
+        });
+    }
     if views.is_empty() {
         views.push(
             TextDocumentView::new("no diagram")
@@ -33,7 +38,7 @@ pub fn record_study(
     }
     // One tab per diagram, the first shown, and the tables in the last; the side and time
     // panels collapsed, since everything is static. A diagram gets the whole window, so its
-    // labels are drawn near their own size: beside the tables it was shrunk to about half.
+    // labels have room.
     views.push(
         TextDocumentView::new("tables")
             .with_origin("/study/tables")
@@ -41,15 +46,20 @@ pub fn record_study(
     );
     let blueprint =
         super::views::panels_collapsed(Blueprint::new(Tabs::new(views)), TimePanel::new());
-    let recording = Recording::create(d, "physlab-study", &format!("study {scene}"), blueprint)?;
+    let layout = properties.layout(blueprint);
+    let recording = Recording::create(d, "physlab-study", &format!("study {scene}"), layout)?;
     let rec = recording.stream();
     super::send_provenance(rec, &format!("study {scene}"), config, methods)?;
-    for (i, (_, png)) in diagrams.iter().enumerate() {
-        rec.log_static(
-            format!("study/diagrams/{i}"),
-            &rerun::EncodedImage::from_file_contents(png.clone())
-                .with_media_type(rerun::components::MediaType::PNG),
-        )?;
+    for (i, diagram) in diagrams.iter().enumerate() {
+        let path = format!("study/diagrams/{i}");
+        match diagram.plot() {
+            Some(plot) => log_plot(rec, &path, &plot)?,
+            None => rec.log_static(
+                path,
+                &rerun::EncodedImage::from_file_contents(diagram.png()?)
+                    .with_media_type(rerun::components::MediaType::PNG),
+            )?,
+        }
     }
     rec.log_static(
         "study/tables",

@@ -175,6 +175,25 @@ fn step_text(r: &Row) -> String {
     }
 }
 
+/// What one run is, as a point of a diagram shows it on hover in the viewer: the method and
+/// its settings, then what it measured (the one place that text is made, for every study
+/// diagram of sweep rows).
+pub fn run_about(r: &Row) -> String {
+    let settings = match r.rtol {
+        Some(rtol) => format!("rtol {}, sampled every {} s", sci(rtol), sci(r.dt)),
+        None => format!("dt {} s", sci(r.dt)),
+    };
+    format!(
+        "{} ({settings})\nerror {}\nwall {} s\n{} force evaluations, {} steps ({} rejected)",
+        r.method.name(),
+        r.error.map_or("diverged".into(), sci),
+        sci(r.wall_seconds),
+        r.evals,
+        r.accepted,
+        r.rejected
+    )
+}
+
 /// Every measured run.
 pub fn rows_table(rows: &[Row]) -> String {
     let mut t = Table::new([

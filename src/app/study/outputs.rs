@@ -26,12 +26,10 @@ pub(super) fn write_study(
             eprintln!("wrote {}", csv_out.given.display());
         }
     }
-    let mut images: Vec<(String, Vec<u8>)> = Vec::new();
     if let Some((dir, prefix)) = &outputs.plots {
         for d in diagrams {
             let w = d.write(dir, prefix)?;
             eprintln!("wrote {} and {}", w.svg.display(), w.png.display());
-            images.push((d.title.clone(), w.png_bytes));
         }
     }
     if let Some(path) = &a.output {
@@ -39,7 +37,7 @@ pub(super) fn write_study(
         let command = crate::record::command_line();
         let config = format!("# the scene of `{command}`\n{scene_file}");
         let bytes =
-            crate::record::study::record_study(&d, scene, &images, out, (&config, methods))?;
+            crate::record::study::record_study(&d, scene, diagrams, out, (&config, methods))?;
         report_recording(path, bytes, to_stdout);
     }
     Ok(())
