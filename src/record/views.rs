@@ -280,8 +280,9 @@ const ALL_PLOTS: [&str; 7] = [
 ];
 
 /// `physlab all`'s rows: 3D views, plots, the event log [shares of the height]. The log holds
-/// a header and four rows (at 18 px each: 54 px tall, it showed its header alone).
-const ALL_ROWS: [f32; 3] = [5.0, 3.6, 1.4];
+/// its tab, its header and five rows of 18 px (54 px tall, it showed its header alone; 132 px
+/// tall, it scrolled its first row away to keep the time cursor's row in view).
+const ALL_ROWS: [f32; 3] = [5.0, 3.5, 1.7];
 
 /// The most rows of 3D views a scene stacks in `physlab all`.
 const ALL_3D_ROWS: usize = 3;
