@@ -411,9 +411,14 @@ mod layout {
                     return entity.starts_with(origin);
                 }
                 log.contents.iter().any(|q| {
-                    q.strip_prefix("+ ")
-                        .map(|q| q.replace("$origin", origin))
-                        .is_some_and(|q| q == entity)
+                    if q.starts_with('-') {
+                        return false;
+                    }
+                    let q = q.trim_start_matches("+ ").replace("$origin", origin);
+                    match q.strip_suffix("/**") {
+                        Some(base) => entity == base || entity.starts_with(&format!("{base}/")),
+                        None => q == entity,
+                    }
                 })
             };
             let n: usize = counts.iter().filter(|(e, _)| shown(e)).map(|c| c.1).sum();
