@@ -627,6 +627,71 @@ mod layout {
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
+    /// `diff -o` on two pendulum runs: B − A of the values where a log10 is plotted, no plot of
+    /// a constant (the fixed steps' sizes), each lane's rod and pivot from both runs, both
+    /// files named, every plot with its legend.
+    #[test]
+    fn a_diff_of_pendulum_runs_draws_rods_and_differences_of_values() {
+        let dir = scratch_dir("viewer-diff");
+        let args = [
+            "pendulum",
+            "--methods",
+            "explicit-euler,verlet",
+            "--duration",
+            "4",
+        ];
+        let a = record(&dir, "first.rrd", &args);
+        let b = record(
+            &dir,
+            "second.rrd",
+            &[&args[..], &["--theta0", "61"]].concat(),
+        );
+        let d = dir.join("d.rrd");
+        let (code, _, stderr) = physlab(&[
+            "diff",
+            a.to_str().unwrap(),
+            b.to_str().unwrap(),
+            "-o",
+            d.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 1, "{stderr}");
+        let blueprint = read_blueprint(&d);
+        check_legends(&d, &blueprint);
+        assert!(
+            blueprint
+                .views_of("TimeSeries")
+                .all(|v| !v.origin.ends_with("/step_size")),
+            "a fixed step's B − A is a constant"
+        );
+        let overlay = blueprint.views_of("3D").next().expect("an overlay");
+        assert!(
+            overlay.title.contains("first.rrd") && overlay.title.contains("second.rrd"),
+            "{}",
+            overlay.title
+        );
+        for run in ["A", "B"] {
+            for part in ["rod", "pivot"] {
+                let rows = drawn_rows(&d, &format!("/diff/3d/{run}/pendulum/verlet/{part}"));
+                assert!(!rows.is_empty(), "{run}'s {part}");
+            }
+        }
+        // 10^b − 10^a from the two files, at every time both hold, against the diff's value.
+        let entity = "/pendulum/plots/log10_theta_error/verlet";
+        let (da, db, dd) = (decode(&a), decode(&b), decode(&d));
+        let at = |rows: &Vec<(i64, f64)>| rows.iter().copied().collect::<BTreeMap<i64, f64>>();
+        let (ra, rb) = (at(&da.scalars[entity]), at(&db.scalars[entity]));
+        let diff = &dd.scalars[&format!("/diff{entity}")];
+        assert!(diff.len() > 100, "{}", diff.len());
+        for (t, v) in diff {
+            let expected = 10f64.powf(rb[t]) - 10f64.powf(ra[t]);
+            assert!(
+                (v - expected).abs() <= 1e-12 * expected.abs().max(1e-300),
+                "t = {t}: {v} vs {expected}"
+            );
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
     /// A study's diagram has the window to itself (a tab each, the tables in another): the
     /// viewer draws the picture at 90 % of its own size or more, so its tick labels keep their
     /// size. Beside the tables it was drawn at about two thirds.
