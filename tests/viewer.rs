@@ -37,6 +37,17 @@ mod layout {
     const VALUE_AXIS_PX: f32 = 30.0;
     /// Rerun's default vertical field of view for a 3D eye.
     const FOV_Y_DEGREES: f32 = 55.0;
+    /// A view's title bar on a screenshot: "semi-implicit-euler" takes 106 px of text (5.55 px a
+    /// character) after the view's icon, and the buttons at its right take 80 px; a 178 px view
+    /// showed "explicit" of "explicit-euler". A 3D label: the same font, 8 px of margin a side.
+    const TITLE_CHAR_PX: f32 = 106.0 / 19.0;
+    const TITLE_CHROME_PX: f32 = 26.0 + 80.0;
+    const LABEL_MARGIN_PX: f32 = 8.0;
+    /// A text log on a screenshot: its header row 30 px, each row 18 px.
+    const LOG_HEADER_PX: f32 = 30.0;
+    const LOG_ROW_PX: f32 = 18.0;
+    /// A relative error or length at or below this is round-off (f64's epsilon is 2.2e-16).
+    const ROUNDOFF: f64 = 1e-12;
 
     #[derive(Debug, Default)]
     struct Container {
@@ -56,6 +67,8 @@ mod layout {
         properties: BTreeMap<String, Chunk>,
         /// Width and height of its drawing area [px], once laid out.
         size: [f32; 2],
+        /// Whether it is in view on opening (not behind another tab).
+        visible: bool,
     }
 
     /// A recording's blueprint: its containers and views by entity path (`container/<id>`,
@@ -156,17 +169,19 @@ mod layout {
             .cloned()
             .collect();
         assert_eq!(roots.len(), 1, "one root container: {roots:?}");
-        blueprint.place(&roots[0], WINDOW);
+        blueprint.place(&roots[0], WINDOW, true);
         blueprint
     }
 
     impl Blueprint {
         /// Lays `node` out in a rectangle of `size` [px] as the viewer does: shares along a row or
         /// column (equal when none are given), a grid's cells equal, a tab's views the whole
-        /// rectangle; every view's drawing area is its rectangle less its title bar.
-        fn place(&mut self, node: &str, size: [f32; 2]) {
+        /// rectangle (the first in view); every view's drawing area is its rectangle less its
+        /// title bar.
+        fn place(&mut self, node: &str, size: [f32; 2], visible: bool) {
             if let Some(view) = self.views.get_mut(node) {
                 view.size = [size[0], size[1] - TITLE_PX];
+                view.visible = visible;
                 return;
             }
             let c = &self.containers[node];
@@ -200,8 +215,9 @@ mod layout {
                 }
                 k => panic!("container kind {k}"),
             };
-            for (child, size) in c.children.clone().iter().zip(sizes) {
-                self.place(child, size);
+            let tabs = c.kind == 1;
+            for (i, (child, size)) in c.children.clone().iter().zip(sizes).enumerate() {
+                self.place(child, size, visible && (!tabs || i == 0));
             }
         }
 
@@ -218,9 +234,9 @@ mod layout {
         glam::Vec3::from_array(v[0])
     }
 
-    /// Every plot with two or more series names them in a legend in a band of the time axis past
-    /// the last value, wide enough for its longest name, and the plot is tall enough for every
-    /// line of it; a plot with one series needs none; no plot is laid out without a series.
+    /// Every plot names its series in a legend in a band of the time axis past the last value,
+    /// wide enough for its longest name, and the plot is tall enough for every line of it; no
+    /// plot is laid out without a series; no plot in view draws only round-off (a flat line).
     fn check_legends(path: &Path, blueprint: &Blueprint) {
         let data = decode(path);
         let corner = PlotLegend::descriptor_corner().component;
@@ -238,6 +254,20 @@ mod layout {
                     (name, rows.iter().map(|r| r.0).max().unwrap())
                 })
                 .collect();
+            // The largest value any series reaches: its magnitude, or its log10 in a log plot.
+            let log = plot.origin.contains("/log10_");
+            let largest = data
+                .scalars
+                .iter()
+                .filter(|(e, _)| e.starts_with(&format!("{}/", plot.origin)))
+                .flat_map(|(_, rows)| rows.iter().map(|r| if log { r.1 } else { r.1.abs() }))
+                .fold(f64::NEG_INFINITY, f64::max);
+            let roundoff = largest <= if log { ROUNDOFF.log10() } else { ROUNDOFF };
+            assert!(
+                !(plot.visible && roundoff),
+                "'{}' draws round-off alone in view (largest {largest:e})",
+                plot.title
+            );
             assert!(
                 !series.is_empty(),
                 "'{}' is laid out without data",
@@ -245,10 +275,7 @@ mod layout {
             );
             let legend = &plot.properties["PlotLegend"];
             let shown = legend.iter_slices::<bool>(visible).next().unwrap().value(0);
-            if series.len() < 2 {
-                assert!(!shown, "'{}': a legend for one series", plot.title);
-                continue;
-            }
+            // A single series too: the title names the quantity, the legend the lane.
             assert!(
                 shown,
                 "'{}' names none of its {} series",
@@ -307,6 +334,149 @@ mod layout {
             d.dot(right) / depth / (tan * aspect),
             d.dot(up) / depth / tan,
         )
+    }
+
+    /// Every label logged in 3D or 2D (a divergence's, a legend's): entity, its texts.
+    fn labels(path: &Path) -> Vec<(String, Vec<String>)> {
+        let file = std::io::BufReader::new(std::fs::File::open(path).unwrap());
+        let mut out = Vec::new();
+        for msg in DecoderApp::decode_lazy(file) {
+            let LogMsg::ArrowMsg(store_id, arrow_msg) = msg.unwrap() else {
+                continue;
+            };
+            let chunk = Chunk::from_arrow_msg(&arrow_msg).unwrap();
+            let texts: Vec<String> = [
+                rerun::Points3D::descriptor_labels(),
+                rerun::Ellipsoids3D::descriptor_labels(),
+                rerun::Points2D::descriptor_labels(),
+            ]
+            .into_iter()
+            .flat_map(|d| strings(&chunk, d))
+            .collect();
+            if store_id.is_recording() && !texts.is_empty() {
+                out.push((chunk.entity_path().to_string(), texts));
+            }
+        }
+        out
+    }
+
+    /// Events logged per entity.
+    fn event_counts(path: &Path) -> BTreeMap<String, usize> {
+        let file = std::io::BufReader::new(std::fs::File::open(path).unwrap());
+        let mut counts = BTreeMap::new();
+        for msg in DecoderApp::decode_lazy(file) {
+            let LogMsg::ArrowMsg(store_id, arrow_msg) = msg.unwrap() else {
+                continue;
+            };
+            let chunk = Chunk::from_arrow_msg(&arrow_msg).unwrap();
+            let n = strings(&chunk, rerun::TextLog::descriptor_text()).len();
+            if store_id.is_recording() && n > 0 {
+                *counts.entry(chunk.entity_path().to_string()).or_default() += n;
+            }
+        }
+        counts
+    }
+
+    /// Every 3D view is wide enough for its title whole, and no two of a scene are titled the
+    /// same.
+    fn check_titles(blueprint: &Blueprint) {
+        let mut seen = std::collections::BTreeSet::new();
+        for view in blueprint.views_of("3D") {
+            let needed = TITLE_CHROME_PX + TITLE_CHAR_PX * view.title.chars().count() as f32;
+            assert!(
+                view.size[0] >= needed,
+                "'{}' is {:.0} px wide, its title needs {needed:.0}",
+                view.title,
+                view.size[0]
+            );
+            assert!(
+                seen.insert((view.origin.clone(), view.title.clone())),
+                "two views of {} titled '{}'",
+                view.origin,
+                view.title
+            );
+        }
+    }
+
+    /// Every event log in view is tall enough for its header and a row per event of its
+    /// entities, and one more (it keeps the time cursor's row in view by scrolling).
+    fn check_event_logs(path: &Path, blueprint: &Blueprint) {
+        let counts = event_counts(path);
+        let logs: Vec<&View> = blueprint.views_of("TextLog").collect();
+        assert!(!logs.is_empty());
+        for log in logs.iter().filter(|v| v.visible) {
+            let origin = log.origin.trim_end_matches('/');
+            let shown = |entity: &str| {
+                if log.contents.is_empty() {
+                    return entity.starts_with(origin);
+                }
+                log.contents.iter().any(|q| {
+                    if q.starts_with('-') {
+                        return false;
+                    }
+                    let q = q.trim_start_matches("+ ").replace("$origin", origin);
+                    match q.strip_suffix("/**") {
+                        Some(base) => entity == base || entity.starts_with(&format!("{base}/")),
+                        None => q == entity,
+                    }
+                })
+            };
+            let n: usize = counts.iter().filter(|(e, _)| shown(e)).map(|c| c.1).sum();
+            let needed = LOG_HEADER_PX + LOG_ROW_PX * (n + 1) as f32;
+            assert!(
+                log.size[1] >= needed,
+                "'{}' is {:.0} px tall: its {n} events need {needed:.0}",
+                log.title,
+                log.size[1]
+            );
+        }
+    }
+
+    /// The phase portrait names every lane in a legend and draws ω upwards: each lane's curve
+    /// mirrored in y below the view's origin, the title saying nothing of a downward axis.
+    fn check_phase(path: &Path, blueprint: &Blueprint) {
+        let view = blueprint
+            .views_of("2D")
+            .find(|v| v.origin == "/pendulum/phase")
+            .expect("a phase portrait");
+        assert!(!view.title.contains("down"), "{}", view.title);
+        let lanes: Vec<String> = decode(path)
+            .entities
+            .iter()
+            .filter_map(|e| e.strip_prefix("/pendulum/phase/")?.strip_suffix("/path"))
+            .map(str::to_string)
+            .collect();
+        assert!(lanes.len() >= 2, "{lanes:?}");
+        let legend: Vec<String> = labels(path)
+            .into_iter()
+            .filter(|(e, _)| e == "/pendulum/phase/legend")
+            .flat_map(|(_, t)| t)
+            .collect();
+        let mut named = legend.clone();
+        named.sort();
+        let mut expected = lanes.clone();
+        expected.sort();
+        assert_eq!(named, expected, "the phase portrait's legend");
+        let file = std::io::BufReader::new(std::fs::File::open(path).unwrap());
+        let scale = rerun::Transform3D::descriptor_scale().component;
+        let mut mirrored = std::collections::BTreeSet::new();
+        for msg in DecoderApp::decode_lazy(file) {
+            let LogMsg::ArrowMsg(store_id, arrow_msg) = msg.unwrap() else {
+                continue;
+            };
+            let chunk = Chunk::from_arrow_msg(&arrow_msg).unwrap();
+            for s in chunk.iter_slices::<[f32; 3]>(scale) {
+                if store_id.is_recording() && s.iter().any(|v| v[1] < 0.0) {
+                    mirrored.insert(chunk.entity_path().to_string());
+                }
+            }
+        }
+        for lane in lanes.iter().map(String::as_str).chain(["legend"]) {
+            assert!(
+                mirrored.contains(&format!("/pendulum/phase/{lane}")),
+                "{lane} is drawn with ω pointing down: {mirrored:?}"
+            );
+        }
     }
 
     /// The text of every event logged (warnings of divergence among them).
@@ -390,6 +560,29 @@ mod layout {
                         span = span.max(size.y).max(size.x * aspect);
                     }
                 }
+                // Each label on the lane (a divergence's) inside the view, every line whole.
+                for (entity, texts) in labels(path) {
+                    if !entity.starts_with(&format!("{}/{lane}/", view.origin)) {
+                        continue;
+                    }
+                    for text in texts {
+                        let chars = text.lines().map(|l| l.chars().count()).max().unwrap_or(0);
+                        let half =
+                            (TITLE_CHAR_PX * chars as f32 + 2.0 * LABEL_MARGIN_PX) / view.size[0];
+                        for (_, anchors) in drawn_rows(path, &entity) {
+                            for a in anchors {
+                                let q =
+                                    project(glam::Vec3::from_array(a), position, target, aspect);
+                                assert!(
+                                    q.x.abs() + half <= 1.0 && q.y.abs() <= 1.0,
+                                    "'{}': the label '{text}' reaches out of its {:.0} px view",
+                                    view.title,
+                                    view.size[0]
+                                );
+                            }
+                        }
+                    }
+                }
                 // A lane that diverged may fly off before it is stopped.
                 assert!(
                     diverged.contains(&format!("{lane} diverged")) || inside == all,
@@ -426,9 +619,76 @@ mod layout {
         let out = record(&dir, "all.rrd", &["all"]);
         let blueprint = read_blueprint(&out);
         check_legends(&out, &blueprint);
+        check_titles(&blueprint);
+        check_event_logs(&out, &blueprint);
         let titles = check_framing(&out, &blueprint, 1.0 / 3.0);
         // One view per lane: the reference and seven methods, seven ropes, two heads.
         assert_eq!(titles.len(), 8 + 7 + 2, "{titles:?}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// `diff -o` on two pendulum runs: B − A of the values where a log10 is plotted, no plot of
+    /// a constant (the fixed steps' sizes), each lane's rod and pivot from both runs, both
+    /// files named, every plot with its legend.
+    #[test]
+    fn a_diff_of_pendulum_runs_draws_rods_and_differences_of_values() {
+        let dir = scratch_dir("viewer-diff");
+        let args = [
+            "pendulum",
+            "--methods",
+            "explicit-euler,verlet",
+            "--duration",
+            "4",
+        ];
+        let a = record(&dir, "first.rrd", &args);
+        let b = record(
+            &dir,
+            "second.rrd",
+            &[&args[..], &["--theta0", "61"]].concat(),
+        );
+        let d = dir.join("d.rrd");
+        let (code, _, stderr) = physlab(&[
+            "diff",
+            a.to_str().unwrap(),
+            b.to_str().unwrap(),
+            "-o",
+            d.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 1, "{stderr}");
+        let blueprint = read_blueprint(&d);
+        check_legends(&d, &blueprint);
+        assert!(
+            blueprint
+                .views_of("TimeSeries")
+                .all(|v| !v.origin.ends_with("/step_size")),
+            "a fixed step's B − A is a constant"
+        );
+        let overlay = blueprint.views_of("3D").next().expect("an overlay");
+        assert!(
+            overlay.title.contains("first.rrd") && overlay.title.contains("second.rrd"),
+            "{}",
+            overlay.title
+        );
+        for run in ["A", "B"] {
+            for part in ["rod", "pivot"] {
+                let rows = drawn_rows(&d, &format!("/diff/3d/{run}/pendulum/verlet/{part}"));
+                assert!(!rows.is_empty(), "{run}'s {part}");
+            }
+        }
+        // 10^b − 10^a from the two files, at every time both hold, against the diff's value.
+        let entity = "/pendulum/plots/log10_theta_error/verlet";
+        let (da, db, dd) = (decode(&a), decode(&b), decode(&d));
+        let at = |rows: &Vec<(i64, f64)>| rows.iter().copied().collect::<BTreeMap<i64, f64>>();
+        let (ra, rb) = (at(&da.scalars[entity]), at(&db.scalars[entity]));
+        let diff = &dd.scalars[&format!("/diff{entity}")];
+        assert!(diff.len() > 100, "{}", diff.len());
+        for (t, v) in diff {
+            let expected = 10f64.powf(rb[t]) - 10f64.powf(ra[t]);
+            assert!(
+                (v - expected).abs() <= 1e-12 * expected.abs().max(1e-300),
+                "t = {t}: {v} vs {expected}"
+            );
+        }
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
@@ -749,6 +1009,9 @@ mod layout {
         );
         let blueprint = read_blueprint(&pendulum);
         check_legends(&pendulum, &blueprint);
+        check_titles(&blueprint);
+        check_event_logs(&pendulum, &blueprint);
+        check_phase(&pendulum, &blueprint);
         check_framing(&pendulum, &blueprint, 1.0 / 3.0);
         let step = blueprint
             .views_of("TimeSeries")
@@ -760,7 +1023,39 @@ mod layout {
         let default = record(&dir, "default.rrd", &["pendulum", "--duration", "4"]);
         let blueprint = read_blueprint(&default);
         check_legends(&default, &blueprint);
+        check_titles(&blueprint);
+        check_phase(&default, &blueprint);
         check_framing(&default, &blueprint, 1.0 / 3.0);
+
+        // One method: its error plot holds one series, named in a legend all the same; a hair
+        // run whose stretch is not round-off (springs) keeps that plot in view.
+        let one = record(
+            &dir,
+            "one.rrd",
+            &["pendulum", "--methods", "rk4", "--duration", "2"],
+        );
+        let blueprint = read_blueprint(&one);
+        check_legends(&one, &blueprint);
+        let springs = record(
+            &dir,
+            "springs.rrd",
+            &[
+                "hair",
+                "--methods",
+                "ftl,semi-implicit-euler",
+                "--duration",
+                "0.5",
+            ],
+        );
+        let blueprint = read_blueprint(&springs);
+        check_legends(&springs, &blueprint);
+        check_titles(&blueprint);
+        assert!(
+            blueprint
+                .views_of("TimeSeries")
+                .any(|v| v.visible && v.origin.ends_with("/log10_max_stretch")),
+            "springs stretch: the plot in view"
+        );
         assert!(
             blueprint
                 .views_of("TimeSeries")

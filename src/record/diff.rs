@@ -1,7 +1,9 @@
 //! `physlab diff --output D.rrd`: a recording that shows where two runs part at a glance. Per
-//! plotted quantity one plot of B − A with a line per method, both runs' 3D points overlaid (A
-//! as grey rings, B as orange points), the largest distance between their points over time, and the printed
-//! report (the configuration change and the first parting) as text.
+//! plotted quantity one plot of B − A of the values (of 10^B − 10^A where a log10 is plotted)
+//! with a line per method, a fixed step's size (a constant) left out; both runs' 3D points
+//! overlaid (A as grey rings, B as orange points, a pendulum's rods and pivots in the same
+//! colours), the largest distance between their points over time, and the printed report (the
+//! configuration change and the first parting) as text.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
@@ -51,6 +53,7 @@ impl DiffPlan<'_> {
             let parts: Vec<&str> = entity.trim_start_matches('/').split('/').collect();
             if let [scene, "plots", quantity, lane] = parts[..]
                 && self.lanes.contains(lane)
+                && !constant(quantity, lane)
             {
                 out.entry((scene.to_string(), quantity.to_string()))
                     .or_default()
@@ -70,13 +73,22 @@ impl DiffPlan<'_> {
     }
 
     /// The report beside the 3D overlay, above the plots of B − A (a tab per scene, and one of the
-    /// 3D distances).
-    fn layout(&self) -> super::Layout {
+    /// 3D distances); `names` the files A and B.
+    fn layout(&self, names: [&str; 2]) -> super::Layout {
         let mut props = ViewProperties::default();
         let mut by_scene: BTreeMap<String, Vec<ContainerLike>> = BTreeMap::new();
         for ((scene, quantity), lanes) in &self.quantities() {
-            let view = TimeSeriesView::new(format!("{}: B − A", self.title(scene, quantity)))
-                .with_origin(format!("/diff/{scene}/plots/{quantity}"));
+            // A log10 plot's values, not their logarithms: its title's quantity without "log10".
+            let title = self.title(scene, quantity);
+            let title = match title.strip_prefix("log10 ") {
+                Some(q) => format!(
+                    "B − A: {} (values, not their log10)",
+                    q.split(':').next().unwrap_or(q)
+                ),
+                None => format!("B − A: {title}"),
+            };
+            let view =
+                TimeSeriesView::new(title).with_origin(format!("/diff/{scene}/plots/{quantity}"));
             // Each plot's legend in a band past the run's end, as in the scenes' own plots; the
             // plots are a third of the window wide.
             let lanes: Vec<&str> = lanes.iter().map(String::as_str).collect();
@@ -91,11 +103,14 @@ impl DiffPlan<'_> {
             .into_iter()
             .map(|(scene, views)| grid(views).with_name(scene).into())
             .collect();
-        plots.push(
-            TimeSeriesView::new("3D: largest distance between A's and B's points [m]")
-                .with_origin("/diff/distance")
-                .into(),
-        );
+        // Its legend names the 3D entities (those both hold outside the plots: at most these).
+        let drawn: Vec<&str> = (self.shared.iter())
+            .map(|e| e.trim_start_matches('/'))
+            .filter(|e| !e.contains("/plots/"))
+            .collect();
+        let distance = TimeSeriesView::new("3D: largest distance between A's and B's points [m]")
+            .with_origin("/diff/distance");
+        plots.push(props.legend_beside(distance, &drawn, self.end_time, 1600.0));
         let plots: ContainerLike = match plots.len() {
             1 => plots.remove(0),
             _ => Tabs::new(plots).into(),
@@ -108,17 +123,20 @@ impl DiffPlan<'_> {
         // The report and the scenes' overlays share the top third of the window.
         let aspect = (3.0 / (1.0 + self.framings.len().max(1) as f32)) * 1.6;
         for (scene, framing) in &self.framings {
-            let view = Spatial3DView::new(format!("{scene} 3D: A grey rings, B orange points"))
-                .with_origin("/diff/3d")
-                .with_contents([
-                    format!("+ $origin/A/{scene}/**"),
-                    format!("+ $origin/B/{scene}/**"),
-                ]);
+            let view = Spatial3DView::new(format!(
+                "{scene}: A = {} grey, B = {} orange",
+                names[0], names[1]
+            ))
+            .with_origin("/diff/3d")
+            .with_contents([
+                format!("+ $origin/A/{scene}/**"),
+                format!("+ $origin/B/{scene}/**"),
+            ]);
             top.push(props.eye(view, *framing, aspect));
         }
         if self.framings.is_empty() {
             top.push(
-                Spatial3DView::new("3D: A grey, B orange")
+                Spatial3DView::new(format!("A = {} grey, B = {} orange", names[0], names[1]))
                     .with_origin("/diff/3d")
                     .into(),
             );
@@ -149,6 +167,18 @@ pub struct DiffWriter {
     rings: BTreeMap<&'static str, Vec<[f32; 3]>>,
 }
 
+/// A fixed step's size is the same at every sample: its B − A, a constant, is left out (an
+/// adaptive method's steps vary).
+fn constant(quantity: &str, lane: &str) -> bool {
+    quantity == "step_size"
+        && !lane.parse::<crate::integrate::Method>().is_ok_and(|m| {
+            matches!(
+                m.info().evals_per_step,
+                crate::integrate::EvalsPerStep::Adaptive(_)
+            )
+        })
+}
+
 /// A closed ring of 24 segments around the origin, facing `toward_eye`, of radius `r`.
 fn ring(framing: &Framing) -> Vec<[f32; 3]> {
     let v = glam::Vec3::from_array;
@@ -168,7 +198,14 @@ impl DiffWriter {
     /// `a` and `b` are named in the recording's provenance, with the command line that wrote it.
     pub fn create(path: &Path, plan: &DiffPlan, a: &Path, b: &Path) -> anyhow::Result<Self> {
         let d = Destinations::output(path);
-        let recording = Recording::create(&d, "physlab-diff", "diff", plan.layout())?;
+        let name = |p: &Path| {
+            p.file_name().map_or_else(
+                || p.display().to_string(),
+                |n| n.to_string_lossy().into_owned(),
+            )
+        };
+        let layout = plan.layout([&name(a), &name(b)]);
+        let recording = Recording::create(&d, "physlab-diff", "diff", layout)?;
         super::provenance::send_diff_provenance(recording.stream(), a, b)?;
         Ok(DiffWriter {
             recording,
@@ -193,8 +230,18 @@ impl DiffWriter {
         let plotted = entity.split('/').nth(1) == Some("plots");
         let lane = entity.rsplit('/').next().unwrap_or_default();
         if n == 1 && plotted && self.lanes.contains(lane) {
+            let quantity = entity.split('/').nth(2).unwrap_or_default();
+            if constant(quantity, lane) {
+                return Ok(());
+            }
             let (x, y) = (a.nums().next(), b.nums().next());
-            let value = y.unwrap_or(0.0) - x.unwrap_or(0.0);
+            let (x, y) = (x.unwrap_or(0.0), y.unwrap_or(0.0));
+            // A log10 plot's B − A would be the log of a ratio: the values' difference instead.
+            let value = if quantity.starts_with("log10_") {
+                10f64.powf(y) - 10f64.powf(x)
+            } else {
+                y - x
+            };
             let series = format!("diff/{entity}");
             if self.styled.insert(series.clone()) {
                 // The legend names the method, in its colour (the paired B's: what changed).
@@ -213,6 +260,9 @@ impl DiffWriter {
                 )?;
             }
             return self.push(series, time, value);
+        }
+        if key.1.ends_with("strips") && entity.ends_with("/rod") && n == 6 {
+            return self.rods(entity, time, a, b);
         }
         if !key.1.ends_with("positions") || !n.is_multiple_of(3) {
             return Ok(());
@@ -293,6 +343,40 @@ impl DiffWriter {
                 .with_colors([B_COLOR])
                 .with_radii([rerun::Radius::new_ui_points(5.0)]),
         )?;
+        Ok(())
+    }
+
+    /// Both runs' pendulum rods at `time`, each from its pivot (a point) to the bob, A grey and
+    /// B orange (B's drawn thinner, so A's shows around it where they coincide).
+    fn rods(
+        &mut self,
+        entity: &str,
+        time: i64,
+        a: &dyn PairedRow,
+        b: &dyn PairedRow,
+    ) -> anyhow::Result<()> {
+        let rec = self.recording.stream();
+        rec.set_time(
+            "sim_time",
+            std::time::Duration::from_nanos(time.max(0) as u64),
+        );
+        for (run, row, color, width) in [("A", a, A_COLOR, 3.0), ("B", b, B_COLOR, 1.5)] {
+            let v: Vec<f32> = row.nums().map(|x| x as f32).collect();
+            let (pivot, bob) = ([v[0], v[1], v[2]], [v[3], v[4], v[5]]);
+            rec.log(
+                format!("diff/3d/{run}/{entity}"),
+                &rerun::LineStrips3D::new([[pivot, bob]])
+                    .with_colors([color])
+                    .with_radii([rerun::Radius::new_ui_points(width)]),
+            )?;
+            let pivot_entity = entity.trim_end_matches("rod").to_string() + "pivot";
+            rec.log(
+                format!("diff/3d/{run}/{pivot_entity}"),
+                &rerun::Points3D::new([pivot])
+                    .with_colors([color])
+                    .with_radii([rerun::Radius::new_ui_points(4.0)]),
+            )?;
+        }
         Ok(())
     }
 

@@ -133,8 +133,8 @@ impl ViewProperties {
     }
 
     /// A time series whose legend names `series` in a band of its own at the right, past the
-    /// run's end (`end_time` [s]) where no curve reaches, in a plot `width` px wide; a single
-    /// series needs no legend (the title names it), and an empty plot none either.
+    /// run's end (`end_time` [s]) where no curve reaches, in a plot `width` px wide (a single
+    /// series too: the title names the quantity, the legend the lane); an empty plot none.
     pub fn legend_beside(
         &mut self,
         view: impl Into<ContainerLike>,
@@ -142,7 +142,7 @@ impl ViewProperties {
         end_time: f64,
         width: f32,
     ) -> ContainerLike {
-        if series.len() < 2 {
+        if series.is_empty() {
             return self.add(view, "PlotLegend", &PlotLegend::new().with_visible(false));
         }
         let view = self.add(

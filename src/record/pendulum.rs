@@ -65,7 +65,7 @@ pub fn blueprint(
     let left = Vertical::new([
         slot_grid("pendulum", &staging.slots, [half, 0.6 * WINDOW[1]], props),
         Horizontal::new([
-            Spatial2DView::new("phase portrait: x = θ [rad], y = ω [rad/s] (y axis points down)")
+            Spatial2DView::new("phase portrait: x = θ [rad], y = ω [rad/s]")
                 .with_origin("/pendulum/phase")
                 .into(),
             Vertical::new(about_and_events("pendulum")).into(),
@@ -262,6 +262,19 @@ impl Draw<PendulumScene> for PendulumDraw {
                 .div_ceil(MAX_PHASE_POINTS as u64);
 
         rec.log_static("pendulum", &rerun::ViewCoordinates::RIGHT_HAND_Z_UP())?;
+        // The viewer's 2D y axis points down: each lane's curve is drawn mirrored (a transform
+        // below the view's origin; the origin's own is the view's frame), so ω points up; the
+        // values logged are θ and ω as they are.
+        let mirror = rerun::Transform3D::from_scale([1.0, -1.0, 1.0]);
+        for name in &self.lanes {
+            rec.log_static(format!("pendulum/phase/{name}"), &mirror)?;
+        }
+        // One call: two static logs to one entity may land in one chunk or two.
+        let legend = phase_legend(c, &self.lanes);
+        rec.log_static(
+            "pendulum/phase/legend",
+            &[&mirror as &dyn rerun::AsComponents, &legend],
+        )?;
         let bob_radius = 0.1 * c.params.length as f32;
         for (i, name) in self.lanes.iter().enumerate() {
             let color = method_color(name);
@@ -446,6 +459,28 @@ impl Draw<PendulumScene> for PendulumDraw {
         }
         Ok(())
     }
+}
+
+/// The phase portrait's legend, as a 2D view has none: a dot in each lane's colour with its name,
+/// in a column right of the reference's orbit (amplitude θm, ωm = √(2 E0) / L).
+fn phase_legend(c: &PendulumConfig, lanes: &[&str]) -> rerun::Points2D {
+    let p = &c.params;
+    let e0 = 0.5 * p.length * p.length * p.omega0 * p.omega0
+        + p.gravity * p.length * (1.0 - p.theta0.cos());
+    let theta = (1.0 - e0 / (p.gravity * p.length)).clamp(-1.0, 1.0).acos();
+    let omega = (2.0 * e0).sqrt() / p.length;
+    let n = lanes.len().max(2) as f64 - 1.0;
+    let at = |k: usize| {
+        [
+            (1.8 * theta) as f32,
+            (omega * (1.0 - 2.0 * k as f64 / n)) as f32,
+        ]
+    };
+    rerun::Points2D::new((0..lanes.len()).map(at))
+        .with_colors(lanes.iter().map(|l| method_color(l)))
+        .with_labels(lanes.iter().copied())
+        .with_radii([rerun::Radius::new_ui_points(5.0)])
+        .with_show_labels(true)
 }
 
 /// The run described in Markdown, for the `about` panel.

@@ -68,7 +68,8 @@ pub fn clear_diverged(
     for part in parts {
         rec.log(format!("{scene}/{lane}/{part}"), &rerun::Clear::flat())?;
     }
-    Ok(format!("{lane}: diverged at t = {:.3} s", event.time))
+    // Two short lines rather than one long one: the label stays inside a narrow view.
+    Ok(format!("{lane}\ndiverged at t = {:.3} s", event.time))
 }
 
 /// Records a scene's run: `<scene>/plots/<quantity>/<lane>` series, `<scene>/events`, and the

@@ -16,6 +16,13 @@ pub const WINDOW: [f32; 2] = [1600.0, 943.0];
 /// A view's title bar [logical px].
 const TITLE_PX: f32 = 24.0;
 
+/// The narrowest view whose title bar shows `title` whole [logical px]: its icon and margins
+/// and the buttons at its right, and a width per character (measured on a screenshot:
+/// "semi-implicit-euler" takes 106 px, and a 225 px view shows it whole).
+pub fn title_width(title: &str) -> f32 {
+    120.0 + 5.6 * title.chars().count() as f32
+}
+
 /// One 3D view of a scene: a title, the lanes (subtrees of `/<scene>`) it shows, and the box
 /// its eye frames.
 #[derive(Clone, Debug, PartialEq)]
@@ -37,6 +44,9 @@ pub struct Plot {
     pub series: Vec<&'static str>,
     /// Where its value axis opens, when a fixed floor says more than the data's own range.
     pub range: Option<(f64, f64)>,
+    /// Every series is expected at round-off: the plot stands in a tab behind the scene's
+    /// statement of its largest value (`/<scene>/roundoff`), not in view as a flat line.
+    pub roundoff: bool,
 }
 
 /// What a scene's layout needs of its run: its 3D views, its plots and its end [s].
@@ -73,6 +83,7 @@ impl Staging {
                 title,
                 series: series(name),
                 range: None,
+                roundoff: false,
             })
             .filter(|p| !p.series.is_empty())
             .collect()
@@ -88,6 +99,7 @@ impl Staging {
                 title: scene::FRAME_COST.1,
                 series: methods.to_vec(),
                 range: None,
+                roundoff: false,
             });
         }
         shown
@@ -96,7 +108,8 @@ impl Staging {
 
 /// A scene's plots in a column of `size` [px], each legend beside its curves. Each plot gets
 /// the height its legend needs: as many as fit are stacked, and when some do not, the last
-/// place holds the rest as tabs.
+/// place holds the rest as tabs. Plots expected at round-off stand in tabs behind the
+/// scene's statement of their largest values, in a place of their own.
 fn plot_views(
     scene: &str,
     plots: &[Plot],
@@ -104,22 +117,27 @@ fn plot_views(
     size: [f32; 2],
     props: &mut ViewProperties,
 ) -> Vec<ContainerLike> {
-    let mut views: Vec<ContainerLike> = plots
-        .iter()
-        .map(|p| {
-            let view =
-                TimeSeriesView::new(p.title).with_origin(format!("/{scene}/plots/{}", p.name));
-            let view = props.legend_beside(view, &p.series, end_time, size[0]);
-            match p.range {
-                Some((lo, hi)) => props.value_range(view, lo, hi),
-                None => view,
-            }
-        })
-        .collect();
-    let places = stacked_plots(plots, size[1]);
+    let mut view = |p: &Plot| {
+        let view = TimeSeriesView::new(p.title).with_origin(format!("/{scene}/plots/{}", p.name));
+        let view = props.legend_beside(view, &p.series, end_time, size[0]);
+        match p.range {
+            Some((lo, hi)) => props.value_range(view, lo, hi),
+            None => view,
+        }
+    };
+    let (quiet, shown): (Vec<&Plot>, Vec<&Plot>) = plots.iter().partition(|p| p.roundoff);
+    let mut views: Vec<ContainerLike> = shown.iter().map(|p| view(p)).collect();
+    let room = usize::from(!quiet.is_empty());
+    let places = stacked_plots(plots, size[1]).max(room + 1) - room;
     if views.len() > places {
         let rest = views.split_off(places - 1);
         views.push(Tabs::new(rest).into());
+    }
+    if !quiet.is_empty() {
+        let statement =
+            TextDocumentView::new("round-off").with_origin(format!("/{scene}/roundoff"));
+        let tabs = std::iter::once(statement.into()).chain(quiet.iter().map(|p| view(p)));
+        views.push(Tabs::new(tabs).into());
     }
     views
 }
@@ -201,10 +219,17 @@ pub fn grid_columns(slots: &[Slot], size: [f32; 2]) -> (usize, f32) {
             .fold(f32::MIN_POSITIVE, f32::max);
         h / distance
     };
-    // The fewest columns that draw the subjects nearly as large as any: wider views keep the
-    // lanes' names in their titles whole.
-    let largest = (1..=n).map(scale).fold(0.0f32, f32::max);
-    let best = (1..=n).find(|&c| scale(c) >= NEARLY * largest).unwrap_or(1);
+    // No more columns than keep every title whole; of those, the fewest that draw the subjects
+    // nearly as large as any: wider views keep the lanes' names in their titles whole.
+    let title = slots
+        .iter()
+        .map(|s| title_width(&s.title))
+        .fold(0.0, f32::max);
+    let most = ((size[0] / title) as usize).clamp(1, n);
+    let largest = (1..=most).map(scale).fold(0.0f32, f32::max);
+    let best = (1..=most)
+        .find(|&c| scale(c) >= NEARLY * largest)
+        .unwrap_or(1);
     let (w, h) = view(best);
     (best, w / h)
 }
@@ -244,56 +269,74 @@ pub fn scene_layout(
 
 /// The plots `physlab all` shows (fewer than a single scene's, so that each stays tall enough
 /// for its legend at 1600×1000); the recording holds every series all the same.
-const ALL_PLOTS: [&str; 6] = [
+const ALL_PLOTS: [&str; 7] = [
     "theta",
     "log10_theta_error",
     "log10_energy_balance",
     "max_strain",
+    "specific_kinetic_energy",
     "log10_max_stretch",
     "max_penetration",
 ];
 
-/// `physlab all`'s rows: 3D views, plots, event log [shares of the height].
-const ALL_ROWS: [f32; 3] = [3.2, 5.0, 0.5];
+/// `physlab all`'s rows: 3D views, plots, the event log [shares of the height]. The log holds
+/// its tab, its header and five rows of 18 px (54 px tall, it showed its header alone; 132 px
+/// tall, it scrolled its first row away to keep the time cursor's row in view).
+const ALL_ROWS: [f32; 3] = [5.0, 3.5, 1.7];
 
-/// `physlab all`: the scenes side by side, each one's 3D views above its plots and its event log.
+/// The most rows of 3D views a scene stacks in `physlab all`.
+const ALL_3D_ROWS: usize = 3;
+
+/// `physlab all`: the scenes' 3D views side by side, each as wide as its lanes' titles need,
+/// above the scenes' plots, above one event log of every scene (its summaries in tabs beside).
 pub fn all_layout(timings: bool, scenes: &[(&SceneViews, Staging, Vec<&'static str>)]) -> Layout {
     let mut props = ViewProperties::default();
-    let width = WINDOW[0] / scenes.len().max(1) as f32;
     let share = |row: usize| WINDOW[1] * ALL_ROWS[row] / ALL_ROWS.iter().sum::<f32>();
-    let (height, plots_height) = (share(0), share(1));
-    let mut column = |views: &SceneViews, staging: &Staging, methods: &[&'static str]| {
-        let scene = views.name;
-        let shown: Vec<Plot> = staging
-            .shown(timings, methods)
-            .into_iter()
-            .filter(|p| ALL_PLOTS.contains(&p.name) || p.name == scene::FRAME_COST.0)
-            .collect();
-        let grid = slot_grid(scene, &staging.slots, [width, height], &mut props);
-        ContainerLike::from(
-            Vertical::new([
-                grid,
-                Vertical::new(plot_views(
-                    scene,
-                    &shown,
-                    staging.end_time,
-                    [width, plots_height],
-                    &mut props,
-                ))
-                .into(),
-                Tabs::new([
-                    TextLogView::new(format!("{scene} events"))
-                        .with_origin(format!("/{scene}/events"))
-                        .into(),
-                    summary_view(scene).into(),
-                ])
-                .into(),
-            ])
-            .with_row_shares(ALL_ROWS),
-        )
-    };
-    let columns: Vec<ContainerLike> = scenes.iter().map(|(v, s, m)| column(v, s, m)).collect();
-    let blueprint = only_these_views(Blueprint::new(Horizontal::new(columns)));
+    // Each scene's 3D views in at most ALL_3D_ROWS rows, every title whole; what is left over
+    // shared evenly.
+    let needs: Vec<f32> = scenes
+        .iter()
+        .map(|(_, s, _)| {
+            let widest = s.slots.iter().map(|x| title_width(&x.title));
+            s.slots.len().div_ceil(ALL_3D_ROWS) as f32 * widest.fold(0.0, f32::max)
+        })
+        .collect();
+    let spare = (WINDOW[0] - needs.iter().sum::<f32>()) / scenes.len().max(1) as f32;
+    let widths: Vec<f32> = needs.iter().map(|w| (w + spare).max(1.0)).collect();
+    let grids: Vec<ContainerLike> = scenes
+        .iter()
+        .zip(&widths)
+        .map(|((v, s, _), &w)| slot_grid(v.name, &s.slots, [w, share(0)], &mut props))
+        .collect();
+    let width = WINDOW[0] / scenes.len().max(1) as f32;
+    let plots: Vec<ContainerLike> = scenes
+        .iter()
+        .map(|(views, staging, methods)| {
+            let shown: Vec<Plot> = staging
+                .shown(timings, methods)
+                .into_iter()
+                .filter(|p| ALL_PLOTS.contains(&p.name) || p.name == scene::FRAME_COST.0)
+                .collect();
+            let end = staging.end_time;
+            let views = plot_views(views.name, &shown, end, [width, share(1)], &mut props);
+            Vertical::new(views).into()
+        })
+        .collect();
+    let log = TextLogView::new("events").with_origin("/").with_contents(
+        scenes
+            .iter()
+            .map(|(v, _, _)| format!("+ $origin/{}/events", v.name)),
+    );
+    let bottom = std::iter::once(log.into())
+        .chain(scenes.iter().map(|(v, _, _)| summary_view(v.name).into()));
+    let blueprint = only_these_views(Blueprint::new(
+        Vertical::new([
+            Horizontal::new(grids).with_column_shares(widths).into(),
+            Horizontal::new(plots).into(),
+            Tabs::new(bottom).into(),
+        ])
+        .with_row_shares(ALL_ROWS),
+    ));
     props.layout(blueprint)
 }
 
