@@ -93,9 +93,15 @@ fn study_defaults() -> [(&'static str, Vec<(&'static str, String)>); 5] {
         ],
     ];
     let hair = vec![("duration", study::hair::DEFAULT_DURATION.to_string())];
+    let every = |s: &(f64, f64)| study::SAMPLE_EVERY as f64 * s.0;
+    let targets = study::DEFAULT_TARGETS.map(|t| format!("{t:e}")).join(",");
+    let answer = vec![
+        ("target", targets),
+        ("sample_every", both(&every(&p), &every(&r))),
+    ];
     [
         ("convergence", sweep.concat()),
-        ("work-precision", sweep.concat()),
+        ("work-precision", [&sweep[..], &[answer]].concat().concat()),
         ("stability", stability.concat()),
         ("hair", hair),
         ("drift", long.concat()),

@@ -26,7 +26,7 @@ pub enum StudyKind {
     /// evaluations. Prints the runs, how the adaptive methods' error follows rtol, and the
     /// cheapest run reaching each target error; with -o, --csv or --plots also draws error
     /// against cost, log-log.
-    WorkPrecision(SweepArgs),
+    WorkPrecision(WorkPrecisionArgs),
     /// Largest stable dt per method by bisection, against theory
     ///
     /// Finds each method's largest stable step by bisection on the linearised problem (the
@@ -157,6 +157,36 @@ pub struct SweepArgs {
 
     #[command(flatten)]
     pub out: StudyOutputs,
+}
+
+/// `study work-precision`: the sweep, the target errors it answers for, its horizon and where
+/// its error is sampled.
+#[derive(Args, Debug, Clone, Default)]
+pub struct WorkPrecisionArgs {
+    #[command(flatten)]
+    pub sweep: SweepArgs,
+
+    /// Target errors, comma-separated: the first lines give the cheapest run reaching each
+    #[arg(
+        long,
+        value_delimiter = ',',
+        value_name = "LIST",
+        allow_negative_numbers = true
+    )]
+    pub target: Option<Vec<f64>>,
+
+    /// Horizon in periods of the exact solution, instead of --duration (with --scene pendulum)
+    #[arg(
+        long,
+        value_name = "N",
+        conflicts_with = "duration",
+        allow_negative_numbers = true
+    )]
+    pub periods: Option<f64>,
+
+    /// Interval the error is sampled at, a multiple of --dt [s]
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
+    pub sample_every: Option<f64>,
 }
 
 /// `study stability`: bisection on the linearised problem, trials of `--steps` steps.

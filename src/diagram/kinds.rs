@@ -21,26 +21,38 @@ pub(super) fn error_desc(scene: &str) -> &'static str {
     }
 }
 
-/// Runs of one method that produced an error, in the order of their setting (dt or rtol).
+/// Runs of one method that produced an error, in the order of their setting (dt or rtol); a
+/// composition's compensated runs are a series of their own.
 pub(super) fn runs(rows: &[Row], m: Method) -> Vec<&Row> {
     rows.iter()
-        .filter(|r| r.method == m && r.error.is_some_and(|e| e > 0.0))
+        .filter(|r| r.method == m && !r.compensated && r.error.is_some_and(|e| e > 0.0))
         .collect()
 }
 
-/// Per method, its runs' (x, error), x given by `x`.
+/// Per method, its runs' (x, error), x given by `x`, and its compensated runs' if any.
 fn series(rows: &[Row], methods: &[Method], x: fn(&Row) -> f64) -> Vec<(Key, Vec<(f64, f64)>)> {
-    let of = |m| {
-        runs(rows, m)
-            .iter()
-            .map(|r| (x(r), r.error.unwrap_or(0.0)))
+    let point = |r: &Row| (x(r), r.error.unwrap_or(0.0));
+    let compensated = |m| -> Vec<(f64, f64)> {
+        (rows.iter())
+            .filter(|r| r.method == m && r.compensated && r.error.is_some_and(|e| e > 0.0))
+            .map(point)
             .collect()
     };
-    methods.iter().map(|&m| (Key::of(m), of(m))).collect()
+    let mut all = Vec::new();
+    for &m in methods {
+        all.push((Key::of(m), runs(rows, m).into_iter().map(point).collect()));
+        let c = compensated(m);
+        if !c.is_empty() {
+            let mut key = Key::of(m);
+            key.name.push_str(" compensated");
+            all.push((key, c));
+        }
+    }
+    all
 }
 
 /// Work-precision: error against median wall time (left) and against force evaluations
-/// (right); `floor` is the reference's error floor, drawn as a dashed line.
+/// (right); `floor` is the reference's error (the study's floor), drawn as a dashed line.
 pub fn work_precision(scene: &str, rows: &[Row], floor: f64, note: &str) -> Diagram {
     Diagram {
         stem: format!("{scene}-work-precision"),
@@ -61,7 +73,7 @@ pub fn pendulum_work_precision_picture(runs: &(Vec<Row>, f64)) -> Diagram {
     work_precision(
         "pendulum",
         &runs.0,
-        crate::study::error_floor(runs.1),
+        runs.1,
         "wall times: median of the repeats on a two-core machine; machine-dependent.",
     )
 }
@@ -110,16 +122,17 @@ where
                 x,
                 y: y.clone(),
                 series,
-                guides: vec![(vec![(x1, floor), (x0, floor)], "reference floor".into())],
+                guides: vec![(vec![(x1, floor), (x0, floor)], "reference's error".into())],
             },
         )?;
     }
+    let floor = crate::report::study::floor_text(floor);
     draw_legend(
         &legend,
         &methods.iter().map(|&m| Key::of(m)).collect::<Vec<_>>(),
         &[
             format!("{scene}: lower left is better."),
-            format!("dashed: the reference's error floor {floor:.0e}."),
+            format!("dashed: the reference's error {floor} (the floor)."),
             note.to_string(),
         ],
     )

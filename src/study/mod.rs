@@ -12,6 +12,7 @@
 //! [`stability`] then return the rows and limits complete so far (a run cut short is dropped,
 //! never shown), and the caller says the study was interrupted.
 
+mod answer;
 pub mod drift;
 pub mod hair;
 mod limits;
@@ -19,6 +20,10 @@ mod orders;
 mod roundoff;
 mod sweep;
 
+pub use answer::{
+    DEFAULT_TARGETS, RESOLVES, answers, refuse_unresolved, scene_command, settings,
+    validate_targets,
+};
 pub use limits::{Limit, composition_limit, stability, validate_stability_steps, yoshida4_limit};
 use orders::fit;
 pub use orders::{
@@ -26,7 +31,9 @@ pub use orders::{
     proportionality, stalled,
 };
 pub use roundoff::{energy_error_rms, growth_exponent};
-pub use sweep::{Row, SAMPLE_EVERY, Sweep, damped_companion, planned_runs, reference, sweep};
+pub use sweep::{
+    Row, SAMPLE_EVERY, Sweep, damped_companion, planned_runs, reference, sweep, sweep_against,
+};
 
 use crate::integrate::{Integrator, Method, SecondOrderSystem};
 use crate::scene::pendulum::PendulumParams;

@@ -7,7 +7,9 @@ use super::{
     DEFAULT_LEVELS, DEFAULT_REPEATS, Problem, default_rtols, default_schedule, steps, stop,
 };
 use crate::format;
-use crate::integrate::{Integrator, Method, MethodOptions, SecondOrderSystem};
+use crate::integrate::{
+    Integrator, Method, MethodOptions, SecondOrderSystem, composition_weights, whole_steps,
+};
 use crate::scene::params::{self, Invalid};
 use crate::scene::pendulum::Pendulum;
 use crate::scene::pendulum::exact::ExactPendulum;
@@ -20,6 +22,8 @@ impl Sweep {
         let (dt0, duration) = default_schedule(problem);
         Sweep {
             dt0,
+            sample_dt: SAMPLE_EVERY as f64 * dt0,
+            all_settings: false,
             levels: DEFAULT_LEVELS,
             duration,
             methods: problem.methods(),
@@ -38,6 +42,8 @@ pub struct Row {
     pub dt: f64,
     /// The adaptive method's tolerance; `None` for fixed-step methods.
     pub rtol: Option<f64>,
+    /// A composition method with compensated sums (`--compensated`).
+    pub compensated: bool,
     /// Largest deviation from the reference over the run; `None` when the run diverged.
     pub error: Option<f64>,
     /// Force evaluations over the run (rejected steps' included).
@@ -169,8 +175,14 @@ pub const SAMPLE_EVERY: u64 = 16;
 /// How a convergence or work-precision sweep is set up.
 #[derive(Clone, Debug)]
 pub struct Sweep {
-    /// The coarsest step; the samples are taken every SAMPLE_EVERY × dt0.
+    /// The coarsest step.
     pub dt0: f64,
+    /// The interval the error is sampled at: a multiple of dt0 (`--sample-every`; by default
+    /// SAMPLE_EVERY × the scene's default dt0).
+    pub sample_dt: f64,
+    /// Whether the fixed-step methods also step across the samples at steps above dt0, up to
+    /// 4 × sample_dt, and the compositions also run with compensated sums (work-precision).
+    pub all_settings: bool,
     /// Number of step sizes dt0, dt0/2, ...
     pub levels: u32,
     pub duration: f64,
@@ -193,10 +205,17 @@ impl Sweep {
         }
         params::positive("--dt", self.dt0, "s")?;
         params::positive("--duration", self.duration, "s")?;
-        // Errors are compared every SAMPLE_EVERY coarsest steps; fewer than one sample fits
-        // nothing.
+        params::positive("--sample-every", self.sample_dt, "s")?;
+        let rule = format!(
+            "must be a multiple of --dt {} s, the fixed-step methods' coarsest step (their steps \
+             end at every sample)",
+            format::shown(self.dt0)
+        );
+        let whole = whole_steps(self.sample_dt, self.dt0).is_some();
+        params::require(whole, "--sample-every", self.sample_dt, rule)?;
+        // Convergence samples every SAMPLE_EVERY coarsest steps: its --dt is what is too large.
         let longest = self.duration / SAMPLE_EVERY as f64;
-        if self.dt0 > longest {
+        if !self.all_settings && self.dt0 > longest {
             return Err(Invalid::Usage(format!(
                 "--dt {}: must not exceed --duration / {SAMPLE_EVERY} = {} s (errors are sampled \
                  every {SAMPLE_EVERY} coarsest steps)",
@@ -204,6 +223,16 @@ impl Sweep {
                 format::shown(longest),
             )));
         }
+        let rule = format!(
+            "must not exceed --duration {} s",
+            format::shown(self.duration)
+        );
+        params::require(
+            self.sample_dt <= self.duration,
+            "--sample-every",
+            self.sample_dt,
+            rule,
+        )?;
         let reference_steps = self.reference_steps();
         if reference_steps > params::MAX_STEPS {
             return Err(Invalid::Usage(format!(
@@ -219,6 +248,40 @@ impl Sweep {
     /// The reference's steps: 8× finer than the finest level.
     pub fn reference_steps(&self) -> f64 {
         8.0 * self.duration / self.finest()
+    }
+
+    /// The samples the error is taken at: every `sample_dt` to the end of the run.
+    pub fn samples(&self) -> usize {
+        ((self.duration / self.sample_dt).round() as usize).max(1)
+    }
+
+    /// The reference at the samples and its error ([`reference`]); `None` when stopped.
+    pub fn reference(&self, problem: &Problem) -> Option<(Vec<Vec<f64>>, f64)> {
+        reference(problem, self.sample_dt, self.samples(), self.finest())
+    }
+
+    /// The steps above dt0 that `m` also runs at when [`Sweep::all_settings`] and its order is
+    /// at least 4 (a lower order needs steps below dt0 for any error worth a target): 4 ×
+    /// sample_dt × 2^(-j/8) for j = 0, 1, ... (eight a halving, as in the peer benchmark), to
+    /// three digits, each stepping across the samples or, where it divides sample_dt, ending
+    /// at them.
+    pub fn steps_above(&self, m: Method) -> Vec<f64> {
+        let top = 4.0 * self.sample_dt;
+        let wanted = self.all_settings && !m.info().adaptive() && m.info().order >= 4;
+        (0..)
+            .map(|j| top * 2f64.powf(-f64::from(j) / 8.0))
+            .map(|h| format!("{h:.2e}").parse().unwrap_or(h))
+            .take_while(|&h| wanted && h > self.dt0 * (1.0 + 1e-9))
+            .collect()
+    }
+
+    /// Each fixed-step method's variants: plain, and the compositions compensated too when
+    /// [`Sweep::all_settings`].
+    fn compensations(&self, m: Method) -> &'static [bool] {
+        match self.all_settings && composition_weights(m).is_some() {
+            true => &[false, true],
+            false => &[false],
+        }
     }
 
     /// The finest level's step.
@@ -252,7 +315,7 @@ pub fn planned_runs(problem: &Problem, s: &Sweep) -> usize {
             if m.info().adaptive() {
                 s.rtols.len()
             } else {
-                s.levels as usize
+                s.compensations(m).len() * (s.levels as usize + s.steps_above(m).len())
             }
         })
         .sum()
@@ -282,22 +345,25 @@ pub fn damped_companion(problem: &Problem) -> Option<Problem> {
 ///
 /// [`theta_accuracy`]: crate::scene::pendulum::exact::ExactPendulum::theta_accuracy
 pub fn sweep(problem: &Problem, s: &Sweep) -> (Vec<Row>, f64) {
-    let sample_dt = SAMPLE_EVERY as f64 * s.dt0;
-    let samples = ((s.duration / sample_dt).round() as usize).max(1);
-    let Some((reference, reference_error)) = reference(problem, sample_dt, samples, s.finest())
-    else {
-        return (Vec::new(), 0.0);
-    };
+    match s.reference(problem) {
+        Some(reference) => (sweep_against(problem, s, &reference.0), reference.1),
+        None => (Vec::new(), 0.0),
+    }
+}
+
+/// [`sweep`] against a reference computed before ([`Sweep::reference`]): once per study.
+pub fn sweep_against(problem: &Problem, s: &Sweep, reference: &[Vec<f64>]) -> Vec<Row> {
+    let sample_dt = s.sample_dt;
     let start = problem.start();
     let mut rows = Vec::new();
     let mut one = |trial: Trial, rtol: Option<f64>| {
-        let (method, dt, ..) = trial;
+        let (method, dt, options, _) = trial;
         let mut walls = Vec::new();
         let mut result = None;
         for _ in 0..s.repeats.max(1) {
             let Some(m) = (match problem {
-                Problem::Pendulum(p) => measure(&Pendulum::new(p), &start, &reference, trial),
-                Problem::Rope(p) => measure(&Rope::new(p.clone()), &start, &reference, trial),
+                Problem::Pendulum(p) => measure(&Pendulum::new(p), &start, reference, trial),
+                Problem::Rope(p) => measure(&Rope::new(p.clone()), &start, reference, trial),
             }) else {
                 return;
             };
@@ -313,8 +379,9 @@ pub fn sweep(problem: &Problem, s: &Sweep) -> (Vec<Row>, f64) {
                 false => problem.name(),
             },
             method,
-            dt,
+            dt: options.step.unwrap_or(dt),
             rtol,
+            compensated: options.compensated,
             error: m.error,
             evals: m.evals,
             accepted: m.accepted,
@@ -322,6 +389,8 @@ pub fn sweep(problem: &Problem, s: &Sweep) -> (Vec<Row>, f64) {
             wall_seconds: walls[walls.len() / 2],
         });
     };
+    // Steps of dt0 per sample (validated whole).
+    let per = whole_steps(sample_dt, s.dt0).unwrap_or(SAMPLE_EVERY);
     for m in accepted(problem, s) {
         if m.info().adaptive() {
             // Adaptive: it is asked for the sample times only and chooses its steps itself.
@@ -334,17 +403,27 @@ pub fn sweep(problem: &Problem, s: &Sweep) -> (Vec<Row>, f64) {
                     Some(rtol),
                 );
             }
-        } else {
+            continue;
+        }
+        for &compensated in s.compensations(m) {
+            let options = MethodOptions {
+                compensated,
+                ..s.options
+            };
+            for h in s.steps_above(m) {
+                if stop() {
+                    break;
+                }
+                let step = Some(h);
+                one((m, sample_dt, MethodOptions { step, ..options }, 1), None);
+            }
             for k in 0..s.levels {
                 if stop() {
                     break;
                 }
-                one(
-                    (m, s.dt0 / 2f64.powi(k as i32), s.options, SAMPLE_EVERY << k),
-                    None,
-                );
+                one((m, s.dt0 / 2f64.powi(k as i32), options, per << k), None);
             }
         }
     }
-    (rows, reference_error)
+    rows
 }

@@ -5,8 +5,11 @@ use super::Error;
 use crate::cli::StudyKind;
 use crate::diagram::{self, Diagram};
 use crate::report::study as report;
-use crate::study::{Limit, Problem, Row, Sweep, damped_companion, error_floor, stability, sweep};
+use crate::study::{
+    Limit, Problem, Row, Sweep, damped_companion, error_floor, stability, sweep, sweep_against,
+};
 
+mod answer;
 mod drift;
 mod hair;
 mod outputs;
@@ -28,8 +31,11 @@ struct Found {
 pub fn study(kind: &StudyKind) -> anyhow::Result<()> {
     let (setup, scene, out) = match kind {
         StudyKind::Hair(a) => return hair_study(a),
-        StudyKind::Convergence(a) => (setup::sweep_setup(a, true)?, &a.scene, &a.out),
-        StudyKind::WorkPrecision(a) => (setup::sweep_setup(a, false)?, &a.scene, &a.out),
+        StudyKind::Convergence(a) => (setup::sweep_setup(a, None)?, &a.scene, &a.out),
+        StudyKind::WorkPrecision(w) => {
+            let a = &w.sweep;
+            (setup::sweep_setup(a, Some(w))?, &a.scene, &a.out)
+        }
         StudyKind::Stability(a) => (setup::stability_setup(a)?, &a.scene, &a.out),
         StudyKind::Drift(a) => (setup::drift_setup(a)?, &a.scene, &a.out),
     };
@@ -37,6 +43,7 @@ pub fn study(kind: &StudyKind) -> anyhow::Result<()> {
         problem,
         sweep,
         steps,
+        targets,
         file,
     } = setup;
     let stems: &[&str] = match kind {
@@ -58,6 +65,7 @@ pub fn study(kind: &StudyKind) -> anyhow::Result<()> {
             }
         }
         StudyKind::Drift(_) => drift::drift_study(out.quiet, &problem, &sweep),
+        StudyKind::WorkPrecision(_) => work_precision(&problem, &sweep, &targets, &file)?,
         _ => sweep_study(kind, &problem, &sweep),
     };
     // Ctrl-C or SIGTERM: what is complete is shown and written, then the study ends with 130;
@@ -79,8 +87,8 @@ pub fn study(kind: &StudyKind) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// `study convergence` and `study work-precision`: the sweep's runs, the fitted orders or the
-/// cheapest run per target, how the adaptive methods' error follows rtol, and every run.
+/// `study convergence`: the sweep's runs, the fitted orders, how the adaptive methods' error
+/// follows rtol, and every run.
 fn sweep_study(kind: &StudyKind, problem: &Problem, sw: &Sweep) -> Found {
     let (mut rows, reference_error) = sweep(problem, sw);
     let floor = error_floor(reference_error);
@@ -100,24 +108,52 @@ fn sweep_study(kind: &StudyKind, problem: &Problem, sw: &Sweep) -> Found {
         out.push_str(&report::proportionality_table(&rows, floor));
         out.push('\n');
     }
-    if let StudyKind::WorkPrecision(_) = kind {
-        out.push_str(&report::rows_table(&rows));
-        // A target is only claimed where the reference resolves it: 10× its accuracy.
-        let (targets, unresolved): (Vec<f64>, Vec<f64>) = [1e-3, 1e-6, 1e-9, 1e-12]
-            .into_iter()
-            .partition(|&t| t >= 10.0 * reference_error);
-        out.push_str(&report::cheapest_header(&unresolved, reference_error));
-        out.push_str(&report::cheapest_table(&rows, &targets));
-        let note = format!("wall times: median of {}; machine-dependent.", sw.repeats);
-        (found.diagrams).push(diagram::work_precision(problem.name(), &rows, floor, &note));
-    } else {
-        // Every run in the runs table, the CSV and the count (the damped rope's too).
-        rows.extend(damped);
-        out.push_str(&report::rows_table(&rows));
-    }
+    // Every run in the runs table, the CSV and the count (the damped rope's too).
+    rows.extend(damped);
+    out.push_str(&report::rows_table(&rows));
     found.csv = report::rows_csv(&rows);
     found.done = rows.len();
     found
+}
+
+/// `study work-precision`: the reference once (its error the study's floor, shown the same
+/// everywhere), the targets it resolves (those given and unresolved refused), the sweep, then
+/// the answer first: per target the cheapest run and the command that makes it.
+fn work_precision(
+    problem: &Problem,
+    sw: &Sweep,
+    targets: &(Vec<f64>, bool),
+    file: &crate::app::SceneFile,
+) -> Result<Found, Error> {
+    let mut found = Found {
+        out: String::new(),
+        csv: String::new(),
+        diagrams: Vec::new(),
+        done: 0,
+    };
+    let Some((reference, floor)) = sw.reference(problem) else {
+        return Ok(found);
+    };
+    if targets.1 {
+        crate::study::refuse_unresolved(&targets.0, floor)?;
+    }
+    let rows = sweep_against(problem, sw, &reference);
+    let out = &mut found.out;
+    out.push_str(&answer::answer(
+        problem, file, sw, &targets.0, &rows, floor,
+    )?);
+    out.push_str(&report::sweep_header(problem, "work-precision", sw, floor));
+    if rows.iter().any(|r| r.rtol.is_some()) {
+        out.push_str(&report::proportionality_header(error_floor(floor)));
+        out.push_str(&report::proportionality_table(&rows, error_floor(floor)));
+        out.push('\n');
+    }
+    out.push_str(&report::rows_table(&rows));
+    let note = format!("wall times: median of {}; machine-dependent.", sw.repeats);
+    (found.diagrams).push(diagram::work_precision(problem.name(), &rows, floor, &note));
+    found.csv = report::rows_csv(&rows);
+    found.done = rows.len();
+    Ok(found)
 }
 
 /// The fitted orders, and on the undamped rope the same rope with the scene's damping beside
