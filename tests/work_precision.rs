@@ -190,7 +190,7 @@ fn the_floor_is_the_same_in_the_header_the_answer_and_the_diagram() {
         "the diagram draws another floor than {floor}"
     );
     let value: f64 = floor.parse().unwrap();
-    let cut_off = physlab::report::study::floor_text(100.0 * value);
+    let cut_off = physlab::study::floor_text(100.0 * value);
     assert!(!svg.contains(&cut_off), "the diagram shows {cut_off}");
     // Over 2000 s the closed form's own error is above 1e-13: 1e-12 is left out, said so.
     assert!(value > 1e-13, "{floor}");

@@ -126,7 +126,7 @@ where
             },
         )?;
     }
-    let floor = crate::report::study::floor_text(floor);
+    let floor = crate::study::floor_text(floor);
     draw_legend(
         &legend,
         &methods.iter().map(|&m| Key::of(m)).collect::<Vec<_>>(),

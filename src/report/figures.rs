@@ -74,13 +74,23 @@ pub fn timed_from(runs: &(Vec<study::Row>, f64)) -> Vec<Figure> {
 /// The pendulum's work-precision runs (every method, 20 s from 60°), each timed `repeats`
 /// times, and the reference's error.
 pub fn work_precision_pendulum_runs(repeats: u32) -> (Vec<study::Row>, f64) {
-    let problem = Problem::Pendulum(Default::default());
-    let sweep = Sweep {
+    study::sweep(&pendulum(), &work_precision_pendulum_sweep(repeats))
+}
+
+/// The pendulum the studies run by default.
+fn pendulum() -> Problem {
+    Problem::Pendulum(Default::default())
+}
+
+/// `physlab study work-precision --duration 20`'s sweep, each run timed `repeats` times.
+fn work_precision_pendulum_sweep(repeats: u32) -> Sweep {
+    Sweep {
         duration: 20.0,
         repeats,
-        ..Sweep::defaults(&problem)
-    };
-    study::sweep(&problem, &sweep)
+        all_settings: true,
+        rtols: study::work_precision_rtols(),
+        ..Sweep::defaults(&pendulum())
+    }
 }
 
 /// The study rope with the scene's default spring damping and air drag.
@@ -217,15 +227,28 @@ fn stability(problem: &Problem) -> String {
     study_tables::stability_table(&limits)
 }
 
-/// `physlab study work-precision --duration 20`: the adaptive methods' tolerance
-/// proportionality and the cheapest run per target error (1e-12 included: the exact solution is
-/// good to 1e-14).
+/// `physlab study work-precision --duration 20`: the cheapest run per default target and the
+/// command that makes it, and the adaptive methods' tolerance proportionality.
 fn work_precision_pendulum((rows, reference_error): &(Vec<study::Row>, f64)) -> String {
-    let (rows, reference_error) = (rows.as_slice(), *reference_error);
+    let (rows, floor, sw) = (
+        rows.as_slice(),
+        *reference_error,
+        work_precision_pendulum_sweep(1),
+    );
+    let (resolved, unresolved): (Vec<f64>, Vec<f64>) =
+        (study::DEFAULT_TARGETS.iter()).partition(|&&t| t >= study::RESOLVES * floor);
+    let found: Vec<_> = (resolved.iter())
+        .map(|&t| (t, study::cheapest(rows, t).0))
+        .collect();
+    let command = |(t, r): &(f64, Option<&study::Row>)| {
+        let out = format!("recordings/pendulum-{t:e}.rrd");
+        r.map(|r| study::scene_command("pendulum", &[], r, (sw.sample_dt, sw.duration), &out))
+    };
+    let commands: Vec<_> = found.iter().map(command).collect();
     format!(
         "{}\n{}",
-        study_tables::proportionality_table(rows, error_floor(reference_error)),
-        study_tables::cheapest_table(rows, &[1e-3, 1e-6, 1e-9, 1e-12])
+        study_tables::answer(&pendulum(), &sw, floor, &found, &commands, &unresolved),
+        study_tables::proportionality_table(rows, error_floor(floor)),
     )
 }
 

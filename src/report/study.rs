@@ -8,7 +8,8 @@ use crate::report::table::Table;
 use crate::scene::pendulum::exact::ExactPendulum;
 use crate::scene::rope::RopeParams;
 use crate::study::{
-    Limit, Problem, RESOLVES, Row, Sweep, cheapest, error_floor, orders, proportionality, settings,
+    Limit, Problem, RESOLVES, Row, Sweep, error_floor, floor_text, orders, proportionality,
+    settings,
 };
 
 /// What a convergence or work-precision sweep (`kind`) measures, against which reference, and
@@ -35,11 +36,6 @@ pub fn sweep_header(problem: &Problem, kind: &str, sweep: &Sweep, reference_erro
         shown(sweep.duration),
         floor_text(error_floor(reference_error))
     )
-}
-
-/// The reference's error (the study's floor) as every text and diagram says it.
-pub fn floor_text(reference_error: f64) -> String {
-    sig(reference_error, 2)
 }
 
 /// What the answer's error is, per scene.
@@ -282,34 +278,6 @@ pub fn rows_table(rows: &[Row]) -> String {
             r.accepted.to_string(),
             r.rejected.to_string(),
             sci(r.wall_seconds),
-        ]);
-    }
-    t.render()
-}
-
-/// The cheapest measured run reaching each target error, by wall time and by evaluations.
-pub fn cheapest_table(rows: &[Row], targets: &[f64]) -> String {
-    let mut t = Table::new([
-        "target error",
-        "fastest (wall)",
-        "its wall [s]",
-        "fewest evaluations",
-        "its evals",
-    ]);
-    for &target in targets {
-        let (by_wall, by_evals) = cheapest(rows, target);
-        let name = |r: Option<&Row>| {
-            r.map_or("none reached it".to_string(), |r| match r.rtol {
-                Some(t) => format!("{} (rtol {t:.0e})", r.method.name()),
-                None => format!("{} (dt {})", r.method.name(), sci(r.dt)),
-            })
-        };
-        t.row([
-            format!("{target:.0e}"),
-            name(by_wall),
-            by_wall.map_or("—".into(), |r| sci(r.wall_seconds)),
-            name(by_evals),
-            by_evals.map_or("—".into(), |r| r.evals.to_string()),
         ]);
     }
     t.render()

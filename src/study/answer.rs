@@ -2,7 +2,7 @@
 //! scene command that makes that run, measuring its error at the same samples against the same
 //! reference.
 
-use super::{Row, cheapest};
+use super::Row;
 use crate::format::shown;
 use crate::scene::params::{self, Invalid};
 
@@ -12,6 +12,11 @@ pub const DEFAULT_TARGETS: [f64; 5] = [1e-3, 1e-6, 1e-8, 1e-10, 1e-12];
 /// A target is resolved by the reference when it is at least this many times the reference's
 /// error: the reference's own error then moves a run's measured error by a tenth at most.
 pub const RESOLVES: f64 = 10.0;
+
+/// The reference's error (the study's floor) as every text and diagram says it.
+pub fn floor_text(reference_error: f64) -> String {
+    crate::format::sig(reference_error, 2)
+}
 
 /// Each target a positive, finite error.
 pub fn validate_targets(targets: &[f64]) -> Result<(), Invalid> {
@@ -29,17 +34,12 @@ pub fn refuse_unresolved(targets: &[f64], floor: f64) -> Result<(), Invalid> {
         let rule = format!(
             "must be at least {RESOLVES}× the reference's error over this run, {} (the floor), \
              so at least {}; shorten the run or raise the target",
-            crate::format::sci(floor),
-            crate::format::sci(RESOLVES * floor)
+            floor_text(floor),
+            floor_text(RESOLVES * floor)
         );
         params::require(t >= RESOLVES * floor, "--target", t, rule)?;
     }
     Ok(())
-}
-
-/// Per target, the fastest run (median wall time) reaching it, if any did.
-pub fn answers<'a>(rows: &'a [Row], targets: &[f64]) -> Vec<(f64, Option<&'a Row>)> {
-    targets.iter().map(|&t| (t, cheapest(rows, t).0)).collect()
 }
 
 /// What a run was: the method and every setting that made it, as flags (`--rtol 1e-6`,

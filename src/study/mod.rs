@@ -21,7 +21,7 @@ mod roundoff;
 mod sweep;
 
 pub use answer::{
-    DEFAULT_TARGETS, RESOLVES, answers, refuse_unresolved, scene_command, settings,
+    DEFAULT_TARGETS, RESOLVES, floor_text, refuse_unresolved, scene_command, settings,
     validate_targets,
 };
 pub use limits::{Limit, composition_limit, stability, validate_stability_steps, yoshida4_limit};
@@ -132,6 +132,15 @@ pub const DEFAULT_STABILITY_STEPS: u64 = 2000;
 /// The adaptive methods' tolerances in a work-precision sweep by default: 1e-3 to 1e-13.
 pub fn default_rtols() -> Vec<f64> {
     (3..=13).map(|k| 10f64.powi(-k)).collect()
+}
+
+/// The adaptive methods' tolerances in a work-precision study by default: half-decades from 1e-2
+/// to 1e-14 (the peer benchmark's grid), to two digits.
+pub fn work_precision_rtols() -> Vec<f64> {
+    let rounded = |t: f64| format!("{t:.1e}").parse().unwrap_or(t);
+    (4..=28)
+        .map(|e| rounded(10f64.powf(-f64::from(e) / 2.0)))
+        .collect()
 }
 
 /// Coordinates stepped between looks at the stop flag: an atomic load, free at this stride, and

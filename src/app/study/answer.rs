@@ -8,21 +8,11 @@ use crate::format::shown;
 use crate::report::study as report;
 use crate::scene::pendulum::run::PendulumConfig;
 use crate::scene::rope::run::RopeConfig;
-use crate::study::{Problem, RESOLVES, Row, Sweep, answers, scene_command};
+use crate::study::{Problem, RESOLVES, Row, Sweep, cheapest, scene_command};
 
 /// Keys of a scene's table that the command sets from the run, not from the study's scene.
-const RUN_KEYS: [&str; 10] = [
-    "dt",
-    "duration",
-    "methods",
-    "fps",
-    "plot_every",
-    "window",
-    "rtol",
-    "step",
-    "compensated",
-    "verlet_damping",
-];
+const RUN_KEYS: &str =
+    "dt duration methods fps plot_every window rtol step compensated verlet_damping";
 
 /// The scene's parameters where the study's differ from the scene's defaults, as flags and
 /// values as typed (a study's rope is softer and undamped; a scene file may set anything).
@@ -45,7 +35,9 @@ fn scene_flags(problem: &Problem, file: &SceneFile) -> Result<Vec<(String, Strin
         other => other.to_string(),
     };
     Ok((table.iter())
-        .filter(|(k, v)| !RUN_KEYS.contains(&k.as_str()) && defaults.get(*k) != Some(*v))
+        .filter(|(k, v)| {
+            !RUN_KEYS.split(' ').any(|r| r == k.as_str()) && defaults.get(*k) != Some(*v)
+        })
         .map(|(k, v)| (k.clone(), text(v)))
         .collect())
 }
@@ -85,7 +77,9 @@ pub(super) fn answer(
     let (resolved, unresolved): (Vec<f64>, Vec<f64>) =
         targets.iter().partition(|&&t| t >= RESOLVES * floor);
     let flags = scene_flags(problem, file)?;
-    let found = answers(rows, &resolved);
+    let found: Vec<(f64, Option<&Row>)> = (resolved.iter())
+        .map(|&t| (t, cheapest(rows, t).0))
+        .collect();
     let commands: Vec<Option<Vec<String>>> = (found.iter())
         .map(|(t, r)| r.map(|r| command(problem, &flags, sw, r, *t)))
         .collect();

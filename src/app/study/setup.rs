@@ -318,7 +318,10 @@ impl Scene {
             methods,
             options: MethodOptions::default(),
             repeats: a.repeats.unwrap_or(study::DEFAULT_REPEATS),
-            rtols: a.rtol.clone().unwrap_or_else(study::default_rtols),
+            rtols: (a.rtol.clone()).unwrap_or_else(match wp {
+                Some(_) => study::work_precision_rtols,
+                None => study::default_rtols,
+            }),
         };
         if let Some(wp) = wp {
             answer_setup(wp, &self.problem, &mut sweep)?;
