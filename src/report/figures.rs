@@ -230,24 +230,17 @@ fn stability(problem: &Problem) -> String {
 /// `physlab study work-precision --duration 20`: the cheapest run per default target and the
 /// command that makes it, and the adaptive methods' tolerance proportionality.
 fn work_precision_pendulum((rows, reference_error): &(Vec<study::Row>, f64)) -> String {
-    let (rows, floor, sw) = (
-        rows.as_slice(),
-        *reference_error,
-        work_precision_pendulum_sweep(1),
-    );
-    let (resolved, unresolved): (Vec<f64>, Vec<f64>) =
-        (study::DEFAULT_TARGETS.iter()).partition(|&&t| t >= study::RESOLVES * floor);
-    let found: Vec<_> = (resolved.iter())
-        .map(|&t| (t, study::cheapest(rows, t).0))
-        .collect();
-    let command = |(t, r): &(f64, Option<&study::Row>)| {
-        let out = format!("recordings/pendulum-{t:e}.rrd");
-        r.map(|r| study::scene_command("pendulum", &[], r, (sw.sample_dt, sw.duration), &out))
-    };
-    let commands: Vec<_> = found.iter().map(command).collect();
+    let (rows, floor) = (rows.as_slice(), *reference_error);
+    let sw = work_precision_pendulum_sweep(1);
+    let schedule = (sw.sample_dt, sw.duration);
+    let targets = &study::DEFAULT_TARGETS;
+    let (found, left_out) = study::answers(("pendulum", &[]), rows, schedule, targets, floor);
+    let text = study_tables::answer(&pendulum(), &sw, floor, &found, &left_out);
+    // The commands as a shell block (the text ends "…the same error):" then the commands).
+    let (head, commands) = text.rsplit_once("):\n").unwrap_or((&text, ""));
     format!(
-        "{}\n{}",
-        study_tables::answer(&pendulum(), &sw, floor, &found, &commands, &unresolved),
+        "{head}):\n\n```sh\n{}\n```\n\n{}",
+        commands.trim_end(),
         study_tables::proportionality_table(rows, error_floor(floor)),
     )
 }

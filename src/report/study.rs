@@ -8,7 +8,7 @@ use crate::report::table::Table;
 use crate::scene::pendulum::exact::ExactPendulum;
 use crate::scene::rope::RopeParams;
 use crate::study::{
-    Limit, Problem, RESOLVES, Row, Sweep, error_floor, floor_text, orders, proportionality,
+    Answer, Limit, Problem, RESOLVES, Row, Sweep, error_floor, floor_text, orders, proportionality,
     settings,
 };
 
@@ -53,8 +53,7 @@ pub fn answer(
     problem: &Problem,
     sw: &Sweep,
     reference_error: f64,
-    found: &[(f64, Option<&Row>)],
-    commands: &[Option<Vec<String>>],
+    found: &[Answer],
     unresolved: &[f64],
 ) -> String {
     let periods = match problem {
@@ -73,7 +72,7 @@ pub fn answer(
         floor_text(reference_error),
     );
     let mut t = Table::new(["target", "cheapest run", "error", "wall [s]", "force evals"]);
-    for (target, row) in found {
+    for (target, row, _) in found {
         let run = row.map_or("none reached it".into(), |r| {
             settings(r, sw.sample_dt)[1..].join(" ")
         });
@@ -90,10 +89,8 @@ pub fn answer(
         let _ = writeln!(out, "{t:.0e} left out: below {RESOLVES}× the floor.");
     }
     out.push_str("\nthe command that makes each run as a scene (it measures the same error):\n");
-    for ((target, _), words) in found.iter().zip(commands) {
-        if let Some(words) = words {
-            out.push_str(&wrapped(&format!("{target:.0e}:"), words, 100));
-        }
+    for (target, _, words) in found.iter().filter(|a| a.1.is_some()) {
+        out.push_str(&wrapped(&format!("{target:.0e}:"), words, 100));
     }
     out.push('\n');
     out

@@ -2,7 +2,7 @@
 //! scene command that makes that run, measuring its error at the same samples against the same
 //! reference.
 
-use super::Row;
+use super::{Row, cheapest};
 use crate::format::shown;
 use crate::scene::params::{self, Invalid};
 
@@ -40,6 +40,30 @@ pub fn refuse_unresolved(targets: &[f64], floor: f64) -> Result<(), Invalid> {
         params::require(t >= RESOLVES * floor, "--target", t, rule)?;
     }
     Ok(())
+}
+
+/// One target's answer: the cheapest run reaching it (median wall time), if one did, and the
+/// words (unquoted) of the scene command that makes it.
+pub type Answer<'a> = (f64, Option<&'a Row>, Vec<String>);
+
+/// Per target the reference resolves (at least [`RESOLVES`] × `floor`) its [`Answer`], the
+/// scene's recording in `recordings/SCENE-TARGET.rrd`; and the targets left out.
+pub fn answers<'a>(
+    (scene, scene_flags): (&str, &[(String, String)]),
+    rows: &'a [Row],
+    schedule: (f64, f64),
+    targets: &[f64],
+    floor: f64,
+) -> (Vec<Answer<'a>>, Vec<f64>) {
+    let (resolved, unresolved): (Vec<f64>, Vec<f64>) =
+        targets.iter().partition(|&&t| t >= RESOLVES * floor);
+    let answer = |t: f64| {
+        let row = cheapest(rows, t).0;
+        let out = format!("recordings/{scene}-{t:e}.rrd");
+        let command = |r| scene_command(scene, scene_flags, r, schedule, &out);
+        (t, row, row.map_or(Vec::new(), command))
+    };
+    (resolved.into_iter().map(answer).collect(), unresolved)
 }
 
 /// What a run was: the method and every setting that made it, as flags (`--rtol 1e-6`,

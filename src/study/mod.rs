@@ -21,8 +21,8 @@ mod roundoff;
 mod sweep;
 
 pub use answer::{
-    DEFAULT_TARGETS, RESOLVES, floor_text, refuse_unresolved, scene_command, settings,
-    validate_targets,
+    Answer, DEFAULT_TARGETS, RESOLVES, answers, floor_text, refuse_unresolved, scene_command,
+    settings, validate_targets,
 };
 pub use limits::{Limit, composition_limit, stability, validate_stability_steps, yoshida4_limit};
 use orders::fit;

@@ -8,7 +8,7 @@ use crate::format::shown;
 use crate::report::study as report;
 use crate::scene::pendulum::run::PendulumConfig;
 use crate::scene::rope::run::RopeConfig;
-use crate::study::{Problem, RESOLVES, Row, Sweep, cheapest, scene_command};
+use crate::study::{Problem, Row, Sweep, answers};
 
 /// Keys of a scene's table that the command sets from the run, not from the study's scene.
 const RUN_KEYS: &str =
@@ -16,7 +16,10 @@ const RUN_KEYS: &str =
 
 /// The scene's parameters where the study's differ from the scene's defaults, as flags and
 /// values as typed (a study's rope is softer and undamped; a scene file may set anything).
-fn scene_flags(problem: &Problem, file: &SceneFile) -> Result<Vec<(String, String)>, Error> {
+pub(super) fn scene_flags(
+    problem: &Problem,
+    file: &SceneFile,
+) -> Result<Vec<(String, String)>, Error> {
     let defaults = match problem {
         Problem::Pendulum(_) => table_of(&PendulumConfig::default())?,
         Problem::Rope(_) => table_of(&RopeConfig::default())?,
@@ -42,30 +45,9 @@ fn scene_flags(problem: &Problem, file: &SceneFile) -> Result<Vec<(String, Strin
         .collect())
 }
 
-/// The command that makes `row`'s run as a scene, each word quoted for a shell
-/// ([`crate::record::shell_word`]); its recording goes to `recordings/SCENE-TARGET.rrd`.
-pub(super) fn command(
-    problem: &Problem,
-    flags: &[(String, String)],
-    sw: &Sweep,
-    row: &Row,
-    target: f64,
-) -> Vec<String> {
-    let output = format!("recordings/{}-{target:e}.rrd", problem.name());
-    let words = scene_command(
-        problem.name(),
-        flags,
-        row,
-        (sw.sample_dt, sw.duration),
-        &output,
-    );
-    (words.iter())
-        .map(|w| crate::record::shell_word(w.as_bytes()))
-        .collect()
-}
-
 /// The lines that answer the targets the reference resolves (given ones it cannot were
-/// refused before the sweep; default ones are left out, said so).
+/// refused before the sweep; default ones are left out, said so), each command's words quoted
+/// for a shell ([`crate::record::shell_word`]).
 pub(super) fn answer(
     problem: &Problem,
     file: &SceneFile,
@@ -74,21 +56,14 @@ pub(super) fn answer(
     rows: &[Row],
     floor: f64,
 ) -> Result<String, Error> {
-    let (resolved, unresolved): (Vec<f64>, Vec<f64>) =
-        targets.iter().partition(|&&t| t >= RESOLVES * floor);
     let flags = scene_flags(problem, file)?;
-    let found: Vec<(f64, Option<&Row>)> = (resolved.iter())
-        .map(|&t| (t, cheapest(rows, t).0))
-        .collect();
-    let commands: Vec<Option<Vec<String>>> = (found.iter())
-        .map(|(t, r)| r.map(|r| command(problem, &flags, sw, r, *t)))
-        .collect();
-    Ok(report::answer(
-        problem,
-        sw,
-        floor,
-        &found,
-        &commands,
-        &unresolved,
-    ))
+    let scene = (problem.name(), flags.as_slice());
+    let schedule = (sw.sample_dt, sw.duration);
+    let (mut found, unresolved) = answers(scene, rows, schedule, targets, floor);
+    for (_, _, words) in &mut found {
+        *words = (words.iter())
+            .map(|w| crate::record::shell_word(w.as_bytes()))
+            .collect();
+    }
+    Ok(report::answer(problem, sw, floor, &found, &unresolved))
 }
