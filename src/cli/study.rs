@@ -21,11 +21,12 @@ pub enum StudyKind {
     Convergence(SweepArgs),
     /// Error against wall time and force evaluations; the cheapest method per target
     ///
-    /// Runs each method over the same step sizes (the adaptive ones over --rtol), --repeats
-    /// times each, and sets the error against the median wall time and against force
-    /// evaluations. Prints the runs, how the adaptive methods' error follows rtol, and the
-    /// cheapest run reaching each target error; with -o, --csv or --plots also draws error
-    /// against cost, log-log.
+    /// Runs each method over its settings (the fixed-step ones also at steps above --dt, across
+    /// the samples, the compositions also --compensated; the adaptive ones over --rtol),
+    /// --repeats times each, the error sampled every --sample-every. First prints per --target
+    /// the cheapest run and the scene command that makes it, then how the adaptive methods'
+    /// error follows rtol and every run; with -o, --csv or --plots also draws error against
+    /// cost, log-log.
     WorkPrecision(WorkPrecisionArgs),
     /// Largest stable dt per method by bisection, against theory
     ///

@@ -88,7 +88,15 @@ pub fn answer(
     for t in unresolved {
         let _ = writeln!(out, "{t:.0e} left out: below {RESOLVES}× the floor.");
     }
-    out.push_str("\nthe command that makes each run as a scene (it measures the same error):\n");
+    out.push_str(match problem {
+        Problem::Pendulum(_) => {
+            "\nthe command that makes each run as a scene (it measures the same error):\n"
+        }
+        // The rope scene has no reference lane: its summary shows the run, not this error.
+        Problem::Rope(_) => {
+            "\nthe command that makes each run as a scene (the error is the study's):\n"
+        }
+    });
     for (target, _, words) in found.iter().filter(|a| a.1.is_some()) {
         out.push_str(&wrapped(&format!("{target:.0e}:"), words, 100));
     }
