@@ -3,7 +3,7 @@
 
 use std::fmt::Write as _;
 
-use crate::format::{sci, shown, sig};
+use crate::format::{sci, shown, sig, trim_number};
 use crate::report::table::Table;
 use crate::scene::pendulum::exact::ExactPendulum;
 use crate::scene::rope::RopeParams;
@@ -58,15 +58,16 @@ pub fn answer(
 ) -> String {
     let periods = match problem {
         Problem::Pendulum(p) => ExactPendulum::new(p).map_or(String::new(), |e| {
-            format!(" ({} periods)", sig(sw.duration / e.period(), 6))
+            format!(" ({} periods)", trim_number(sw.duration / e.period(), 3))
         }),
         Problem::Rope(_) => String::new(),
     };
     let mut out = format!(
-        "{} work-precision: the cheapest run (median wall time) per target error over {} s{periods},\n\
-         error = {} at the samples every {} s; the reference's error (the floor) is {}:\n\n",
+        "{} work-precision: the cheapest run (median wall time) per target error\n\
+         over {} s{periods}, error = {} at the samples every {} s;\n\
+         the reference's error (the floor) is {}:\n\n",
         problem.name(),
-        shown(sw.duration),
+        sig(sw.duration, 6),
         error_words(problem),
         shown(sw.sample_dt),
         floor_text(reference_error),
