@@ -3,7 +3,7 @@
 
 use std::fmt::Write as _;
 
-use crate::format::{sci, shown, sig, trim_number};
+use crate::format::{sci, shown, trim_number};
 use crate::report::table::Table;
 use crate::scene::pendulum::exact::ExactPendulum;
 use crate::scene::rope::RopeParams;
@@ -67,7 +67,7 @@ pub fn answer(
          over {} s{periods}, error = {} at the samples every {} s;\n\
          the reference's error (the floor) is {}:\n\n",
         problem.name(),
-        sig(sw.duration, 6),
+        trim_number(sw.duration, 6),
         error_words(problem),
         shown(sw.sample_dt),
         floor_text(reference_error),
