@@ -113,7 +113,77 @@ const REFUSALS: &[(&[&str], i32, &[&str])] = &[
     (
         &["study", "work-precision", "--dt", "1", "--duration", "10"],
         2,
-        &["must not exceed --duration / 16"],
+        &["^error: --sample-every 0.32: must be a multiple of --dt 1 s"],
+    ),
+    // work-precision's targets, horizon in periods and sample interval (issue 39)
+    (
+        &["study", "work-precision", "--target", "1e-8,0"],
+        2,
+        &["^error: --target 0: must be a positive error"],
+    ),
+    (
+        &["study", "work-precision", "--target", "NaN"],
+        2,
+        &["^error: --target NaN: must be a positive error"],
+    ),
+    (
+        &[
+            "study",
+            "work-precision",
+            "--target",
+            "1e-15",
+            "--repeats",
+            "1",
+        ],
+        2,
+        &[
+            "^error: --target 1e-15: must be at least 10× the reference's error over this run, \
+             2.7e-14 (the floor), so at least 2.7e-13",
+        ],
+    ),
+    (
+        &[
+            "study",
+            "work-precision",
+            "--scene",
+            "rope",
+            "--periods",
+            "3",
+        ],
+        2,
+        &["^error: --periods 3: needs a scene with a period"],
+    ),
+    (
+        &["study", "work-precision", "--theta0", "0", "--periods", "3"],
+        2,
+        &["^error: --periods 3: needs a scene with a period"],
+    ),
+    (
+        &["study", "work-precision", "--periods", "0"],
+        2,
+        &["^error: --periods 0: must be"],
+    ),
+    (
+        &[
+            "study",
+            "work-precision",
+            "--periods",
+            "3",
+            "--duration",
+            "5",
+        ],
+        2,
+        &["'--periods <N>' cannot be used with '--duration <S>'"],
+    ),
+    (
+        &["study", "work-precision", "--sample-every", "0.33"],
+        2,
+        &["^error: --sample-every 0.33: must be a multiple of --dt 0.02 s"],
+    ),
+    (
+        &["study", "work-precision", "--sample-every", "20"],
+        2,
+        &["^error: --sample-every 20: must not exceed --duration 10 s"],
     ),
     (
         &["study", "convergence", "--dt", "1e-9"],

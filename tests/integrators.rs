@@ -1364,3 +1364,37 @@ mod compositions {
         }
     }
 }
+
+/// A fixed-step method whose own step divides the sample interval (`MethodOptions::step`, as
+/// `study work-precision` prints it: `--dt 0.32 --step 0.02`) ends its steps at every sample:
+/// its samples are the states of stepping at that step, bit for bit, for the same evaluations
+/// (no interpolant, no extra evaluation per step), and its own steps are counted.
+#[test]
+fn a_step_that_divides_the_sample_interval_ends_at_every_sample() {
+    use physlab::integrate::{Integrator, Method, MethodOptions};
+    use physlab::scene::pendulum::{Pendulum, PendulumParams};
+    let p = PendulumParams {
+        theta0: 1.0,
+        ..PendulumParams::default()
+    };
+    let sys = Pendulum::new(&p);
+    let (sample, h) = (0.32, 0.02);
+    for m in Method::ALL.into_iter().filter(|m| !m.info().adaptive()) {
+        let options = MethodOptions::default();
+        let mut plain = Integrator::new(m, &sys, &[p.theta0], &[0.0], h, options);
+        let step = Some(h);
+        let own = MethodOptions { step, ..options };
+        let mut sampled = Integrator::new(m, &sys, &[p.theta0], &[0.0], sample, own);
+        for _ in 0..50 {
+            for _ in 0..16 {
+                plain.step(&sys);
+            }
+            sampled.step(&sys);
+            assert_eq!(sampled.position(), plain.position(), "{m}");
+            assert_eq!(sampled.velocity(), plain.velocity(), "{m}");
+        }
+        assert_eq!(sampled.evals(), plain.evals(), "{m}");
+        assert_eq!(sampled.accepted_steps(), 800, "{m}");
+        assert_eq!(sampled.counts().own_steps, Some((800, 0)), "{m}");
+    }
+}

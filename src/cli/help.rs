@@ -93,9 +93,25 @@ fn study_defaults() -> [(&'static str, Vec<(&'static str, String)>); 5] {
         ],
     ];
     let hair = vec![("duration", study::hair::DEFAULT_DURATION.to_string())];
+    let every = |s: &(f64, f64)| study::SAMPLE_EVERY as f64 * s.0;
+    let targets = study::DEFAULT_TARGETS.map(|t| format!("{t:e}")).join(",");
+    let wp_rtols = study::work_precision_rtols()
+        .into_iter()
+        .map(toml::Value::Float);
+    let answer = vec![
+        ("rtol", show(&toml::Value::Array(wp_rtols.collect()))),
+        ("target", targets),
+        ("sample_every", both(&every(&p), &every(&r))),
+    ];
     [
         ("convergence", sweep.concat()),
-        ("work-precision", sweep.concat()),
+        (
+            "work-precision",
+            (sweep.concat().into_iter())
+                .filter(|d| d.0 != "rtol")
+                .chain(answer)
+                .collect(),
+        ),
         ("stability", stability.concat()),
         ("hair", hair),
         ("drift", long.concat()),

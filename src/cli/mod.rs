@@ -19,7 +19,7 @@ pub use scenes::{
 };
 pub use study::{
     DriftArgs, HairStudyArgs, StabilityArgs, StudyKind, StudyOutputs, StudyScene, StudySceneArgs,
-    SweepArgs,
+    SweepArgs, WorkPrecisionArgs,
 };
 pub use vector::{Indices, Magnitude, Vector};
 

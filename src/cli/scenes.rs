@@ -101,7 +101,8 @@ pub struct StepFlags {
     /// The fixed-step methods' own step [s], when it should not be --dt: they step at S and
     /// report every dt from the quintic Hermite interpolant through x, v and a at both ends of
     /// the step that holds the sample time (samples of order min(p, 6); one more force
-    /// evaluation per step, none for rkn4); at least dt/4096
+    /// evaluation per step, none for rkn4; a step that divides dt ends at every sample and
+    /// needs neither); at least dt/4096
     #[arg(long, value_name = "S", allow_negative_numbers = true)]
     pub step: Option<f64>,
 }

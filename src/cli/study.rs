@@ -21,12 +21,13 @@ pub enum StudyKind {
     Convergence(SweepArgs),
     /// Error against wall time and force evaluations; the cheapest method per target
     ///
-    /// Runs each method over the same step sizes (the adaptive ones over --rtol), --repeats
-    /// times each, and sets the error against the median wall time and against force
-    /// evaluations. Prints the runs, how the adaptive methods' error follows rtol, and the
-    /// cheapest run reaching each target error; with -o, --csv or --plots also draws error
-    /// against cost, log-log.
-    WorkPrecision(SweepArgs),
+    /// Runs each method over its settings (the fixed-step ones also at steps above --dt, across
+    /// the samples, the compositions also --compensated; the adaptive ones over --rtol),
+    /// --repeats times each, the error sampled every --sample-every. First prints per --target
+    /// the cheapest run and the scene command that makes it, then how the adaptive methods'
+    /// error follows rtol and every run; with -o, --csv or --plots also draws error against
+    /// cost, log-log.
+    WorkPrecision(WorkPrecisionArgs),
     /// Largest stable dt per method by bisection, against theory
     ///
     /// Finds each method's largest stable step by bisection on the linearised problem (the
@@ -157,6 +158,36 @@ pub struct SweepArgs {
 
     #[command(flatten)]
     pub out: StudyOutputs,
+}
+
+/// `study work-precision`: the sweep, the target errors it answers for, its horizon and where
+/// its error is sampled.
+#[derive(Args, Debug, Clone, Default)]
+pub struct WorkPrecisionArgs {
+    #[command(flatten)]
+    pub sweep: SweepArgs,
+
+    /// Target errors, comma-separated: the first lines give the cheapest run reaching each
+    #[arg(
+        long,
+        value_delimiter = ',',
+        value_name = "LIST",
+        allow_negative_numbers = true
+    )]
+    pub target: Option<Vec<f64>>,
+
+    /// Horizon in periods of the exact solution, instead of --duration (with --scene pendulum)
+    #[arg(
+        long,
+        value_name = "N",
+        conflicts_with = "duration",
+        allow_negative_numbers = true
+    )]
+    pub periods: Option<f64>,
+
+    /// Interval the error is sampled at, a multiple of --dt [s]
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
+    pub sample_every: Option<f64>,
 }
 
 /// `study stability`: bisection on the linearised problem, trials of `--steps` steps.

@@ -21,33 +21,44 @@ pub(super) fn error_desc(scene: &str) -> &'static str {
     }
 }
 
-/// Runs of one method that produced an error, in the order of their setting (dt or rtol).
+/// Runs of one method that produced an error, in the order of their setting (dt or rtol); a
+/// composition's compensated runs are a series of their own.
 pub(super) fn runs(rows: &[Row], m: Method) -> Vec<&Row> {
     rows.iter()
-        .filter(|r| r.method == m && r.error.is_some_and(|e| e > 0.0))
+        .filter(|r| r.method == m && !r.compensated && r.error.is_some_and(|e| e > 0.0))
         .collect()
 }
 
-/// Per method, its runs' (x, error), x given by `x`, each point saying which run it is.
+/// Per method, its runs' (x, error), x given by `x`, each point saying which run it is; a
+/// composition's compensated runs a series of their own.
 fn series(rows: &[Row], methods: &[Method], x: fn(&Row) -> f64) -> Vec<Series> {
-    let of = |m| {
-        let runs = runs(rows, m);
-        Series {
-            key: Key::of(m),
-            points: (runs.iter())
-                .map(|r| (x(r), r.error.unwrap_or(0.0)))
-                .collect(),
-            about: runs
-                .iter()
-                .map(|r| crate::report::study::run_about(r))
-                .collect(),
-        }
+    let of = |key: Key, runs: Vec<&Row>| Series {
+        key,
+        points: (runs.iter())
+            .map(|r| (x(r), r.error.unwrap_or(0.0)))
+            .collect(),
+        about: runs
+            .iter()
+            .map(|r| crate::report::study::run_about(r))
+            .collect(),
     };
-    methods.iter().map(|&m| of(m)).collect()
+    let mut all = Vec::new();
+    for &m in methods {
+        all.push(of(Key::of(m), runs(rows, m)));
+        let compensated: Vec<&Row> = (rows.iter())
+            .filter(|r| r.method == m && r.compensated && r.error.is_some_and(|e| e > 0.0))
+            .collect();
+        if !compensated.is_empty() {
+            let mut key = Key::of(m);
+            key.name.push_str(" compensated");
+            all.push(of(key, compensated));
+        }
+    }
+    all
 }
 
 /// Work-precision: error against median wall time (left) and against force evaluations
-/// (right); `floor` is the reference's error floor, drawn as a dashed line.
+/// (right); `floor` is the reference's error (the study's floor), drawn as a dashed line.
 pub fn work_precision(scene: &str, rows: &[Row], floor: f64, note: &str) -> Diagram {
     Diagram {
         stem: format!("{scene}-work-precision"),
@@ -68,7 +79,7 @@ pub fn pendulum_work_precision_picture(runs: &(Vec<Row>, f64)) -> Diagram {
     work_precision(
         "pendulum",
         &runs.0,
-        crate::study::error_floor(runs.1),
+        runs.1,
         "wall times: median of the repeats on a two-core machine; machine-dependent.",
     )
 }
@@ -102,15 +113,16 @@ pub(super) fn work_precision_plot(scene: &str, rows: &[Row], floor: f64, note: &
             x,
             y: y.clone(),
             series: series(rows, &methods, cost),
-            guides: vec![(vec![(x1, floor), (x0, floor)], "reference floor".into())],
+            guides: vec![(vec![(x1, floor), (x0, floor)], "reference's error".into())],
         }
     });
+    let floor = crate::study::floor_text(floor);
     Plot {
         panels: panels.into(),
         keys: methods.iter().map(|&m| Key::of(m)).collect(),
         notes: vec![
             format!("{scene}: lower left is better."),
-            format!("dashed: the reference's error floor {floor:.0e}."),
+            format!("dashed: the reference's error {floor} (the floor)."),
             note.to_string(),
         ],
         legend_px: LEGEND_WIDTH,

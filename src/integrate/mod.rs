@@ -37,7 +37,7 @@ pub use implicit::scalar_backward_euler;
 pub use registry::{
     AdaptiveEvals, EvalsPerStep, Family, Method, MethodInfo, Stability, UnknownMethod,
 };
-pub use stepper::Integrator;
+pub use stepper::{Integrator, whole_steps};
 
 /// What one implicit solve did.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -92,8 +92,8 @@ pub struct MethodOptions {
     pub compensated: bool,
     /// The fixed-step methods' own step [s], when it is not the sample interval dt: they step
     /// at `step` and report every dt from a quintic Hermite interpolant through x, v and a at
-    /// both ends of the step that holds the sample (`across.rs`: samples of order min(p, 6)).
-    /// `None`: they step at dt, every step a sample. The adaptive methods ignore it (error
+    /// both ends of the step that holds the sample (`across.rs`: samples of order min(p, 6));
+    /// a step that divides dt ends at every sample, no interpolant. `None`: they step at dt, every step a sample. The adaptive methods ignore it (error
     /// control chooses their steps; `max_step` caps them).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub step: Option<f64>,

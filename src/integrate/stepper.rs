@@ -44,6 +44,17 @@ pub struct Integrator {
     /// A fixed-step method stepping at its own step, not dt (`MethodOptions::step`): its state
     /// at the ends of the step in hand, from which `x` and `v` are sampled.
     across: Option<across::Across>,
+    /// Own steps per call of `step` when the own step divides dt ([`whole_steps`]): they end
+    /// at every sample, which needs no interpolant (1 otherwise).
+    per_call: u64,
+    /// The fixed-step method's step: dt, or its own (`MethodOptions::step`).
+    h: f64,
+}
+
+/// dt / h when it is a whole number to rounding: steps of h then end at every sample of dt.
+pub fn whole_steps(dt: f64, h: f64) -> Option<u64> {
+    let n = (dt / h).round();
+    (n >= 1.0 && (n * h - dt).abs() <= 1e-12 * dt).then_some(n as u64)
 }
 
 impl Integrator {
@@ -108,10 +119,13 @@ impl Integrator {
         assert_eq!(x0.len(), n, "x0 has the system's dimension");
         assert_eq!(v0.len(), n, "v0 has the system's dimension");
         let mut counts = Counts::default();
-        let across = Self::steps_across(method, &options)
+        let own = Self::steps_across(method, &options);
+        let divides = own.and_then(|h| whole_steps(dt, h));
+        let per_call = divides.unwrap_or(1);
+        let across = (own.filter(|_| divides.is_none()))
             .map(|h| across::Across::new(system, x0, v0, h, &mut counts));
-        // The fixed-step method's step: its own when it steps across the samples.
-        let h = across.as_ref().map_or(dt, |a| a.h);
+        // The fixed-step method's step: its own when it steps across the samples or divides dt.
+        let h = own.unwrap_or(dt);
         let stepper = match method {
             Method::ExplicitEuler => Stepper::ExplicitEuler(explicit::ExplicitEuler::new(n)),
             Method::SemiImplicitEuler => {
@@ -150,6 +164,8 @@ impl Integrator {
             steps: 0,
             stepper,
             across,
+            per_call,
+            h,
         }
     }
 
@@ -212,7 +228,7 @@ impl Integrator {
         match (&self.across, self.adaptive()) {
             (Some(a), _) => a.steps,
             (None, Some(c)) => c.accepted,
-            (None, None) => self.steps,
+            (None, None) => self.steps * self.per_call,
         }
     }
     /// What the run has spent so far: evaluations, missed solves and an adaptive method's own
@@ -223,6 +239,7 @@ impl Integrator {
             failed_solves: self.failed_solves(),
             own_steps: match (&self.across, self.adaptive()) {
                 (Some(a), _) => Some((a.steps, 0)),
+                (None, None) if self.per_call > 1 => Some((self.accepted_steps(), 0)),
                 (None, c) => c.map(|c| (c.accepted, c.rejected)),
             },
         }
@@ -238,7 +255,7 @@ impl Integrator {
         match (&self.across, self.adaptive()) {
             (Some(a), _) => a.h,
             (None, Some(c)) => c.h_last,
-            (None, None) => self.dt,
+            (None, None) => self.h,
         }
     }
     /// Implicit steps whose solve did not converge to tolerance.
@@ -256,12 +273,18 @@ impl Integrator {
         let counts = &mut self.counts;
         let jacobian_evals = &mut self.jacobian_evals;
         let Some(a) = &mut self.across else {
-            let s = State {
-                x: &mut self.x,
-                v: &mut self.v,
-                counts,
-            };
-            return advance(&mut self.stepper, sys, s, self.dt, jacobian_evals);
+            let h = self.h;
+            let mut report = None;
+            for _ in 0..self.per_call {
+                let s = State {
+                    x: &mut self.x,
+                    v: &mut self.v,
+                    counts,
+                };
+                let solve = advance(&mut self.stepper, sys, s, h, jacobian_evals);
+                report = merged(report, solve);
+            }
+            return report;
         };
         let t = self.steps as f64 * self.dt;
         // The pendulum's one coordinate as a width known at compile time (as `dense.rs` does).
@@ -318,18 +341,25 @@ fn step_across<S: SecondOrderSystem, W: dense::Width>(
         };
         sys.acceleration(&a.x1, &a.v1, &mut a.a1);
         counts.evals += 1;
-        report = match (report, solve) {
-            (Some(r), Some(s)) => Some(ImplicitSolve {
-                evals: r.evals + s.evals,
-                jacobian_evals: r.jacobian_evals + s.jacobian_evals,
-                converged: r.converged && s.converged,
-                ..s
-            }),
-            (r, s) => s.or(r),
-        };
+        report = merged(report, solve);
     }
     a.sample(t, x, v, w);
     report
+}
+
+/// The implicit solves' reports of several steps as one: the last, with the evaluations and
+/// the convergence of all.
+#[inline]
+fn merged(report: Option<ImplicitSolve>, solve: Option<ImplicitSolve>) -> Option<ImplicitSolve> {
+    match (report, solve) {
+        (Some(r), Some(s)) => Some(ImplicitSolve {
+            evals: r.evals + s.evals,
+            jacobian_evals: r.jacobian_evals + s.jacobian_evals,
+            converged: r.converged && s.converged,
+            ..s
+        }),
+        (r, s) => s.or(r),
+    }
 }
 
 /// One step of `h` of `stepper`; the implicit solve's report for implicit methods.

@@ -74,13 +74,23 @@ pub fn timed_from(runs: &(Vec<study::Row>, f64)) -> Vec<Figure> {
 /// The pendulum's work-precision runs (every method, 20 s from 60°), each timed `repeats`
 /// times, and the reference's error.
 pub fn work_precision_pendulum_runs(repeats: u32) -> (Vec<study::Row>, f64) {
-    let problem = Problem::Pendulum(Default::default());
-    let sweep = Sweep {
+    study::sweep(&pendulum(), &work_precision_pendulum_sweep(repeats))
+}
+
+/// The pendulum the studies run by default.
+fn pendulum() -> Problem {
+    Problem::Pendulum(Default::default())
+}
+
+/// `physlab study work-precision --duration 20`'s sweep, each run timed `repeats` times.
+fn work_precision_pendulum_sweep(repeats: u32) -> Sweep {
+    Sweep {
         duration: 20.0,
         repeats,
-        ..Sweep::defaults(&problem)
-    };
-    study::sweep(&problem, &sweep)
+        all_settings: true,
+        rtols: study::work_precision_rtols(),
+        ..Sweep::defaults(&pendulum())
+    }
 }
 
 /// The study rope with the scene's default spring damping and air drag.
@@ -217,15 +227,21 @@ fn stability(problem: &Problem) -> String {
     study_tables::stability_table(&limits)
 }
 
-/// `physlab study work-precision --duration 20`: the adaptive methods' tolerance
-/// proportionality and the cheapest run per target error (1e-12 included: the exact solution is
-/// good to 1e-14).
+/// `physlab study work-precision --duration 20`: the cheapest run per default target and the
+/// command that makes it, and the adaptive methods' tolerance proportionality.
 fn work_precision_pendulum((rows, reference_error): &(Vec<study::Row>, f64)) -> String {
-    let (rows, reference_error) = (rows.as_slice(), *reference_error);
+    let (rows, floor) = (rows.as_slice(), *reference_error);
+    let sw = work_precision_pendulum_sweep(1);
+    let schedule = (sw.sample_dt, sw.duration);
+    let targets = &study::DEFAULT_TARGETS;
+    let (found, left_out) = study::answers(("pendulum", &[]), rows, schedule, targets, floor);
+    let text = study_tables::answer(&pendulum(), &sw, floor, &found, &left_out);
+    // The commands as a shell block (the text ends "…the same error):" then the commands).
+    let (head, commands) = text.rsplit_once("):\n").unwrap_or((&text, ""));
     format!(
-        "{}\n{}",
-        study_tables::proportionality_table(rows, error_floor(reference_error)),
-        study_tables::cheapest_table(rows, &[1e-3, 1e-6, 1e-9, 1e-12])
+        "{head}):\n\n```sh\n{}\n```\n\n{}",
+        commands.trim_end(),
+        study_tables::proportionality_table(rows, error_floor(floor)),
     )
 }
 

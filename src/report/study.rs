@@ -3,36 +3,139 @@
 
 use std::fmt::Write as _;
 
-use crate::format::sci;
+use crate::format::{sci, shown, trim_number};
 use crate::report::table::Table;
 use crate::scene::pendulum::exact::ExactPendulum;
 use crate::scene::rope::RopeParams;
 use crate::study::{
-    Limit, Problem, Row, SAMPLE_EVERY, Sweep, cheapest, error_floor, orders, proportionality,
+    Answer, Limit, Problem, RESOLVES, Row, Sweep, error_floor, floor_text, orders, proportionality,
+    settings,
 };
 
 /// What a convergence or work-precision sweep (`kind`) measures, against which reference, and
-/// what its fits leave out.
+/// what its fits leave out. `reference_error` is the study's floor, said as [`floor_text`] says
+/// it wherever it is shown.
 pub fn sweep_header(problem: &Problem, kind: &str, sweep: &Sweep, reference_error: f64) -> String {
+    let floor = floor_text(reference_error);
     let reference = match problem {
         Problem::Pendulum(p) if ExactPendulum::new(p).is_some() => format!(
-            "the exact elliptic solution (θ to {reference_error:.0e} rad over this run: measured against mpmath over whole runs)"
+            "the exact elliptic solution (θ to {floor} rad over this run: measured against mpmath over whole runs)"
         ),
         Problem::Pendulum(_) => format!(
-            "the fine-step reference (compensated RK4, as the pendulum scene runs it), its own error estimated at {reference_error:.1e} rad (Richardson; measured against mpmath over whole runs)"
+            "the fine-step reference (compensated RK4, as the pendulum scene runs it), its own error estimated at {floor} rad (Richardson; measured against mpmath over whole runs)"
         ),
         Problem::Rope(_) => format!(
-            "RK4 at dt/8 of the finest step, its own error estimated at {reference_error:.1e} (Richardson)"
+            "RK4 at dt/8 of the finest step, its own error estimated at {floor} (Richardson)"
         ),
     };
     format!(
         "{} {kind}: error = largest deviation of the positions from {reference}, sampled every {} s over {} s; \
-         fits leave out errors below {:.0e} (the reference's floor)\n\n",
+         fits leave out errors below {} (100× the reference's error, its floor)\n\n",
         problem.name(),
-        sweep.dt0 * SAMPLE_EVERY as f64,
-        sweep.duration,
-        error_floor(reference_error)
+        shown(sweep.sample_dt),
+        shown(sweep.duration),
+        floor_text(error_floor(reference_error))
     )
+}
+
+/// What the answer's error is, per scene.
+fn error_words(problem: &Problem) -> &'static str {
+    match problem {
+        Problem::Pendulum(_) => "max |θ − θref| [rad]",
+        Problem::Rope(_) => "max |x − xref| over the nodes [m]",
+    }
+}
+
+/// Work-precision's first lines: per target the cheapest run (its method and settings, error,
+/// median wall time and evaluations), the targets left out below the floor, and the scene
+/// command (shell words) that makes each run.
+pub fn answer(
+    problem: &Problem,
+    sw: &Sweep,
+    reference_error: f64,
+    found: &[Answer],
+    unresolved: &[f64],
+) -> String {
+    let periods = match problem {
+        Problem::Pendulum(p) => ExactPendulum::new(p).map_or(String::new(), |e| {
+            format!(" ({} periods)", trim_number(sw.duration / e.period(), 3))
+        }),
+        Problem::Rope(_) => String::new(),
+    };
+    let mut out = format!(
+        "{} work-precision: the cheapest run (median wall time) per target error\n\
+         over {} s{periods}, error = {} at the samples every {} s;\n\
+         the reference's error (the floor) is {}:\n\n",
+        problem.name(),
+        trim_number(sw.duration, 6),
+        error_words(problem),
+        shown(sw.sample_dt),
+        floor_text(reference_error),
+    );
+    let mut t = Table::new(["target", "cheapest run", "error", "wall [s]", "force evals"]);
+    for (target, row, _) in found {
+        let run = row.map_or("none reached it".into(), |r| {
+            settings(r, sw.sample_dt)[1..].join(" ")
+        });
+        t.row([
+            format!("{target:.0e}"),
+            run,
+            row.and_then(|r| r.error).map_or("—".into(), sci),
+            row.map_or("—".into(), |r| sci(r.wall_seconds)),
+            row.map_or("—".into(), |r| r.evals.to_string()),
+        ]);
+    }
+    out.push_str(&t.render());
+    for t in unresolved {
+        let _ = writeln!(out, "{t:.0e} left out: below {RESOLVES}× the floor.");
+    }
+    out.push_str(match problem {
+        Problem::Pendulum(_) => {
+            "\nthe command that makes each run as a scene (it measures the same error):\n"
+        }
+        // The rope scene has no reference lane: its summary shows the run, not this error.
+        Problem::Rope(_) => {
+            "\nthe command that makes each run as a scene (the error is the study's):\n"
+        }
+    });
+    for (target, _, words) in found.iter().filter(|a| a.1.is_some()) {
+        out.push_str(&wrapped(&format!("{target:.0e}:"), words, 100));
+    }
+    out.push('\n');
+    out
+}
+
+/// `words` after `label`, a line each up to `width` columns, continued by ` \` (a shell reads
+/// them as one command); a flag and its value stay on one line.
+fn wrapped(label: &str, words: &[String], width: usize) -> String {
+    let indent = " ".repeat(label.chars().count() + 3);
+    let mut units: Vec<String> = Vec::new();
+    for w in words {
+        match units.last_mut() {
+            Some(u) if u.starts_with('-') && !u.contains(' ') && !w.starts_with('-') => {
+                u.push(' ');
+                u.push_str(w);
+            }
+            _ => units.push(w.clone()),
+        }
+    }
+    let mut out = format!("{label:<w$}", w = indent.len() - 2);
+    let mut line = out.chars().count();
+    for (i, unit) in units.iter().enumerate() {
+        let n = unit.chars().count();
+        if i > 0 && line + 1 + n + 2 > width {
+            out.push_str(" \\\n");
+            out.push_str(&indent);
+            line = indent.len();
+        } else if i > 0 {
+            out.push(' ');
+            line += 1;
+        }
+        out.push_str(unit);
+        line += n;
+    }
+    out.push('\n');
+    out
 }
 
 /// Introduces the damped rope's table beside the undamped one's.
@@ -48,25 +151,9 @@ pub fn damped_header(scene: &RopeParams) -> String {
 pub fn proportionality_header(floor: f64) -> String {
     format!(
         "tolerance proportionality of the adaptive methods (slope 1: the error follows rtol; \
-         errors below {floor:.0e} left out):\n\n"
+         errors below {} left out):\n\n",
+        floor_text(floor)
     )
-}
-
-/// Introduces the cheapest runs, naming the targets left out as below the reference's reach.
-pub fn cheapest_header(unresolved: &[f64], reference_error: f64) -> String {
-    let left_out = if unresolved.is_empty() {
-        String::new()
-    } else {
-        format!(
-            "; {} left out: below 10× the reference's accuracy {reference_error:.1e}",
-            unresolved
-                .iter()
-                .map(|t| format!("{t:.0e}"))
-                .collect::<Vec<_>>()
-                .join(", ")
-        )
-    };
-    format!("\ncheapest run reaching each error (from the rows above){left_out}:\n\n")
 }
 
 /// What a stability study measures, on which linearised problem, against which theory.
@@ -216,34 +303,6 @@ pub fn rows_table(rows: &[Row]) -> String {
             r.accepted.to_string(),
             r.rejected.to_string(),
             sci(r.wall_seconds),
-        ]);
-    }
-    t.render()
-}
-
-/// The cheapest measured run reaching each target error, by wall time and by evaluations.
-pub fn cheapest_table(rows: &[Row], targets: &[f64]) -> String {
-    let mut t = Table::new([
-        "target error",
-        "fastest (wall)",
-        "its wall [s]",
-        "fewest evaluations",
-        "its evals",
-    ]);
-    for &target in targets {
-        let (by_wall, by_evals) = cheapest(rows, target);
-        let name = |r: Option<&Row>| {
-            r.map_or("none reached it".to_string(), |r| match r.rtol {
-                Some(t) => format!("{} (rtol {t:.0e})", r.method.name()),
-                None => format!("{} (dt {})", r.method.name(), sci(r.dt)),
-            })
-        };
-        t.row([
-            format!("{target:.0e}"),
-            name(by_wall),
-            by_wall.map_or("—".into(), |r| sci(r.wall_seconds)),
-            name(by_evals),
-            by_evals.map_or("—".into(), |r| r.evals.to_string()),
         ]);
     }
     t.render()

@@ -4,7 +4,7 @@
 //! from its order and the floor.
 
 use super::{Problem, SAMPLE_EVERY, Sweep};
-use crate::integrate::{Method, Stability};
+use crate::integrate::{Method, Stability, whole_steps};
 
 /// One run of a fixed-step method: its step, its steps between compared samples, and how many
 /// samples apart the comparisons are (1: at every sample).
@@ -33,10 +33,12 @@ impl Level {
 
 /// The default grid: dt0, dt0/2, ... over `--levels`, compared at every sample.
 pub fn halving(s: &Sweep) -> Vec<Level> {
+    // Steps of dt0 per sample (validated whole).
+    let per = whole_steps(s.sample_dt, s.dt0).unwrap_or(SAMPLE_EVERY);
     (0..s.levels)
         .map(|k| Level {
             dt: s.dt0 / 2f64.powi(k as i32),
-            per: SAMPLE_EVERY << k,
+            per: per << k,
             every: 1,
         })
         .collect()
@@ -74,7 +76,7 @@ pub fn by_order(
     let Some(mut e) = error(default[0]).filter(|&e| e < low * 2f64.powf(p * (USABLE - 1.0))) else {
         return default;
     };
-    let sample_dt = s.dt0 * SAMPLE_EVERY as f64;
+    let sample_dt = s.sample_dt;
     let samples = (s.duration / sample_dt).round().max(1.0);
     let cap = match method.info().stability {
         Stability::Below(h) => STABLE_FRACTION * h / problem.omega(),

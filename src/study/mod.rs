@@ -12,6 +12,7 @@
 //! [`stability`] then return the rows and limits complete so far (a run cut short is dropped,
 //! never shown), and the caller says the study was interrupted.
 
+mod answer;
 pub mod drift;
 mod grid;
 pub mod hair;
@@ -20,6 +21,10 @@ mod orders;
 mod roundoff;
 mod sweep;
 
+pub use answer::{
+    Answer, DEFAULT_TARGETS, RESOLVES, answers, floor_text, refuse_unresolved, scene_command,
+    settings, validate_targets,
+};
 pub use limits::{
     Limit, composition_limit, stability, stability_with, validate_stability_steps, yoshida4_limit,
 };
@@ -31,7 +36,7 @@ pub use orders::{
 pub use roundoff::{energy_error_rms, growth_exponent};
 pub use sweep::{
     Row, SAMPLE_EVERY, Sweep, damped_companion, planned_runs, planned_work, reference, sweep,
-    sweep_with,
+    sweep_against, sweep_with,
 };
 
 use crate::integrate::{Integrator, Method, SecondOrderSystem};
@@ -131,6 +136,15 @@ pub const DEFAULT_STABILITY_STEPS: u64 = 2000;
 /// The adaptive methods' tolerances in a work-precision sweep by default: 1e-3 to 1e-13.
 pub fn default_rtols() -> Vec<f64> {
     (3..=13).map(|k| 10f64.powi(-k)).collect()
+}
+
+/// The adaptive methods' tolerances in a work-precision study by default: half-decades from 1e-2
+/// to 1e-14 (the peer benchmark's grid), to two digits.
+pub fn work_precision_rtols() -> Vec<f64> {
+    let rounded = |t: f64| format!("{t:.1e}").parse().unwrap_or(t);
+    (4..=28)
+        .map(|e| rounded(10f64.powf(-f64::from(e) / 2.0)))
+        .collect()
 }
 
 /// Coordinates stepped between looks at the stop flag: an atomic load, free at this stride, and

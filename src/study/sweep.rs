@@ -8,7 +8,10 @@ use super::{
     DEFAULT_LEVELS, DEFAULT_REPEATS, Problem, default_rtols, default_schedule, steps, stop,
 };
 use crate::format;
-use crate::integrate::{EvalsPerStep, Integrator, Method, MethodOptions, SecondOrderSystem};
+use crate::integrate::{
+    EvalsPerStep, Integrator, Method, MethodOptions, SecondOrderSystem, composition_weights,
+    whole_steps,
+};
 use crate::scene::params::{self, Invalid};
 use crate::scene::pendulum::Pendulum;
 use crate::scene::pendulum::exact::ExactPendulum;
@@ -21,6 +24,8 @@ impl Sweep {
         let (dt0, duration) = default_schedule(problem);
         Sweep {
             dt0,
+            sample_dt: SAMPLE_EVERY as f64 * dt0,
+            all_settings: false,
             levels: DEFAULT_LEVELS,
             duration,
             methods: problem.methods(),
@@ -39,6 +44,8 @@ pub struct Row {
     pub dt: f64,
     /// The adaptive method's tolerance; `None` for fixed-step methods.
     pub rtol: Option<f64>,
+    /// A composition method with compensated sums (`--compensated`).
+    pub compensated: bool,
     /// Largest deviation from the reference over the run; `None` when the run diverged.
     pub error: Option<f64>,
     /// Force evaluations over the run (rejected steps' included).
@@ -171,8 +178,14 @@ pub const SAMPLE_EVERY: u64 = 16;
 /// How a convergence or work-precision sweep is set up.
 #[derive(Clone, Debug)]
 pub struct Sweep {
-    /// The coarsest step; the samples are taken every SAMPLE_EVERY × dt0.
+    /// The coarsest step.
     pub dt0: f64,
+    /// The interval the error is sampled at: a multiple of dt0 (`--sample-every`; by default
+    /// SAMPLE_EVERY × the scene's default dt0).
+    pub sample_dt: f64,
+    /// Whether the fixed-step methods also step across the samples at steps above dt0, up to
+    /// 4 × sample_dt, and the compositions also run with compensated sums (work-precision).
+    pub all_settings: bool,
     /// Number of step sizes dt0, dt0/2, ...
     pub levels: u32,
     pub duration: f64,
@@ -195,10 +208,17 @@ impl Sweep {
         }
         params::positive("--dt", self.dt0, "s")?;
         params::positive("--duration", self.duration, "s")?;
-        // Errors are compared every SAMPLE_EVERY coarsest steps; fewer than one sample fits
-        // nothing.
+        params::positive("--sample-every", self.sample_dt, "s")?;
+        let rule = format!(
+            "must be a multiple of --dt {} s, the fixed-step methods' coarsest step (their steps \
+             end at every sample)",
+            format::shown(self.dt0)
+        );
+        let whole = whole_steps(self.sample_dt, self.dt0).is_some();
+        params::require(whole, "--sample-every", self.sample_dt, rule)?;
+        // Convergence samples every SAMPLE_EVERY coarsest steps: its --dt is what is too large.
         let longest = self.duration / SAMPLE_EVERY as f64;
-        if self.dt0 > longest {
+        if !self.all_settings && self.dt0 > longest {
             return Err(Invalid::Usage(format!(
                 "--dt {}: must not exceed --duration / {SAMPLE_EVERY} = {} s (errors are sampled \
                  every {SAMPLE_EVERY} coarsest steps)",
@@ -206,6 +226,16 @@ impl Sweep {
                 format::shown(longest),
             )));
         }
+        let rule = format!(
+            "must not exceed --duration {} s",
+            format::shown(self.duration)
+        );
+        params::require(
+            self.sample_dt <= self.duration,
+            "--sample-every",
+            self.sample_dt,
+            rule,
+        )?;
         let reference_steps = self.reference_steps();
         if reference_steps > params::MAX_STEPS {
             return Err(Invalid::Usage(format!(
@@ -221,6 +251,40 @@ impl Sweep {
     /// The reference's steps: 8× finer than the finest level.
     pub fn reference_steps(&self) -> f64 {
         8.0 * self.duration / self.finest()
+    }
+
+    /// The samples the error is taken at: every `sample_dt` to the end of the run.
+    pub fn samples(&self) -> usize {
+        ((self.duration / self.sample_dt).round() as usize).max(1)
+    }
+
+    /// The reference at the samples and its error ([`reference`]); `None` when stopped.
+    pub fn reference(&self, problem: &Problem) -> Option<(Vec<Vec<f64>>, f64)> {
+        reference(problem, self.sample_dt, self.samples(), self.finest())
+    }
+
+    /// The steps above dt0 that `m` also runs at when [`Sweep::all_settings`] and its order is
+    /// at least 4 (a lower order needs steps below dt0 for any error worth a target): 4 ×
+    /// sample_dt × 2^(-j/8) for j = 0, 1, ... (eight a halving, as in the peer benchmark), to
+    /// three digits, each stepping across the samples or, where it divides sample_dt, ending
+    /// at them.
+    pub fn steps_above(&self, m: Method) -> Vec<f64> {
+        let top = 4.0 * self.sample_dt;
+        let wanted = self.all_settings && !m.info().adaptive() && m.info().order >= 4;
+        (0..)
+            .map(|j| top * 2f64.powf(-f64::from(j) / 8.0))
+            .map(|h| format!("{h:.2e}").parse().unwrap_or(h))
+            .take_while(|&h| wanted && h > self.dt0 * (1.0 + 1e-9))
+            .collect()
+    }
+
+    /// Each fixed-step method's variants: plain, and the compositions compensated too when
+    /// [`Sweep::all_settings`].
+    fn compensations(&self, m: Method) -> &'static [bool] {
+        match self.all_settings && composition_weights(m).is_some() {
+            true => &[false, true],
+            false => &[false],
+        }
     }
 
     /// The finest level's step.
@@ -288,22 +352,35 @@ pub fn sweep_with(
     by_order: bool,
     done: &mut dyn FnMut(f64),
 ) -> (Vec<Row>, f64) {
-    let sample_dt = SAMPLE_EVERY as f64 * s.dt0;
-    let samples = ((s.duration / sample_dt).round() as usize).max(1);
-    let Some((reference, reference_error)) = reference(problem, sample_dt, samples, s.finest())
-    else {
-        return (Vec::new(), 0.0);
-    };
+    match s.reference(problem) {
+        Some((reference, error)) => {
+            let rows = sweep_against(problem, s, (&reference, error), by_order, done);
+            (rows, error)
+        }
+        None => (Vec::new(), 0.0),
+    }
+}
+
+/// [`sweep_with`] against a reference computed before ([`Sweep::reference`]: once per study)
+/// and its error.
+pub fn sweep_against(
+    problem: &Problem,
+    s: &Sweep,
+    (reference, reference_error): (&[Vec<f64>], f64),
+    by_order: bool,
+    done: &mut dyn FnMut(f64),
+) -> Vec<Row> {
+    let sample_dt = s.sample_dt;
     let work = planned(problem, s);
     done(work[0]);
     let start = problem.start();
     let run = |trial: Trial| match problem {
-        Problem::Pendulum(p) => measure(&Pendulum::new(p), &start, &reference, trial),
-        Problem::Rope(p) => measure(&Rope::new(p.clone()), &start, &reference, trial),
+        Problem::Pendulum(p) => measure(&Pendulum::new(p), &start, reference, trial),
+        Problem::Rope(p) => measure(&Rope::new(p.clone()), &start, reference, trial),
     };
     let mut rows = Vec::new();
     let mut one = |trial: Trial, rtol: Option<f64>| {
-        let (method, dt, ..) = trial;
+        let (method, dt, options, ..) = trial;
         let mut walls = Vec::new();
         let mut result = None;
         for _ in 0..s.repeats.max(1) {
@@ -322,8 +399,9 @@ pub fn sweep_with(
                 false => problem.name(),
             },
             method,
-            dt,
+            dt: options.step.unwrap_or(dt),
             rtol,
+            compensated: options.compensated,
             error: m.error,
             evals: m.evals,
             accepted: m.accepted,
@@ -346,10 +424,27 @@ pub fn sweep_with(
                 );
                 done(*planned.next().unwrap_or(&0.0));
             }
-        } else {
+            continue;
+        }
+        for &compensated in s.compensations(m) {
+            let options = MethodOptions {
+                compensated,
+                ..s.options
+            };
+            for h in s.steps_above(m) {
+                if stop() {
+                    break;
+                }
+                let step = Some(h);
+                one(
+                    (m, sample_dt, MethodOptions { step, ..options }, 1, 1),
+                    None,
+                );
+                done(*planned.next().unwrap_or(&0.0));
+            }
             let levels = match by_order {
                 true => grid::by_order(m, problem, s, floor, |l| {
-                    run((m, l.dt, s.options, l.per, l.every))?.error
+                    run((m, l.dt, options, l.per, l.every))?.error
                 }),
                 false => grid::halving(s),
             };
@@ -357,12 +452,12 @@ pub fn sweep_with(
                 if stop() {
                     break;
                 }
-                one((m, l.dt, s.options, l.per, l.every), None);
+                one((m, l.dt, options, l.per, l.every), None);
                 done(*planned.next().unwrap_or(&0.0));
             }
         }
     }
-    (rows, reference_error)
+    rows
 }
 
 /// The work of a sweep of `problem` (force evaluations × coordinates): its reference's, then
@@ -371,7 +466,7 @@ pub fn sweep_with(
 /// and order). What the progress bar paces by.
 fn planned(problem: &Problem, s: &Sweep) -> Vec<f64> {
     let coordinates = problem.start().0.len() as f64;
-    let samples = s.duration / (SAMPLE_EVERY as f64 * s.dt0);
+    let samples = s.duration / s.sample_dt;
     let reference = match problem {
         Problem::Rope(_) => 1.5 * 4.0 * s.reference_steps() * coordinates,
         Problem::Pendulum(_) => 0.0,
@@ -380,18 +475,22 @@ fn planned(problem: &Problem, s: &Sweep) -> Vec<f64> {
     let mut work = vec![reference];
     for m in accepted(problem, s) {
         let (order, evals) = (f64::from(m.info().order), m.info().evals_per_step);
-        match evals {
-            EvalsPerStep::Adaptive(e) => work.extend(s.rtols.iter().map(|&rtol| {
-                let steps = 1.0 + 0.2 * rtol.powf(-1.0 / order);
-                repeats * samples * steps * f64::from(e.accepted)
-            })),
-            EvalsPerStep::Fixed(n) => {
-                work.extend((0..s.levels).map(|k| repeats * s.duration / s.dt0 * f64::from(n << k)))
+        let per_step = match evals {
+            EvalsPerStep::Adaptive(e) => {
+                work.extend(s.rtols.iter().map(|&rtol| {
+                    let steps = 1.0 + 0.2 * rtol.powf(-1.0 / order);
+                    repeats * samples * steps * f64::from(e.accepted)
+                }));
+                continue;
             }
+            EvalsPerStep::Fixed(n) => f64::from(n),
             // Newton: about three evaluations a step.
-            _ => {
-                work.extend((0..s.levels).map(|k| repeats * s.duration / s.dt0 * f64::from(3 << k)))
-            }
+            _ => 3.0,
+        };
+        for _ in s.compensations(m) {
+            let above = s.steps_above(m).into_iter().map(|h| s.duration / h);
+            let levels = (0..s.levels).map(|k| s.duration / s.dt0 * f64::from(1u32 << k));
+            work.extend(above.chain(levels).map(|steps| repeats * steps * per_step));
         }
     }
     work

@@ -8,9 +8,10 @@ use crate::diagram::{self, Diagram};
 use crate::report::study as report;
 use crate::study::{
     Limit, Problem, Row, Sweep, damped_companion, error_floor, planned_work, stability_with,
-    sweep_with,
+    sweep_against, sweep_with,
 };
 
+mod answer;
 mod drift;
 mod hair;
 mod outputs;
@@ -32,8 +33,11 @@ struct Found {
 pub fn study(kind: &StudyKind) -> anyhow::Result<()> {
     let (setup, scene, out) = match kind {
         StudyKind::Hair(a) => return hair_study(a),
-        StudyKind::Convergence(a) => (setup::sweep_setup(a, true)?, &a.scene, &a.out),
-        StudyKind::WorkPrecision(a) => (setup::sweep_setup(a, false)?, &a.scene, &a.out),
+        StudyKind::Convergence(a) => (setup::sweep_setup(a, None)?, &a.scene, &a.out),
+        StudyKind::WorkPrecision(w) => {
+            let a = &w.sweep;
+            (setup::sweep_setup(a, Some(w))?, &a.scene, &a.out)
+        }
         StudyKind::Stability(a) => (setup::stability_setup(a)?, &a.scene, &a.out),
         StudyKind::Drift(a) => (setup::drift_setup(a)?, &a.scene, &a.out),
     };
@@ -42,6 +46,7 @@ pub fn study(kind: &StudyKind) -> anyhow::Result<()> {
         sweep,
         steps,
         work,
+        targets,
         file,
     } = setup;
     let stems: &[&str] = match kind {
@@ -94,6 +99,9 @@ pub fn study(kind: &StudyKind) -> anyhow::Result<()> {
             }
         }
         StudyKind::Drift(_) => drift::drift_study(&mut progress, &problem, &sweep),
+        StudyKind::WorkPrecision(_) => {
+            work_precision(&problem, &sweep, &targets, &file, &mut progress)?
+        }
         _ => sweep_study(kind, &problem, &sweep, &mut progress),
     };
     progress.finish();
@@ -116,16 +124,15 @@ pub fn study(kind: &StudyKind) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// `study convergence` and `study work-precision`: the sweep's runs, the fitted orders or the
-/// cheapest run per target, how the adaptive methods' error follows rtol, and every run.
+/// `study convergence`: the sweep's runs, the fitted orders, how the adaptive methods' error
+/// follows rtol, and every run.
 fn sweep_study(kind: &StudyKind, problem: &Problem, sw: &Sweep, progress: &mut Progress) -> Found {
-    let by_order = matches!(kind, StudyKind::Convergence(_));
     let mut reached = 0.0;
     let mut done = |w: f64| {
         reached += w;
         progress.at(reached);
     };
-    let (mut rows, reference_error) = sweep_with(problem, sw, by_order, &mut done);
+    let (mut rows, reference_error) = sweep_with(problem, sw, true, &mut done);
     let floor = error_floor(reference_error);
     let mut found = Found {
         out: report::sweep_header(problem, kind.name(), sw, reference_error),
@@ -133,34 +140,65 @@ fn sweep_study(kind: &StudyKind, problem: &Problem, sw: &Sweep, progress: &mut P
         diagrams: Vec::new(),
         done: 0,
     };
-    let mut damped = Vec::new();
-    if let StudyKind::Convergence(_) = kind {
-        damped = convergence_tables(problem, sw, &rows, floor, &mut found, &mut done);
-    }
+    let damped = convergence_tables(problem, sw, &rows, floor, &mut found, &mut done);
     let out = &mut found.out;
     if rows.iter().any(|r| r.rtol.is_some()) {
         out.push_str(&report::proportionality_header(floor));
         out.push_str(&report::proportionality_table(&rows, floor));
         out.push('\n');
     }
-    if let StudyKind::WorkPrecision(_) = kind {
-        out.push_str(&report::rows_table(&rows));
-        // A target is only claimed where the reference resolves it: 10× its accuracy.
-        let (targets, unresolved): (Vec<f64>, Vec<f64>) = [1e-3, 1e-6, 1e-9, 1e-12]
-            .into_iter()
-            .partition(|&t| t >= 10.0 * reference_error);
-        out.push_str(&report::cheapest_header(&unresolved, reference_error));
-        out.push_str(&report::cheapest_table(&rows, &targets));
-        let note = format!("wall times: median of {}; machine-dependent.", sw.repeats);
-        (found.diagrams).push(diagram::work_precision(problem.name(), &rows, floor, &note));
-    } else {
-        // Every run in the runs table, the CSV and the count (the damped rope's too).
-        rows.extend(damped);
-        out.push_str(&report::rows_table(&rows));
-    }
+    // Every run in the runs table, the CSV and the count (the damped rope's too).
+    rows.extend(damped);
+    out.push_str(&report::rows_table(&rows));
     found.csv = report::rows_csv(&rows);
     found.done = rows.len();
     found
+}
+
+/// `study work-precision`: the reference once (its error the study's floor, shown the same
+/// everywhere), the targets it resolves (those given and unresolved refused), the sweep, then
+/// the answer first: per target the cheapest run and the command that makes it.
+fn work_precision(
+    problem: &Problem,
+    sw: &Sweep,
+    targets: &(Vec<f64>, bool),
+    file: &crate::app::SceneFile,
+    progress: &mut Progress,
+) -> Result<Found, Error> {
+    let mut found = Found {
+        out: String::new(),
+        csv: String::new(),
+        diagrams: Vec::new(),
+        done: 0,
+    };
+    let Some((reference, floor)) = sw.reference(problem) else {
+        return Ok(found);
+    };
+    if targets.1 {
+        crate::study::refuse_unresolved(&targets.0, floor)?;
+    }
+    let mut reached = 0.0;
+    let mut done = |w: f64| {
+        reached += w;
+        progress.at(reached);
+    };
+    let rows = sweep_against(problem, sw, (&reference, floor), false, &mut done);
+    let out = &mut found.out;
+    out.push_str(&answer::answer(
+        problem, file, sw, &targets.0, &rows, floor,
+    )?);
+    out.push_str(&report::sweep_header(problem, "work-precision", sw, floor));
+    if rows.iter().any(|r| r.rtol.is_some()) {
+        out.push_str(&report::proportionality_header(error_floor(floor)));
+        out.push_str(&report::proportionality_table(&rows, error_floor(floor)));
+        out.push('\n');
+    }
+    out.push_str(&report::rows_table(&rows));
+    let note = format!("wall times: median of {}; machine-dependent.", sw.repeats);
+    (found.diagrams).push(diagram::work_precision(problem.name(), &rows, floor, &note));
+    found.csv = report::rows_csv(&rows);
+    found.done = rows.len();
+    Ok(found)
 }
 
 /// The fitted orders, and on the undamped rope the same rope with the scene's damping beside

@@ -11,6 +11,7 @@ use crate::app::load_scene_file;
 use crate::app::scenes::{MethodFlag, given, refuse_unread};
 use crate::cli::{
     DriftArgs, PendulumArgs, RopeArgs, StabilityArgs, StudyScene, StudySceneArgs, SweepArgs,
+    WorkPrecisionArgs,
 };
 use crate::format::shown;
 use crate::integrate::{Method, MethodOptions};
@@ -37,20 +38,51 @@ pub(super) struct Setup {
     pub(super) steps: u64,
     /// Its work in node-steps, which says up front how long it will take.
     pub(super) work: f64,
+    /// The target errors `study work-precision` answers for, and whether they were given
+    /// (given ones the reference cannot resolve are refused, default ones left out).
+    pub(super) targets: (Vec<f64>, bool),
     pub(super) file: SceneFile,
 }
 
-/// `study convergence` and `study work-precision`: the sweep over halved steps (and the adaptive
-/// methods over tolerances), its work and the reference's memory within the limits.
-pub(super) fn sweep_setup(a: &SweepArgs, convergence: bool) -> Result<Setup, Error> {
+/// `study convergence` and `study work-precision` (`wp`, its targets, horizon and sampling):
+/// the sweep over halved steps (and the adaptive methods over tolerances), its work and the
+/// reference's memory within the limits.
+pub(super) fn sweep_setup(a: &SweepArgs, wp: Option<&WorkPrecisionArgs>) -> Result<Setup, Error> {
     let scene = Scene::resolve(&a.scene, table_of(&a.start)?, table_of(&a.losses)?, false)?;
     let methods = scene.methods(&a.scene, a.rtol.is_some(), Problem::methods)?;
-    let sweep = scene.sweep(a, methods)?;
-    let work = sweep_work(&scene.problem, &sweep, convergence)?;
+    let sweep = scene.sweep(a, methods, wp)?;
+    let mut targets = (study::DEFAULT_TARGETS.to_vec(), false);
+    if let Some(given) = wp.and_then(|w| w.target.as_ref()) {
+        study::validate_targets(given)?;
+        targets = (given.clone(), true);
+    }
+    let work = sweep_work(&scene.problem, &sweep, wp.is_none())?;
     Ok(Setup {
         work,
+        targets,
         ..scene.with(sweep)?
     })
+}
+
+/// Work-precision's horizon in periods (`--periods`, the pendulum's exact period), its sample
+/// interval (`--sample-every`, by default the study's default for the scene whatever --dt) and
+/// its wider sweep, validated.
+fn answer_setup(wp: &WorkPrecisionArgs, problem: &Problem, sweep: &mut Sweep) -> Result<(), Error> {
+    if let Some(n) = wp.periods {
+        params::positive("--periods", n, "periods")?;
+        let period = match problem {
+            Problem::Pendulum(p) => crate::scene::pendulum::exact::exact_period(p),
+            Problem::Rope(_) => None,
+        };
+        let rule = "needs a scene with a period: the pendulum with a swing (not at rest at the \
+                    bottom, not on the separatrix); give --duration in seconds instead";
+        let period = period.ok_or_else(|| Error::param("--periods", shown(n), rule))?;
+        sweep.duration = n * period;
+    }
+    let default_every = study::SAMPLE_EVERY as f64 * study::default_schedule(problem).0;
+    sweep.sample_dt = wp.sample_every.unwrap_or(default_every);
+    sweep.all_settings = true;
+    Ok(())
 }
 
 /// `study stability`: the methods' bisections of `--steps` steps each, within the limits. Its
@@ -60,7 +92,7 @@ pub(super) fn stability_setup(a: &StabilityArgs) -> Result<Setup, Error> {
     study::validate_stability_steps(steps)?;
     let scene = Scene::resolve(&a.scene, Table::new(), Table::new(), true)?;
     let methods = scene.methods(&a.scene, false, Problem::methods)?;
-    let sweep = scene.sweep(&SweepArgs::default(), methods)?;
+    let sweep = scene.sweep(&SweepArgs::default(), methods, None)?;
     // Each method: one trial at the bracket's low end and 40 bisections, of up to --steps steps.
     let (work_per_step, _, nodes) = size(&scene.problem);
     let n = sweep.methods.len();
@@ -106,6 +138,8 @@ pub(super) fn drift_setup(a: &DriftArgs) -> Result<Setup, Error> {
     }
     let setup = scene.with(Sweep {
         dt0: dt,
+        sample_dt: study::SAMPLE_EVERY as f64 * dt,
+        all_settings: false,
         levels: 1,
         duration,
         methods,
@@ -256,19 +290,33 @@ impl Scene {
         )
     }
 
-    /// The sweep of `a` over the scene file over the study's defaults, validated.
-    fn sweep(&self, a: &SweepArgs, methods: Vec<Method>) -> Result<Sweep, Error> {
+    /// The sweep of `a` (and of work-precision's `wp`) over the scene file over the study's
+    /// defaults, validated.
+    fn sweep(
+        &self,
+        a: &SweepArgs,
+        methods: Vec<Method>,
+        wp: Option<&WorkPrecisionArgs>,
+    ) -> Result<Sweep, Error> {
         let default = study::default_schedule(&self.problem);
         let (dt0, duration) = self.schedule(a.dt, a.duration, default);
-        let sweep = Sweep {
+        let mut sweep = Sweep {
             dt0,
+            sample_dt: study::SAMPLE_EVERY as f64 * dt0,
+            all_settings: false,
             levels: a.levels.unwrap_or(study::DEFAULT_LEVELS),
             duration,
             methods,
             options: MethodOptions::default(),
             repeats: a.repeats.unwrap_or(study::DEFAULT_REPEATS),
-            rtols: a.rtol.clone().unwrap_or_else(study::default_rtols),
+            rtols: (a.rtol.clone()).unwrap_or_else(match wp {
+                Some(_) => study::work_precision_rtols,
+                None => study::default_rtols,
+            }),
         };
+        if let Some(wp) = wp {
+            answer_setup(wp, &self.problem, &mut sweep)?;
+        }
         sweep.validate()?;
         Ok(sweep)
     }
@@ -289,6 +337,7 @@ impl Scene {
             sweep,
             steps: 0,
             work: 0.0,
+            targets: (Vec::new(), false),
             file,
         })
     }
@@ -324,9 +373,15 @@ fn sweep_work(problem: &Problem, sweep: &Sweep, convergence: bool) -> Result<f64
     } else {
         1.0
     };
+    // Work-precision's steps above dt0 (twice for a composition: compensated too).
+    let above: f64 = (sweep.methods.iter())
+        .flat_map(|&m| sweep.steps_above(m))
+        .map(|h| 2.0 * duration / h)
+        .sum();
     let steps = sweeps
         * (1.5 * sweep.reference_steps()
-            + fixed * repeats as f64 * (duration / dt0) * (2f64.powi(levels as i32) - 1.0));
+            + fixed * repeats as f64 * (duration / dt0) * (2f64.powi(levels as i32) - 1.0)
+            + repeats as f64 * above);
     let work = steps * work_per_step;
     if steps > STUDY_MAX_STEPS || work > MAX_NODE_STEPS {
         return Err(Error::Usage(format!(

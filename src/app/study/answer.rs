@@ -1,0 +1,69 @@
+//! Work-precision's answer as printed: per target the cheapest run and the scene command that
+//! makes it, quoted for a shell.
+
+use super::Error;
+use crate::app::SceneFile;
+use crate::app::layers::table_of;
+use crate::format::shown;
+use crate::report::study as report;
+use crate::scene::pendulum::run::PendulumConfig;
+use crate::scene::rope::run::RopeConfig;
+use crate::study::{Problem, Row, Sweep, answers};
+
+/// Keys of a scene's table that the command sets from the run, not from the study's scene.
+const RUN_KEYS: &str =
+    "dt duration methods fps plot_every window rtol step compensated verlet_damping";
+
+/// The scene's parameters where the study's differ from the scene's defaults, as flags and
+/// values as typed (a study's rope is softer and undamped; a scene file may set anything).
+pub(super) fn scene_flags(
+    problem: &Problem,
+    file: &SceneFile,
+) -> Result<Vec<(String, String)>, Error> {
+    let defaults = match problem {
+        Problem::Pendulum(_) => table_of(&PendulumConfig::default())?,
+        Problem::Rope(_) => table_of(&RopeConfig::default())?,
+    };
+    let Some(table) = file.table(problem.name()) else {
+        return Ok(Vec::new());
+    };
+    let text = |v: &toml::Value| match v {
+        toml::Value::Float(x) => shown(*x),
+        toml::Value::String(s) => s.clone(),
+        toml::Value::Array(a) => a
+            .iter()
+            .map(|x| x.to_string())
+            .collect::<Vec<_>>()
+            .join(","),
+        other => other.to_string(),
+    };
+    Ok((table.iter())
+        .filter(|(k, v)| {
+            !RUN_KEYS.split(' ').any(|r| r == k.as_str()) && defaults.get(*k) != Some(*v)
+        })
+        .map(|(k, v)| (k.clone(), text(v)))
+        .collect())
+}
+
+/// The lines that answer the targets the reference resolves (given ones it cannot were
+/// refused before the sweep; default ones are left out, said so), each command's words quoted
+/// for a shell ([`crate::record::shell_word`]).
+pub(super) fn answer(
+    problem: &Problem,
+    file: &SceneFile,
+    sw: &Sweep,
+    targets: &[f64],
+    rows: &[Row],
+    floor: f64,
+) -> Result<String, Error> {
+    let flags = scene_flags(problem, file)?;
+    let scene = (problem.name(), flags.as_slice());
+    let schedule = (sw.sample_dt, sw.duration);
+    let (mut found, unresolved) = answers(scene, rows, schedule, targets, floor);
+    for (_, _, words) in &mut found {
+        *words = (words.iter())
+            .map(|w| crate::record::shell_word(w.as_bytes()))
+            .collect();
+    }
+    Ok(report::answer(problem, sw, floor, &found, &unresolved))
+}
