@@ -1596,35 +1596,10 @@ mod files {
     //! kind, with keys that do not apply or values of the wrong type, refused naming the file.
 
     use std::path::Path;
-    use std::process::{Command, Stdio};
-    use std::time::{Duration, Instant};
+    use std::process::Command;
+    use std::time::Duration;
 
-    use crate::common::{assert_refused, physlab, s, scratch_dir};
-
-    /// Runs physlab with `args`; returns its exit code, stderr and how long it took. A run that
-    /// has not ended after `limit` is killed and reported as code -1.
-    fn run_within(args: &[&str], limit: Duration) -> (i32, String, Duration) {
-        let started = Instant::now();
-        let mut child = Command::new(env!("CARGO_BIN_EXE_physlab"))
-            .args(args)
-            .stdout(Stdio::null())
-            .stderr(Stdio::piped())
-            .spawn()
-            .unwrap();
-        loop {
-            if let Some(status) = child.try_wait().unwrap() {
-                let out = child.wait_with_output().unwrap();
-                let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
-                return (status.code().unwrap_or(-1), stderr, started.elapsed());
-            }
-            if started.elapsed() > limit {
-                child.kill().unwrap();
-                let _ = child.wait();
-                return (-1, "killed: did not end".into(), started.elapsed());
-            }
-            std::thread::sleep(Duration::from_millis(20));
-        }
-    }
+    use crate::common::{assert_refused, physlab, run_within, s, scratch_dir};
 
     fn mkfifo(path: &Path) {
         let status = Command::new("mkfifo").arg(path).status().unwrap();

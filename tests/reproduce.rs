@@ -1336,11 +1336,11 @@ mod untrusted {
     use std::io::{BufRead as _, BufReader};
     use std::path::Path;
     use std::process::{Command, Stdio};
-    use std::time::{Duration, Instant};
+    use std::time::Duration;
 
     use physlab::record::{escaped, shell_word, shell_words};
 
-    use crate::common::{physlab, s, scratch_dir};
+    use crate::common::{physlab, run_within, s, scratch_dir};
 
     /// A recording another program (or a hostile hand) made: the `physlab` properties `props`,
     /// the `physlab_run` properties `run`, and (with `data`) ten rows of one pendulum series.
@@ -1655,34 +1655,112 @@ mod untrusted {
         );
         let size = std::fs::metadata(&huge).unwrap().len();
         assert!(size < 20_000, "{size} B");
-        let started = Instant::now();
-        let mut child = Command::new(env!("CARGO_BIN_EXE_physlab"))
-            .args(["reproduce", s(&huge)])
-            .stdout(Stdio::null())
-            .stderr(Stdio::piped())
-            .spawn()
-            .unwrap();
-        let code = loop {
-            if let Some(status) = child.try_wait().unwrap() {
-                break status.code();
-            }
-            if started.elapsed() > Duration::from_secs(10) {
-                child.kill().unwrap();
-                child.wait().unwrap();
-                panic!("still running after 10 s");
-            }
-            std::thread::sleep(Duration::from_millis(20));
-        };
-        let took = started.elapsed();
-        let mut err = String::new();
-        std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut err).unwrap();
-        assert_eq!(code, Some(2), "{err}");
+        let (code, err, took) = run_within(&["reproduce", s(&huge)], Duration::from_secs(10));
+        assert_eq!(code, 2, "{err}");
         assert!(took < Duration::from_millis(800), "{took:?}");
         assert!(
             err.contains("1.0e11 node-steps (at least about 50 min") && err.contains("GB"),
             "{err}"
         );
         assert!(err.contains("--allow-long"), "{err}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// Runs whose cost their configuration does not tell (issue 43, F4–F6), each as
+    /// (scene, configuration, a duration of hours, a duration of seconds): an adaptive method's
+    /// own steps at rtol 1e-14 (about 230 a simulated second), hair's spring inner steps (3741
+    /// per substep at this stiffness) and sofroniou10's 35 force evaluations a step. main judged
+    /// the long ones by 30 ns a node-step and its samples: 3 s, 2 s and 5 min.
+    const COSTLY: [(&str, &str, f64, f64); 3] = [
+        (
+            "pendulum",
+            "methods = [\"dopri5\"]\nrtol = 1e-14\ndt = 10.0\n",
+            1e9,
+            2e4,
+        ),
+        (
+            "hair",
+            "methods = [\"semi-implicit-euler\"]\nstiffness = 4e10\nstrands = 20\n",
+            3600.0,
+            2.0,
+        ),
+        (
+            "rope",
+            "methods = [\"sofroniou10\"]\nnodes = 1000\n",
+            1e4,
+            3.0,
+        ),
+    ];
+
+    /// A crafted recording asking for `COSTLY[i]` over `duration`.
+    fn costly(path: &Path, i: usize, duration: f64) {
+        let (scene, config, _, _) = COSTLY[i];
+        let config = format!("[{scene}]\n{config}duration = {duration:?}\n");
+        let app = format!("physlab-{scene}");
+        let app: &'static str = Box::leak(app.into_boxed_str());
+        craft(
+            path,
+            app,
+            &[("scenes", scene), ("config", &config)],
+            &[],
+            true,
+        );
+    }
+
+    /// Each costly run of hours is refused by `reproduce` within its first seconds, naming
+    /// hours, and leaves no `-o` behind; on main each started (its estimate: seconds).
+    #[test]
+    fn a_reproduce_whose_steps_cost_more_than_its_configuration_says_is_refused_at_once() {
+        let dir = scratch_dir("untrusted-costly");
+        for (i, (scene, _, long, _)) in COSTLY.iter().enumerate() {
+            let file = dir.join(format!("{scene}.rrd"));
+            costly(&file, i, *long);
+            let out = dir.join(format!("{scene}-rerun.rrd"));
+            let args = ["reproduce", s(&file), "-o", s(&out)];
+            let (code, err, _) = run_within(&args, Duration::from_secs(15));
+            assert_eq!(code, 2, "{scene}: {err}");
+            let refusal = err.lines().last().unwrap_or_default();
+            assert!(
+                refusal.contains(&format!("{scene}: this takes about "))
+                    && refusal.contains(" h ")
+                    && refusal.contains("unless --allow-long is given"),
+                "{scene}: {err}"
+            );
+            assert!(
+                !out.exists(),
+                "{scene}: a refused re-run wrote {}",
+                out.display()
+            );
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// The estimate `reproduce` states is the run's time: each costly run of seconds, re-run,
+    /// takes between half and twice what was stated at its start (the statement is rounded to
+    /// the second; a loaded machine's pace varies).
+    #[test]
+    fn the_estimate_reproduce_states_is_the_time_its_re_run_takes() {
+        let dir = scratch_dir("untrusted-estimate");
+        for (i, (scene, _, _, short)) in COSTLY.iter().enumerate() {
+            let file = dir.join(format!("{scene}.rrd"));
+            costly(&file, i, *short);
+            let (_, out, err) = physlab(&["reproduce", s(&file)]);
+            let number = |text: &str, before: &str, after: &str| -> f64 {
+                let from = text
+                    .find(before)
+                    .unwrap_or_else(|| panic!("{scene}: {text}"));
+                let rest = &text[from + before.len()..];
+                rest[..rest.find(after).unwrap()].parse().unwrap()
+            };
+            let stated = number(&err, &format!("{scene}: this takes about "), " s ");
+            let took = number(&out, "re-ran in ", " s");
+            let ratio = stated / took;
+            eprintln!("{scene}: stated {stated} s, took {took} s");
+            assert!(
+                (0.5..=2.0).contains(&ratio),
+                "{scene}: stated {stated} s, took {took} s"
+            );
+        }
         std::fs::remove_dir_all(&dir).unwrap();
     }
 

@@ -127,6 +127,8 @@ struct Replay {
     skip: Vec<String>,
     /// Print no summaries.
     silent: bool,
+    /// What the re-run may take.
+    budget: Option<progress::Budget>,
 }
 
 impl Replay {
@@ -241,6 +243,7 @@ fn simulate(
         Some(open_recording(&resolved, run, &d, name, &text)?)
     };
     let mut progress = Progress::new(run.quiet, recording.as_ref().and_then(|r| r.written()));
+    progress.budget = replay.budget;
     let mut ctx = RunContext {
         stream: recording.as_ref().map(|r| r.stream().clone()),
         timings: run.timings,
@@ -428,7 +431,8 @@ fn run_scene<S: Scene, D: Draw<S>>(
     stop_after: Option<u64>,
 ) -> anyhow::Result<Ran> {
     let schedule = scene.schedule();
-    progress.stage(scene.name(), schedule.total as f64, Some(schedule.frames()));
+    let end = stop_after.map_or(schedule.total, |t| t.min(schedule.total));
+    progress.stage(scene.name(), end as f64, Some(schedule.frames()));
     let mut quiet = NoObserver;
     let inner: &mut dyn Observer<S> = match &mut recorder {
         Some(r) => r,

@@ -24,10 +24,41 @@ pub struct Progress {
     label: String,
     /// When the bar was last moved.
     shown: Instant,
-    /// Whether the current stage's notice was considered already.
+    /// Whether the current stage's estimate was said already.
     noticed: bool,
     pace: Pace,
+    /// What a stage may take (`reproduce`), judged by the same estimate as the notice.
+    pub budget: Option<Budget>,
+    /// Wall time of the stages before this one [s].
+    before: f64,
+    /// The estimate of a stage beyond its budget, in words: the run stops at its next block.
+    over: Option<String>,
 }
+
+/// What a run may take before it is stopped and refused (`reproduce` without `--allow-long`),
+/// judged by the estimate a scene command's notice states: the run's own pace over its first
+/// [`PROBE_AFTER`], so that adaptive steps, inner steps and each method's cost are all in it.
+#[derive(Clone, Copy)]
+pub struct Budget {
+    /// The whole run's wall time [s], earlier stages included.
+    pub seconds: f64,
+    /// Each stage's recording.
+    pub bytes: f64,
+    /// State the estimate whatever it is (what a re-run will take is said before its verdict).
+    pub say: bool,
+}
+
+/// A stage stopped because its estimate is beyond its [`Budget`]: the estimate, in words.
+#[derive(Debug)]
+pub struct OverBudget(pub String);
+
+impl std::fmt::Display for OverBudget {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for OverBudget {}
 
 /// How a stage's wall time and recording grow: its ticks cost the same throughout, and so do the
 /// 3D frames it draws, which a long run draws at its two ends only
@@ -37,6 +68,8 @@ pub struct Progress {
 /// with the frames).
 struct Pace {
     started: Instant,
+    /// When its stepping started: its setup (lanes built) is counted once, not extrapolated.
+    stepping: Option<Instant>,
     /// Bytes written when the stage started.
     bytes0: u64,
     /// Progress at the end (ticks; any unit for a stage without frames).
@@ -52,6 +85,7 @@ impl Pace {
     fn new(end: f64, frames: Option<u64>, bytes0: u64) -> Self {
         Pace {
             started: Instant::now(),
+            stepping: None,
             bytes0,
             end: end.max(1e-12),
             frames,
@@ -67,16 +101,17 @@ impl Pace {
         if done <= 0.0 {
             return None;
         }
-        let elapsed = self.started.elapsed().as_secs_f64();
+        let setup = (self.stepping).map_or(0.0, |s| (s - self.started).as_secs_f64());
+        let elapsed = self.started.elapsed().as_secs_f64() - setup;
         let bytes = bytes.saturating_sub(self.bytes0) as f64;
         match self.frames.filter(|_| self.drawn > 0) {
             Some(frames) => {
                 let per_frame = frames as f64 / self.drawn as f64;
                 let drawing = self.drawing.as_secs_f64();
                 let seconds = (elapsed - drawing).max(0.0) / done + drawing * per_frame;
-                Some((seconds, Some(bytes * per_frame)))
+                Some((setup + seconds, Some(bytes * per_frame)))
             }
-            None => Some((elapsed / done, Some(bytes / done))),
+            None => Some((setup + elapsed / done, Some(bytes / done))),
         }
     }
 }
@@ -93,6 +128,9 @@ impl Progress {
             shown: Instant::now(),
             noticed: false,
             pace: Pace::new(1.0, None, 0),
+            budget: None,
+            before: 0.0,
+            over: None,
         }
     }
 
@@ -102,6 +140,7 @@ impl Progress {
         self.label = label.to_string();
         self.pace = Pace::new(end, frames, self.bytes());
         self.noticed = false;
+        self.before = self.started.elapsed().as_secs_f64();
         if let Some(bar) = &self.bar {
             bar.set_prefix(self.label.clone());
             bar.set_position(0);
@@ -124,22 +163,16 @@ impl Progress {
     pub fn at(&mut self, t: f64) {
         let elapsed = self.pace.started.elapsed();
         let estimate = self.pace.estimate(t, self.bytes());
-        if let Some((seconds, bytes)) = estimate.filter(|_| !self.noticed && !self.quiet)
-            && elapsed >= NOTICE_AFTER
+        let done = t / self.pace.end;
+        if let Some((seconds, bytes)) = estimate
+            && elapsed >= PROBE_AFTER
+            && done < 0.5
         {
-            let bytes = bytes.filter(|_| self.written.is_some());
-            let done = t / self.pace.end;
             let basis = format!(
                 "from the cost of its steps and 3D frames so far, at {:.2} % of its way",
                 100.0 * done
             );
-            if let Some(notice) = long_run_notice(&self.label, done, seconds, bytes, &basis) {
-                self.noticed = true;
-                match &self.bar {
-                    Some(bar) => bar.println(notice),
-                    None => eprintln!("{notice}"),
-                }
-            }
+            self.judge(seconds, bytes.filter(|_| self.written.is_some()), &basis);
         }
         if !self.enabled {
             return;
@@ -171,15 +204,45 @@ impl Progress {
         }
     }
 
+    /// The stage's estimate: beyond the budget it stops the run;
+    /// said once, when long or large or when the budget asks.
+    fn judge(&mut self, seconds: f64, bytes: Option<f64>, basis: &str) {
+        let text = estimate_text(&self.label, seconds, bytes, basis);
+        let say = match self.budget {
+            Some(b) => {
+                let over = self.before + seconds > b.seconds || bytes.is_some_and(|x| x > b.bytes);
+                if over {
+                    self.over = Some(text.clone());
+                }
+                b.say && !over
+            }
+            None => {
+                !self.quiet && (seconds > LONG_SECONDS || bytes.is_some_and(|b| b > LARGE_BYTES))
+            }
+        };
+        if self.noticed || !say {
+            return;
+        }
+        self.noticed = true;
+        let notice = match self.budget {
+            Some(_) => text,
+            None => format!("{text}; Ctrl-C stops it and keeps what is done"),
+        };
+        match &self.bar {
+            Some(bar) => bar.println(notice),
+            None => eprintln!("{notice}"),
+        }
+    }
+
     /// Says before the stage starts that it will take about `seconds` (estimated from `basis`),
     /// when that is long: the notice a scene gives from its pace, given up front.
     pub fn expect(&mut self, seconds: f64, basis: &str) {
-        if let Some(notice) = long_run_notice(&self.label, 0.0, seconds, None, basis) {
-            self.noticed = true;
-            if !self.quiet {
-                eprintln!("{notice}");
-            }
-        }
+        self.judge(seconds, None, basis);
+    }
+
+    /// Its stepping starts (the stage's setup is done).
+    fn stepping(&mut self) {
+        self.pace.stepping = Some(Instant::now());
     }
 
     pub fn finish(&mut self) {
@@ -189,38 +252,26 @@ impl Progress {
     }
 }
 
-/// How long a scene runs before its pace is extrapolated to the whole run.
-const NOTICE_AFTER: Duration = Duration::from_secs(1);
+/// How long a scene runs before its pace is extrapolated to the whole run: its first blocks
+/// are short (a block is at most as many ticks as came before it), so that the pace is measured
+/// by then whatever a tick costs.
+pub const PROBE_AFTER: Duration = Duration::from_millis(500);
 
 /// A scene said to take long: its extrapolated wall time beyond this [s]...
 pub const LONG_SECONDS: f64 = 10.0;
 /// ...or its recording beyond this many bytes.
 pub const LARGE_BYTES: f64 = 100e6;
 
-/// The notice of a scene at `done` (0–1) of its way that will take `seconds` in all (as `basis`
-/// estimates it) and write `bytes`, when that is long or large; none past half its way (too late
-/// to be of use).
-fn long_run_notice(
-    label: &str,
-    done: f64,
-    seconds: f64,
-    bytes: Option<f64>,
-    basis: &str,
-) -> Option<String> {
-    if !(0.0..0.5).contains(&done) {
-        return None;
-    }
-    if seconds <= LONG_SECONDS && bytes.is_none_or(|b| b <= LARGE_BYTES) {
-        return None;
-    }
+/// The estimate of a scene that will take `seconds` in all (as
+/// `basis` estimates it) and write `bytes`, in words.
+fn estimate_text(label: &str, seconds: f64, bytes: Option<f64>, basis: &str) -> String {
     let size = bytes.map_or(String::new(), |b| {
         format!(" and writes about {} to its recording", format::size(b))
     });
-    Some(format!(
-        "{label}: this takes about {}{size} in all ({basis}); Ctrl-C stops it and keeps what is \
-         done",
+    format!(
+        "{label}: this takes about {}{size} in all ({basis})",
         format::duration(seconds),
-    ))
+    )
 }
 
 /// A scene observer that also moves the progress bar.
@@ -231,6 +282,7 @@ pub struct WithProgress<'a, O: ?Sized> {
 
 impl<S: Scene, O: Observer<S> + ?Sized> Observer<S> for WithProgress<'_, O> {
     fn start(&mut self, scene: &S, lanes: &[(&'static str, &S::Lane)]) -> anyhow::Result<()> {
+        self.progress.stepping();
         self.inner.start(scene, lanes)
     }
     fn rows(&self) -> WantedRows {
@@ -242,16 +294,19 @@ impl<S: Scene, O: Observer<S> + ?Sized> Observer<S> for WithProgress<'_, O> {
     fn frame(&mut self, scene: &S, frame: &Frame<S::Lane>) -> anyhow::Result<()> {
         let started = Instant::now();
         let drawn = self.inner.frame(scene, frame);
+        // Its progress is the block's, said by `reached` (a frame inside a block is older).
         self.progress.drawn(started.elapsed());
-        self.progress.at(frame.tick as f64);
         drawn
     }
     fn event(&mut self, scene: &S, event: &Event) -> anyhow::Result<()> {
         self.inner.event(scene, event)
     }
-    fn reached(&mut self, scene: &S, tick: u64) {
+    fn reached(&mut self, scene: &S, tick: u64) -> anyhow::Result<()> {
         self.progress.at(tick as f64);
-        self.inner.reached(scene, tick);
+        if let Some(over) = self.progress.over.take() {
+            return Err(OverBudget(over).into());
+        }
+        self.inner.reached(scene, tick)
     }
     fn finish(&mut self, scene: &S, run: &Run<S::Lane>) -> anyhow::Result<()> {
         self.inner.finish(scene, run)
@@ -263,22 +318,29 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_scene_is_said_long_or_large_from_its_pace_extrapolated() {
-        let long = long_run_notice("pendulum", 0.01, 100.0, None, "from").unwrap();
+    fn a_scene_is_said_long_or_large_and_refused_beyond_its_budget() {
+        let long = estimate_text("pendulum", 100.0, None, "from");
         assert!(long.contains("about 1 min 40 s in all (from"), "{long}");
         assert!(!long.contains("writes"), "{long}");
-        assert_eq!(long_run_notice("rope", 0.2, 2.0, Some(2e6), ""), None);
-        let large = long_run_notice("hair", 0.2, 5.0, Some(200e6), "").unwrap();
-        assert!(
-            large.contains("about 5 s and writes about 200 MB"),
-            "{large}"
-        );
-        let huge = long_run_notice("pendulum", 4e-5, 25000.0, Some(4e10), "").unwrap();
+        let huge = estimate_text("pendulum", 25000.0, Some(4e10), "");
         assert!(
             huge.contains("6 h 56 min") && huge.contains("40.0 GB"),
             "{huge}"
         );
-        assert_eq!(long_run_notice("x", 0.6, 1e9, None, ""), None, "too late");
+        let mut p = Progress::new(true, None);
+        p.budget = Some(Budget {
+            seconds: 600.0,
+            bytes: 1e9,
+            say: false,
+        });
+        p.judge(599.0, Some(9e8), "");
+        assert!(p.over.is_none());
+        p.before = 2.0;
+        p.judge(599.0, None, "");
+        assert!(p.over.take().is_some(), "the stages before count");
+        p.before = 0.0;
+        p.judge(1.0, Some(2e9), "");
+        assert!(p.over.is_some(), "too large");
     }
 
     /// A run of 10,000 ticks drawing 100 frames, 10 of them drawn by tick 50 in 2 s of which

@@ -9,7 +9,7 @@ use super::compared::{
     EntityLine, by_entity, check_output, difference_lines, lane_names, physlab_made, print_lines,
     recorded_command, recorded_timings, tolerance, version_line, version_text, wall_clock,
 };
-use super::progress::{LARGE_BYTES, LONG_SECONDS};
+use super::progress::{Budget, LARGE_BYTES, LONG_SECONDS, OverBudget};
 use super::scenes::{AllFlags, Bulk, SCENES};
 use super::{Error, Plan, Replay, SceneFile, simulate};
 use crate::cli::{ReproduceArgs, RunArgs};
@@ -26,6 +26,9 @@ use crate::scene::params::NODE_STEP_SECONDS;
 /// 130), a configuration this build refuses says so without the temporary file's name, and
 /// anything else (an unwritable `-o`, a full disk) is passed on as it is.
 fn rerun_failed(e: anyhow::Error, file: &Path, config: &Path) -> anyhow::Error {
+    if let Some(OverBudget(estimate)) = e.downcast_ref() {
+        return over_limits(file, estimate).into();
+    }
     if matches!(e.downcast_ref::<Error>(), Some(Error::Interrupted(_))) {
         return Error::Interrupted(format!(
             "interrupted: the re-run of {} was stopped, so nothing was compared",
@@ -66,22 +69,23 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
         ),
         &[&args.file],
     )?;
-    let replay = recorded.replay(&args.file)?;
+    let mut replay = recorded.replay(&args.file)?;
+    // The same measured estimate as a scene command's notice: the re-run's own pace over its
+    // first moments; past the limits it is stopped there and refused.
+    let limit = |max| if args.allow_long { f64::INFINITY } else { max };
+    replay.budget = Some(Budget {
+        seconds: limit(MAX_SECONDS),
+        bytes: limit(MAX_BYTES),
+        say: !args.quiet,
+    });
+    // What the configuration alone bounds (its recording, its memory, a floor on its time) is
+    // refused before anything runs.
     let expected = recorded.expected();
     if let Some(e) = &expected
         && e.over(MAX_SECONDS, MAX_BYTES)
         && !args.allow_long
     {
-        return Err(Error::Usage(format!(
-            "{}: {}; reproduce re-runs at most {} min, a {} recording and {} of memory unless \
-             --allow-long is given",
-            args.file.display(),
-            e.text(),
-            MAX_SECONDS / 60.0,
-            size_text(MAX_BYTES),
-            size_text(super::MEMORY_NOTICE_BYTES),
-        ))
-        .into());
+        return Err(over_limits(&args.file, &e.text()).into());
     }
 
     // Said before the re-run (which takes the run's time); the report comes after it, verdict
@@ -138,14 +142,26 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// The refusal of a re-run that would take `what`.
+fn over_limits(file: &Path, what: &str) -> Error {
+    Error::Usage(format!(
+        "{}: {what}; reproduce re-runs at most {} min, a {} recording and {} of memory unless \
+         --allow-long is given",
+        file.display(),
+        MAX_SECONDS / 60.0,
+        size_text(MAX_BYTES),
+        size_text(super::MEMORY_NOTICE_BYTES),
+    ))
+}
+
 /// A re-run beyond any of these is refused unless `--allow-long`: a stranger's recording may
 /// ask for hours, hundreds of GB or all the memory, and nobody typed its command.
 const MAX_SECONDS: f64 = 600.0;
 const MAX_BYTES: f64 = 1e9;
 
-/// What a re-run will take, from its configuration alone, before anything runs: its seconds at
-/// [`NODE_STEP_SECONDS`] a node-step (the rope measured 65 ns at 2·10⁴ nodes and 133 ns at
-/// 2·10⁵ with verlet on a loaded 2-core machine: a floor, not a forecast), its recording at
+/// What a re-run will take, from its configuration alone, before anything runs: a floor on its
+/// seconds at [`NODE_STEP_SECONDS`] a node-step (blind to adaptive and inner steps and to each
+/// method's cost: the re-run's measured pace judges its time, [`Budget`]), its recording at
 /// hair's [`BYTES_PER_NODE_FRAME`] (the rope wrote 9–10 B), its state's memory.
 struct Expected {
     node_steps: f64,

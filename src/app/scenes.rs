@@ -140,7 +140,7 @@ pub trait ReadyScene: Send {
 }
 
 /// What a run does, from its configuration alone (nothing built or stepped): how `reproduce`
-/// bounds a stranger's recording before its re-run starts.
+/// bounds a stranger's recording's size, and floors its time, before its re-run starts.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Bulk {
     /// Steps of one node of one method, over the run (a method's fine-step reference too).

@@ -4,7 +4,8 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
 
 use rerun::external::arrow::array::Array as _;
 use rerun::external::re_log_encoding::DecoderApp;
@@ -256,4 +257,29 @@ pub fn exit_and_peak_memory(args: &[&str]) -> (i32, f64) {
     assert_eq!(pid, child.id() as i32);
     assert!(libc::WIFEXITED(status), "{args:?}: killed");
     (libc::WEXITSTATUS(status), usage.ru_maxrss as f64 * 1024.0)
+}
+
+/// Runs physlab with `args`; returns its exit code, stderr and how long it took. A run that
+/// has not ended after `limit` is killed and reported as code -1.
+pub fn run_within(args: &[&str], limit: Duration) -> (i32, String, Duration) {
+    let started = Instant::now();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_physlab"))
+        .args(args)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            let out = child.wait_with_output().unwrap();
+            let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+            return (status.code().unwrap_or(-1), stderr, started.elapsed());
+        }
+        if started.elapsed() > limit {
+            child.kill().unwrap();
+            let _ = child.wait();
+            return (-1, "killed: did not end".into(), started.elapsed());
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
 }

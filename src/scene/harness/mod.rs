@@ -147,8 +147,10 @@ pub trait Observer<S: Scene> {
         Ok(())
     }
     /// Every lane has stepped up to `tick` (after each block, drawn or not: a long run's
-    /// progress between the frames it draws).
-    fn reached(&mut self, _scene: &S, _tick: u64) {}
+    /// progress between the frames it draws); an error stops the run.
+    fn reached(&mut self, _scene: &S, _tick: u64) -> anyhow::Result<()> {
+        Ok(())
+    }
     fn finish(&mut self, _scene: &S, _run: &Run<S::Lane>) -> anyhow::Result<()> {
         Ok(())
     }

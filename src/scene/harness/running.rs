@@ -108,9 +108,11 @@ impl<L: Send> Running<L> {
         first: u64,
     ) -> anyhow::Result<Option<u64>> {
         let schedule = self.schedule;
+        // A block is at most as long as the ticks before it: the first ones are short, so that
+        // a run's pace is measured within its first moments whatever a tick costs.
         let mut last = schedule
             .total
-            .min(first.saturating_add(scene.max_block() - 1));
+            .min(first.saturating_add(scene.max_block().min(first) - 1));
         if !scene.traced() {
             last = last.min(schedule.frame_tick(schedule.next_frame(first)));
         }
@@ -129,7 +131,7 @@ impl<L: Send> Running<L> {
             }
         }
         self.frames_in(scene, observer, first, last)?;
-        observer.reached(scene, last);
+        observer.reached(scene, last)?;
         Ok(Some(last))
     }
 
