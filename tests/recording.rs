@@ -1038,7 +1038,7 @@ mod long_runs {
 
     /// Runs `make()` twice, row by row and as plotted, and checks that both draw the same,
     /// keep the same windows and give the same summary.
-    fn check<S: Scene>(make: impl Fn() -> S, summary: impl Fn(&S, &Run<S::Lane>) -> String) {
+    fn check<S: Scene>(make: impl Fn() -> S, summary: impl Fn(&S, &Run<S::Lane>, bool) -> String) {
         let mut runs = Vec::new();
         for wanted in [WantedRows::Every, WantedRows::Plotted] {
             let mut scene = make();
@@ -1050,7 +1050,7 @@ mod long_runs {
             for s in &mut ran.stats {
                 s.wall = Duration::ZERO;
             }
-            runs.push((summary(&scene, &ran), observer.lanes));
+            runs.push((summary(&scene, &ran, true), observer.lanes));
         }
         let (every_summary, every) = &runs[0];
         let (plotted_summary, plotted) = &runs[1];

@@ -734,7 +734,7 @@ fn each_study_kind_shows_its_own_defaults_and_study_alone_lists_the_kinds() {
 fn drift_exponents_match_the_theory_of_symplectic_and_other_methods() {
     let dir = scratch_dir("study-drift");
     let csv = dir.join("drift.csv");
-    let (code, out, err) = physlab(&["study", "drift", "--csv", csv.to_str().unwrap()]);
+    let (code, out, err) = physlab(&["study", "drift", "--wide", "--csv", csv.to_str().unwrap()]);
     assert_eq!(code, 0, "{err}");
     let text = std::fs::read_to_string(&csv).unwrap();
     let expected = [
@@ -995,6 +995,7 @@ fn the_ropes_damped_convergence_runs_only_accepted_methods_and_keeps_every_run()
     let (code, out, err) = physlab(&[
         "study",
         "convergence",
+        "--wide",
         "--scene",
         "rope",
         "--levels",

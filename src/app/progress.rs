@@ -129,7 +129,8 @@ impl Progress {
         {
             let bytes = bytes.filter(|_| self.written.is_some());
             let done = t / self.pace.end;
-            if let Some(notice) = long_run_notice(&self.label, done, seconds, bytes) {
+            let notice = long_run_notice(&self.label, done, seconds, bytes);
+            if let Some(notice) = notice.map(|n| crate::report::table::fit_lines(&n)) {
                 self.noticed = true;
                 match &self.bar {
                     Some(bar) => bar.println(notice),

@@ -66,26 +66,48 @@ fn theory_text(t: Option<f64>, method: crate::integrate::Method) -> String {
     }
 }
 
-/// The exponents against theory per method; with the scene's flags and `rtol`, each row ends
-/// with the command that measures it alone (docs/results.md's table gives one command for all).
-pub fn drift_table(runs: &[Drift], command: Option<(&str, f64)>) -> String {
-    let mut header = vec![
-        "method",
-        "symplectic",
-        "energy exponent",
-        "theory",
-        "phase exponent",
-        "theory",
-        "energy error at end",
-        "phase error at end [rad]",
-        "force evals",
-    ];
+/// What the theory says in a word, for the fitted table.
+fn theory_word(t: Option<f64>, method: crate::integrate::Method) -> String {
+    match (t, method) {
+        (Some(t), _) => format!("{t}"),
+        (None, crate::integrate::Method::ExplicitEuler) => "geometric".into(),
+        (None, _) => "decays".into(),
+    }
+}
+
+/// The exponents against theory per method, in full (`wide`) or fitted (each exponent beside
+/// its theory, counts to two digits); with the scene's flags and `rtol`, the command that
+/// measures one method alone is said once above it (docs/results.md's table gives one for all).
+pub fn drift_table(runs: &[Drift], command: Option<(&str, f64)>, wide: bool) -> String {
+    let mut header = if wide {
+        vec![
+            "method",
+            "symplectic",
+            "energy exponent",
+            "theory",
+            "phase exponent",
+            "theory",
+            "energy error at end",
+            "phase error at end [rad]",
+            "force evals",
+        ]
+    } else {
+        vec![
+            "method",
+            "energy t^p",
+            "phase t^p",
+            "energy at end",
+            "phase [rad]",
+            "evals",
+        ]
+    };
     let rope = runs.iter().any(|r| r.shortest_spring.is_some());
     if rope {
-        header.push("shortest spring / rest");
-    }
-    if command.is_some() {
-        header.push("measured by");
+        header.push(if wide {
+            "shortest spring / rest"
+        } else {
+            "min spring/rest"
+        });
     }
     let mut t = Table::new(header);
     for r in runs {
@@ -105,48 +127,82 @@ pub fn drift_table(runs: &[Drift], command: Option<(&str, f64)>) -> String {
         // A method whose energy error stays near f64's resolution measures its round-off, not
         // its truncation, which the theory speaks of.
         let round_off = last.is_some_and(|c| c.energy < ROUND_OFF);
-        let adaptive = info.adaptive();
-        let mut row = vec![
-            r.method.name().to_string(),
-            if info.symplectic { "yes" } else { "no" }.into(),
-            exponent_text(r.lost_at.map_or(exponent(&energy), |_| None)),
-            if round_off {
-                "none: at round-off (a random walk, ~0.5)".into()
-            } else {
-                theory_text(energy_theory, r.method)
-            },
-            exponent_text(r.lost_at.map_or(exponent(&phase), |_| None)),
-            if round_off && phased {
-                "none: at round-off".into()
-            } else if phased || r.lost_at.is_some() {
-                theory_text(phase_theory, r.method)
-            } else {
-                "none (no closed form)".into()
-            },
-            end,
-            last.and_then(|c| c.phase)
-                .map_or("—".into(), |p| format!("{p:.2e}")),
-            r.evals.to_string(),
-        ];
+        let pick = |full: String, word: String| if wide { full } else { word };
+        let energy_said = if round_off {
+            pick(
+                "none: at round-off (a random walk, ~0.5)".into(),
+                "round-off".into(),
+            )
+        } else {
+            pick(
+                theory_text(energy_theory, r.method),
+                theory_word(energy_theory, r.method),
+            )
+        };
+        let phase_said = if round_off && phased {
+            pick("none: at round-off".into(), "round-off".into())
+        } else if phased || r.lost_at.is_some() {
+            pick(
+                theory_text(phase_theory, r.method),
+                theory_word(phase_theory, r.method),
+            )
+        } else {
+            pick("none (no closed form)".into(), "no closed form".into())
+        };
+        let energy_exponent = exponent_text(r.lost_at.map_or(exponent(&energy), |_| None));
+        let phase_exponent = exponent_text(r.lost_at.map_or(exponent(&phase), |_| None));
+        let phase_end = last
+            .and_then(|c| c.phase)
+            .map_or("—".into(), |p| format!("{p:.2e}"));
+        let mut row = if wide {
+            vec![
+                r.method.name().to_string(),
+                if info.symplectic { "yes" } else { "no" }.into(),
+                energy_exponent,
+                energy_said,
+                phase_exponent,
+                phase_said,
+                end,
+                phase_end,
+                r.evals.to_string(),
+            ]
+        } else {
+            vec![
+                r.method.name().to_string(),
+                format!("{energy_exponent} ({energy_said})"),
+                format!("{phase_exponent} ({phase_said})"),
+                end.replace("lost at t = ", "lost at "),
+                phase_end,
+                format!("{:.1e}", r.evals as f64),
+            ]
+        };
         if rope {
             row.push(r.shortest_spring.map_or("—".into(), |s| format!("{s:.2e}")));
         }
-        if let Some((flags, rtol)) = command {
-            row.push(format!(
-                "`physlab study drift --methods {} {flags} --dt {} --duration {}{}`",
-                r.method.name(),
-                shown(r.dt),
-                shown(r.duration),
-                if adaptive {
-                    format!(" --rtol {rtol:e}")
-                } else {
-                    String::new()
-                }
-            ));
-        }
         t.row(row);
     }
-    t.render()
+    let mut out = String::new();
+    if let (Some((flags, rtol)), Some(r)) = (command, runs.first()) {
+        let adaptive = runs.iter().any(|r| r.method.info().adaptive());
+        out = format!(
+            "each row measured alone by{}:\n  physlab study drift --methods NAME {flags} --dt {} \
+             --duration {}\n\n",
+            if adaptive {
+                format!(" (adaptive methods add --rtol {rtol:e})")
+            } else {
+                String::new()
+            },
+            shown(r.dt),
+            shown(r.duration),
+        );
+    }
+    if !wide {
+        out.push_str(
+            "t^p: the error's growth as a power of t, p fitted (the theory's p); energy and phase \
+             [rad] at end: the errors at the last point\n\n",
+        );
+    }
+    out + &t.render_at(wide)
 }
 
 /// One row per checkpoint: method, dt, t, energy error, phase error.

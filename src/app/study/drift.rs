@@ -2,6 +2,7 @@
 //! diagram of the complete ones.
 
 use super::Found;
+use crate::cli::StudyOutputs;
 use crate::format::shown;
 use crate::report::drift as report;
 use crate::study::drift::{Drift, pendulum_drift, rope_drift};
@@ -9,7 +10,7 @@ use crate::study::{Problem, Sweep};
 
 /// The study's printed text, CSV, diagram and how many methods' runs are complete (a run cut
 /// short by Ctrl-C is left out).
-pub(super) fn drift_study(quiet: bool, problem: &Problem, sw: &Sweep) -> Found {
+pub(super) fn drift_study(out: &StudyOutputs, problem: &Problem, sw: &Sweep) -> Found {
     let mut runs: Vec<Drift> = Vec::new();
     for &m in &sw.methods {
         if crate::interrupt::requested() {
@@ -21,7 +22,7 @@ pub(super) fn drift_study(quiet: bool, problem: &Problem, sw: &Sweep) -> Found {
             Problem::Rope(p) => Some(rope_drift(p, m, sw.dt0, sw.duration, sw.options)),
         };
         if let Some(run) = run.filter(|_| !crate::interrupt::requested()) {
-            if !quiet {
+            if !out.quiet {
                 eprintln!(
                     "drift: {} done ({} of {}, {:.1} s)",
                     m.name(),
@@ -61,13 +62,9 @@ pub(super) fn drift_study(quiet: bool, problem: &Problem, sw: &Sweep) -> Found {
             ),
         ),
     };
-    let mut out = header;
-    out.push_str(&report::drift_table(
-        &runs,
-        Some((flags.as_str(), sw.options.rtol)),
-    ));
+    let command = Some((flags.as_str(), sw.options.rtol));
     Found {
-        out,
+        out: header + &report::drift_table(&runs, command, out.wide),
         csv: report::drift_csv(problem.name(), &runs),
         diagrams: vec![crate::diagram::drift(problem.name(), &runs, &note)],
         done: runs.len(),

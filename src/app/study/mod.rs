@@ -51,14 +51,15 @@ pub fn study(kind: &StudyKind) -> anyhow::Result<()> {
         StudyKind::Stability(_) => {
             let limits: Vec<Limit> = stability(&problem, &sweep.methods, steps);
             Found {
-                out: report::stability_header(&problem, steps) + &report::stability_table(&limits),
+                out: report::stability_header(&problem, steps)
+                    + &report::stability_table(&limits, out.wide),
                 csv: report::limits_csv(&limits),
                 diagrams: vec![diagram::stability(problem.name(), &limits, problem.omega())],
                 done: limits.len(),
             }
         }
-        StudyKind::Drift(_) => drift::drift_study(out.quiet, &problem, &sweep),
-        _ => sweep_study(kind, &problem, &sweep),
+        StudyKind::Drift(_) => drift::drift_study(out, &problem, &sweep),
+        _ => sweep_study(kind, &problem, &sweep, out.wide),
     };
     // Ctrl-C or SIGTERM: what is complete is shown and written, then the study ends with 130;
     // stopped before a single run was complete, nothing is.
@@ -81,7 +82,7 @@ pub fn study(kind: &StudyKind) -> anyhow::Result<()> {
 
 /// `study convergence` and `study work-precision`: the sweep's runs, the fitted orders or the
 /// cheapest run per target, how the adaptive methods' error follows rtol, and every run.
-fn sweep_study(kind: &StudyKind, problem: &Problem, sw: &Sweep) -> Found {
+fn sweep_study(kind: &StudyKind, problem: &Problem, sw: &Sweep, wide: bool) -> Found {
     let (mut rows, reference_error) = sweep(problem, sw);
     let floor = error_floor(reference_error);
     let mut found = Found {
@@ -92,7 +93,7 @@ fn sweep_study(kind: &StudyKind, problem: &Problem, sw: &Sweep) -> Found {
     };
     let mut damped = Vec::new();
     if let StudyKind::Convergence(_) = kind {
-        damped = convergence_tables(problem, sw, &rows, floor, &mut found);
+        damped = convergence_tables(problem, sw, &rows, floor, &mut found, wide);
     }
     let out = &mut found.out;
     if rows.iter().any(|r| r.rtol.is_some()) {
@@ -101,7 +102,7 @@ fn sweep_study(kind: &StudyKind, problem: &Problem, sw: &Sweep) -> Found {
         out.push('\n');
     }
     if let StudyKind::WorkPrecision(_) = kind {
-        out.push_str(&report::rows_table(&rows));
+        out.push_str(&report::rows_table(&rows, wide));
         // A target is only claimed where the reference resolves it: 10× its accuracy.
         let (targets, unresolved): (Vec<f64>, Vec<f64>) = [1e-3, 1e-6, 1e-9, 1e-12]
             .into_iter()
@@ -113,7 +114,7 @@ fn sweep_study(kind: &StudyKind, problem: &Problem, sw: &Sweep) -> Found {
     } else {
         // Every run in the runs table, the CSV and the count (the damped rope's too).
         rows.extend(damped);
-        out.push_str(&report::rows_table(&rows));
+        out.push_str(&report::rows_table(&rows, wide));
     }
     found.csv = report::rows_csv(&rows);
     found.done = rows.len();
@@ -128,10 +129,11 @@ fn convergence_tables(
     rows: &[Row],
     floor: f64,
     found: &mut Found,
+    wide: bool,
 ) -> Vec<Row> {
     let by_velocity = problem.velocity_dependent();
     let out = &mut found.out;
-    out.push_str(&report::orders_table(rows, floor, by_velocity));
+    out.push_str(&report::orders_table(rows, floor, by_velocity, wide));
     let stalled = report::stalled_note(rows, floor);
     if !stalled.is_empty() {
         eprint!("{stalled}");
@@ -156,7 +158,7 @@ fn convergence_tables(
     out.push_str(&report::damped_header(
         &crate::scene::rope::RopeParams::default(),
     ));
-    out.push_str(&report::orders_table(&damped_rows, floor, true));
+    out.push_str(&report::orders_table(&damped_rows, floor, true, wide));
     (found.diagrams).push(diagram::convergence(name, &damped_rows, floor, true));
     out.push('\n');
     damped_rows
