@@ -57,21 +57,14 @@ fn exponent_text(e: Option<f64>) -> String {
     e.map_or("—".into(), |e| format!("{e:.3}"))
 }
 
-/// What the theory says, or why it says nothing.
-fn theory_text(t: Option<f64>, method: crate::integrate::Method) -> String {
-    match (t, method) {
-        (Some(t), _) => format!("{t}"),
-        (None, crate::integrate::Method::ExplicitEuler) => "none (grows geometrically)".into(),
-        (None, _) => "none (decays to rest)".into(),
-    }
-}
-
-/// What the theory says in a word, for the fitted table.
-fn theory_word(t: Option<f64>, method: crate::integrate::Method) -> String {
-    match (t, method) {
-        (Some(t), _) => format!("{t}"),
-        (None, crate::integrate::Method::ExplicitEuler) => "geometric".into(),
-        (None, _) => "decays".into(),
+/// What the theory says, or why it says nothing; fitted, in a word.
+fn theory_text(t: Option<f64>, method: crate::integrate::Method, wide: bool) -> String {
+    match (t, method == crate::integrate::Method::ExplicitEuler, wide) {
+        (Some(t), ..) => format!("{t}"),
+        (None, true, true) => "none (grows geometrically)".into(),
+        (None, true, false) => "geometric".into(),
+        (None, false, true) => "none (decays to rest)".into(),
+        (None, false, false) => "decays".into(),
     }
 }
 
@@ -111,71 +104,7 @@ pub fn drift_table(runs: &[Drift], command: Option<(&str, f64)>, wide: bool) -> 
     }
     let mut t = Table::new(header);
     for r in runs {
-        let energy: Vec<(f64, f64)> = r.checkpoints.iter().map(|c| (c.t, c.energy)).collect();
-        let phase: Vec<(f64, f64)> = (r.checkpoints.iter())
-            .filter_map(|c| c.phase.map(|p| (c.t, p)))
-            .collect();
-        let (energy_theory, phase_theory) = theory(r.method, r.damped);
-        // A run without a single crossing measured has no phase to speak of (the rope).
-        let phased = !phase.is_empty();
-        let last = r.checkpoints.last();
-        let end = r.lost_at.map_or_else(
-            || last.map_or("—".into(), |c| format!("{:.2e}", c.energy)),
-            |t| format!("lost at t = {} s", shown(t)),
-        );
-        let info = r.method.info();
-        // A method whose energy error stays near f64's resolution measures its round-off, not
-        // its truncation, which the theory speaks of.
-        let round_off = last.is_some_and(|c| c.energy < ROUND_OFF);
-        let pick = |full: String, word: String| if wide { full } else { word };
-        let energy_said = if round_off {
-            pick(
-                "none: at round-off (a random walk, ~0.5)".into(),
-                "round-off".into(),
-            )
-        } else {
-            pick(
-                theory_text(energy_theory, r.method),
-                theory_word(energy_theory, r.method),
-            )
-        };
-        let phase_said = if round_off && phased {
-            pick("none: at round-off".into(), "round-off".into())
-        } else if phased || r.lost_at.is_some() {
-            pick(
-                theory_text(phase_theory, r.method),
-                theory_word(phase_theory, r.method),
-            )
-        } else {
-            pick("none (no closed form)".into(), "no closed form".into())
-        };
-        let energy_exponent = exponent_text(r.lost_at.map_or(exponent(&energy), |_| None));
-        let phase_exponent = exponent_text(r.lost_at.map_or(exponent(&phase), |_| None));
-        let phase_end = last
-            .and_then(|c| c.phase)
-            .map_or("—".into(), |p| format!("{p:.2e}"));
-        let mut row = if wide {
-            vec![
-                r.method.name().to_string(),
-                if info.symplectic { "yes" } else { "no" }.into(),
-                energy_exponent,
-                energy_said,
-                phase_exponent,
-                phase_said,
-                end,
-                phase_end,
-                r.evals.to_string(),
-            ]
-        } else {
-            vec![
-                r.method.name().to_string(),
-                format!("{energy_exponent} ({energy_said})"),
-                format!("{phase_exponent} ({phase_said})"),
-                end.replace("lost at t = ", "lost at "),
-                phase_end,
-                format!("{:.1e}", r.evals as f64),
-            ]
-        };
+        let mut row = drift_row(r, wide);
         if rope {
             row.push(r.shortest_spring.map_or("—".into(), |s| format!("{s:.2e}")));
         }
@@ -184,14 +113,14 @@ pub fn drift_table(runs: &[Drift], command: Option<(&str, f64)>, wide: bool) -> 
     let mut out = String::new();
     if let (Some((flags, rtol)), Some(r)) = (command, runs.first()) {
         let adaptive = runs.iter().any(|r| r.method.info().adaptive());
+        let rtol = if adaptive {
+            format!(" (adaptive methods add --rtol {rtol:e})")
+        } else {
+            String::new()
+        };
         out = format!(
-            "each row measured alone by{}:\n  physlab study drift --methods NAME {flags} --dt {} \
+            "each row measured alone by{rtol}:\n  physlab study drift --methods NAME {flags} --dt {} \
              --duration {}\n\n",
-            if adaptive {
-                format!(" (adaptive methods add --rtol {rtol:e})")
-            } else {
-                String::new()
-            },
             shown(r.dt),
             shown(r.duration),
         );
@@ -203,6 +132,68 @@ pub fn drift_table(runs: &[Drift], command: Option<(&str, f64)>, wide: bool) -> 
         );
     }
     out + &t.render_at(wide)
+}
+
+/// One method's row of [`drift_table`] (without the rope's shortest spring).
+fn drift_row(r: &Drift, wide: bool) -> Vec<String> {
+    let energy: Vec<(f64, f64)> = r.checkpoints.iter().map(|c| (c.t, c.energy)).collect();
+    let phase: Vec<(f64, f64)> = (r.checkpoints.iter())
+        .filter_map(|c| c.phase.map(|p| (c.t, p)))
+        .collect();
+    let (energy_theory, phase_theory) = theory(r.method, r.damped);
+    // A run without a single crossing measured has no phase to speak of (the rope).
+    let phased = !phase.is_empty();
+    let last = r.checkpoints.last();
+    let end = r.lost_at.map_or_else(
+        || last.map_or("—".into(), |c| format!("{:.2e}", c.energy)),
+        |t| format!("lost at {}{} s", if wide { "t = " } else { "" }, shown(t)),
+    );
+    // A method whose energy error stays near f64's resolution measures its round-off, not
+    // its truncation, which the theory speaks of.
+    let round_off = last.is_some_and(|c| c.energy < ROUND_OFF);
+    let pick = |full: &str, word: &str| if wide { full } else { word }.to_string();
+    let energy_said = if round_off {
+        pick("none: at round-off (a random walk, ~0.5)", "round-off")
+    } else {
+        theory_text(energy_theory, r.method, wide)
+    };
+    let phase_said = if round_off && phased {
+        pick("none: at round-off", "round-off")
+    } else if phased || r.lost_at.is_some() {
+        theory_text(phase_theory, r.method, wide)
+    } else {
+        pick("none (no closed form)", "no closed form")
+    };
+    let energy_exponent = exponent_text(r.lost_at.map_or(exponent(&energy), |_| None));
+    let phase_exponent = exponent_text(r.lost_at.map_or(exponent(&phase), |_| None));
+    let phase_end = (last.and_then(|c| c.phase)).map_or("—".into(), |p| format!("{p:.2e}"));
+    let name = r.method.name().to_string();
+    if !wide {
+        return vec![
+            name,
+            format!("{energy_exponent} ({energy_said})"),
+            format!("{phase_exponent} ({phase_said})"),
+            end,
+            phase_end,
+            format!("{:.1e}", r.evals as f64),
+        ];
+    }
+    let symplectic = if r.method.info().symplectic {
+        "yes"
+    } else {
+        "no"
+    };
+    vec![
+        name,
+        symplectic.into(),
+        energy_exponent,
+        energy_said,
+        phase_exponent,
+        phase_said,
+        end,
+        phase_end,
+        r.evals.to_string(),
+    ]
 }
 
 /// One row per checkpoint: method, dt, t, energy error, phase error.
