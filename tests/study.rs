@@ -477,8 +477,10 @@ mod scene_file {
             file.to_str().unwrap(),
         ]);
         assert_eq!(code, 0, "{stderr}");
+        // The header is wrapped to 100 columns: read as one line.
+        let words = stdout.split_whitespace().collect::<Vec<_>>().join(" ");
         assert!(
-            stdout.contains("sampled every 0.64 s over 6.4 s"),
+            words.contains("sampled every 0.64 s over 6.4 s"),
             "{stdout}"
         );
         assert!(
@@ -597,9 +599,12 @@ fn each_study_kind_has_a_help_page_of_its_own() {
             &["--levels", "--omega0", "--repeats", "--steps"],
         ),
     ];
+    // Help is wrapped to the terminal's width: read as one line.
+    let words = |text: &str| text.split_whitespace().collect::<Vec<_>>().join(" ");
     for (kind, measures, shown, left_out) in pages {
         let (code, help, err) = physlab(&["study", kind, "--help"]);
         assert_eq!(code, 0, "{err}");
+        let help = words(&help);
         assert!(
             help.contains(&format!("Usage: physlab study {kind} [OPTIONS]")),
             "{help}"
@@ -617,7 +622,7 @@ fn each_study_kind_has_a_help_page_of_its_own() {
         // The short page too.
         let (code, short, _) = physlab(&["study", kind, "-h"]);
         assert_eq!(code, 0);
-        assert!(short.len() < help.len(), "{kind}");
+        assert!(words(&short).len() < help.len(), "{kind}");
     }
 }
 
@@ -640,7 +645,9 @@ fn each_study_kind_shows_its_own_defaults_and_study_alone_lists_the_kinds() {
             .find(&format!("{flag} <"))
             .unwrap_or_else(|| panic!("{flag}"));
         let rest = &help[start + flag.len()..];
-        rest[..rest.find("\n\n").unwrap_or(rest.len())].to_string()
+        // Wrapped to the terminal's width: read as one line.
+        let paragraph = &rest[..rest.find("\n\n").unwrap_or(rest.len())];
+        paragraph.split_whitespace().collect::<Vec<_>>().join(" ")
     };
     let drift = help("drift");
     assert!(
