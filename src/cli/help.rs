@@ -15,7 +15,8 @@ use crate::scene::rope::run::RopeConfig;
 /// its help wrapped to the terminal's width, at most 100 columns (100 when not a terminal).
 pub fn command() -> clap::Command {
     let cli = Cli::command()
-        .max_term_width(crate::report::table::WIDTH)
+        // The width the rest of physlab's output keeps (report::table::WIDTH).
+        .max_term_width(100)
         .mut_subcommand("pendulum", |c| {
             with_defaults(with_method_names(c), &PendulumConfig::default())
         })

@@ -230,10 +230,14 @@ mod tests {
             .short(["method", "steps", "", "diverged", "note"]);
         t.row(["a", "10", "1", "no", "—"]);
         t.row(["b", "20", "2", "no", "—"]);
-        assert_eq!(
-            t.render_at(false),
-            "every row: diverged = no\n| method | steps |\n|--------|-------|\n| a      | 10    |\n| b      | 20    |\n"
-        );
+        let fitted = [
+            "every row: diverged = no",
+            "| method | steps |",
+            "|--------|-------|",
+            "| a      | 10    |",
+            "| b      | 20    |",
+        ];
+        assert_eq!(t.render_at(false), fitted.join("\n") + "\n");
         assert_eq!(t.render_at(true), t.render());
         assert!(t.render().contains("| steps taken | wall |"));
     }
