@@ -822,7 +822,7 @@ mod divergence {
     #[test]
     fn hair_reports_divergence_honestly_and_its_energy_per_unit_mass() {
         let summary = |args: &[&str]| {
-            let mut all = vec!["hair", "--no-record", "-q", "--duration", "1"];
+            let mut all = vec!["hair", "--no-record", "-q", "--wide", "--duration", "1"];
             all.extend_from_slice(args);
             let (code, stdout, stderr) = physlab(&all);
             assert_eq!(code, 0, "{args:?}: {stderr}");

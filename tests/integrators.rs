@@ -979,6 +979,7 @@ mod large_steps {
             "--duration",
             "20",
             "-q",
+            "--wide",
             "-o",
             out.to_str().unwrap(),
         ]);
@@ -1079,6 +1080,7 @@ mod large_steps {
                 "--methods",
                 "implicit-euler",
                 "-q",
+                "--wide",
                 "-o",
                 out.to_str().unwrap(),
             ]);

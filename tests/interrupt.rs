@@ -470,7 +470,7 @@ mod studies {
         let csv = dir.join("h.csv");
         for (after, signal) in [(2500, libc::SIGINT), (5000, libc::SIGTERM)] {
             let _ = std::fs::remove_file(&csv);
-            let child = spawn(&["study", "hair", "--csv", csv.to_str().unwrap()]);
+            let child = spawn(&["study", "hair", "--wide", "--csv", csv.to_str().unwrap()]);
             let (code, waited, stdout, stderr) = stop(child, Duration::from_millis(after), signal);
             assert_eq!(code, Some(130), "{stderr}");
             assert!(waited < 1.0, "{waited:.2} s after the signal");

@@ -1082,6 +1082,7 @@ mod cli {
                 rtol,
                 "--no-record",
                 "-q",
+                "--wide",
             ]);
             assert_eq!(code, 0, "{stderr}");
             let row = stdout

@@ -820,6 +820,7 @@ mod cli {
         let out = dir.join("r.rrd");
         let (code, stdout, stderr) = physlab(&[
             "rope",
+            "--wide",
             "--duration",
             "2",
             "--pinned",

@@ -493,8 +493,10 @@ mod scene_file {
             file.to_str().unwrap(),
         ]);
         assert_eq!(code, 0, "{stderr}");
+        // The header is wrapped to 100 columns: read as one line.
+        let words = stdout.split_whitespace().collect::<Vec<_>>().join(" ");
         assert!(
-            stdout.contains("sampled every 0.64 s over 6.4 s"),
+            words.contains("sampled every 0.64 s over 6.4 s"),
             "{stdout}"
         );
         assert!(
@@ -613,9 +615,12 @@ fn each_study_kind_has_a_help_page_of_its_own() {
             &["--levels", "--omega0", "--repeats", "--steps"],
         ),
     ];
+    // Help is wrapped to the terminal's width: read as one line.
+    let words = |text: &str| text.split_whitespace().collect::<Vec<_>>().join(" ");
     for (kind, measures, shown, left_out) in pages {
         let (code, help, err) = physlab(&["study", kind, "--help"]);
         assert_eq!(code, 0, "{err}");
+        let help = words(&help);
         assert!(
             help.contains(&format!("Usage: physlab study {kind} [OPTIONS]")),
             "{help}"
@@ -633,7 +638,7 @@ fn each_study_kind_has_a_help_page_of_its_own() {
         // The short page too.
         let (code, short, _) = physlab(&["study", kind, "-h"]);
         assert_eq!(code, 0);
-        assert!(short.len() < help.len(), "{kind}");
+        assert!(words(&short).len() < help.len(), "{kind}");
     }
 }
 
@@ -656,7 +661,9 @@ fn each_study_kind_shows_its_own_defaults_and_study_alone_lists_the_kinds() {
             .find(&format!("{flag} <"))
             .unwrap_or_else(|| panic!("{flag}"));
         let rest = &help[start + flag.len()..];
-        rest[..rest.find("\n\n").unwrap_or(rest.len())].to_string()
+        // Wrapped to the terminal's width: read as one line.
+        let paragraph = &rest[..rest.find("\n\n").unwrap_or(rest.len())];
+        paragraph.split_whitespace().collect::<Vec<_>>().join(" ")
     };
     let drift = help("drift");
     assert!(
@@ -750,7 +757,7 @@ fn each_study_kind_shows_its_own_defaults_and_study_alone_lists_the_kinds() {
 fn drift_exponents_match_the_theory_of_symplectic_and_other_methods() {
     let dir = scratch_dir("study-drift");
     let csv = dir.join("drift.csv");
-    let (code, out, err) = physlab(&["study", "drift", "--csv", csv.to_str().unwrap()]);
+    let (code, out, err) = physlab(&["study", "drift", "--wide", "--csv", csv.to_str().unwrap()]);
     assert_eq!(code, 0, "{err}");
     let text = std::fs::read_to_string(&csv).unwrap();
     let expected = [
@@ -971,8 +978,10 @@ fn drift_runs_a_damped_rope_on_its_energy_balance() {
     ];
     let (code, out, err) = physlab(&args);
     assert_eq!(code, 0, "{err}");
+    // Its lines are wrapped to 100 columns: read as one line.
+    let words = out.split_whitespace().collect::<Vec<_>>().join(" ");
     assert!(
-        out.contains("|E + W − E0|") && out.contains("--spring-damping 0.05"),
+        words.contains("|E + W − E0|") && words.contains("--spring-damping 0.05"),
         "{out}"
     );
     std::fs::remove_dir_all(&dir).unwrap();
@@ -1011,6 +1020,7 @@ fn the_ropes_damped_convergence_runs_only_accepted_methods_and_keeps_every_run()
     let (code, out, err) = physlab(&[
         "study",
         "convergence",
+        "--wide",
         "--scene",
         "rope",
         "--levels",

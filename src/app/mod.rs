@@ -35,10 +35,7 @@ const MEMORY_NOTICE_BYTES: f64 = 1e9;
 
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
-        Command::Methods => {
-            print!("{}", report::methods::methods_table());
-            Ok(())
-        }
+        Command::Methods(a) => methods(a.name.as_deref()),
         Command::Inspect(args) => inspect::inspect_command(&args),
         Command::Pendulum(c) => simulate(vec![Box::new(c.scene)], &c.run, None, &Replay::default()),
         Command::Rope(c) => simulate(vec![Box::new(c.scene)], &c.run, None, &Replay::default()),
@@ -53,6 +50,22 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Diff(args) => diff::diff_command(&args),
         Command::Study(a) => study::study(&a),
     }
+}
+
+/// `physlab methods [NAME]`: the registry's table, or one method's page.
+fn methods(name: Option<&str>) -> anyhow::Result<()> {
+    use report::methods::{method_page, methods_table, page_names};
+    let text = match name {
+        None => methods_table(),
+        Some(name) => method_page(name).ok_or_else(|| {
+            Error::Usage(format!(
+                "methods {name}: no method of that name (allowed: {})",
+                page_names().join(", ")
+            ))
+        })?,
+    };
+    print!("{text}");
+    Ok(())
 }
 
 /// The scenes a command runs, each with its flags (not yet layered over file and defaults).
@@ -354,12 +367,13 @@ fn run_scenes(
         }
         let mut ran = scene.run(ctx)?;
         if let Some(w) = warning {
-            ran.summary.push_str(&format!("\nwarning: {w}\n"));
+            ran.append(&format!("\nwarning: {w}\n"));
         }
         if let Some(s) = &ctx.stream {
             record::log_summary(s, ran.end.scene, &ran.summary, &ran.end.text, run.timings)?;
         }
-        ended.summaries.push(ran.summary + &ran.printed_only);
+        let shown = if run.wide { ran.summary } else { ran.fitted };
+        ended.summaries.push(shown + &ran.printed_only);
         ended.diverged.extend(ran.diverged);
         ended.ends.push(ran.end);
     }
@@ -413,7 +427,10 @@ fn refuse_contradictions(run: &RunArgs, no_record: bool) -> Result<(), Error> {
 
 /// One scene's run: its summary, the lanes that diverged, where it ended.
 struct Ran {
+    /// The summary with its full table: recorded, and printed with --wide.
     summary: String,
+    /// The summary with its table fitted to 100 columns: printed by default.
+    fitted: String,
     /// Printed under the summary but not recorded: what depends on the machine, not the inputs
     /// (hair's thread count), so that a recording compares equal on any machine.
     printed_only: String,
@@ -421,12 +438,20 @@ struct Ran {
     end: SceneEnd,
 }
 
+impl Ran {
+    /// Adds `text` under both forms of the summary.
+    fn append(&mut self, text: &str) {
+        self.summary.push_str(text);
+        self.fitted.push_str(text);
+    }
+}
+
 /// Runs one scene through the harness (recording it when a recorder is given) and returns its
 /// summary, the lanes that diverged and where it ended.
 fn run_scene<S: Scene, D: Draw<S>>(
     mut scene: S,
     mut recorder: Option<SceneRecorder<D>>,
-    summary: fn(&S, &Run<S::Lane>) -> String,
+    summary: fn(&S, &Run<S::Lane>, bool) -> String,
     progress: &mut Progress,
     stop_after: Option<u64>,
 ) -> anyhow::Result<Ran> {
@@ -444,7 +469,7 @@ fn run_scene<S: Scene, D: Draw<S>>(
         stop_after,
     )?;
     let schedule = scene.schedule();
-    let mut text = summary(&scene, &run);
+    let mut text = String::new();
     if let (true, Some(_)) = (schedule.aggregates(), &recorder) {
         let plots = schedule.series_text(&scene.windows());
         text.push_str(&format!("\nplots: {plots}\n"));
@@ -453,7 +478,8 @@ fn run_scene<S: Scene, D: Draw<S>>(
         text.push_str(&format!("\n{gap}\n"));
     }
     Ok(Ran {
-        summary: text,
+        summary: summary(&scene, &run, true) + &text,
+        fitted: summary(&scene, &run, false) + &text,
         printed_only: String::new(),
         diverged: run.diverged(scene.name()),
         end: SceneEnd {
@@ -496,10 +522,14 @@ fn finish(
     // A recording that cannot be written (a full disk) still shows the summaries first.
     let committed = recording.map(Recording::commit).transpose();
     // With `-o -` standard output carries the recording: the summary goes to stderr.
+    let mut text = summaries.join("\n");
+    if !run.wide {
+        text = report::table::fit_lines(&text);
+    }
     if d.stdout {
-        eprint!("{}", summaries.join("\n"));
+        eprint!("{text}");
     } else {
-        print!("{}", summaries.join("\n"));
+        print!("{text}");
     }
     let bytes = committed?;
     if let Some(bytes) = bytes

@@ -228,6 +228,7 @@ impl Progress {
             Some(_) => text,
             None => format!("{text}; Ctrl-C stops it and keeps what is done"),
         };
+        let notice = crate::report::table::fit_lines(&notice);
         match &self.bar {
             Some(bar) => bar.println(notice),
             None => eprintln!("{notice}"),

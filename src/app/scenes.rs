@@ -388,7 +388,7 @@ impl RunContext<'_> {
         &mut self,
         scene: S,
         recorder: impl FnOnce(rerun::RecordingStream, bool) -> SceneRecorder<D>,
-        summary: fn(&S, &Run<S::Lane>) -> String,
+        summary: fn(&S, &Run<S::Lane>, bool) -> String,
     ) -> anyhow::Result<Ran> {
         let recorder = (self.stream.clone())
             .map(|s| recorder(s, self.timings).with_frame_rate(self.frame_rate));
@@ -524,7 +524,7 @@ impl ReadyScene for HairConfig {
         let mut ran =
             pool.install(|| ctx.run(HairScene::new(*self), recorder, report::hair::summary_text))?;
         if recording {
-            ran.summary.push_str(&format!(
+            ran.append(&format!(
                 "\n3D: {} of {} strands drawn per head (--log-strands); every strand is simulated and measured above\n",
                 plan.drawn, plan.strands
             ));

@@ -11,9 +11,12 @@ use crate::scene::pendulum::run::PendulumConfig;
 use crate::scene::rope::run::RopeConfig;
 
 /// The command line with every scene flag's default appended to its help, read from the scene's
-/// `Default` (so a default is written once, in the scene), and every study kind's from the study.
+/// `Default` (so a default is written once, in the scene), and every study kind's from the study;
+/// its help wrapped to the terminal's width, at most 100 columns (100 when not a terminal).
 pub fn command() -> clap::Command {
     let cli = Cli::command()
+        // The width the rest of physlab's output keeps (report::table::WIDTH).
+        .max_term_width(100)
         .mut_subcommand("pendulum", |c| {
             with_defaults(with_method_names(c), &PendulumConfig::default())
         })
@@ -88,7 +91,7 @@ fn study_defaults() -> [(&'static str, Vec<(&'static str, String)>); 5] {
             scene("theta0"),
             ("dt", both(&drift::DEFAULT_DT, &drift::ROPE_DT)),
             ("duration", both(&periods, &drift::ROPE_DURATION)),
-            ("methods", fixed.join(",")),
+            ("methods", fixed.join(", ")),
             ("rtol", show(&rtol)),
         ],
     ];
@@ -203,7 +206,8 @@ fn with_shown_defaults(mut cmd: clap::Command, defaults: &[(&str, String)]) -> c
     cmd
 }
 
-/// A default as it is typed on the command line: 0.01, 0,-9.81,0, rk4,verlet.
+/// A default as it is typed on the command line: 0.01, 0,-9.81,0, rk4,verlet; a list longer
+/// than 30 characters with a space after each comma, so that the help can wrap it.
 fn show(value: &toml::Value) -> String {
     match value {
         toml::Value::String(s) => s.clone(),
@@ -211,7 +215,13 @@ fn show(value: &toml::Value) -> String {
         toml::Value::Float(x) => format!("{x}"),
         toml::Value::Integer(n) => n.to_string(),
         toml::Value::Boolean(b) => b.to_string(),
-        toml::Value::Array(items) => items.iter().map(show).collect::<Vec<_>>().join(","),
+        toml::Value::Array(items) => {
+            let items: Vec<String> = items.iter().map(show).collect();
+            match items.join(",") {
+                short if short.chars().count() <= 30 => short,
+                _ => items.join(", "),
+            }
+        }
         other => other.to_string(),
     }
 }

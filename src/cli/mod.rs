@@ -79,8 +79,9 @@ pub enum Command {
     Reproduce(ReproduceArgs),
     /// Compare two recordings entity by entity: configurations key by key, then every series
     Diff(DiffArgs),
-    /// Print the integrator registry: order, kind, symplecticity, force evaluations, stability
-    Methods,
+    /// Print the integrator registry: order, kind, symplecticity, force evaluations, stability;
+    /// with a NAME, that method's update, evaluations and notes
+    Methods(MethodsArgs),
 }
 
 /// Where a run's output goes and how it reports; shared by every simulating command.
@@ -123,6 +124,11 @@ pub struct RunArgs {
     /// No progress bar
     #[arg(short, long)]
     pub quiet: bool,
+
+    /// Print the summary's full table, every column and digit (the recording always holds it)
+    /// [default: fitted to 100 columns]
+    #[arg(long)]
+    pub wide: bool,
 
     /// Exit with code 3 when any method diverged (the recording is still written), for scripts
     #[arg(long)]
@@ -185,6 +191,12 @@ pub struct HairCommand {
     #[arg(long, value_name = "N", allow_negative_numbers = true,
           value_parser = crate::cli::count::<usize>())]
     pub threads: Option<usize>,
+}
+
+#[derive(Args, Debug, Clone)]
+pub struct MethodsArgs {
+    /// A method's name (of the registry or of hair's `--methods`): its page in full
+    pub name: Option<String>,
 }
 
 #[derive(Args, Debug, Clone)]

@@ -115,6 +115,11 @@ pub struct StudyOutputs {
     /// No progress bar or long-run notice (the study prints only its tables)
     #[arg(short, long)]
     pub quiet: bool,
+
+    /// Print the full tables, every column and digit (the CSV always holds every figure)
+    /// [default: fitted to 100 columns]
+    #[arg(long)]
+    pub wide: bool,
 }
 
 /// `study convergence` and `study work-precision`: a sweep over halved steps and tolerances.

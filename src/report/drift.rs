@@ -57,96 +57,143 @@ fn exponent_text(e: Option<f64>) -> String {
     e.map_or("—".into(), |e| format!("{e:.3}"))
 }
 
-/// What the theory says, or why it says nothing.
-fn theory_text(t: Option<f64>, method: crate::integrate::Method) -> String {
-    match (t, method) {
-        (Some(t), _) => format!("{t}"),
-        (None, crate::integrate::Method::ExplicitEuler) => "none (grows geometrically)".into(),
-        (None, _) => "none (decays to rest)".into(),
+/// What the theory says, or why it says nothing; fitted, in a word.
+fn theory_text(t: Option<f64>, method: crate::integrate::Method, wide: bool) -> String {
+    match (t, method == crate::integrate::Method::ExplicitEuler, wide) {
+        (Some(t), ..) => format!("{t}"),
+        (None, true, true) => "none (grows geometrically)".into(),
+        (None, true, false) => "geometric".into(),
+        (None, false, true) => "none (decays to rest)".into(),
+        (None, false, false) => "decays".into(),
     }
 }
 
-/// The exponents against theory per method; with the scene's flags and `rtol`, each row ends
-/// with the command that measures it alone (docs/results.md's table gives one command for all).
-pub fn drift_table(runs: &[Drift], command: Option<(&str, f64)>) -> String {
-    let mut header = vec![
-        "method",
-        "symplectic",
-        "energy exponent",
-        "theory",
-        "phase exponent",
-        "theory",
-        "energy error at end",
-        "phase error at end [rad]",
-        "force evals",
-    ];
+/// The exponents against theory per method, in full (`wide`) or fitted (each exponent beside
+/// its theory, counts to two digits); with the scene's flags and `rtol`, the command that
+/// measures one method alone is said once above it (docs/results.md's table gives one for all).
+pub fn drift_table(runs: &[Drift], command: Option<(&str, f64)>, wide: bool) -> String {
+    let mut header = if wide {
+        vec![
+            "method",
+            "symplectic",
+            "energy exponent",
+            "theory",
+            "phase exponent",
+            "theory",
+            "energy error at end",
+            "phase error at end [rad]",
+            "force evals",
+        ]
+    } else {
+        vec![
+            "method",
+            "energy t^p",
+            "phase t^p",
+            "energy at end",
+            "phase [rad]",
+            "evals",
+        ]
+    };
     let rope = runs.iter().any(|r| r.shortest_spring.is_some());
     if rope {
-        header.push("shortest spring / rest");
-    }
-    if command.is_some() {
-        header.push("measured by");
+        header.push(if wide {
+            "shortest spring / rest"
+        } else {
+            "min spring/rest"
+        });
     }
     let mut t = Table::new(header);
     for r in runs {
-        let energy: Vec<(f64, f64)> = r.checkpoints.iter().map(|c| (c.t, c.energy)).collect();
-        let phase: Vec<(f64, f64)> = (r.checkpoints.iter())
-            .filter_map(|c| c.phase.map(|p| (c.t, p)))
-            .collect();
-        let (energy_theory, phase_theory) = theory(r.method, r.damped);
-        // A run without a single crossing measured has no phase to speak of (the rope).
-        let phased = !phase.is_empty();
-        let last = r.checkpoints.last();
-        let end = r.lost_at.map_or_else(
-            || last.map_or("—".into(), |c| format!("{:.2e}", c.energy)),
-            |t| format!("lost at t = {} s", shown(t)),
-        );
-        let info = r.method.info();
-        // A method whose energy error stays near f64's resolution measures its round-off, not
-        // its truncation, which the theory speaks of.
-        let round_off = last.is_some_and(|c| c.energy < ROUND_OFF);
-        let adaptive = info.adaptive();
-        let mut row = vec![
-            r.method.name().to_string(),
-            if info.symplectic { "yes" } else { "no" }.into(),
-            exponent_text(r.lost_at.map_or(exponent(&energy), |_| None)),
-            if round_off {
-                "none: at round-off (a random walk, ~0.5)".into()
-            } else {
-                theory_text(energy_theory, r.method)
-            },
-            exponent_text(r.lost_at.map_or(exponent(&phase), |_| None)),
-            if round_off && phased {
-                "none: at round-off".into()
-            } else if phased || r.lost_at.is_some() {
-                theory_text(phase_theory, r.method)
-            } else {
-                "none (no closed form)".into()
-            },
-            end,
-            last.and_then(|c| c.phase)
-                .map_or("—".into(), |p| format!("{p:.2e}")),
-            r.evals.to_string(),
-        ];
+        let mut row = drift_row(r, wide);
         if rope {
             row.push(r.shortest_spring.map_or("—".into(), |s| format!("{s:.2e}")));
         }
-        if let Some((flags, rtol)) = command {
-            row.push(format!(
-                "`physlab study drift --methods {} {flags} --dt {} --duration {}{}`",
-                r.method.name(),
-                shown(r.dt),
-                shown(r.duration),
-                if adaptive {
-                    format!(" --rtol {rtol:e}")
-                } else {
-                    String::new()
-                }
-            ));
-        }
         t.row(row);
     }
-    t.render()
+    let mut out = String::new();
+    if let (Some((flags, rtol)), Some(r)) = (command, runs.first()) {
+        let adaptive = runs.iter().any(|r| r.method.info().adaptive());
+        let rtol = if adaptive {
+            format!(" (adaptive methods add --rtol {rtol:e})")
+        } else {
+            String::new()
+        };
+        out = format!(
+            "each row measured alone by{rtol}:\n  physlab study drift --methods NAME {flags} --dt {} \
+             --duration {}\n\n",
+            shown(r.dt),
+            shown(r.duration),
+        );
+    }
+    if !wide {
+        out.push_str(
+            "t^p: the error's growth as a power of t, p fitted (the theory's p); energy and phase \
+             [rad] at end: the errors at the last point\n\n",
+        );
+    }
+    out + &t.render_at(wide)
+}
+
+/// One method's row of [`drift_table`] (without the rope's shortest spring).
+fn drift_row(r: &Drift, wide: bool) -> Vec<String> {
+    let energy: Vec<(f64, f64)> = r.checkpoints.iter().map(|c| (c.t, c.energy)).collect();
+    let phase: Vec<(f64, f64)> = (r.checkpoints.iter())
+        .filter_map(|c| c.phase.map(|p| (c.t, p)))
+        .collect();
+    let (energy_theory, phase_theory) = theory(r.method, r.damped);
+    // A run without a single crossing measured has no phase to speak of (the rope).
+    let phased = !phase.is_empty();
+    let last = r.checkpoints.last();
+    let end = r.lost_at.map_or_else(
+        || last.map_or("—".into(), |c| format!("{:.2e}", c.energy)),
+        |t| format!("lost at {}{} s", if wide { "t = " } else { "" }, shown(t)),
+    );
+    // A method whose energy error stays near f64's resolution measures its round-off, not
+    // its truncation, which the theory speaks of.
+    let round_off = last.is_some_and(|c| c.energy < ROUND_OFF);
+    let pick = |full: &str, word: &str| if wide { full } else { word }.to_string();
+    let energy_said = if round_off {
+        pick("none: at round-off (a random walk, ~0.5)", "round-off")
+    } else {
+        theory_text(energy_theory, r.method, wide)
+    };
+    let phase_said = if round_off && phased {
+        pick("none: at round-off", "round-off")
+    } else if phased || r.lost_at.is_some() {
+        theory_text(phase_theory, r.method, wide)
+    } else {
+        pick("none (no closed form)", "no closed form")
+    };
+    let energy_exponent = exponent_text(r.lost_at.map_or(exponent(&energy), |_| None));
+    let phase_exponent = exponent_text(r.lost_at.map_or(exponent(&phase), |_| None));
+    let phase_end = (last.and_then(|c| c.phase)).map_or("—".into(), |p| format!("{p:.2e}"));
+    let name = r.method.name().to_string();
+    if !wide {
+        return vec![
+            name,
+            format!("{energy_exponent} ({energy_said})"),
+            format!("{phase_exponent} ({phase_said})"),
+            end,
+            phase_end,
+            format!("{:.1e}", r.evals as f64),
+        ];
+    }
+    let symplectic = if r.method.info().symplectic {
+        "yes"
+    } else {
+        "no"
+    };
+    vec![
+        name,
+        symplectic.into(),
+        energy_exponent,
+        energy_said,
+        phase_exponent,
+        phase_said,
+        end,
+        phase_end,
+        r.evals.to_string(),
+    ]
 }
 
 /// One row per checkpoint: method, dt, t, energy error, phase error.

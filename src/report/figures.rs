@@ -8,7 +8,7 @@
 use crate::format::sci;
 use crate::integrate::Method;
 use crate::report::table::Table;
-use crate::report::{methods::methods_table, study as study_tables};
+use crate::report::{methods, study as study_tables};
 use crate::scene::hair::run::{HairConfig, HairScene};
 use crate::scene::harness::{LaneStats, NoObserver, run};
 use crate::scene::pendulum::run::{PendulumConfig, PendulumScene};
@@ -36,7 +36,7 @@ pub fn deterministic() -> Vec<Figure> {
     let results = |name, markdown| fig(name, "docs/results.md", markdown);
     let (pendulum, rope) = (Problem::Pendulum(Default::default()), Problem::Rope);
     vec![
-        results("methods", methods_table()),
+        results("methods", methods_reference()),
         fig("pendulum-default", "README.md", pendulum_default()),
         fig("rope-default", "README.md", rope_default()),
         fig("hair-default", "README.md", hair_default()),
@@ -101,6 +101,17 @@ pub fn damped_study_rope() -> crate::scene::rope::RopeParams {
         air_drag: scene.air_drag,
         ..study::study_rope(false)
     }
+}
+
+/// `physlab methods`, then every `physlab methods NAME` page.
+fn methods_reference() -> String {
+    let pages = methods::page_names()
+        .into_iter()
+        .filter_map(methods::method_page);
+    std::iter::once(methods::methods_table())
+        .chain(pages)
+        .collect::<Vec<_>>()
+        .join("\n")
 }
 
 fn diverged(s: &LaneStats) -> String {
@@ -190,7 +201,7 @@ fn hair_default() -> String {
 /// `physlab study drift` on its defaults: the fixed-step methods on the pendulum at 60°,
 /// dt = 0.01 s, over 10⁵ periods.
 fn drift_pendulum() -> String {
-    crate::report::drift::drift_table(&drift_pendulum_runs(), None)
+    crate::report::drift::drift_table(&drift_pendulum_runs(), None, true)
 }
 
 /// The runs of [`drift_pendulum`]'s table, which `docs/pendulum-drift.png` draws.
@@ -218,13 +229,14 @@ fn convergence(problem: &Problem) -> String {
         &rows,
         error_floor(reference_error),
         problem.velocity_dependent(),
+        true,
     )
 }
 
 /// `physlab study stability` on `problem`.
 fn stability(problem: &Problem) -> String {
     let limits = study::stability(problem, &Method::ALL, study::DEFAULT_STABILITY_STEPS);
-    study_tables::stability_table(&limits)
+    study_tables::stability_table(&limits, true)
 }
 
 /// `physlab study work-precision --duration 20`: the cheapest run per default target and the

@@ -1,12 +1,15 @@
 //! The hair run's summary table.
 
 use crate::format::{plural, sig, trim_number};
-use crate::report::table::{Table, figure};
+use crate::report::table::{Table, diverged_cell, figure};
 use crate::scene::hair::run::{HairConfig, HairLane, HairScene};
 use crate::scene::hair::{HairMethod, SPRING_STRETCH_BOUND, SPRING_WAVE_SPEEDS, Solver};
-use crate::scene::harness::{Run, divergence_cell};
+use crate::scene::harness::Run;
 
-pub fn summary_text(scene: &HairScene, run: &Run<HairLane>) -> String {
+/// The summary: the strands, head, wind and solver, the invariants, and one row per lane, its
+/// table in full (`wide`) or fitted to 100 columns (the frames, said above, and the rates that
+/// ms/frame gives left out).
+pub fn summary_text(scene: &HairScene, run: &Run<HairLane>, wide: bool) -> String {
     let c = &scene.config;
     let p = &c.params;
     let mut out = format!(
@@ -51,6 +54,19 @@ pub fn summary_text(scene: &HairScene, run: &Run<HairLane>) -> String {
         "max root error [m]",
         "final KE per kg [J/kg]",
         "diverged",
+    ])
+    .short([
+        "method",
+        "",
+        "",
+        "ms/frame",
+        "",
+        "",
+        "max stretch",
+        "penetr. [m]",
+        "root err [m]",
+        "KE [J/kg]",
+        "diverged",
     ]);
     for (lane, s) in run.lanes.iter().zip(&run.stats) {
         let wall = s.wall.as_secs_f64();
@@ -66,11 +82,14 @@ pub fn summary_text(scene: &HairScene, run: &Run<HairLane>) -> String {
             figure(s, format!("{:.2e}", w.max_stretch)),
             figure(s, format!("{:.1e}", w.max_penetration)),
             figure(s, format!("{:.1e}", w.max_root_error)),
-            figure(s, format!("{:.4e}", w.kinetic_energy)),
-            divergence_cell(s),
+            figure(
+                s,
+                format!("{:.*e}", if wide { 4 } else { 2 }, w.kinetic_energy),
+            ),
+            diverged_cell(s, wide),
         ]);
     }
-    out.push_str(&table.render());
+    out.push_str(&table.render_at(wide));
     out
 }
 
@@ -100,8 +119,13 @@ pub fn trade_table(rows: &[crate::study::hair::HairRow]) -> String {
 }
 
 /// The cheapest configuration (by wall time per frame) within each stretch target: over all
-/// rows, then for each method (and verlet's solver).
-pub fn trade_cheapest_table(rows: &[crate::study::hair::HairRow], targets: &[f64]) -> String {
+/// rows, then for each method (and verlet's solver); fitted, a configuration by the flags its
+/// `among` does not already say.
+pub fn trade_cheapest_table(
+    rows: &[crate::study::hair::HairRow],
+    targets: &[f64],
+    wide: bool,
+) -> String {
     use crate::study::hair::cheapest_within;
     let mut kinds: Vec<(HairMethod, Option<Solver>)> = Vec::new();
     for r in rows {
@@ -115,13 +139,23 @@ pub fn trade_cheapest_table(rows: &[crate::study::hair::HairRow], targets: &[f64
         "cheapest",
         "max stretch",
         "ms/frame",
-    ]);
+    ])
+    .short(["target", "among", "cheapest", "stretch", "ms/frame"]);
+    let kind = |m: HairMethod, s: Option<Solver>| match s {
+        Some(s) => format!("{} {}", m.name(), s.name()),
+        None => m.name().to_string(),
+    };
     for &target in targets {
         let mut line = |among: String, r: Option<&crate::study::hair::HairRow>| match r {
             Some(r) => t.row([
                 format!("{target:.0e}"),
-                among,
-                r.flags(),
+                among.clone(),
+                match (wide, among == "all", r.settings()) {
+                    (true, _, _) => r.flags(),
+                    (false, true, settings) => format!("{} {settings}", kind(r.method, r.solver)),
+                    (false, false, settings) if settings.is_empty() => "defaults".into(),
+                    (false, false, settings) => settings,
+                },
                 r.stretch.map_or(String::new(), |s| format!("{s:.2e}")),
                 trim_number(r.ms_per_frame, 3),
             ]),
@@ -135,12 +169,8 @@ pub fn trade_cheapest_table(rows: &[crate::study::hair::HairRow], targets: &[f64
         };
         line("all".into(), cheapest_within(rows, target));
         for &(m, s) in &kinds {
-            let among = match s {
-                Some(s) => format!("{} {}", m.name(), s.name()),
-                None => m.name().to_string(),
-            };
             line(
-                among,
+                kind(m, s),
                 cheapest_within(
                     rows.iter().filter(|r| (r.method, r.solver) == (m, s)),
                     target,
@@ -148,7 +178,7 @@ pub fn trade_cheapest_table(rows: &[crate::study::hair::HairRow], targets: &[f64
             );
         }
     }
-    t.render()
+    t.render_at(wide)
 }
 
 /// One CSV row per configuration of the hair trade study.

@@ -1,11 +1,10 @@
-//! The registry as the text `physlab methods` prints, at most [`WIDTH`] columns wide: a table of
-//! the numbers, then each method's update and its notes as wrapped lists.
+//! The registry as `physlab methods` prints it, at most [`WIDTH`] columns wide: every method's
+//! numbers in one table of under 30 lines, and `physlab methods NAME` one method's page (its
+//! numbers in words, update, evaluations and notes).
 
 use crate::integrate::{EvalsPerStep, Method, Stability};
-use crate::report::table::{Table, list_item, wrap};
-
-/// The widest line printed: a terminal of 100 columns shows it without wrapping.
-pub const WIDTH: usize = 100;
+use crate::report::table::{Table, WIDTH, list_item, wrap};
+use crate::scene::hair::HairMethod;
 
 pub fn methods_table() -> String {
     let mut table = Table::new([
@@ -19,12 +18,6 @@ pub fn methods_table() -> String {
     ]);
     for m in Method::ALL {
         let i = m.info();
-        let stability = match i.stability {
-            Stability::Never => "never".to_string(),
-            Stability::Always => "always".to_string(),
-            Stability::Below(h) => format!("< {h:.4}"),
-            Stability::Adaptive => "adaptive".to_string(),
-        };
         table.row([
             i.name.to_string(),
             i.order.to_string(),
@@ -40,63 +33,136 @@ pub fn methods_table() -> String {
                 EvalsPerStep::NewtonIterations => "Newton".into(),
                 EvalsPerStep::Adaptive(e) => format!("{} adaptive", e.accepted),
             },
-            stability,
+            match i.stability {
+                Stability::Never => "never".to_string(),
+                Stability::Always => "always".to_string(),
+                Stability::Below(h) => format!("< {h:.4}"),
+                Stability::Adaptive => "adaptive".to_string(),
+            },
         ]);
     }
     let mut out = table.render();
-    let legend = "stable ω dt: on the undamped oscillator x'' = −ω²x. evals/step: force evaluations; \
-                  Newton: 1 force + 1 Jacobian per Newton iteration (+1 force: the pendulum's \
-                  guess); adaptive: per step of its own (below). a(x,v) refused: the method needs forces of \
-                  position alone.";
+    let legend = format!(
+        "stable ω dt: on the undamped oscillator x'' = −ω²x. evals/step: force evaluations; \
+         Newton: 1 force + 1 Jacobian per Newton iteration (+1 force: the pendulum's guess); \
+         adaptive: per step of its own. a(x,v) refused: the method needs forces of position \
+         alone. Hair strands have methods of their own (`physlab hair --methods`): {}.",
+        HairMethod::names()
+    );
     out.push('\n');
-    for line in wrap(legend, WIDTH) {
+    for line in wrap(&legend, WIDTH) {
         out.push_str(&line);
         out.push('\n');
     }
-    out.push_str("\nUpdates:\n");
-    for m in Method::ALL {
-        out.push_str(&list_item(m.name(), m.info().update, WIDTH));
-    }
-    out.push_str("\nEvaluations of the adaptive methods:\n");
-    for m in Method::ALL {
-        if let EvalsPerStep::Adaptive(e) = m.info().evals_per_step {
-            out.push_str(&list_item(m.name(), &e.to_string(), WIDTH));
+    out.push_str("\n`physlab methods NAME`: one method's update, evaluations and notes.\n");
+    out
+}
+
+/// Every name `physlab methods NAME` takes: the registry's, then hair's own.
+pub fn page_names() -> Vec<&'static str> {
+    let mut names: Vec<&str> = Method::names().collect();
+    for m in HairMethod::ALL {
+        if !names.contains(&m.name()) {
+            names.push(m.name());
         }
     }
-    out.push_str("\nOrder drops where the force depends on the velocity (damping, drag):\n");
-    for m in Method::ALL {
+    names
+}
+
+/// What `physlab methods NAME` prints: the registry method's numbers in words, its update,
+/// evaluations and notes, then what the same name means in hair; `None` for an unknown name.
+pub fn method_page(name: &str) -> Option<String> {
+    let registry = name.parse::<Method>().ok();
+    let hair = HairMethod::ALL.into_iter().find(|m| m.name() == name);
+    if registry.is_none() && hair.is_none() {
+        return None;
+    }
+    let mut out = format!("{name}\n\n");
+    // One item per fact; a fact about a method goes here as one more (label, text).
+    let mut items: Vec<(&str, String)> = Vec::new();
+    if let Some(m) = registry {
         let i = m.info();
+        let velocity = if i.accepts_velocity_dependent() {
+            format!(
+                "{} with velocity-dependent ones a(x,v)",
+                i.order_velocity_dependent
+            )
+        } else {
+            "refused with velocity-dependent ones a(x,v)".into()
+        };
+        items.push((
+            "order",
+            format!("{} for forces of position alone a(x), {velocity}", i.order),
+        ));
         if let Some(why) = i.order_drop() {
-            let text = format!(
-                "order {}, not {}: {why}",
+            let drop = format!(
+                "to {} from {} with a(x,v): {why}",
                 i.order_velocity_dependent, i.order
             );
-            out.push_str(&list_item(m.name(), &text, WIDTH));
+            items.push(("order drops", drop));
+        }
+        items.push((
+            "kind",
+            format!(
+                "{}, {}symplectic",
+                if i.implicit { "implicit" } else { "explicit" },
+                if i.symplectic { "" } else { "not " }
+            ),
+        ));
+        items.push((
+            "evaluations",
+            match i.evals_per_step {
+                EvalsPerStep::Fixed(n) => format!("{n} per step"),
+                EvalsPerStep::NewtonIterations => "1 force + 1 Jacobian per Newton iteration \
+                                                   (+1 force: the pendulum's guess)"
+                    .into(),
+                EvalsPerStep::Adaptive(e) => e.to_string(),
+            },
+        ));
+        items.push((
+            "stable",
+            match i.stability {
+                Stability::Never => "never, on the undamped oscillator (energy grows)".into(),
+                Stability::Always => "always, on the undamped oscillator".into(),
+                Stability::Below(h) => format!("for ω dt < {h:.4} on the undamped oscillator"),
+                Stability::Adaptive => "its own steps are chosen by error control".into(),
+            },
+        ));
+        items.push(("update", i.update.to_string()));
+        if !i.notes.is_empty() {
+            items.push(("notes", i.notes.to_string()));
         }
     }
-    out.push_str("\nNotes:\n");
-    for m in Method::ALL {
-        let notes = m.info().notes;
-        if !notes.is_empty() {
-            out.push_str(&list_item(m.name(), notes, WIDTH));
-        }
+    if let Some(h) = hair {
+        items.push((
+            "in hair (`physlab hair --methods`)",
+            h.description().to_string(),
+        ));
     }
-    // Hair strands have their own methods (`physlab hair --methods`).
-    out.push_str("\nHair strands (`physlab hair --methods`):\n");
-    for m in crate::scene::hair::HairMethod::ALL {
-        out.push_str(&list_item(m.name(), m.description(), WIDTH));
+    for (label, text) in items {
+        out.push_str(&list_item(label, &text, WIDTH));
     }
-    out
+    Some(out)
 }
 
 #[cfg(test)]
 mod tests {
+    use super::*;
+
     #[test]
-    fn the_methods_text_fits_a_terminal_of_100_columns() {
-        let text = super::methods_table();
+    fn the_methods_text_fits_a_terminal_of_100_columns_in_30_lines() {
+        let text = methods_table();
         let widest = text.lines().map(|l| l.chars().count()).max().unwrap_or(0);
-        assert!(widest <= super::WIDTH, "{widest} columns");
+        assert!(widest <= WIDTH, "{widest} columns");
+        assert!(text.lines().count() <= 30, "{text}");
         assert!(text.contains("| rk4 "), "{text}");
-        assert!(text.contains("- vern9: "), "{text}");
+        for name in page_names() {
+            let page = method_page(name).unwrap();
+            let widest = page.lines().map(|l| l.chars().count()).max().unwrap_or(0);
+            assert!(widest <= WIDTH, "{name}: {widest} columns");
+        }
+        assert!(method_page("vern9").unwrap().contains("- notes: "));
+        assert!(method_page("ftl").unwrap().contains("in hair"));
+        assert!(method_page("nope").is_none());
     }
 }

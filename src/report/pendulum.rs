@@ -1,15 +1,16 @@
 //! The pendulum run's summary table, as printed on stdout.
 
 use crate::format::{sig, trim_number};
-use crate::report::table::{OWN_STEPS_NOTE, Table, figure};
-use crate::scene::harness::{Run, Scene as _, divergence_cell};
+use crate::report::table::{OWN_STEPS_NOTE, Table, diverged_cell, figure, steps_cell};
+use crate::scene::harness::{Run, Scene as _};
 use crate::scene::pendulum::run::{PendulumLane, PendulumScene};
 
-/// The summary: a few header lines (reference, energy, bounds) and one row per lane.
-pub fn summary_text(scene: &PendulumScene, run: &Run<PendulumLane>) -> String {
+/// The summary: a few header lines (reference, energy, bounds) and one row per lane, its table
+/// in full (`wide`) or fitted to 100 columns.
+pub fn summary_text(scene: &PendulumScene, run: &Run<PendulumLane>, wide: bool) -> String {
     let mut out = header_text(scene);
     out.push('\n');
-    out.push_str(&lanes_table(scene, run));
+    out.push_str(&lanes_table(scene, run, wide));
     if run.stats.iter().any(|s| s.counts.own_steps.is_some()) {
         out.push_str(OWN_STEPS_NOTE);
     }
@@ -69,8 +70,9 @@ fn header_text(scene: &PendulumScene) -> String {
     out
 }
 
-/// One row per lane: cost, errors against the reference, period, outcome.
-fn lanes_table(scene: &PendulumScene, run: &Run<PendulumLane>) -> String {
+/// One row per lane: cost, errors against the reference, period, outcome; fitted, the errors to
+/// two digits and the period by its error alone.
+fn lanes_table(scene: &PendulumScene, run: &Run<PendulumLane>, wide: bool) -> String {
     let mut table = Table::new([
         "method",
         "steps",
@@ -82,18 +84,38 @@ fn lanes_table(scene: &PendulumScene, run: &Run<PendulumLane>) -> String {
         "period [s]",
         "period rel. err",
         "diverged",
+    ])
+    .short([
+        "method",
+        "steps",
+        "evals",
+        "",
+        "ns/step",
+        "θ err [rad]",
+        "max ΔE/E0",
+        "",
+        "period err",
+        "diverged",
     ]);
+    let err = |x: f64| {
+        if wide {
+            format!("{x:.3e}")
+        } else {
+            format!("{x:.1e}")
+        }
+    };
     let dash = || "—".to_string();
     for (lane, s) in run.lanes.iter().zip(&run.stats) {
         let timed = s.is_method;
         let period = lane.meter.period();
         let period_err = match (period, scene.exact_period) {
-            (Some(m), Some(e)) => format!("{:+.2e}", m / e - 1.0),
+            (Some(m), Some(e)) if wide => format!("{:+.2e}", m / e - 1.0),
+            (Some(m), Some(e)) => format!("{:+.1e}", m / e - 1.0),
             _ => dash(),
         };
         table.row([
             s.name.to_string(),
-            s.steps_text(),
+            steps_cell(s, wide),
             if timed {
                 s.counts.evals.to_string()
             } else {
@@ -106,15 +128,15 @@ fn lanes_table(scene: &PendulumScene, run: &Run<PendulumLane>) -> String {
             },
             s.ns_per_step().map_or_else(dash, |ns| format!("{ns:.1}")),
             if timed && !s.failed_at_once() {
-                format!("{:.3e}", lane.max_theta_error)
+                err(lane.max_theta_error)
             } else {
                 dash()
             },
-            figure(s, format!("{:.3e}", lane.max_energy_error)),
+            figure(s, err(lane.max_energy_error)),
             period.map_or_else(|| "— (< 2 crossings)".to_string(), |t| format!("{t:.9}")),
             period_err,
-            divergence_cell(s),
+            diverged_cell(s, wide),
         ]);
     }
-    table.render()
+    table.render_at(wide)
 }

@@ -2,8 +2,8 @@
 
 use crate::format::{sig, trim_number};
 use crate::integrate::{EvalsPerStep, Method};
-use crate::report::table::{OWN_STEPS_NOTE, Table, figure};
-use crate::scene::harness::{Run, Scene as _, divergence_cell};
+use crate::report::table::{OWN_STEPS_NOTE, Table, diverged_cell, figure, steps_cell};
+use crate::scene::harness::{Run, Scene as _};
 use crate::scene::rope::run::{ENERGY_GAIN_BOUND, RopeLane, RopeScene};
 
 /// What one step of `method` costs on an N-node rope, in words.
@@ -99,7 +99,10 @@ fn sideways_note(g: glam::DVec3) -> &'static str {
     }
 }
 
-pub fn summary_text(scene: &RopeScene, run: &Run<RopeLane>) -> String {
+/// The summary: the rope, its forces, rates and energy, and one row per lane, its table in full
+/// (`wide`) or fitted to 100 columns (W, the final E and the cost in words left out: the
+/// balance, E - E0 and the evaluations say them).
+pub fn summary_text(scene: &RopeScene, run: &Run<RopeLane>, wide: bool) -> String {
     let c = &scene.config;
     let p = &c.params;
     let schedule = scene.schedule();
@@ -147,30 +150,46 @@ pub fn summary_text(scene: &RopeScene, run: &Run<RopeLane>) -> String {
         "E + W - E0 [J]",
         "max strain",
         "diverged",
+    ])
+    .short([
+        "method",
+        "",
+        "steps",
+        "evals",
+        "",
+        "ns/step",
+        "",
+        "E−E0 [J]",
+        "",
+        "E+W−E0 [J]",
+        "max strain",
+        "diverged",
     ]);
+    // Digits: four in full, two fitted.
+    let e = if wide { 3 } else { 1 };
     for (lane, s) in run.lanes.iter().zip(&run.stats) {
         table.row([
             s.name.to_string(),
             cost_per_step(lane.method, p.newton_iterations),
-            s.steps_text(),
+            steps_cell(s, wide),
             s.counts.evals.to_string(),
             format!("{:.3}", s.wall.as_secs_f64() * 1e3),
             s.ns_per_step().map_or("—".into(), |ns| format!("{ns:.0}")),
             figure(s, sig(lane.final_energy, 7)),
             figure(
                 s,
-                format!("{:+.3e}", lane.final_energy - scene.initial_energy),
+                format!("{:+.e$e}", lane.final_energy - scene.initial_energy),
             ),
-            figure(s, format!("{:.3e}", lane.final_work)),
+            figure(s, format!("{:.e$e}", lane.final_work)),
             figure(
                 s,
-                format!("{:+.3e}", lane.balance_error(scene.initial_energy)),
+                format!("{:+.e$e}", lane.balance_error(scene.initial_energy)),
             ),
-            figure(s, format!("{:.3e}", lane.max_strain)),
-            divergence_cell(s),
+            figure(s, format!("{:.e$e}", lane.max_strain)),
+            diverged_cell(s, wide),
         ]);
     }
-    out.push_str(&table.render());
+    out.push_str(&table.render_at(wide));
     if run.stats.iter().any(|s| s.counts.own_steps.is_some()) {
         out.push_str(OWN_STEPS_NOTE);
     }

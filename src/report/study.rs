@@ -4,7 +4,7 @@
 use std::fmt::Write as _;
 
 use crate::format::{sci, shown, trim_number};
-use crate::report::table::Table;
+use crate::report::table::{Table, WIDTH, fit_lines, list_item};
 use crate::scene::pendulum::exact::ExactPendulum;
 use crate::scene::rope::RopeParams;
 use crate::study::{
@@ -172,22 +172,26 @@ pub fn stability_header(problem: &Problem, steps: u64) -> String {
 }
 
 /// Fitted order per method against theory (the order for velocity-dependent forces when the
-/// problem has them), leaving out errors below `floor`.
-pub fn orders_table(rows: &[Row], floor: f64, velocity_dependent: bool) -> String {
+/// problem has them), leaving out errors below `floor`; in full (`wide`) or fitted.
+pub fn orders_table(rows: &[Row], floor: f64, velocity_dependent: bool, wide: bool) -> String {
     let mut t = Table::new([
         "method",
         "theory order",
         "fitted order",
         "order range",
         "diverged at dt",
-    ]);
+    ])
+    .short(["method", "theory", "fitted", "range", "diverged at dt [s]"]);
+    let unfitted = if wide {
+        "— (fewer than 2 usable rows)"
+    } else {
+        "— (< 2 rows)"
+    };
     for o in orders(rows, floor) {
         t.row([
             o.method.name().to_string(),
             o.method.info().order_for(velocity_dependent).to_string(),
-            o.fitted.map_or("— (fewer than 2 usable rows)".into(), |f| {
-                format!("{f:.3}")
-            }),
+            o.fitted.map_or(unfitted.into(), |f| format!("{f:.3}")),
             o.range
                 .map_or("—".into(), |(lo, hi)| format!("{lo:.3} – {hi:.3}")),
             if o.diverged_at.is_empty() {
@@ -201,7 +205,7 @@ pub fn orders_table(rows: &[Row], floor: f64, velocity_dependent: bool) -> Strin
             },
         ]);
     }
-    t.render()
+    t.render_at(wide)
 }
 
 /// One line per method whose errors stopped falling as the step halved ([`crate::study::stalled`]):
@@ -226,7 +230,7 @@ pub fn stalled_note(rows: &[Row], floor: f64) -> String {
             );
         }
     }
-    note
+    fit_lines(&note)
 }
 
 /// Tolerance proportionality per adaptive method: the slope of log error against log rtol
@@ -281,8 +285,8 @@ pub fn run_about(r: &Row) -> String {
     )
 }
 
-/// Every measured run.
-pub fn rows_table(rows: &[Row]) -> String {
+/// Every measured run; fitted, rtol and the wall time to one digit.
+pub fn rows_table(rows: &[Row], wide: bool) -> String {
     let mut t = Table::new([
         "method",
         "dt [s]",
@@ -292,31 +296,43 @@ pub fn rows_table(rows: &[Row]) -> String {
         "steps accepted",
         "rejected",
         "median wall [s]",
+    ])
+    .short([
+        "method", "dt [s]", "rtol", "error", "evals", "steps", "rejected", "wall [s]",
     ]);
     for r in rows {
         t.row([
             r.method.name().to_string(),
             step_text(r),
-            r.rtol.map_or("—".into(), sci),
+            r.rtol.map_or(
+                "—".into(),
+                |t| if wide { sci(t) } else { format!("{t:.0e}") },
+            ),
             r.error.map_or("diverged".into(), sci),
             r.evals.to_string(),
             r.accepted.to_string(),
             r.rejected.to_string(),
-            sci(r.wall_seconds),
+            if wide {
+                sci(r.wall_seconds)
+            } else {
+                format!("{:.1e}", r.wall_seconds)
+            },
         ]);
     }
-    t.render()
+    t.render_at(wide)
 }
 
-/// Measured stability limits against theory.
-pub fn stability_table(limits: &[Limit]) -> String {
+/// Measured stability limits against theory; fitted, each note said once under the table with
+/// the methods it concerns.
+pub fn stability_table(limits: &[Limit], wide: bool) -> String {
     let mut t = Table::new([
         "method",
         "measured dt [s]",
         "theory dt [s]",
         "measured / theory",
         "note",
-    ]);
+    ])
+    .short(["method", "measured dt [s]", "theory dt [s]", "ratio", ""]);
     for l in limits {
         let ratio = match (l.measured_dt, l.theory_dt) {
             (Some(m), Some(t)) if t.is_finite() => format!("{:.4}", m / t),
@@ -334,7 +350,25 @@ pub fn stability_table(limits: &[Limit]) -> String {
             l.note.clone(),
         ]);
     }
-    t.render()
+    let mut out = t.render_at(wide);
+    if !wide {
+        let mut notes: Vec<&str> = Vec::new();
+        for l in limits.iter().filter(|l| !l.note.is_empty()) {
+            if !notes.contains(&l.note.as_str()) {
+                notes.push(&l.note);
+            }
+        }
+        if !notes.is_empty() {
+            out.push('\n');
+        }
+        for note in notes {
+            let methods: Vec<&str> = (limits.iter().filter(|l| l.note == note))
+                .map(|l| l.method.name())
+                .collect();
+            out.push_str(&list_item(&methods.join(", "), note, WIDTH));
+        }
+    }
+    out
 }
 
 /// One CSV row per run.

@@ -1,11 +1,17 @@
 //! Plain-text tables in Markdown pipe syntax, padded so they read well in a terminal and paste
-//! cleanly into a bug report.
+//! cleanly into a bug report; in full (`--wide`, the recordings, the documents) or fitted to a
+//! terminal of [`WIDTH`] columns.
 
 use crate::scene::harness::LaneStats;
+
+/// The widest line printed by default: a terminal of 100 columns shows it without wrapping.
+pub const WIDTH: usize = 100;
 
 /// A table under construction: a header row and data rows of the same width.
 pub struct Table {
     header: Vec<String>,
+    /// Each column's header in the fitted table ([`Table::short`]); empty: left out there.
+    short: Vec<String>,
     rows: Vec<Vec<String>>,
 }
 
@@ -15,10 +21,24 @@ impl Table {
         I: IntoIterator<Item = S>,
         S: Into<String>,
     {
+        let header: Vec<String> = header.into_iter().map(Into::into).collect();
         Table {
-            header: header.into_iter().map(Into::into).collect(),
+            short: header.clone(),
+            header,
             rows: Vec::new(),
         }
+    }
+
+    /// The headers of the fitted table, one per column: short, units kept; an empty one leaves
+    /// its column out there (what the others or the lines above already say).
+    pub fn short<'a>(mut self, short: impl IntoIterator<Item = &'a str>) -> Self {
+        self.short = short.into_iter().map(String::from).collect();
+        debug_assert_eq!(
+            self.short.len(),
+            self.header.len(),
+            "one short header per column"
+        );
+        self
     }
 
     pub fn row<I, S>(&mut self, cells: I)
@@ -31,6 +51,36 @@ impl Table {
         self.rows.push(row);
     }
 
+    /// The full table (`wide`) or the fitted one: the short headers, and each column that holds
+    /// the same value in every row said once above the table instead (left out if a dash).
+    pub fn render_at(&self, wide: bool) -> String {
+        if wide {
+            return self.render();
+        }
+        let same = |c: usize| {
+            c > 0 && self.rows.len() > 1 && self.rows.iter().all(|r| r[c] == self.rows[0][c])
+        };
+        let (mut kept, mut said) = (Vec::new(), Vec::new());
+        for (c, short) in self.short.iter().enumerate() {
+            match (short.is_empty(), same(c)) {
+                (true, _) => {}
+                (false, true) if self.rows[0][c] == "—" => {}
+                (false, true) => said.push(format!("{short} = {}", self.rows[0][c])),
+                (false, false) => kept.push(c),
+            }
+        }
+        let mut fitted = Table::new(kept.iter().map(|&c| self.short[c].clone()));
+        for r in &self.rows {
+            fitted.row(kept.iter().map(|&c| r[c].clone()));
+        }
+        let mut out = String::new();
+        if !said.is_empty() {
+            out = fit_lines(&format!("every row: {}\n", said.join(", ")));
+        }
+        out + &fitted.render()
+    }
+
+    /// The full table.
     pub fn render(&self) -> String {
         let widths: Vec<usize> = (0..self.header.len())
             .map(|c| {
@@ -78,6 +128,24 @@ pub fn figure(s: &LaneStats, text: String) -> String {
     }
 }
 
+/// The steps a lane took; an adaptive lane's own steps after them, fitted as "(accepted+rejected)".
+pub fn steps_cell(s: &LaneStats, wide: bool) -> String {
+    match s.counts.own_steps {
+        Some((accepted, rejected)) if !wide => {
+            format!("{} ({accepted}+{rejected})", s.ticks_taken())
+        }
+        _ => s.steps_text(),
+    }
+}
+
+/// Whether and when a lane diverged; fitted, "at T s" or "no" (and missed solves, in full).
+pub fn diverged_cell(s: &LaneStats, wide: bool) -> String {
+    match &s.divergence {
+        Some(ev) if !wide && s.counts.failed_solves == 0 => format!("at {:.3} s", ev.time),
+        _ => crate::scene::harness::divergence_cell(s),
+    }
+}
+
 /// Said under a summary table that holds an adaptive method.
 pub const OWN_STEPS_NOTE: &str = "adaptive methods, and fixed-step ones given --step: \"steps\" counts the dt grid they are \
      sampled on (by their dense output or interpolant); their own accepted and rejected steps are in \
@@ -98,6 +166,30 @@ pub fn wrap(text: &str, width: usize) -> Vec<String> {
         }
     }
     lines
+}
+
+/// `text` as a terminal of [`WIDTH`] columns shows it: every longer line that is not a table
+/// row wrapped at spaces, its indentation kept.
+pub fn fit_lines(text: &str) -> String {
+    let mut out = String::new();
+    for line in text.split_inclusive('\n') {
+        let body = line.trim_end_matches('\n');
+        if body.chars().count() <= WIDTH || body.starts_with('|') {
+            out.push_str(line);
+            continue;
+        }
+        let indent = &body[..body.len() - body.trim_start().len()];
+        let lines = wrap(body, WIDTH - indent.chars().count());
+        out.push_str(
+            &lines
+                .iter()
+                .map(|l| format!("{indent}{l}"))
+                .collect::<Vec<_>>()
+                .join("\n"),
+        );
+        out.push_str(&line[body.len()..]);
+    }
+    out
 }
 
 /// `- name: text` wrapped to `width` columns, its continuation lines indented by two.
@@ -128,5 +220,37 @@ mod tests {
             t.render(),
             "| a   | long |\n|-----|------|\n| xyz | 1    |\n"
         );
+    }
+
+    /// The fitted table: short headers, a left-out column, a constant column said once above
+    /// and a constant dash left out; the full table keeps all.
+    #[test]
+    fn the_fitted_table_says_a_constant_column_once() {
+        let mut t = Table::new(["method", "steps taken", "wall", "diverged", "note"])
+            .short(["method", "steps", "", "diverged", "note"]);
+        t.row(["a", "10", "1", "no", "—"]);
+        t.row(["b", "20", "2", "no", "—"]);
+        let fitted = [
+            "every row: diverged = no",
+            "| method | steps |",
+            "|--------|-------|",
+            "| a      | 10    |",
+            "| b      | 20    |",
+        ];
+        assert_eq!(t.render_at(false), fitted.join("\n") + "\n");
+        assert_eq!(t.render_at(true), t.render());
+        assert!(t.render().contains("| steps taken | wall |"));
+    }
+
+    #[test]
+    fn long_lines_are_wrapped_and_table_rows_kept() {
+        let long = format!("  {}\n| {} |\nshort", "word ".repeat(30), "x".repeat(120));
+        let fitted = fit_lines(&long);
+        let lines: Vec<&str> = fitted.lines().collect();
+        assert_eq!(lines.len(), 4, "{fitted}");
+        assert!(lines[0].starts_with("  word") && lines[1].starts_with("  word"));
+        assert!(lines[..2].iter().all(|l| l.chars().count() <= WIDTH));
+        assert_eq!(lines[2].chars().count(), 124);
+        assert_eq!(lines[3], "short");
     }
 }

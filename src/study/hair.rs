@@ -33,17 +33,28 @@ impl HairRow {
     pub fn flags(&self) -> String {
         let mut f = format!("--methods {}", self.method.name());
         if let Some(s) = self.solver {
-            f += &format!(" --solver {} --iterations {}", s.name(), self.iterations);
-        } else if self.method == HairMethod::ImplicitEuler {
-            f += &format!(" --iterations {}", self.iterations);
+            f += &format!(" --solver {}", s.name());
         }
-        if let Some(k) = self.stiffness {
-            f += &format!(" --stiffness {k:e}");
-        }
-        if self.substeps > 1 {
-            f += &format!(" --substeps {}", self.substeps);
+        let settings = self.settings();
+        if !settings.is_empty() {
+            f += &format!(" {settings}");
         }
         f
+    }
+
+    /// The flags beyond the method and verlet's solver: "--iterations 2 --substeps 4".
+    pub fn settings(&self) -> String {
+        let mut f = Vec::new();
+        if self.solver.is_some() || self.method == HairMethod::ImplicitEuler {
+            f.push(format!("--iterations {}", self.iterations));
+        }
+        if let Some(k) = self.stiffness {
+            f.push(format!("--stiffness {k:e}"));
+        }
+        if self.substeps > 1 {
+            f.push(format!("--substeps {}", self.substeps));
+        }
+        f.join(" ")
     }
 }
 

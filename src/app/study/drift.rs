@@ -3,6 +3,7 @@
 
 use super::Found;
 use crate::app::progress::Progress;
+use crate::cli::StudyOutputs;
 use crate::format::shown;
 use crate::report::drift as report;
 use crate::study::drift::{Drift, pendulum_drift, rope_drift};
@@ -10,7 +11,12 @@ use crate::study::{Problem, Sweep};
 
 /// The study's printed text, CSV, diagram and how many methods' runs are complete (a run cut
 /// short by Ctrl-C is left out).
-pub(super) fn drift_study(progress: &mut Progress, problem: &Problem, sw: &Sweep) -> Found {
+pub(super) fn drift_study(
+    progress: &mut Progress,
+    out: &StudyOutputs,
+    problem: &Problem,
+    sw: &Sweep,
+) -> Found {
     let mut runs: Vec<Drift> = Vec::new();
     for (i, &m) in sw.methods.iter().enumerate() {
         if crate::interrupt::requested() {
@@ -53,13 +59,9 @@ pub(super) fn drift_study(progress: &mut Progress, problem: &Problem, sw: &Sweep
             ),
         ),
     };
-    let mut out = header;
-    out.push_str(&report::drift_table(
-        &runs,
-        Some((flags.as_str(), sw.options.rtol)),
-    ));
+    let command = Some((flags.as_str(), sw.options.rtol));
     Found {
-        out,
+        out: header + &report::drift_table(&runs, command, out.wide),
         csv: report::drift_csv(problem.name(), &runs),
         diagrams: vec![crate::diagram::drift(problem.name(), &runs, &note)],
         done: runs.len(),

@@ -58,6 +58,7 @@ pub(super) fn hair_study(a: &HairStudyArgs) -> anyhow::Result<()> {
     out.push_str(&crate::report::hair::trade_cheapest_table(
         &rows,
         &[1e-2, 1e-3, 1e-6],
+        a.out.wide,
     ));
     let csv = crate::report::hair::trade_csv(&rows);
     let threads = rayon::current_num_threads();

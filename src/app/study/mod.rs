@@ -92,17 +92,18 @@ pub fn study(kind: &StudyKind) -> anyhow::Result<()> {
             let at = &mut |m| progress.at(m);
             let limits: Vec<Limit> = stability_with(&problem, &sweep.methods, steps, at);
             Found {
-                out: report::stability_header(&problem, steps) + &report::stability_table(&limits),
+                out: report::stability_header(&problem, steps)
+                    + &report::stability_table(&limits, out.wide),
                 csv: report::limits_csv(&limits),
                 diagrams: vec![diagram::stability(problem.name(), &limits, problem.omega())],
                 done: limits.len(),
             }
         }
-        StudyKind::Drift(_) => drift::drift_study(&mut progress, &problem, &sweep),
+        StudyKind::Drift(_) => drift::drift_study(&mut progress, out, &problem, &sweep),
         StudyKind::WorkPrecision(_) => {
-            work_precision(&problem, &sweep, &targets, &file, &mut progress)?
+            work_precision(&problem, &sweep, &targets, &file, &mut progress, out.wide)?
         }
-        _ => sweep_study(kind, &problem, &sweep, &mut progress),
+        _ => sweep_study(kind, &problem, &sweep, &mut progress, out.wide),
     };
     progress.finish();
     // Ctrl-C or SIGTERM: what is complete is shown and written, then the study ends with 130;
@@ -126,7 +127,13 @@ pub fn study(kind: &StudyKind) -> anyhow::Result<()> {
 
 /// `study convergence`: the sweep's runs, the fitted orders, how the adaptive methods' error
 /// follows rtol, and every run.
-fn sweep_study(kind: &StudyKind, problem: &Problem, sw: &Sweep, progress: &mut Progress) -> Found {
+fn sweep_study(
+    kind: &StudyKind,
+    problem: &Problem,
+    sw: &Sweep,
+    progress: &mut Progress,
+    wide: bool,
+) -> Found {
     let mut reached = 0.0;
     let mut done = |w: f64| {
         reached += w;
@@ -140,7 +147,7 @@ fn sweep_study(kind: &StudyKind, problem: &Problem, sw: &Sweep, progress: &mut P
         diagrams: Vec::new(),
         done: 0,
     };
-    let damped = convergence_tables(problem, sw, &rows, floor, &mut found, &mut done);
+    let damped = convergence_tables(problem, sw, &rows, floor, &mut found, (&mut done, wide));
     let out = &mut found.out;
     if rows.iter().any(|r| r.rtol.is_some()) {
         out.push_str(&report::proportionality_header(floor));
@@ -149,7 +156,7 @@ fn sweep_study(kind: &StudyKind, problem: &Problem, sw: &Sweep, progress: &mut P
     }
     // Every run in the runs table, the CSV and the count (the damped rope's too).
     rows.extend(damped);
-    out.push_str(&report::rows_table(&rows));
+    out.push_str(&report::rows_table(&rows, wide));
     found.csv = report::rows_csv(&rows);
     found.done = rows.len();
     found
@@ -164,6 +171,7 @@ fn work_precision(
     targets: &(Vec<f64>, bool),
     file: &crate::app::SceneFile,
     progress: &mut Progress,
+    wide: bool,
 ) -> Result<Found, Error> {
     let mut found = Found {
         out: String::new(),
@@ -193,7 +201,7 @@ fn work_precision(
         out.push_str(&report::proportionality_table(&rows, error_floor(floor)));
         out.push('\n');
     }
-    out.push_str(&report::rows_table(&rows));
+    out.push_str(&report::rows_table(&rows, wide));
     let note = format!("wall times: median of {}; machine-dependent.", sw.repeats);
     (found.diagrams).push(diagram::work_precision(problem.name(), &rows, floor, &note));
     found.csv = report::rows_csv(&rows);
@@ -209,11 +217,11 @@ fn convergence_tables(
     rows: &[Row],
     floor: f64,
     found: &mut Found,
-    done: &mut dyn FnMut(f64),
+    (done, wide): (&mut dyn FnMut(f64), bool),
 ) -> Vec<Row> {
     let by_velocity = problem.velocity_dependent();
     let out = &mut found.out;
-    out.push_str(&report::orders_table(rows, floor, by_velocity));
+    out.push_str(&report::orders_table(rows, floor, by_velocity, wide));
     let stalled = report::stalled_note(rows, floor);
     if !stalled.is_empty() {
         eprint!("{stalled}");
@@ -238,7 +246,7 @@ fn convergence_tables(
     out.push_str(&report::damped_header(
         &crate::scene::rope::RopeParams::default(),
     ));
-    out.push_str(&report::orders_table(&damped_rows, floor, true));
+    out.push_str(&report::orders_table(&damped_rows, floor, true, wide));
     (found.diagrams).push(diagram::convergence(name, &damped_rows, floor, true));
     out.push('\n');
     damped_rows

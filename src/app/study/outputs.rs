@@ -17,7 +17,12 @@ pub(super) fn write_study(
 ) -> anyhow::Result<()> {
     // With `-o -` or `--csv -` standard output carries the file: the tables go to stderr.
     let to_stdout = outputs.to_stdout();
-    crate::output::print_beside(to_stdout, out);
+    let printed = if a.wide {
+        out.to_string()
+    } else {
+        crate::report::table::fit_lines(out)
+    };
+    crate::output::print_beside(to_stdout, &printed);
     // Another study writing the same files waits for this set to be whole, and vice versa.
     let _held = crate::output::lock_folders(&outputs.folders())?;
     if let Some(csv_out) = &outputs.csv {
