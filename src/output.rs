@@ -542,10 +542,11 @@ impl Partial {
         if let Sink::File(w) = &self.sink {
             w.get_ref().sync_all().map_err(|e| self.failed(&e))?;
         }
-        // Never replaced without a word: what the old file was, read before it goes.
+        // Never replaced without a word: what the old file was, read before it goes (a scratch
+        // file of this process's own is not the user's).
         let old = std::fs::metadata(target)
             .ok()
-            .filter(|m| m.is_file())
+            .filter(|m| m.is_file() && !temp::is_scratch(target))
             .map(|m| {
                 (self.describe.and_then(|describe| describe(target)))
                     .unwrap_or_else(|| format!("last written {}", crate::format::utc(m.mtime())))

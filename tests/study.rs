@@ -346,7 +346,8 @@ fn study_writes_csv_and_a_recording() {
     let text = std::fs::read_to_string(&csv).unwrap();
     assert!(
         text.starts_with(
-            "scene,method,dt,rtol,error,evals,accepted_steps,rejected_steps,wall_seconds,stable\n"
+            "scene,method,dt,rtol,error,evals,accepted_steps,rejected_steps,wall_seconds,stable,\
+             compensated\n"
         ),
         "{text}"
     );

@@ -60,7 +60,8 @@ fn scene_error(words: &[String], dir: &std::path::Path) -> f64 {
         .position(|&w| w == "-o")
         .expect("the command names its recording");
     args[o + 1] = s(&out);
-    args.push("-q");
+    // The full summary: its error column under the long header.
+    args.extend(["-q", "--wide"]);
     let (code, summary, err) = physlab(&args);
     assert_eq!(code, 0, "{args:?}: {err}");
     let header = summary

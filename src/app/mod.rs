@@ -338,7 +338,8 @@ fn run_scenes(
     if !replay.silent {
         for (scene, w) in scenes.iter().zip(&warnings) {
             if let Some(w) = w {
-                eprintln!("warning: {}: {w}", scene.kind().name);
+                let w = format!("warning: {}: {w}", scene.kind().name);
+                eprintln!("{}", crate::report::table::fit_lines(&w));
             }
         }
     }

@@ -29,18 +29,29 @@ pub(super) fn runs(rows: &[Row], m: Method) -> Vec<&Row> {
         .collect()
 }
 
-/// Per method, its runs' (x, error), x given by `x`, each point saying which run it is; a
-/// composition's compensated runs a series of their own.
-fn series(rows: &[Row], methods: &[Method], x: fn(&Row) -> f64) -> Vec<Series> {
+/// Per method, its runs' (x, error), x given by `x`, each point saying which run it is (and,
+/// given one per row, the command that makes it); a composition's compensated runs a series of
+/// their own.
+fn series(
+    rows: &[Row],
+    methods: &[Method],
+    x: fn(&Row) -> f64,
+    commands: &[String],
+) -> Vec<Series> {
+    let about = |r: &Row| {
+        let at = rows.iter().position(|x| std::ptr::eq(x, r));
+        let about = crate::report::study::run_about(r);
+        match at.and_then(|i| commands.get(i)) {
+            Some(command) => format!("{about}\nmade by: {command}"),
+            None => about,
+        }
+    };
     let of = |key: Key, runs: Vec<&Row>| Series {
         key,
         points: (runs.iter())
             .map(|r| (x(r), r.error.unwrap_or(0.0)))
             .collect(),
-        about: runs
-            .iter()
-            .map(|r| crate::report::study::run_about(r))
-            .collect(),
+        about: runs.iter().map(|r| about(r)).collect(),
     };
     let mut all = Vec::new();
     for &m in methods {
@@ -58,8 +69,15 @@ fn series(rows: &[Row], methods: &[Method], x: fn(&Row) -> f64) -> Vec<Series> {
 }
 
 /// Work-precision: error against median wall time (left) and against force evaluations
-/// (right); `floor` is the reference's error (the study's floor), drawn as a dashed line.
-pub fn work_precision(scene: &str, rows: &[Row], floor: f64, note: &str) -> Diagram {
+/// (right); `floor` is the reference's error (the study's floor), drawn as a dashed line;
+/// `commands`, one per row or none, what each point says makes its run.
+pub fn work_precision(
+    scene: &str,
+    rows: &[Row],
+    floor: f64,
+    note: &str,
+    commands: Vec<String>,
+) -> Diagram {
     Diagram {
         stem: format!("{scene}-work-precision"),
         title: format!("{scene} work-precision"),
@@ -69,6 +87,7 @@ pub fn work_precision(scene: &str, rows: &[Row], floor: f64, note: &str) -> Diag
             rows: rows.to_vec(),
             floor,
             note: note.to_string(),
+            commands,
         },
     }
 }
@@ -81,13 +100,20 @@ pub fn pendulum_work_precision_picture(runs: &(Vec<Row>, f64)) -> Diagram {
         &runs.0,
         runs.1,
         "wall times: median of the repeats on a two-core machine; machine-dependent.",
+        Vec::new(),
     )
 }
 
 /// A work-precision panel: title, x axis description, and the cost it plots.
 type Axis = (&'static str, &'static str, fn(&Row) -> f64);
 
-pub(super) fn work_precision_plot(scene: &str, rows: &[Row], floor: f64, note: &str) -> Plot {
+pub(super) fn work_precision_plot(
+    scene: &str,
+    rows: &[Row],
+    floor: f64,
+    note: &str,
+    commands: &[String],
+) -> Plot {
     let methods = methods_of(rows, |_| true);
     let errors = || rows.iter().filter_map(|r| r.error);
     let y = decades(errors().chain([floor]));
@@ -112,7 +138,7 @@ pub(super) fn work_precision_plot(scene: &str, rows: &[Row], floor: f64, note: &
             y_desc: error_desc(scene),
             x,
             y: y.clone(),
-            series: series(rows, &methods, cost),
+            series: series(rows, &methods, cost, commands),
             guides: vec![(vec![(x1, floor), (x0, floor)], "reference's error".into())],
         }
     });
@@ -160,10 +186,9 @@ pub(super) fn convergence_plot(
     let methods = methods_of(rows, |_| true);
     let x = decades(rows.iter().map(|r| r.dt));
     let y = decades(rows.iter().filter_map(|r| r.error).chain([floor]));
-    let series = series(rows, &methods, |r| r.dt);
+    let series = series(rows, &methods, |r| r.dt, &[]);
     // One reference slope per theoretical order, parallel to and below that order's lowest
     // curve, over the same steps (from the coarsest dt down to the finest, or to the bottom).
-    let dt_max = rows.iter().map(|r| r.dt).fold(0.0, f64::max);
     let dt_min = rows.iter().map(|r| r.dt).fold(f64::INFINITY, f64::min);
     let mut orders: Vec<u32> = methods
         .iter()
@@ -175,9 +200,12 @@ pub(super) fn convergence_plot(
     let mut guides: Vec<(Vec<(f64, f64)>, String)> =
         vec![(vec![(x_hi, floor), (x_lo, floor)], "reference floor".into())];
     for &p in &orders {
-        let lowest = rows
-            .iter()
-            .filter(|r| r.dt == dt_max && r.method.info().order_for(velocity_dependent) == p)
+        // From the coarsest step of this order's methods (each method has its own grid).
+        let of_order =
+            || (rows.iter()).filter(|r| r.method.info().order_for(velocity_dependent) == p);
+        let top = of_order().map(|r| r.dt).fold(0.0, f64::max);
+        let lowest = of_order()
+            .filter(|r| r.dt == top)
             .filter_map(|r| r.error)
             .filter(|e| *e > floor)
             .fold(f64::INFINITY, f64::min);
@@ -185,13 +213,10 @@ pub(super) fn convergence_plot(
             continue;
         }
         let anchor = lowest / 4.0;
-        let bottom = dt_max * (y_lo / anchor).powf(1.0 / f64::from(p));
+        let bottom = top * (y_lo / anchor).powf(1.0 / f64::from(p));
         let end = bottom.max(dt_min);
         guides.push((
-            vec![
-                (dt_max, anchor),
-                (end, anchor * (end / dt_max).powi(p as i32)),
-            ],
+            vec![(top, anchor), (end, anchor * (end / top).powi(p as i32))],
             format!("∝ dt{}", superscript(p)),
         ));
     }

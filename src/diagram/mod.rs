@@ -59,6 +59,8 @@ enum Content {
         rows: Vec<Row>,
         floor: f64,
         note: String,
+        /// Per row, the command that makes its run as a scene (none: not said).
+        commands: Vec<String>,
     },
     Convergence {
         scene: String,
@@ -228,7 +230,8 @@ impl Diagram {
                 rows,
                 floor,
                 note,
-            } => work_precision_plot(scene, rows, *floor, note),
+                commands,
+            } => work_precision_plot(scene, rows, *floor, note, commands),
             Content::Convergence {
                 scene,
                 rows,

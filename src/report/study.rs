@@ -273,7 +273,7 @@ pub fn run_about(r: &Row) -> String {
     let settings = match r.rtol {
         Some(rtol) => format!("rtol {}, sampled every {} s", sci(rtol), sci(r.dt)),
         None => format!("dt {} s", sci(r.dt)),
-    };
+    } + if r.compensated { ", compensated" } else { "" };
     format!(
         "{} ({settings})\nerror {}\nwall {} s\n{} force evaluations, {} steps ({} rejected)",
         r.method.name(),
@@ -374,12 +374,13 @@ pub fn stability_table(limits: &[Limit], wide: bool) -> String {
 /// One CSV row per run.
 pub fn rows_csv(rows: &[Row]) -> String {
     let mut csv = String::from(
-        "scene,method,dt,rtol,error,evals,accepted_steps,rejected_steps,wall_seconds,stable\n",
+        "scene,method,dt,rtol,error,evals,accepted_steps,rejected_steps,wall_seconds,stable,\
+         compensated\n",
     );
     for r in rows {
         let _ = writeln!(
             csv,
-            "{},{},{:e},{},{},{},{},{},{:e},{}",
+            "{},{},{:e},{},{},{},{},{},{:e},{},{}",
             r.scene,
             r.method,
             r.dt,
@@ -389,7 +390,8 @@ pub fn rows_csv(rows: &[Row]) -> String {
             r.accepted,
             r.rejected,
             r.wall_seconds,
-            r.error.is_some()
+            r.error.is_some(),
+            r.compensated
         );
     }
     csv

@@ -8,7 +8,7 @@ use crate::format::shown;
 use crate::report::study as report;
 use crate::scene::pendulum::run::PendulumConfig;
 use crate::scene::rope::run::RopeConfig;
-use crate::study::{Problem, Row, Sweep, answers};
+use crate::study::{Problem, Row, Sweep, answers, scene_command};
 
 /// Keys of a scene's table that the command sets from the run, not from the study's scene.
 const RUN_KEYS: &str =
@@ -66,4 +66,25 @@ pub(super) fn answer(
             .collect();
     }
     Ok(report::answer(problem, sw, floor, &found, &unresolved))
+}
+
+/// Per run, the scene command that makes it, quoted for a shell: what its point in the study's
+/// recording says on hover.
+pub(super) fn commands(
+    problem: &Problem,
+    file: &SceneFile,
+    sw: &Sweep,
+    rows: &[Row],
+) -> Result<Vec<String>, Error> {
+    let flags = scene_flags(problem, file)?;
+    let schedule = (sw.sample_dt, sw.duration);
+    Ok((rows.iter())
+        .map(|r| {
+            let words = scene_command(problem.name(), &flags, r, schedule, "run.rrd");
+            let quoted: Vec<String> = (words.iter())
+                .map(|w| crate::record::shell_word(w.as_bytes()))
+                .collect();
+            quoted.join(" ")
+        })
+        .collect())
 }

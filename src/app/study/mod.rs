@@ -63,7 +63,8 @@ pub fn study(kind: &StudyKind) -> anyhow::Result<()> {
     for (p, which) in ropes.into_iter().filter(|_| !out.quiet) {
         if let Some(Problem::Rope(rope)) = p {
             for w in crate::scene::rope::run::order_drops(rope, &sweep.methods) {
-                eprintln!("warning: {which}{w}");
+                let w = format!("warning: {which}{w}");
+                eprintln!("{}", crate::report::table::fit_lines(&w));
             }
         }
     }
@@ -203,7 +204,9 @@ fn work_precision(
     }
     out.push_str(&report::rows_table(&rows, wide));
     let note = format!("wall times: median of {}; machine-dependent.", sw.repeats);
-    (found.diagrams).push(diagram::work_precision(problem.name(), &rows, floor, &note));
+    let commands = answer::commands(problem, file, sw, &rows)?;
+    let d = diagram::work_precision(problem.name(), &rows, floor, &note, commands);
+    found.diagrams.push(d);
     found.csv = report::rows_csv(&rows);
     found.done = rows.len();
     Ok(found)
