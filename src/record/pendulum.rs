@@ -262,19 +262,7 @@ impl Draw<PendulumScene> for PendulumDraw {
                 .div_ceil(MAX_PHASE_POINTS as u64);
 
         rec.log_static("pendulum", &rerun::ViewCoordinates::RIGHT_HAND_Z_UP())?;
-        // The viewer's 2D y axis points down: each lane's curve is drawn mirrored (a transform
-        // below the view's origin; the origin's own is the view's frame), so ω points up; the
-        // values logged are θ and ω as they are.
-        let mirror = rerun::Transform3D::from_scale([1.0, -1.0, 1.0]);
-        for name in &self.lanes {
-            rec.log_static(format!("pendulum/phase/{name}"), &mirror)?;
-        }
-        // One call: two static logs to one entity may land in one chunk or two.
-        let legend = phase_legend(c, &self.lanes);
-        rec.log_static(
-            "pendulum/phase/legend",
-            &[&mirror as &dyn rerun::AsComponents, &legend],
-        )?;
+        log_phase_frame(rec, c, &self.lanes)?;
         let bob_radius = 0.1 * c.params.length as f32;
         for (i, name) in self.lanes.iter().enumerate() {
             let color = method_color(name);
@@ -520,4 +508,25 @@ fn about_text(scene: &PendulumScene) -> String {
         scene.energy_scale,
         scene.energy_bound,
     )
+}
+
+/// The phase portrait's frame: the viewer's 2D y axis points down, so each lane's curve is drawn
+/// mirrored (a transform below the view's origin; the origin's own is the view's frame) and ω
+/// points up, the values logged being θ and ω as they are; and its legend.
+fn log_phase_frame(
+    rec: &RecordingStream,
+    c: &PendulumConfig,
+    lanes: &[&'static str],
+) -> anyhow::Result<()> {
+    let mirror = rerun::Transform3D::from_scale([1.0, -1.0, 1.0]);
+    for name in lanes {
+        rec.log_static(format!("pendulum/phase/{name}"), &mirror)?;
+    }
+    // One call: two static logs to one entity may land in one chunk or two.
+    let legend = phase_legend(c, lanes);
+    rec.log_static(
+        "pendulum/phase/legend",
+        &[&mirror as &dyn rerun::AsComponents, &legend],
+    )?;
+    Ok(())
 }
