@@ -10,7 +10,7 @@
 //!   mode, flushed and fsynced, renamed over the target, the folder fsynced; any failure removes
 //!   the hidden file and leaves the old target untouched, and the error names the file and the
 //!   cause; an old file its user may not write is refused, not replaced; one replaced is said on
-//!   stderr, with where it came from (`replaced FILE (from … at …)`);
+//!   stderr, with where it came from on the next line (`(from … at …)`);
 //! - a second SIGINT/SIGTERM/SIGHUP removes the hidden file (`crate::interrupt`), and hidden
 //!   files nobody holds locked (their writer is gone, whatever its PID) are removed when their
 //!   target is written again;
@@ -555,7 +555,8 @@ impl Partial {
         let (_, target, slot) = self.done.take().expect("checked above");
         crate::interrupt::remove_partial_file(slot);
         if let Some(old) = old {
-            eprintln!("replaced {} ({old})", target.display());
+            // Its origin on a line of its own: the path may take the width of a terminal.
+            eprintln!("replaced {}\n  ({old})", target.display());
         }
         // The rename is durable once the folder is.
         if let Ok(dir) = std::fs::File::open(parent_dir(&target)) {

@@ -153,12 +153,29 @@ pub fn shell_words(line: &str) -> Option<Vec<Vec<u8>>> {
 }
 
 /// Where the physlab recording `path`, about to be replaced, came from: "from `COMMAND` at
-/// TIME", its command line escaped (the old file may be anyone's); `None` for another file.
+/// TIME", its command line escaped (the old file may be anyone's) and shortened so that the
+/// line fits a terminal whatever the file holds: the program by its file name, then its words
+/// up to [`MADE_BY_CHARS`], "…" for the rest (`physlab inspect` shows it whole); `None` for
+/// another file.
 pub fn made_by(path: &std::path::Path) -> Option<String> {
     let (command, nanos) = crate::rrd::inspect::made_by(path)?;
     let at = crate::format::utc((nanos / 1_000_000_000) as i64);
-    Some(format!("from `{}` at {at}", escaped(&command)))
+    let command = escaped(&command);
+    let mut words = command.split(' ');
+    let program = words.next().unwrap_or_default();
+    let mut shown = program.rsplit('/').next().unwrap_or(program).to_string();
+    for word in words {
+        if shown.chars().count() + 1 + word.chars().count() > MADE_BY_CHARS {
+            shown.push_str(" …");
+            break;
+        }
+        shown = format!("{shown} {word}");
+    }
+    Some(format!("from `{shown}` at {at}"))
 }
+
+/// The most of an old recording's command line the "replaced" line shows.
+const MADE_BY_CHARS: usize = 40;
 
 /// Text from a recording as a terminal may show it: every control character (ESC, a line
 /// break, a C1 code) and every bidirectional override written out (`\x1b`, `\n`,
