@@ -14,7 +14,7 @@ use physlab::study::{Problem, Sweep, damped_companion, error_floor, orders, swee
 const TOLERANCE: f64 = 0.25;
 
 /// The theory orders, stated here as the literature gives them (the registry's are derived from
-/// the same sources and checked against the tableaus in `integrate/order_conditions.rs`): for
+/// the same sources and checked against the tableaus in `tests/order_conditions`): for
 /// forces of position alone, and for velocity-dependent ones (the compositions fall to 2: their
 /// kicks take a predicted mid-kick velocity).
 fn theory(m: Method, velocity_dependent: bool) -> f64 {

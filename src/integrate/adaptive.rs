@@ -3,62 +3,8 @@
 use super::SecondOrderSystem;
 use super::dense::{Core, Pair, Width, hairer_dense, stage};
 
-/// Butcher tableau (Dormand & Prince 1980). The system is autonomous, so the stage times
-/// (c = 0, 1/5, 3/10, 4/5, 8/9, 1, 1) are not needed.
-pub(super) const A: [[f64; 6]; 7] = [
-    [0.0; 6],
-    [1.0 / 5.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-    [3.0 / 40.0, 9.0 / 40.0, 0.0, 0.0, 0.0, 0.0],
-    [44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0, 0.0, 0.0, 0.0],
-    [
-        19372.0 / 6561.0,
-        -25360.0 / 2187.0,
-        64448.0 / 6561.0,
-        -212.0 / 729.0,
-        0.0,
-        0.0,
-    ],
-    [
-        9017.0 / 3168.0,
-        -355.0 / 33.0,
-        46732.0 / 5247.0,
-        49.0 / 176.0,
-        -5103.0 / 18656.0,
-        0.0,
-    ],
-    [
-        35.0 / 384.0,
-        0.0,
-        500.0 / 1113.0,
-        125.0 / 192.0,
-        -2187.0 / 6784.0,
-        11.0 / 84.0,
-    ],
-];
-
-/// Fifth-order weights are A[6] (first-same-as-last); these are 5th minus 4th order.
-const E: [f64; 7] = [
-    71.0 / 57600.0,
-    0.0,
-    -71.0 / 16695.0,
-    71.0 / 1920.0,
-    -17253.0 / 339200.0,
-    22.0 / 525.0,
-    -1.0 / 40.0,
-];
-
-/// Dense output (Hairer's `dopri5.f`, `CONTD5`): with rcont1..5 = y_old, y - y_old,
-/// h k1 - (y - y_old), (y - y_old) - h k7 - rcont3, h Σ D_j k_j,
-/// y(t_old + θ h) = r1 + θ (r2 + (1-θ) (r3 + θ (r4 + (1-θ) r5))); fourth order, no extra stage.
-const D: [f64; 7] = [
-    -12715105075.0 / 11282082432.0,
-    0.0,
-    87487479700.0 / 32700410799.0,
-    -10690763975.0 / 1880347072.0,
-    701980252875.0 / 199316789632.0,
-    -1453857185.0 / 822651844.0,
-    69997945.0 / 29380423.0,
-];
+mod tables;
+use tables::{A, D, E};
 
 /// Dormand–Prince 5(4) as a [`Pair`] of the shared dense-output driver: steps of its own size,
 /// error per step ≤ 1 when scaled by rtol (max(|y|, |y_new|) + 1) per component (RMS), the

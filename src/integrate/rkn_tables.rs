@@ -31,7 +31,7 @@
 //! Then bootstrapped: a evaluated at θ = 1/6, 1/3, 1/2, 2/3, 5/6 of that interpolant (error
 //! O(h⁹), O(h¹¹) in Q), and Q of degree 10 through x1, v1, a at both ends and those five. As an
 //! RKN continuous extension over 23 stages (the 17, a(x1), the five) it satisfies the conditions
-//! of order 10 in x and 9 in v, not 11 and 10 (`rkn_conditions` tests): the embedded order, for
+//! of order 10 in x and 9 in v, not 11 and 10 (`tests/order_conditions`): the embedded order, for
 //! 5 evaluations in a step that holds a sample time. Measured on the pendulum (60°, 20 s,
 //! dt = 0.01 s) at rtol 1e-12: max |θ − θexact| 2.8e-14; with the order-8 part alone 2.2e-12,
 //! with order 11 (10 evaluations) 4.6e-14. Generated with exact rational arithmetic from the
@@ -42,7 +42,7 @@
 //! stage at c = 1, ∝ h³ at c = 1/20), so the first interpolant,
 //! Q of degree 6 through x1, v1, a at both ends and the stage at c = 1/2, is of order 6; a at
 //! θ = 1/4, 1/2, 3/4 of it (positions of local order 7, O(h⁹) in Q's h² part) and Q of degree 8
-//! through those give order 8 in x and 7 in v (`rkn_conditions` tests), for 3 evaluations in a
+//! through those give order 8 in x and 7 in v (`tests/order_conditions`), for 3 evaluations in a
 //! step that holds a sample time. Measured on the pendulum (60°, 20 s, dt = 0.1 s): at rtol
 //! 3.2e-5 max |θ − θexact| 3.15e-7, where an order-10 interpolant (a second round at 1/6 .. 5/6,
 //! 8 evaluations) gives 3.05e-7, the error of the steps themselves; with the pair's stages at

@@ -6,10 +6,10 @@
 //! Σ b_i Φ_i(t) = 1/γ(t) for |t| ≤ p, of the position Σ b̄_i Φ_i(t) = 1/((|t| + 1) γ(t)) for
 //! |t| ≤ p − 1. A continuous extension at θ has weights B_i(θ), B̄_i(θ) (x(θ) = x + θ h v +
 //! h² Σ B̄_i g_i) and right-hand sides θ^|t|/γ and θ^(|t|+1)/((|t| + 1) γ). Every sum is
-//! evaluated in double-double on the f64 coefficients (`order_conditions::Dd`), so a residual
+//! evaluated in double-double on the f64 coefficients (`rk::Dd`), so a residual
 //! is the stored tableau's, not the evaluation's.
 
-use super::order_conditions::{Dd, OrderResidual};
+use super::rk::{Dd, OrderResidual};
 
 /// A special Nyström tree: its order, meagre leaves and fat subtrees (indices, non-decreasing).
 struct SnTree {
@@ -122,8 +122,8 @@ pub(super) fn residuals(
 
 #[cfg(test)]
 mod tests {
-    use super::super::rkn_tables as tb;
     use super::*;
+    use crate::rkn_tables as tb;
 
     #[test]
     fn special_nystrom_tree_counts_are_the_known_ones() {
