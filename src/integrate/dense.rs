@@ -388,31 +388,3 @@ impl<P: Pair> DenseRk<P> {
         }
     }
 }
-
-#[cfg(test)]
-mod tests {
-    use crate::integrate::tests::DampedOscillator;
-    use crate::integrate::{Integrator, Method, MethodOptions};
-
-    /// x'' = −x with DOP853 at steps of exactly 0.01 (`max_step`; truncation error ~1e-18 a
-    /// step) for 10⁴ s, sampled every second: the largest |x − cos t| over the run. The plain
-    /// sum of 10⁶ steps of 0.01 drifts from the time the state is at; every sample would read
-    /// the interpolant at the wrong place.
-    #[test]
-    fn a_million_steps_keep_their_time() {
-        let sys = DampedOscillator { c: 0.0 };
-        let options = MethodOptions {
-            rtol: 1e-3,
-            max_step: 0.01,
-            ..MethodOptions::default()
-        };
-        let mut it = Integrator::new(Method::Dop853, &sys, &[1.0], &[0.0], 1.0, options);
-        let mut worst = 0.0f64;
-        for k in 1..=10_000u32 {
-            it.step(&sys);
-            worst = worst.max((it.position()[0] - sys.exact(f64::from(k)).0).abs());
-        }
-        assert_eq!(it.accepted_steps(), 1_000_000);
-        assert!(worst < 1e-11, "largest error {worst:e}");
-    }
-}
