@@ -943,3 +943,75 @@ mod direct_solver {
         assert!(r > 1e-3 && r < 1e-1, "residual after 4 steps {r:e}");
     }
 }
+
+mod head {
+    //! The head's scripted path: every motion starts and ends at rest, with bounded
+    //! acceleration.
+
+    use glam::{DQuat, DVec3};
+    use physlab::scene::hair::HeadMotion;
+    use physlab::scene::hair::head::{PULSE, head_pose};
+
+    /// The sway's amplitude [head radii] (`head.rs`'s `SWAY`).
+    const SWAY: f64 = 2.0;
+
+    #[test]
+    fn every_motion_starts_and_ends_at_home_at_rest() {
+        for m in [
+            HeadMotion::Sway,
+            HeadMotion::Turn,
+            HeadMotion::Nod,
+            HeadMotion::Tour,
+            HeadMotion::Shake,
+        ] {
+            let period = if m == HeadMotion::Tour {
+                4.0 * PULSE
+            } else {
+                PULSE
+            };
+            for t in [0.0, period, 2.0 * period] {
+                let (c, q) = head_pose(m, t, 0.1);
+                assert!(
+                    c.length() < 1e-12 && q.angle_between(DQuat::IDENTITY) < 1e-12,
+                    "{m:?} at {t}"
+                );
+                // Velocity by central difference vanishes at the joints.
+                let e = 1e-4;
+                let (c1, _) = head_pose(m, t + e, 0.1);
+                let (c0, _) = head_pose(m, (t - e).max(0.0), 0.1);
+                assert!((c1 - c0).length() / (2.0 * e) < 1e-6, "{m:?} moving at {t}");
+            }
+        }
+    }
+
+    #[test]
+    fn acceleration_stays_bounded() {
+        // Second differences of the sway over a tour stay near the analytic bound
+        // max |pulse''| · SWAY·R / PULSE² (pulse'' ≤ ~4π² · 1.2).
+        let (r, h) = (0.1, 1e-3);
+        let bound = 4.0 * std::f64::consts::PI.powi(2) * 1.5 * SWAY * r / (PULSE * PULSE);
+        for k in 1..8000 {
+            let t = k as f64 * h;
+            let x = |t: f64| head_pose(HeadMotion::Tour, t, r).0.x;
+            let acc = (x(t + h) - 2.0 * x(t) + x(t - h)) / (h * h);
+            assert!(acc.abs() < bound, "acceleration {acc} at t = {t}");
+        }
+    }
+
+    #[test]
+    fn shake_accelerates_by_several_g() {
+        // Peak acceleration of the centre and of a root at the side of the head (radius R).
+        let (r, h) = (0.1, 1e-4);
+        let point = |t: f64| {
+            let (c, q) = head_pose(HeadMotion::Shake, t, r);
+            c + q * DVec3::new(0.0, r, 0.0)
+        };
+        let mut peak: f64 = 0.0;
+        for k in 1..20_000 {
+            let t = k as f64 * h;
+            let acc = (point(t + h) - 2.0 * point(t) + point(t - h)) / (h * h);
+            peak = peak.max(acc.length());
+        }
+        assert!(peak > 3.0 * 9.81 && peak < 10.0 * 9.81, "peak {peak} m/s²");
+    }
+}

@@ -1328,3 +1328,345 @@ mod physics {
         assert!((top - p.over_the_top_energy()).abs() < 1e-12);
     }
 }
+
+mod periodic_table {
+    //! The closed form tabulated over one period (`scene/pendulum/periodic.rs`): its phase
+    //! reduction, its verified error and its agreement with the closed form over many periods.
+
+    use physlab::scene::pendulum::exact::ExactPendulum;
+    use physlab::scene::pendulum::periodic::{PeriodicExact, TARGET_THETA_ERROR, reduce};
+    use physlab::scene::pendulum::{PendulumParams, theta0_from_degrees};
+
+    fn start(degrees: f64) -> PendulumParams {
+        let (theta0, theta0_low) = theta0_from_degrees(degrees);
+        PendulumParams {
+            theta0,
+            theta0_low,
+            ..PendulumParams::default()
+        }
+    }
+
+    /// The exact n·dt mod T for doubles dt and T, by integer arithmetic on their mantissas
+    /// (exponents within 30 of each other, n < 2⁴⁰), rounded once to a double.
+    fn reduce_exactly(n: u64, dt: f64, period: f64) -> f64 {
+        let split = |x: f64| {
+            let bits = x.to_bits();
+            let exp = ((bits >> 52) & 0x7ff) as i32;
+            let mantissa = (bits & ((1 << 52) - 1)) | (1 << 52);
+            (u128::from(mantissa), exp - 1075)
+        };
+        let ((md, ed), (mt, et)) = (split(dt), split(period));
+        let e = ed.min(et);
+        let a = (u128::from(n) * md) << (ed - e);
+        let b = mt << (et - e);
+        (a % b) as f64 * 2f64.powi(e)
+    }
+
+    /// The closed form at phase τ ∈ [0, T] mirrored into the first quarter period, as the
+    /// table's nodes are (θ(T/2 ∓ s) = -θ(s), θ(T - s) = θ(s), ω following).
+    fn closed_form_at_phase(exact: &ExactPendulum, tau: f64) -> (f64, f64) {
+        let period = exact.period();
+        let (half, quarter) = (0.5 * period, 0.25 * period);
+        let (s, theta_sign, omega_sign) = if tau <= quarter {
+            (tau, 1.0, 1.0)
+        } else if tau <= half {
+            (half - tau, -1.0, 1.0)
+        } else if tau <= half + quarter {
+            (tau - half, -1.0, -1.0)
+        } else {
+            (period - tau, 1.0, -1.0)
+        };
+        let (theta, omega) = exact.state(s);
+        (theta_sign * theta, omega_sign * omega)
+    }
+
+    /// The phase is within 2 ulp(T) of the exact n·dt mod T, from the first steps to 10⁹ and
+    /// beyond (measured: at most 1 ulp).
+    #[test]
+    fn reduction_is_exact_to_an_ulp_of_the_period() {
+        let mut worst = 0.0f64;
+        for (dt, period) in [
+            (0.01, 4.012_345_678_9),
+            (1e-3, 2.0),
+            (0.03, 0.7),
+            (0.25, 100.3),
+        ] {
+            let ulp = period * f64::EPSILON;
+            for n in (0..40)
+                .map(|k| 3u64.pow(k / 2) * (k as u64 % 7 + 1))
+                .chain([1, 99_999_999, 100_000_000, 1 << 39])
+            {
+                let got = reduce(n, dt, period);
+                let want = reduce_exactly(n, dt, period);
+                let err = (got - want).abs() / ulp;
+                worst = worst.max(err);
+                assert!(err <= 2.0, "n {n} dt {dt} T {period}: {got} vs {want}");
+            }
+        }
+        println!("reduction: worst {worst:.2} ulp(T)");
+    }
+
+    const DEGREES: [f64; 8] = [1e-3, 10.0, 60.0, 120.0, 170.0, 179.0, 179.9, 179.999];
+
+    /// The table reaches 1e-14 rad from 0.001° to 179.999° (checked between the nodes at 10
+    /// points per interval, i.e. 11 times the node density).
+    #[test]
+    fn verified_to_the_target_up_to_the_separatrix() {
+        for d in DEGREES {
+            let table = PeriodicExact::new(&start(d)).unwrap();
+            println!(
+                "{d:>8}°: T = {:.6} s, {} intervals, θ error {:.1e} rad, ω error {:.1e} rad/s",
+                table.period(),
+                table.intervals(),
+                table.max_theta_error(),
+                table.max_omega_error()
+            );
+            assert!(table.max_theta_error() <= TARGET_THETA_ERROR, "{d}°");
+        }
+    }
+
+    /// Over many periods, against the closed form at the exactly reduced phase (independent of
+    /// the table's own reduction; mirrored into the first quarter period as the table's nodes): within the verified error plus ω × 2 ulp(T); and against the
+    /// closed form at the rounded time n·dt, within the closed form's own accuracy there.
+    #[test]
+    fn agrees_with_the_closed_form_over_many_periods() {
+        let dt = 0.01;
+        for d in DEGREES {
+            let p = start(d);
+            let (table, exact) = (
+                PeriodicExact::new(&p).unwrap(),
+                ExactPendulum::new(&p).unwrap(),
+            );
+            let omega_max = 2.0 * p.omega_n() * p.half_angle().0;
+            let at_phase = table.max_theta_error() * 2.0
+                + omega_max * 2.0 * f64::EPSILON * table.period()
+                + f64::EPSILON;
+            for n in (0..2000u64).map(|k| k * k * 251 + k) {
+                let (th, w) = table.state_at_step(n, dt);
+                let tau = reduce_exactly(n, dt, table.period());
+                let (eth, ew) = closed_form_at_phase(&exact, tau);
+                assert!((th - eth).abs() <= at_phase, "{d}° step {n}: {th} vs {eth}");
+                assert!(
+                    (w - ew).abs() <= 1e-3 * omega_max,
+                    "{d}° step {n}: {w} vs {ew}"
+                );
+                let t = n as f64 * dt;
+                let (cth, _) = exact.state(t);
+                let tol = exact.theta_accuracy(t) + table.max_theta_error();
+                assert!((th - cth).abs() <= tol, "{d}° t {t}: {th} vs {cth}");
+            }
+        }
+    }
+
+    /// Cost per evaluation: the table, the closed form, and one rk4 step of the pendulum, on
+    /// 10⁷ steps of the default pendulum (`cargo test --release --test pendulum periodic_table -- --ignored
+    /// --nocapture`).
+    #[test]
+    #[ignore = "timing, prints numbers"]
+    fn cost_per_step() {
+        use physlab::integrate::{Integrator, Method, MethodOptions};
+        use physlab::scene::pendulum::Pendulum;
+        use std::hint::black_box;
+        use std::time::Instant;
+        let (p, dt, steps) = (PendulumParams::default(), 0.01, 10_000_000u64);
+        let per_step = |start: Instant| start.elapsed().as_secs_f64() * 1e9 / steps as f64;
+        let build = Instant::now();
+        let table = PeriodicExact::new(&p).unwrap();
+        println!(
+            "build: {:.2} ms ({} intervals)",
+            build.elapsed().as_secs_f64() * 1e3,
+            table.intervals()
+        );
+        let exact = ExactPendulum::new(&p).unwrap();
+        let mut sum = 0.0;
+        let t0 = Instant::now();
+        for n in 0..steps {
+            sum += table.state_at_step(black_box(n), dt).0;
+        }
+        let table_ns = per_step(t0);
+        let t0 = Instant::now();
+        for n in 0..steps {
+            sum += reduce(black_box(n), dt, table.period());
+        }
+        println!("reduce only {:.1}", per_step(t0));
+        let t0 = Instant::now();
+        for n in 0..steps {
+            sum += table.at_phase(black_box(n as f64 * 1e-7)).0;
+        }
+        println!("at_phase only {:.1}", per_step(t0));
+        let t0 = Instant::now();
+        for n in 0..steps {
+            sum += exact.state(black_box(n) as f64 * dt).0;
+        }
+        let exact_ns = per_step(t0);
+        let sys = Pendulum::new(&p);
+        let mut it = Integrator::new(
+            Method::Rk4,
+            &sys,
+            &[p.theta0],
+            &[0.0],
+            dt,
+            MethodOptions::default(),
+        );
+        let t0 = Instant::now();
+        for _ in 0..steps {
+            it.step(black_box(&sys));
+        }
+        let rk4_ns = per_step(t0);
+        black_box((sum, it.position()[0]));
+        println!("ns per step: table {table_ns:.1}, closed form {exact_ns:.1}, rk4 {rk4_ns:.1}");
+        // The build against the steps it takes to pay for itself, over the angles tested.
+        let probe = 1_000_000u64;
+        for d in DEGREES {
+            let p = start(d);
+            let build = Instant::now();
+            let table = PeriodicExact::new(&p).unwrap();
+            let build_ns = build.elapsed().as_secs_f64() * 1e9;
+            let exact = ExactPendulum::new(&p).unwrap();
+            let t0 = Instant::now();
+            for n in 0..probe {
+                sum += exact.state(black_box(n) as f64 * dt).0;
+            }
+            let exact_ns = t0.elapsed().as_secs_f64() * 1e9 / probe as f64;
+            let t0 = Instant::now();
+            for n in 0..probe {
+                sum += table.state_at_step(black_box(n), dt).0;
+            }
+            let table_ns = t0.elapsed().as_secs_f64() * 1e9 / probe as f64;
+            println!(
+                "{d:>8}°: build {:.1} ms ({} intervals), table {table_ns:.1} ns, closed form \
+                 {exact_ns:.1} ns, break-even {:.0} steps",
+                build_ns * 1e-6,
+                table.intervals(),
+                build_ns / (exact_ns - table_ns)
+            );
+        }
+        black_box(sum);
+    }
+}
+
+mod long_run {
+    //! A run past `TABULATE_ABOVE_STEPS` takes its exact lane from the table.
+
+    use physlab::integrate::Method;
+    use physlab::scene::harness::Scene;
+    use physlab::scene::pendulum::exact::ExactPendulum;
+    use physlab::scene::pendulum::periodic::PeriodicExact;
+    use physlab::scene::pendulum::reference::TABULATE_ABOVE_STEPS;
+    use physlab::scene::pendulum::run::{PendulumConfig, PendulumScene};
+    use physlab::scene::pendulum::theta0_from_degrees;
+
+    /// A run past the threshold takes the exact lane from the table: at every step of a stretch
+    /// at its start and one at its end, θ and ω agree with the closed form
+    /// ([`ExactPendulum::state`] at n·dt) within the table's verified error plus the closed
+    /// form's own stated accuracy at that time; up to the threshold the lane is the closed form
+    /// itself, bit for bit.
+    #[test]
+    fn a_long_run_takes_the_exact_lane_from_the_table_within_its_bound() {
+        let dt = 0.01;
+        for degrees in [60.0, 170.0, 179.9, -179.999] {
+            let mut config = PendulumConfig {
+                duration: 1e6,
+                methods: vec![Method::Verlet],
+                ..PendulumConfig::default()
+            };
+            (config.params.theta0, config.params.theta0_low) = theta0_from_degrees(degrees);
+            let p = config.params;
+            let exact = ExactPendulum::new(&p).unwrap();
+            let table = PeriodicExact::new(&p).unwrap();
+            // A phase error that moves θ by δ moves ω by at most ωn cos(θ0/2) δ (|θ''|max over
+            // |ω|max); twice ωn covers that and the rest of the closed form's rounding.
+            let omega_per_theta = 2.0 * p.omega_n();
+            let mut worst = (0.0f64, 0.0f64);
+            for (duration, tabulated) in [(1e6, true), (TABULATE_ABOVE_STEPS as f64 * dt, false)] {
+                config.duration = duration;
+                let mut scene = PendulumScene::new(config.clone());
+                let total = scene.schedule().total;
+                assert_eq!(total > TABULATE_ABOVE_STEPS, tabulated);
+                assert_eq!(
+                    scene
+                        .reference_description()
+                        .contains("table of one period"),
+                    tabulated,
+                    "{}",
+                    scene.reference_description()
+                );
+                let (_, mut lane) = scene.lanes().swap_remove(0);
+                assert!(lane.method.is_none());
+                for first in [1, 200_001, total - 200_000 + 1] {
+                    if first > total {
+                        continue;
+                    }
+                    let mut block = first;
+                    while block < first + 200_000 {
+                        let len =
+                            (scene.max_block() as usize).min((first + 200_000 - block) as usize);
+                        scene.prepare(block, len);
+                        scene.advance(&mut lane, block, len);
+                        for j in 0..len {
+                            let n = block + j as u64;
+                            let t = n as f64 * dt;
+                            let (th, w) = lane.state(j);
+                            let (eth, ew) = exact.state(t);
+                            if !tabulated {
+                                assert_eq!(
+                                    (th.to_bits(), w.to_bits()),
+                                    (eth.to_bits(), ew.to_bits())
+                                );
+                                continue;
+                            }
+                            let theta_bound = table.max_theta_error() + exact.theta_accuracy(t);
+                            let omega_bound =
+                                table.max_omega_error() + omega_per_theta * exact.theta_accuracy(t);
+                            worst.0 = worst.0.max((th - eth).abs() / theta_bound);
+                            worst.1 = worst.1.max((w - ew).abs() / omega_bound);
+                            assert!(
+                                (th - eth).abs() <= theta_bound && (w - ew).abs() <= omega_bound,
+                                "{degrees}° step {n}: ({th}, {w}) against ({eth}, {ew})"
+                            );
+                        }
+                        block += len as u64;
+                    }
+                }
+            }
+            println!(
+                "{degrees}°: worst θ at {:.2} of its bound, ω at {:.2}",
+                worst.0, worst.1
+            );
+        }
+    }
+}
+
+mod period_meter {
+    //! The period meter on motions of known period.
+
+    use physlab::scene::pendulum::period::PeriodMeter;
+
+    #[test]
+    fn harmonic_motion_period_is_recovered() {
+        // θ = 0.5 sin(2π t / T) sampled coarsely (20 samples per period).
+        let period = 3.7;
+        let w = 2.0 * std::f64::consts::PI / period;
+        let mut meter = PeriodMeter::new();
+        let dt = period / 20.0 * 1.013;
+        for n in 0..400 {
+            let t = n as f64 * dt;
+            meter.push(t, 0.5 * (w * t).sin(), 0.5 * w * (w * t).cos());
+        }
+        let measured = meter.period().unwrap();
+        assert!((measured / period - 1.0).abs() < 1e-4, "{measured}");
+    }
+
+    #[test]
+    fn rotation_counts_one_crossing_per_revolution() {
+        // Uniform rotation θ = ω t, ω < 0: period 2π/|ω|.
+        let w = -2.5;
+        let mut meter = PeriodMeter::new();
+        for n in 0..10_000 {
+            let t = n as f64 * 1e-3;
+            meter.push(t, w * t, w);
+        }
+        let expected = 2.0 * std::f64::consts::PI / w.abs();
+        assert!((meter.period().unwrap() / expected - 1.0).abs() < 1e-12);
+    }
+}

@@ -115,32 +115,4 @@ mod tests {
             }
         }
     }
-
-    #[test]
-    fn harmonic_motion_period_is_recovered() {
-        // θ = 0.5 sin(2π t / T) sampled coarsely (20 samples per period).
-        let period = 3.7;
-        let w = 2.0 * std::f64::consts::PI / period;
-        let mut meter = PeriodMeter::new();
-        let dt = period / 20.0 * 1.013;
-        for n in 0..400 {
-            let t = n as f64 * dt;
-            meter.push(t, 0.5 * (w * t).sin(), 0.5 * w * (w * t).cos());
-        }
-        let measured = meter.period().unwrap();
-        assert!((measured / period - 1.0).abs() < 1e-4, "{measured}");
-    }
-
-    #[test]
-    fn rotation_counts_one_crossing_per_revolution() {
-        // Uniform rotation θ = ω t, ω < 0: period 2π/|ω|.
-        let w = -2.5;
-        let mut meter = PeriodMeter::new();
-        for n in 0..10_000 {
-            let t = n as f64 * 1e-3;
-            meter.push(t, w * t, w);
-        }
-        let expected = 2.0 * std::f64::consts::PI / w.abs();
-        assert!((meter.period().unwrap() / expected - 1.0).abs() < 1e-12);
-    }
 }
