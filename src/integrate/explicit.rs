@@ -1,17 +1,19 @@
-//! Explicit one-step methods: explicit Euler, the explicit midpoint rule (RK2) and Heun's
-//! method (the explicit trapezoid rule, named `trapezoid`: not the implicit one).
+//! Explicit one-step methods: explicit and semi-implicit (symplectic) Euler, the explicit
+//! midpoint rule (RK2) and Heun's method (the explicit trapezoid rule, named `trapezoid`: not
+//! the implicit one).
 
 use super::{SecondOrderSystem, State};
 
-/// x += v h; v += a(x, v) h, both from the old state.
+/// Euler's two first-order steps: explicit, x += v h; v += a(x, v) h, both from the old state;
+/// semi-implicit (symplectic, stable for ω h < 2), v += a(x, v) h; x += v_new h.
 #[derive(Clone, Debug)]
-pub struct ExplicitEuler {
+pub struct Euler {
     a: Vec<f64>,
 }
 
-impl ExplicitEuler {
+impl Euler {
     pub fn new(n: usize) -> Self {
-        ExplicitEuler { a: vec![0.0; n] }
+        Euler { a: vec![0.0; n] }
     }
 
     #[inline]
@@ -21,6 +23,16 @@ impl ExplicitEuler {
         for i in 0..s.x.len() {
             s.x[i] += s.v[i] * h;
             s.v[i] += self.a[i] * h;
+        }
+    }
+
+    #[inline]
+    pub fn step_symplectic<S: SecondOrderSystem>(&mut self, sys: &S, s: State, h: f64) {
+        sys.acceleration(s.x, s.v, &mut self.a);
+        s.counts.evals += 1;
+        for i in 0..s.x.len() {
+            s.v[i] += self.a[i] * h;
+            s.x[i] += s.v[i] * h;
         }
     }
 }

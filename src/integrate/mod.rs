@@ -22,7 +22,6 @@ mod rkn;
 #[cfg_attr(test, allow(dead_code))]
 mod rkn_tables;
 mod runge_kutta;
-mod semi_implicit;
 mod stepper;
 mod verlet;
 mod verner;
@@ -32,6 +31,7 @@ pub use composition::{
     yoshida_weights,
 };
 pub use implicit::scalar_backward_euler;
+pub(crate) use registry::serde_as_text;
 pub use registry::{
     AdaptiveEvals, EvalsPerStep, Family, Method, MethodInfo, Stability, UnknownMethod,
 };

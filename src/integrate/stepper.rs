@@ -4,15 +4,14 @@
 
 use super::{
     Counts, ImplicitSolve, Method, MethodOptions, SecondOrderSystem, State, across, adaptive,
-    composition, dense, dop853, explicit, implicit, rkn, runge_kutta, semi_implicit, verlet,
-    verner,
+    composition, dense, dop853, explicit, implicit, rkn, runge_kutta, verlet, verner,
 };
 
 /// One method's stepper and its scratch.
 #[derive(Clone, Debug)]
 enum Stepper {
-    ExplicitEuler(explicit::ExplicitEuler),
-    SemiImplicitEuler(semi_implicit::SemiImplicitEuler),
+    ExplicitEuler(explicit::Euler),
+    SemiImplicitEuler(explicit::Euler),
     ImplicitEuler,
     Midpoint(explicit::Midpoint),
     Trapezoid(explicit::Heun),
@@ -127,10 +126,8 @@ impl Integrator {
         // The fixed-step method's step: its own when it steps across the samples or divides dt.
         let h = own.unwrap_or(dt);
         let stepper = match method {
-            Method::ExplicitEuler => Stepper::ExplicitEuler(explicit::ExplicitEuler::new(n)),
-            Method::SemiImplicitEuler => {
-                Stepper::SemiImplicitEuler(semi_implicit::SemiImplicitEuler::new(n))
-            }
+            Method::ExplicitEuler => Stepper::ExplicitEuler(explicit::Euler::new(n)),
+            Method::SemiImplicitEuler => Stepper::SemiImplicitEuler(explicit::Euler::new(n)),
             Method::ImplicitEuler => Stepper::ImplicitEuler,
             Method::Midpoint => Stepper::Midpoint(explicit::Midpoint::new(n)),
             Method::Trapezoid => Stepper::Trapezoid(explicit::Heun::new(n)),
@@ -373,7 +370,7 @@ fn advance<S: SecondOrderSystem>(
 ) -> Option<ImplicitSolve> {
     match stepper {
         Stepper::ExplicitEuler(m) => m.step(sys, s, h),
-        Stepper::SemiImplicitEuler(m) => m.step(sys, s, h),
+        Stepper::SemiImplicitEuler(m) => m.step_symplectic(sys, s, h),
         Stepper::ImplicitEuler => {
             let solve = implicit::step(sys, s, h);
             *jacobian_evals += u64::from(solve.jacobian_evals);

@@ -75,18 +75,7 @@ impl HairMethod {
     }
 }
 
-impl serde::Serialize for HairMethod {
-    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        s.serialize_str(self.name())
-    }
-}
-
-impl<'de> serde::Deserialize<'de> for HairMethod {
-    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        let name = String::deserialize(d)?;
-        name.parse().map_err(serde::de::Error::custom)
-    }
-}
+crate::integrate::serde_as_text!(HairMethod, |m: &HairMethod| m.name());
 
 impl std::str::FromStr for HairMethod {
     type Err = String;

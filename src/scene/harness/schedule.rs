@@ -55,18 +55,7 @@ impl std::fmt::Display for Window {
     }
 }
 
-impl serde::Serialize for Window {
-    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        s.collect_str(self)
-    }
-}
-
-impl<'de> serde::Deserialize<'de> for Window {
-    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        let text = String::deserialize(d)?;
-        text.parse().map_err(serde::de::Error::custom)
-    }
-}
+crate::integrate::serde_as_text!(Window, |w: &Window| w.to_string());
 
 /// A run's windows: the first and the last `edge_seconds` (the last one before each lane
 /// stops), and those asked for.
