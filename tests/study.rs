@@ -375,7 +375,7 @@ fn study_writes_csv_and_a_recording() {
     let png = std::fs::read(dir.join("s-pendulum-work-precision.png")).unwrap();
     assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
     let size = |at: usize| u32::from_be_bytes(png[at..at + 4].try_into().unwrap());
-    assert_eq!((size(16), size(20)), (1600, 820));
+    assert_eq!((size(16), size(20)), (1600, 1100));
     // A study recording carries its provenance: inspect names the build, --config-out writes
     // the study's scene, and reproduce refuses it (its numbers hold wall-clock times) by name.
     let scene = dir.join("scene.toml");

@@ -201,3 +201,101 @@ fn the_floor_is_the_same_in_the_header_the_answer_and_the_diagram() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `--periods` beyond the study's limits is refused by the option typed (it said `--duration`,
+/// which the user never typed): its value and the most periods allowed, exit 2.
+#[test]
+fn too_many_periods_are_refused_by_their_own_name() {
+    let (code, out, err) = physlab(&["study", "work-precision", "--periods", "1e12"]);
+    assert_eq!(code, 2, "{out}{err}");
+    assert!(
+        err.contains("--periods 1e12") && !err.contains("--duration"),
+        "{err}"
+    );
+    let most: f64 = err
+        .split("at most about ")
+        .nth(1)
+        .and_then(|t| t.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("the most periods allowed: {err}"));
+    // Refused just above what it says fits, by the same name and with the same most.
+    let above = format!("{}", 1.2 * most);
+    let (code, _, again) = physlab(&["study", "work-precision", "--periods", &above]);
+    assert_eq!(code, 2, "{again}");
+    assert!(
+        again.contains(&format!("--periods {above}"))
+            && again.contains(&format!("at most about {most} periods")),
+        "{again}"
+    );
+    assert!((1.0..1e12).contains(&most), "{err}");
+}
+
+/// By default the runs table shows each method's Pareto front (no run of the same method both
+/// as accurate and faster), found here from the CSV's every run; `--wide` shows every run. The
+/// diagram gives a method's runs stepping across the samples and its compensated runs series
+/// and legend entries of their own.
+#[test]
+fn the_runs_table_shows_each_methods_front_and_every_variant_has_its_series() {
+    let dir = scratch_dir("work-precision-front");
+    let csv = dir.join("runs.csv");
+    let study = [
+        "study",
+        "work-precision",
+        "--repeats",
+        "1",
+        "--duration",
+        "20",
+        "--methods",
+        "rkn4,yoshida6,dprkn8",
+        "--csv",
+        s(&csv),
+        "--plots",
+        s(&dir),
+        "-q",
+    ];
+    let (code, out, err) = physlab(&study);
+    assert_eq!(code, 0, "{err}");
+    // (method, error, wall) of every run, as the CSV says.
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let runs: Vec<(String, f64, f64)> = (text.lines().skip(1))
+        .map(|l| l.split(',').collect::<Vec<_>>())
+        .filter(|f| !f[4].is_empty())
+        .map(|f| {
+            (
+                f[1].to_string(),
+                f[4].parse().unwrap(),
+                f[8].parse().unwrap(),
+            )
+        })
+        .collect();
+    let beaten = |r: &(String, f64, f64)| {
+        (runs.iter()).any(|o| o.0 == r.0 && o.1 <= r.1 && o.2 <= r.2 && (o.1 < r.1 || o.2 < r.2))
+    };
+    let front = runs.iter().filter(|r| !beaten(r)).count();
+    assert!(front < runs.len() / 2, "{front} of {}", runs.len());
+    // The runs table: the last table of the output, one line per run.
+    let table_rows = |out: &str| {
+        let last = out.rfind("| method ").unwrap();
+        (out[last..].lines().skip(2))
+            .take_while(|l| l.starts_with('|'))
+            .count()
+    };
+    assert_eq!(table_rows(&out), front, "{out}");
+    assert!(
+        out.contains(&format!(
+            "{front} of {} runs shown",
+            text.lines().count() - 1
+        )),
+        "{out}"
+    );
+    let mut wide = study.to_vec();
+    wide.push("--wide");
+    let (code, all, err) = physlab(&wide);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(table_rows(&all), text.lines().count() - 1);
+    let svg = std::fs::read_to_string(dir.join("pendulum-work-precision.svg")).unwrap();
+    for key in ["rkn4 --step", "yoshida6 --step", "yoshida6 compensated"] {
+        assert!(svg.contains(&format!(">{key}<")), "no legend entry {key}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -1,7 +1,7 @@
 //! A log-log plot as data (its panels, legend and notes: what both the pictures and the
 //! recordings draw), and one panel and the legend drawn with `plotters`.
 
-use super::{BACKGROUND, FAINT, FONT, GRID, INK, Key, PANEL, Res, Ticks, label_of, marker};
+use super::{BACKGROUND, FAINT, FONT, GRID, INK, Key, PANEL, Res, Ticks, hole, label_of, marker};
 use std::ops::Range;
 
 use plotters::coord::Shift;
@@ -30,6 +30,9 @@ pub struct Panel {
     pub series: Vec<Series>,
     /// Dashed grey guides: points (linear units) and a label at the last point.
     pub guides: Vec<(Vec<(f64, f64)>, String)>,
+    /// The rows' names when the y axis is rows (row k at 10^k, so at log10 y = k), not
+    /// decades; empty for decades.
+    pub y_names: Vec<String>,
 }
 
 /// One series of a panel: its key, its points and what each point is (shown on hover in the
@@ -107,8 +110,14 @@ where
     }
     for Series { key, points, .. } in &p.series {
         let l: Vec<(f64, f64)> = points.iter().copied().filter_map(log).collect();
-        chart.draw_series(LineSeries::new(l.clone(), key.color.stroke_width(2)))?;
-        chart.draw_series(l.iter().map(|&q| EmptyElement::at(q) + marker(key, 4.5)))?;
+        let style = key.color.stroke_width(2);
+        if key.dashed {
+            chart.draw_series(DashedLineSeries::new(l.clone(), 9, 6, style))?;
+        } else {
+            chart.draw_series(LineSeries::new(l.clone(), style))?;
+        }
+        let dot = |&q| EmptyElement::at(q) + marker(key, 4.5) + hole(key, 4.5);
+        chart.draw_series(l.iter().map(dot))?;
     }
     Ok(())
 }
@@ -126,12 +135,20 @@ where
     // About 10 px per character of the legend's text, right of its swatch.
     let chars = ((area.dim_in_pixel().0 as usize).saturating_sub(70) / 10).max(12);
     let mut y = 70;
+    // Many keys (a method's variants each its own) closer together.
+    let gap = if keys.len() > 20 { 2 } else { 8 };
     for key in keys {
-        area.draw(&PathElement::new(
-            vec![(14, y + 10), (48, y + 10)],
-            key.color.stroke_width(3),
-        ))?;
-        area.draw(&(EmptyElement::at((31, y + 10)) + marker(key, 5.5)))?;
+        let swatch = match key.dashed {
+            true => vec![
+                vec![(14, y + 10), (22, y + 10)],
+                vec![(40, y + 10), (48, y + 10)],
+            ],
+            false => vec![vec![(14, y + 10), (48, y + 10)]],
+        };
+        for part in swatch {
+            area.draw(&PathElement::new(part, key.color.stroke_width(3)))?;
+        }
+        area.draw(&(EmptyElement::at((31, y + 10)) + marker(key, 5.5) + hole(key, 5.5)))?;
         let lines = wrap(&key.name, chars);
         for (i, line) in lines.iter().enumerate() {
             area.draw(&Text::new(
@@ -140,7 +157,7 @@ where
                 font.clone(),
             ))?;
         }
-        y += 8 + 22 * lines.len() as i32;
+        y += gap + 22 * lines.len() as i32;
     }
     y += 16;
     let small = (FONT, 15).into_font().color(&RGBColor(180, 180, 180));

@@ -89,14 +89,22 @@ pub fn answer(
     for t in unresolved {
         let _ = writeln!(out, "{t:.0e} left out: below {RESOLVES}× the floor.");
     }
+    // The rope scene has no reference lane: its summary cannot show the error the study
+    // measured, so the answer says where the error comes from and how to check it.
+    if let Problem::Rope(_) = problem {
+        out.push('\n');
+        out.push_str(&fit_lines(
+            "note: the rope scene has no reference, so its summary does not show these errors: \
+             they were measured against this study's reference (RK4 at dt/8 of the finest step). \
+             To check one, run this study again with --methods and that run's method: the same \
+             reference measures each of its runs.\n",
+        ));
+    }
     out.push_str(match problem {
         Problem::Pendulum(_) => {
             "\nthe command that makes each run as a scene (it measures the same error):\n"
         }
-        // The rope scene has no reference lane: its summary shows the run, not this error.
-        Problem::Rope(_) => {
-            "\nthe command that makes each run as a scene (the error is the study's):\n"
-        }
+        Problem::Rope(_) => "\nthe command that makes each run as a scene:\n",
     });
     for (target, _, words) in found.iter().filter(|a| a.1.is_some()) {
         out.push_str(&wrapped(&format!("{target:.0e}:"), words, 100));
@@ -320,6 +328,31 @@ pub fn rows_table(rows: &[Row], wide: bool) -> String {
         ]);
     }
     t.render_at(wide)
+}
+
+/// Work-precision's runs as its table shows them by default: each method's Pareto front (the
+/// runs no other run of the same method beats on both error and wall time), and how many runs
+/// that leaves out and where they are.
+pub fn fronts_table(rows: &[Row]) -> String {
+    let beats = |a: &Row, b: &Row| match (a.error, b.error) {
+        (Some(x), Some(y)) => {
+            let (ta, tb) = (a.wall_seconds, b.wall_seconds);
+            x <= y && ta <= tb && (x < y || ta < tb)
+        }
+        _ => false,
+    };
+    let front: Vec<Row> = (rows.iter())
+        .filter(|r| r.error.is_some())
+        .filter(|r| !rows.iter().any(|o| o.method == r.method && beats(o, r)))
+        .cloned()
+        .collect();
+    let note = format!(
+        "{} of {} runs shown: each method's Pareto front (no run of the same method is both as \
+         accurate and faster); every run with --wide and in --csv.\n",
+        front.len(),
+        rows.len()
+    );
+    rows_table(&front, false) + "\n" + &fit_lines(&note)
 }
 
 /// Measured stability limits against theory; fitted, each note said once under the table with
