@@ -25,6 +25,10 @@
 //! Then `peers/benches/scipy_peer.py` times scipy's solve_ivp(method="DOP853") on the same problem at
 //! equal error, in the same session, when python3 and scipy are installed.
 //!
+//! After the 20 s table, the study's answer at 1e-3 (`physlab study work-precision` on this
+//! problem, its sweep from physlab's library) is timed against the benchmark's best physlab run
+//! at 1e-3, interleaved; `cargo bench -p physlab-peers -- study-answer` stops there.
+//!
 //! After the tables, criterion times RK4 at h = 1e-3 s over the 20 s (20 000 steps) for physlab
 //! and ode_solvers (RK4's cost per step).
 

@@ -1,13 +1,8 @@
 //! The diagrams: work-precision, convergence, stability and the hair trade, each from a
 //! study's rows.
 
-use super::{
-    BACKGROUND, Content, Diagram, FAINT, FONT, GRID, INK, Key, LEGEND_WIDTH, PANEL, Panel, Plot,
-    Res, Series, Ticks, decade_label, decades, draw_legend, label_of, marker,
-};
-use plotters::coord::Shift;
+use super::{Content, Diagram, Key, LEGEND_WIDTH, Panel, Plot, Series, decade_label, decades};
 use plotters::prelude::*;
-use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use crate::format::sci;
 use crate::integrate::Method;
@@ -299,50 +294,57 @@ fn limit_about(&(m, measured, theory): &LimitRow) -> String {
     )
 }
 
-/// Stability as data (the study's recording): per method a row, its measured limit a point in
-/// its colour and theory's a grey point, on a log dt axis.
+/// Stability: per method a row, its measured largest stable dt a point in its colour (which
+/// says on hover the method and both limits) and theory's a grey tick across the row, on a log
+/// dt axis; the rows without a finite theory said in the notes.
 pub(super) fn stability_plot(scene: &str, limits: &[LimitRow], omega: f64) -> Plot {
     let n = limits.len();
-    // Row i at 10^(n-1-i): the first method on top.
-    let row = |i: usize| 10f64.powi((n - 1 - i) as i32);
-    let theory_key = Key {
-        name: "theory h / ω".into(),
-        color: INK,
-        shape: 2,
-        dashed: false,
-        hollow: true,
-    };
+    // Row i at log10 y = n-1-i: the first method on top.
+    let row = |i: usize, dy: f64| 10f64.powf((n - 1 - i) as f64 + dy);
     let mut series = Vec::new();
+    let mut guides = Vec::new();
     for (i, l) in limits.iter().enumerate() {
-        let about = limit_about(l);
         if let Some(d) = l.1 {
-            let points = vec![(d, row(i))];
-            let about = vec![about.clone()];
-            series.push(Series {
-                key: Key::of(l.0),
-                points,
-                about,
-            });
+            let (points, about) = (vec![(d, row(i, 0.0))], vec![limit_about(l)]);
+            let key = Key::of(l.0);
+            series.push(Series { key, points, about });
         }
         if let Some(t) = l.2.filter(|t| t.is_finite()) {
-            // A series each: a row's theory is not joined to the next row's.
-            let key = Key {
-                name: format!("theory {}", l.0.name()),
-                ..theory_key.clone()
-            };
-            series.push(Series {
-                key,
-                points: vec![(t, row(i))],
-                about: vec![about],
-            });
+            guides.push((vec![(t, row(i, -0.3)), (t, row(i, 0.3))], String::new()));
         }
     }
     let finite = limits.iter().flat_map(|l| [l.1, l.2]).flatten();
     let x = decades(finite.filter(|v| v.is_finite()));
     let title =
         format!("{scene}: largest stable dt, measured against theory (ω = {omega:.4} rad/s)");
-    let mut keys: Vec<Key> = limits.iter().map(|l| Key::of(l.0)).collect();
-    keys.push(theory_key);
+    let mut notes = vec![
+        "point: measured largest stable dt (bisection); grey tick: theory, limit h / ω on the linearised problem.".to_string(),
+    ];
+    let adaptive = |l: &LimitRow| l.0.info().stability == crate::integrate::Stability::Adaptive;
+    let said = |which: &dyn Fn(&LimitRow) -> bool, what: &str| {
+        let names: Vec<&str> = limits
+            .iter()
+            .filter(|l| which(l))
+            .map(|l| l.0.name())
+            .collect();
+        (!names.is_empty()).then(|| format!("{}: {what}", names.join(", ")))
+    };
+    notes.extend(said(
+        &|l| l.2 == Some(f64::INFINITY),
+        "stable at every dt (point: the largest tried).",
+    ));
+    notes.extend(said(
+        &|l| l.2.is_none() && adaptive(l),
+        "adaptive: error control chooses the steps.",
+    ));
+    notes.extend(said(
+        &|l| l.1.is_none() && l.2.is_some_and(f64::is_finite),
+        "no limit measured (the table says why).",
+    ));
+    notes.extend(said(
+        &|l| l.2.is_none() && !adaptive(l),
+        "unstable at every dt (point: growth stays below 10⁴).",
+    ));
     Plot {
         panels: vec![Panel {
             title,
@@ -351,117 +353,17 @@ pub(super) fn stability_plot(scene: &str, limits: &[LimitRow], omega: f64) -> Pl
             x,
             y: -0.5..n as f64 - 0.5,
             series,
-            guides: Vec::new(),
-            y_names: limits.iter().rev().map(|l| l.0.name().to_string()).collect(),
+            guides,
+            y_names: limits
+                .iter()
+                .rev()
+                .map(|l| l.0.name().to_string())
+                .collect(),
         }],
-        keys,
-        notes: vec![
-            "coloured: measured largest stable dt (bisection; for unconditionally stable methods the largest tried).".into(),
-            "grey: theory, limit h / ω on the linearised problem.".into(),
-            "hover a point: the method, both limits.".into(),
-        ],
+        keys: limits.iter().map(|l| Key::of(l.0)).collect(),
+        notes,
         legend_px: LEGEND_WIDTH,
     }
-}
-
-pub(super) fn stability_on<DB: DrawingBackend>(
-    root: &DrawingArea<DB, Shift>,
-    scene: &str,
-    limits: &[LimitRow],
-    omega: f64,
-) -> Res
-where
-    DB::ErrorType: 'static,
-{
-    root.fill(&BACKGROUND)?;
-    let (body, legend) = root.split_horizontally(root.dim_in_pixel().0 - LEGEND_WIDTH);
-    let finite = limits
-        .iter()
-        .flat_map(|(_, m, t)| [*m, *t])
-        .flatten()
-        .filter(|v| v.is_finite());
-    let x = decades(finite);
-    let n = limits.len();
-    let names: Vec<String> = limits.iter().map(|l| l.0.name().to_string()).collect();
-    body.fill(&PANEL)?;
-    let mut chart = ChartBuilder::on(&body.margin(6, 6, 6, 6))
-        .caption(
-            format!("{scene}: largest stable dt, measured against theory (ω = {omega:.4} rad/s)"),
-            (FONT, 24).into_font().color(&INK),
-        )
-        .margin(14)
-        .x_label_area_size(56)
-        .y_label_area_size(190)
-        .build_cartesian_2d(
-            Ticks::decades(x.clone()),
-            Ticks {
-                range: -0.5..n as f64 - 0.5,
-                bold: (0..n).map(|i| i as f64).collect(),
-                light: Vec::new(),
-            },
-        )?;
-    let name_of = |v: &f64| {
-        let i = v.round();
-        if (0.0..n as f64).contains(&i) {
-            names[n - 1 - i as usize].clone()
-        } else {
-            String::new()
-        }
-    };
-    chart
-        .configure_mesh()
-        .bold_line_style(GRID.stroke_width(1))
-        .light_line_style(FAINT.stroke_width(1))
-        .axis_style(INK.stroke_width(1))
-        .x_label_formatter(&label_of)
-        .y_label_formatter(&name_of)
-        .x_desc("dt [s]")
-        .label_style((FONT, 18).into_font().color(&INK))
-        .axis_desc_style((FONT, 19).into_font().color(&INK))
-        .draw()?;
-    let words = (FONT, 16).into_font().color(&RGBColor(200, 200, 200));
-    for (i, (m, measured, theory)) in limits.iter().enumerate() {
-        let yv = (n - 1 - i) as f64;
-        let said = match theory {
-            Some(t) if t.is_finite() => {
-                chart.draw_series(std::iter::once(Cross::new(
-                    (t.log10(), yv),
-                    9,
-                    INK.stroke_width(2),
-                )))?;
-                None
-            }
-            Some(_) => Some("theory: stable at every dt (marker: the largest tried)"),
-            None if m.info().stability == crate::integrate::Stability::Adaptive => {
-                Some("adaptive: error control chooses the steps")
-            }
-            None => Some("theory: unstable at every dt (marker: growth stays below 10⁴)"),
-        };
-        if let Some(d) = measured {
-            chart.draw_series(std::iter::once(
-                EmptyElement::at((d.log10(), yv)) + marker(&Key::of(*m), 7.0),
-            ))?;
-        }
-        if let Some(text) = said {
-            // Beside the dot, on the side with room; at the left edge when there is no dot.
-            let (at, side) = match measured {
-                Some(d) if d.log10() > (x.start + x.end) / 2.0 => (d.log10() - 0.12, HPos::Right),
-                Some(d) => (d.log10() + 0.12, HPos::Left),
-                None => (x.start + 0.05, HPos::Left),
-            };
-            let style = words.clone().pos(Pos::new(side, VPos::Center));
-            chart.draw_series(std::iter::once(Text::new(text, (at, yv), style)))?;
-        }
-    }
-    draw_legend(
-        &legend,
-        &limits.iter().map(|l| Key::of(l.0)).collect::<Vec<_>>(),
-        &[
-            "marker: measured largest stable dt (bisection; for unconditionally stable methods the largest tried)."
-                .to_string(),
-            "cross: theory, limit h / ω on the linearised problem.".to_string(),
-        ],
-    )
 }
 
 /// The hair trade: largest stretch over the run against wall time per frame, one series per

@@ -14,7 +14,6 @@
 
 use std::path::{Path, PathBuf};
 
-use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use crate::integrate::Method;
@@ -30,14 +29,12 @@ pub mod stamp;
 use axes::{Ticks, decades, label_of};
 pub use axes::{decade_label, log_axis};
 pub use drift::{drift, pendulum_drift_picture};
-use kinds::{
-    LimitRow, convergence_plot, hair_trade_plot, stability_on, stability_plot, work_precision_plot,
-};
+use kinds::{LimitRow, convergence_plot, hair_trade_plot, stability_plot, work_precision_plot};
 pub use kinds::{
     convergence, hair_trade, pendulum_work_precision_picture, stability, work_precision,
 };
+use panel::draw_plot;
 pub use panel::{Panel, Plot, Series};
-use panel::{draw_legend, draw_plot};
 
 const FONT: &str = "sans-serif";
 const BACKGROUND: RGBColor = RGBColor(24, 26, 30);
@@ -207,34 +204,14 @@ impl Diagram {
         DB::ErrorType: 'static,
     {
         let root = backend.into_drawing_area();
-        self.draw(&root).map_err(err)?;
+        draw_plot(&root, &self.plot()).map_err(err)?;
         root.present().map_err(|e| err(Box::new(e)))
     }
 
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Res
-    where
-        DB::ErrorType: 'static,
-    {
-        // The stability picture keeps its own drawing (theory's crosses, words beside the rows);
-        // the recording draws it from data ([`Diagram::plot`]).
-        match (&self.content, self.plot()) {
-            (
-                Content::Stability {
-                    scene,
-                    limits,
-                    omega,
-                },
-                _,
-            ) => stability_on(root, scene, limits, *omega),
-            (_, Some(plot)) => draw_plot(root, &plot),
-            (_, None) => Ok(()),
-        }
-    }
-
-    /// What it draws as a log-log plot (stability's y axis its methods' rows): the data the
-    /// study's recording is drawn from, and but for stability its picture.
-    pub fn plot(&self) -> Option<Plot> {
-        Some(match &self.content {
+    /// What it draws as a log-log plot (stability's y axis its methods' rows): the data both
+    /// its picture and the study's recording are drawn from.
+    pub fn plot(&self) -> Plot {
+        match &self.content {
             Content::WorkPrecision {
                 scene,
                 rows,
@@ -262,7 +239,7 @@ impl Diagram {
                 commands,
                 note,
             } => drift::drift_plot(scene, (runs, commands), note),
-        })
+        }
     }
 }
 

@@ -66,15 +66,17 @@ where
         .caption(&p.title, (FONT, 24).into_font().color(&INK))
         .margin(14)
         .x_label_area_size(56)
-        .y_label_area_size(78)
-        .build_cartesian_2d(Ticks::decades(p.x.clone()), Ticks::decades(p.y.clone()))?;
+        .y_label_area_size(if p.y_names.is_empty() { 78 } else { 190 })
+        .build_cartesian_2d(Ticks::decades(p.x.clone()), y_ticks(p))?;
+    // A rows axis (stability's methods) names its rows.
+    let y_label = |v: &f64| (p.y_names.get(v.round() as usize).cloned()).unwrap_or(label_of(v));
     chart
         .configure_mesh()
         .bold_line_style(GRID.stroke_width(1))
         .light_line_style(FAINT.stroke_width(1))
         .axis_style(INK.stroke_width(1))
         .x_label_formatter(&label_of)
-        .y_label_formatter(&label_of)
+        .y_label_formatter(&y_label)
         .x_desc(p.x_desc)
         .y_desc(p.y_desc)
         .label_style((FONT, 18).into_font().color(&INK))
@@ -92,6 +94,9 @@ where
             5,
             RGBColor(170, 170, 170).stroke_width(1),
         ))?;
+        if label.is_empty() {
+            continue;
+        }
         // The label sits above the line's last point, on the side away from the plot's edge.
         let end = l[l.len() - 1];
         let h = if end.0 < l[0].0 && end.0 > p.x.start + 0.3 {
@@ -122,8 +127,20 @@ where
     Ok(())
 }
 
+/// The y axis: decades, or a row per name.
+fn y_ticks(p: &Panel) -> Ticks {
+    match p.y_names.is_empty() {
+        true => Ticks::decades(p.y.clone()),
+        false => Ticks {
+            range: p.y.clone(),
+            bold: (0..p.y_names.len()).map(|k| k as f64).collect(),
+            light: Vec::new(),
+        },
+    }
+}
+
 /// The legend column: one swatch and name per series, and notes below.
-pub(super) fn draw_legend<DB: DrawingBackend>(
+fn draw_legend<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     keys: &[Key],
     notes: &[String],

@@ -194,7 +194,7 @@ fn log_guides(rec: &RecordingStream, path: &str, p: &Panel, px: [f32; 2]) -> any
         for [a, b] in &cut {
             dashes.extend(dashed(*a, *b, px));
         }
-        if let Some([_, [x, y]]) = cut.last() {
+        if let Some([_, [x, y]]) = cut.last().filter(|_| !name.is_empty()) {
             let name = shown(name);
             let half = (0.5 * CHAR_PX * name.chars().count() as f32 + 24.0) / px[0];
             let inward = if f64::from(*x) < 0.5 * (p.x.start + p.x.end) {

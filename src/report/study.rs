@@ -330,29 +330,31 @@ pub fn rows_table(rows: &[Row], wide: bool) -> String {
     t.render_at(wide)
 }
 
-/// Work-precision's runs as its table shows them by default: each method's Pareto front (the
-/// runs no other run of the same method beats on both error and wall time), and how many runs
-/// that leaves out and where they are.
-pub fn fronts_table(rows: &[Row]) -> String {
-    let beats = |a: &Row, b: &Row| match (a.error, b.error) {
-        (Some(x), Some(y)) => {
-            let (ta, tb) = (a.wall_seconds, b.wall_seconds);
-            x <= y && ta <= tb && (x < y || ta < tb)
+/// Work-precision's runs as its table shows them by default: per method its cheapest run
+/// (median wall time) reaching each target, and how many runs that leaves out and where they
+/// are.
+pub fn cheapest_table(rows: &[Row], targets: &[f64]) -> String {
+    let mut picked: Vec<&Row> = Vec::new();
+    for m in crate::study::methods_of(rows, |_| true) {
+        let of: Vec<Row> = rows.iter().filter(|r| r.method == m).cloned().collect();
+        for &t in targets {
+            let at = crate::study::cheapest(&of, t)
+                .0
+                .and_then(|c| rows.iter().find(|r| *r == c));
+            picked.extend(at.filter(|r| !picked.iter().any(|p| std::ptr::eq(*p, *r))));
         }
-        _ => false,
-    };
-    let front: Vec<Row> = (rows.iter())
-        .filter(|r| r.error.is_some())
-        .filter(|r| !rows.iter().any(|o| o.method == r.method && beats(o, r)))
+    }
+    let shown: Vec<Row> = (rows.iter())
+        .filter(|r| picked.iter().any(|p| std::ptr::eq(*p, *r)))
         .cloned()
         .collect();
     let note = format!(
-        "{} of {} runs shown: each method's Pareto front (no run of the same method is both as \
-         accurate and faster); every run with --wide and in --csv.\n",
-        front.len(),
+        "{} of {} runs shown: each method's cheapest run per target; every run with --wide and \
+         in --csv.\n",
+        shown.len(),
         rows.len()
     );
-    rows_table(&front, false) + "\n" + &fit_lines(&note)
+    rows_table(&shown, false) + "\n" + &fit_lines(&note)
 }
 
 /// Measured stability limits against theory; fitted, each note said once under the table with

@@ -420,7 +420,7 @@ pub fn sweep_against(
     };
     let floor = super::error_floor(reference_error);
     let mut grid = Vec::new();
-    for (part, work) in plan(problem, s) {
+    for (part, steps, evals) in plan(problem, s) {
         if stop() {
             break;
         }
@@ -441,7 +441,7 @@ pub fn sweep_against(
                 }
             }
         }
-        done(work);
+        done(work(problem, s, (steps, evals)));
     }
     rows
 }
@@ -454,51 +454,59 @@ enum Part {
     Level(Method, MethodOptions, usize),
 }
 
-/// The runs of a sweep of `problem`, in the order [`sweep_with`] makes them, each with its work
-/// (force evaluations × coordinates over its repeats; a fixed-step method's levels as on the
-/// default grid, an adaptive run's steps guessed from its tolerance and order): what the
-/// progress bar paces by.
-fn plan(problem: &Problem, s: &Sweep) -> Vec<(Part, f64)> {
-    let coordinates = problem.start().0.len() as f64;
+/// The runs of a sweep of `problem`, in the order [`sweep_with`] makes them, each with its
+/// steps (a fixed-step method's levels as on the default grid, an adaptive run's steps guessed
+/// from its tolerance and order) and force evaluations a step (Newton: about three).
+fn plan(problem: &Problem, s: &Sweep) -> Vec<(Part, f64, f64)> {
     let samples = s.duration / s.sample_dt;
-    let repeats = f64::from(s.repeats.max(1)) * coordinates;
     let mut parts = Vec::new();
     for m in accepted(problem, s) {
         let (order, evals) = (f64::from(m.info().order), m.info().evals_per_step);
         let per_step = match evals {
             EvalsPerStep::Adaptive(e) => {
                 parts.extend(s.rtols.iter().map(|&rtol| {
-                    let steps = 1.0 + 0.2 * rtol.powf(-1.0 / order);
+                    let steps = samples * (1.0 + 0.2 * rtol.powf(-1.0 / order));
                     let options = MethodOptions { rtol, ..s.options };
-                    let work = repeats * samples * steps * f64::from(e.accepted);
-                    (Part::Asked(m, options, Some(rtol)), work)
+                    (
+                        Part::Asked(m, options, Some(rtol)),
+                        steps,
+                        f64::from(e.accepted),
+                    )
                 }));
                 continue;
             }
             EvalsPerStep::Fixed(n) => f64::from(n),
-            // Newton: about three evaluations a step.
             _ => 3.0,
         };
-        let work = |steps: f64| repeats * steps * per_step;
         for &compensated in s.compensations(m) {
             let options = MethodOptions {
                 compensated,
                 ..s.options
             };
             parts.extend(s.steps_above(m).into_iter().map(|h| {
-                let asked = MethodOptions {
-                    step: Some(h),
-                    ..options
-                };
-                (Part::Asked(m, asked, None), work(s.duration / h))
+                let step = Some(h);
+                let asked = MethodOptions { step, ..options };
+                (Part::Asked(m, asked, None), s.duration / h, per_step)
             }));
             parts.extend((0..s.levels).map(|k| {
                 let steps = s.duration / s.dt0 * f64::from(1u32 << k);
-                (Part::Level(m, options, k as usize), work(steps))
+                (Part::Level(m, options, k as usize), steps, per_step)
             }));
         }
     }
     parts
+}
+
+/// The work of a planned run over its repeats (force evaluations × coordinates): the units the
+/// progress bar paces by.
+fn work(problem: &Problem, s: &Sweep, (steps, evals): (f64, f64)) -> f64 {
+    f64::from(s.repeats.max(1)) * problem.start().0.len() as f64 * steps * evals
+}
+
+/// The steps of a sweep's planned runs over their repeats (its reference's not included).
+pub fn planned_steps(problem: &Problem, s: &Sweep) -> f64 {
+    let steps = plan(problem, s).iter().map(|p| p.1).sum::<f64>();
+    f64::from(s.repeats.max(1)) * steps
 }
 
 /// The work of a sweep's reference (the rope's fine and coarse runs), in [`plan`]'s units.
@@ -511,5 +519,9 @@ fn reference_work(problem: &Problem, s: &Sweep) -> f64 {
 
 /// The whole work of a sweep of `problem`, in the units [`sweep_with`] reports.
 pub fn planned_work(problem: &Problem, s: &Sweep) -> f64 {
-    reference_work(problem, s) + plan(problem, s).iter().map(|p| p.1).sum::<f64>()
+    let runs = plan(problem, s)
+        .iter()
+        .map(|p| work(problem, s, (p.1, p.2)))
+        .sum::<f64>();
+    reference_work(problem, s) + runs
 }

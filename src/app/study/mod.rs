@@ -178,11 +178,11 @@ fn sweep_study(
         out.push('\n');
     }
     // Every run in the CSV and the count (the damped rope's too); work-precision's table by
-    // default each method's Pareto front.
+    // default each method's cheapest run per target.
     rows.extend(damped);
     match convergence || wide {
         true => out.push_str(&report::rows_table(&rows, wide)),
-        false => out.push_str(&report::fronts_table(&rows)),
+        false => out.push_str(&report::cheapest_table(&rows, &targets.0)),
     }
     found.csv = report::rows_csv(&rows);
     found.done = rows.len();

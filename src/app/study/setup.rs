@@ -396,45 +396,32 @@ fn size(problem: &Problem) -> (f64, f64, String) {
 }
 
 /// A sweep's work in node-steps and its reference's memory, refused beyond the limits: the
-/// reference (fine and coarse runs, for its error estimate), and every fixed-step method over
-/// dt0, dt0/2, ... dt0/2^(levels-1), each `repeats` times (the damped rope's second sweep of
-/// `study convergence` doubles it).
+/// reference (fine and coarse runs, for its error estimate) and every run the sweep plans, each
+/// `repeats` times ([`study::planned_steps`]; the damped rope's second sweep of `study
+/// convergence` doubles it).
 fn sweep_work(problem: &Problem, sweep: &Sweep, convergence: bool) -> Result<f64, Error> {
-    let (levels, repeats, duration, dt0) = (sweep.levels, sweep.repeats, sweep.duration, sweep.dt0);
-    let schedule = sweep.schedule();
+    let (repeats, schedule) = (sweep.repeats, sweep.schedule());
     let (work_per_step, dim, nodes) = size(problem);
-    let fixed = sweep
-        .methods
-        .iter()
-        .filter(|m| !m.info().adaptive())
-        .count() as f64;
-    let sweeps = if convergence && matches!(problem, Problem::Rope(_)) {
-        2.0
-    } else {
-        1.0
+    let sweeps = match convergence && matches!(problem, Problem::Rope(_)) {
+        true => 2.0,
+        false => 1.0,
     };
-    // Work-precision's steps above dt0 (twice for a composition: compensated too).
-    let above: f64 = (sweep.methods.iter())
-        .flat_map(|&m| sweep.steps_above(m))
-        .map(|h| 2.0 * duration / h)
-        .sum();
-    let steps = sweeps
-        * (1.5 * sweep.reference_steps()
-            + fixed * repeats as f64 * (duration / dt0) * (2f64.powi(levels as i32) - 1.0)
-            + repeats as f64 * above);
+    let planned = study::planned_steps(problem, sweep);
+    let steps = sweeps * (1.5 * sweep.reference_steps() + planned);
     let work = steps * work_per_step;
     if steps > STUDY_MAX_STEPS || work > MAX_NODE_STEPS {
         return Err(Error::Usage(format!(
-            "{schedule}, --repeats {repeats}{nodes} and {fixed} fixed-step methods is {steps:.2e} steps \
-             ({work:.2e} node-steps) in all; at most {STUDY_MAX_STEPS:.0e} steps and {MAX_NODE_STEPS:.0e} \
-             node-steps are allowed (raise --dt, lower --levels or --repeats, or choose fewer --methods)"
+            "{schedule}, --repeats {repeats}{nodes} and {} methods is {steps:.2e} steps \
+             ({work:.2e} node-steps) in all; at most {STUDY_MAX_STEPS:.0e} steps and \
+             {MAX_NODE_STEPS:.0e} node-steps are allowed (raise --dt, lower --levels or --repeats, \
+             or choose fewer --methods)",
+            sweep.methods.len()
         )));
     }
     // The reference is kept at every sample, twice (fine and coarse).
-    let samples = duration / (study::SAMPLE_EVERY as f64 * dt0);
     params::memory(
         &format!("the reference for {schedule}{nodes}"),
-        2.0 * samples * dim * 8.0,
+        2.0 * sweep.samples() as f64 * dim * 8.0,
         "raise --dt or shorten --duration",
     )?;
     Ok(work)
