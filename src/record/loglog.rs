@@ -258,7 +258,7 @@ fn log_legend(rec: &RecordingStream, path: &str, plot: &Plot, left: f32) -> anyh
     let mut colors = Vec::new();
     let mut names = Vec::new();
     // Many keys (a method's variants each its own) closer together.
-    let pitch = LINE_PX + if plot.keys.len() > 24 { 2.0 } else { 6.0 };
+    let pitch = LINE_PX + if plot.keys.len() > 24 { 4.0 } else { 6.0 };
     for key in &plot.keys {
         let ends = [[left, y], [left + 30.0, y]];
         // A dashed key's swatch in two dashes, either side of its dot.
