@@ -23,6 +23,7 @@ use setup::Setup;
 
 /// What a study measured: its printed tables, its CSV, its diagrams, and how many runs (or
 /// methods' limits) are complete (after Ctrl-C or SIGTERM only those are shown).
+#[derive(Default)]
 struct Found {
     out: String,
     csv: String,
@@ -138,12 +139,7 @@ fn sweep_study(
     progress: &mut Progress,
     wide: bool,
 ) -> Result<Found, Error> {
-    let mut found = Found {
-        out: String::new(),
-        csv: String::new(),
-        diagrams: Vec::new(),
-        done: 0,
-    };
+    let mut found = Found::default();
     let Some((reference, floor)) = sw.reference(problem) else {
         return Ok(found);
     };
