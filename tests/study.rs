@@ -276,6 +276,38 @@ fn row(method: Method, error: Option<f64>, evals: u64, wall_seconds: f64) -> Row
     }
 }
 
+#[cfg(feature = "diagrams")]
+/// A convergence diagram's points each say the command that makes their run: the adaptive
+/// rows it leaves out do not shift the commands onto other runs' points.
+#[test]
+fn convergence_points_say_the_command_of_their_own_run() {
+    let fixed = |dt: f64, error: f64| Row {
+        dt,
+        ..row(Method::Rk4, Some(error), 100, 1e-5)
+    };
+    let rows = [
+        row(Method::Dopri5, Some(1e-9), 600, 1e-5),
+        fixed(0.1, 1e-4),
+        fixed(0.05, 6.25e-6),
+    ];
+    let commands = ["adaptive", "at 0.1", "at 0.05"].map(String::from);
+    let d = physlab::diagram::convergence("pendulum", (&rows, &commands), 1e-14, false);
+    let plot = d.plot();
+    let series = &plot.panels[0].series;
+    assert_eq!(series.len(), 1, "rk4 alone: dopri5 chooses its steps");
+    assert_eq!(series[0].points, [(0.1, 1e-4), (0.05, 6.25e-6)]);
+    assert!(
+        series[0].about[0].ends_with("made by: at 0.1"),
+        "{:?}",
+        series[0].about
+    );
+    assert!(
+        series[0].about[1].ends_with("made by: at 0.05"),
+        "{:?}",
+        series[0].about
+    );
+}
+
 /// `cheapest` on rows made by hand, with the answers known: a diverged run and runs above the
 /// target never count however cheap; an error equal to the target counts; the fastest and the
 /// fewest-evaluations answers can be different rows; nobody reaching the target gives none.
@@ -308,6 +340,7 @@ fn cheapest_picks_the_known_rows() {
 fn study_writes_csv_and_a_recording() {
     let dir = scratch_dir("study");
     let csv = dir.join("s.csv");
+    let stability = dir.join("stability.rrd");
     let (code, out, err) = physlab(&[
         "study",
         "stability",
@@ -315,9 +348,22 @@ fn study_writes_csv_and_a_recording() {
         "rope",
         "--csv",
         csv.to_str().unwrap(),
+        "-o",
+        stability.to_str().unwrap(),
     ]);
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("| verlet ") && out.contains("1.0000"), "{out}");
+    // Stability drawn from data too: a point per method with a limit, theory's ticks, no image;
+    // its picture still written beside the recording.
+    let d = decode(&stability);
+    assert!(
+        d.entities.contains("/study/diagrams/0/panel0/runs/verlet")
+            && d.entities.contains("/study/diagrams/0/panel0/guides")
+            && d.entities.contains("/study/diagrams/0/panel0/ticks"),
+        "{:?}",
+        d.entities
+    );
+    assert!(dir.join("stability-rope-stability.png").exists());
     let text = std::fs::read_to_string(&csv).unwrap();
     assert!(
         text.starts_with("scene,method,measured_dt,theory_dt\n")
@@ -375,7 +421,7 @@ fn study_writes_csv_and_a_recording() {
     let png = std::fs::read(dir.join("s-pendulum-work-precision.png")).unwrap();
     assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
     let size = |at: usize| u32::from_be_bytes(png[at..at + 4].try_into().unwrap());
-    assert_eq!((size(16), size(20)), (1600, 820));
+    assert_eq!((size(16), size(20)), (1600, 1100));
     // A study recording carries its provenance: inspect names the build, --config-out writes
     // the study's scene, and reproduce refuses it (its numbers hold wall-clock times) by name.
     let scene = dir.join("scene.toml");

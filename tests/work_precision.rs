@@ -201,3 +201,114 @@ fn the_floor_is_the_same_in_the_header_the_answer_and_the_diagram() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `--periods` beyond the study's limits is refused by the option typed (it said `--duration`,
+/// which the user never typed): its value and the most periods allowed, exit 2.
+#[test]
+fn too_many_periods_are_refused_by_their_own_name() {
+    let (code, out, err) = physlab(&["study", "work-precision", "--periods", "1e12"]);
+    assert_eq!(code, 2, "{out}{err}");
+    assert!(
+        err.contains("--periods 1e12") && !err.contains("--duration"),
+        "{err}"
+    );
+    let most: f64 = err
+        .split("at most about ")
+        .nth(1)
+        .and_then(|t| t.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("the most periods allowed: {err}"));
+    // Refused just above what it says fits, by the same name and with the same most.
+    let above = format!("{}", 1.2 * most);
+    let (code, _, again) = physlab(&["study", "work-precision", "--periods", &above]);
+    assert_eq!(code, 2, "{again}");
+    assert!(
+        again.contains(&format!("--periods {above}"))
+            && again.contains(&format!("at most about {most} periods")),
+        "{again}"
+    );
+    assert!((1.0..1e12).contains(&most), "{err}");
+}
+
+/// By default the runs table shows each method's cheapest run per target (found here from the
+/// CSV's every run); `--wide` shows every run. The diagram gives a method's runs stepping
+/// across the samples and its compensated runs series and legend entries of their own.
+#[test]
+fn the_runs_table_shows_each_methods_cheapest_runs_and_every_variant_has_its_series() {
+    let dir = scratch_dir("work-precision-front");
+    let csv = dir.join("runs.csv");
+    let study = [
+        "study",
+        "work-precision",
+        "--repeats",
+        "1",
+        "--duration",
+        "20",
+        "--methods",
+        "rkn4,yoshida6,dprkn8",
+        "--csv",
+        s(&csv),
+        "--plots",
+        s(&dir),
+        "-q",
+    ];
+    let (code, out, err) = physlab(&study);
+    assert_eq!(code, 0, "{err}");
+    // Per method and default target, the (error, wall) of its cheapest run reaching it.
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let runs: Vec<(String, f64, f64)> = (text.lines().skip(1))
+        .map(|l| l.split(',').collect::<Vec<_>>())
+        .filter(|f| !f[4].is_empty())
+        .map(|f| {
+            (
+                f[1].to_string(),
+                f[4].parse().unwrap(),
+                f[8].parse().unwrap(),
+            )
+        })
+        .collect();
+    let mut cheapest: Vec<(String, f64, f64)> = Vec::new();
+    for m in ["rkn4", "yoshida6", "dprkn8"] {
+        for t in [1e-3, 1e-6, 1e-8, 1e-10, 1e-12] {
+            let best = (runs.iter())
+                .filter(|r| r.0 == m && r.1 <= t)
+                .min_by(|a, b| a.2.total_cmp(&b.2));
+            if let Some(b) = best.filter(|b| !cheapest.contains(b)) {
+                cheapest.push(b.clone());
+            }
+        }
+    }
+    // The runs table: the last table of the output, one line per run (its error and method).
+    let table = |out: &str| -> Vec<(String, f64)> {
+        let last = out.rfind("| method ").unwrap();
+        (out[last..].lines().skip(2))
+            .take_while(|l| l.starts_with('|'))
+            .map(|l| l.split('|').map(str::trim).collect::<Vec<_>>())
+            .map(|f| (f[1].to_string(), f[4].parse().unwrap()))
+            .collect()
+    };
+    let shown = table(&out);
+    assert_eq!(shown.len(), cheapest.len(), "{out}");
+    for (m, e, _) in &cheapest {
+        let close = |s: &(String, f64)| s.0 == *m && (s.1 / e - 1.0).abs() < 1e-2;
+        assert!(shown.iter().any(close), "{m} {e:e} not shown: {out}");
+    }
+    let all = text.lines().count() - 1;
+    assert!(
+        out.contains(&format!("{} of {all} runs shown", cheapest.len())),
+        "{out}"
+    );
+    let mut wide = study.to_vec();
+    wide.push("--wide");
+    let (code, every, err) = physlab(&wide);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(table(&every).len(), all);
+    let svg = std::fs::read_to_string(dir.join("pendulum-work-precision.svg")).unwrap();
+    for key in ["rkn4 --step", "yoshida6 --step", "yoshida6 compensated"] {
+        assert!(
+            svg.contains(&format!("\n{key}\n</text>")),
+            "no legend entry {key}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -25,6 +25,10 @@
 //! Then `peers/benches/scipy_peer.py` times scipy's solve_ivp(method="DOP853") on the same problem at
 //! equal error, in the same session, when python3 and scipy are installed.
 //!
+//! After the 20 s table, the study's answer at 1e-3 (`physlab study work-precision` on this
+//! problem, its sweep from physlab's library) is timed against the benchmark's best physlab run
+//! at 1e-3, interleaved; `cargo bench -p physlab-peers -- study-answer` stops there.
+//!
 //! After the tables, criterion times RK4 at h = 1e-3 s over the 20 s (20 000 steps) for physlab
 //! and ode_solvers (RK4's cost per step).
 
@@ -35,6 +39,7 @@ use criterion::Criterion;
 use physlab::integrate::{Integrator, Method, MethodOptions};
 use physlab::scene::pendulum::exact::ExactPendulum;
 use physlab::scene::pendulum::{Pendulum, PendulumParams};
+use physlab::study::{Problem, Row, Sweep, cheapest};
 
 const SAMPLE_DT: f64 = 0.1;
 const TARGETS: [f64; 5] = [1e-3, 1e-6, 1e-8, 1e-10, 1e-12];
@@ -87,6 +92,8 @@ struct RunResult {
     setting: String,
     error: f64,
     seconds: f64,
+    /// physlab's runs: what made it, to be run again.
+    physlab: Option<PhyslabRun>,
 }
 
 /// The exact θ at the sample grid, and at any other time a solver reports.
@@ -152,6 +159,7 @@ fn measure(
         setting,
         error: reference.error(&samples),
         seconds: best,
+        physlab: None,
     }
 }
 
@@ -177,6 +185,58 @@ fn sweep<S>(
     }
 }
 
+/// One physlab run: the method, its step (the sample interval / `per_sample`), its options
+/// (a step across the samples, a tolerance, compensated sums).
+#[derive(Clone, Copy, Debug)]
+struct PhyslabRun {
+    method: Method,
+    dt: f64,
+    per_sample: usize,
+    options: MethodOptions,
+}
+
+impl PhyslabRun {
+    /// The run `physlab study work-precision` measured as `row` and prints as its command: a
+    /// fixed-step method at `--step` (across or ending at the samples), an adaptive one at
+    /// `--rtol`, both asked for every sample.
+    fn of(row: &Row) -> Self {
+        let step = (row.rtol.is_none() && row.dt != SAMPLE_DT).then_some(row.dt);
+        let options = MethodOptions {
+            rtol: row.rtol.unwrap_or(MethodOptions::default().rtol),
+            compensated: row.compensated,
+            step,
+            ..MethodOptions::default()
+        };
+        PhyslabRun {
+            method: row.method,
+            dt: SAMPLE_DT,
+            per_sample: 1,
+            options,
+        }
+    }
+
+    fn samples(&self, samples: usize) -> Samples {
+        let p = params();
+        let sys = Pendulum::new(&p);
+        let mut it = Integrator::new(
+            self.method,
+            &sys,
+            &[p.theta0],
+            &[0.0],
+            self.dt,
+            self.options,
+        );
+        let mut theta = Vec::with_capacity(samples);
+        for _ in 0..samples {
+            for _ in 0..self.per_sample {
+                it.step(&sys);
+            }
+            theta.push(it.position()[0]);
+        }
+        Samples { times: None, theta }
+    }
+}
+
 fn physlab_run(
     method: Method,
     dt: f64,
@@ -184,17 +244,94 @@ fn physlab_run(
     options: MethodOptions,
     samples: usize,
 ) -> Samples {
-    let p = params();
-    let sys = Pendulum::new(&p);
-    let mut it = Integrator::new(method, &sys, &[p.theta0], &[0.0], dt, options);
-    let mut theta = Vec::with_capacity(samples);
-    for _ in 0..samples {
-        for _ in 0..per_sample {
-            it.step(&sys);
-        }
-        theta.push(it.position()[0]);
+    let run = PhyslabRun {
+        method,
+        dt,
+        per_sample,
+        options,
+    };
+    run.samples(samples)
+}
+
+/// [`sweep`] over physlab runs, each result keeping the run that made it.
+fn physlab_sweep(
+    h: &Horizon,
+    reference: &Reference,
+    results: &mut Vec<RunResult>,
+    side: &'static str,
+    settings: Vec<(String, PhyslabRun)>,
+) {
+    let first = results.len();
+    let runs: Vec<PhyslabRun> = settings.iter().map(|s| s.1).collect();
+    sweep(h, reference, results, side, settings, |run| {
+        run.samples(h.samples)
+    });
+    for (r, run) in results[first..].iter_mut().zip(runs) {
+        r.physlab = Some(run);
     }
-    Samples { times: None, theta }
+}
+
+/// The 1e-3 claim in one call: `physlab study work-precision --theta0 60 --sample-every 0.1
+/// --duration 20` (this problem) swept from physlab's library, its cheapest run at 1e-3 (the
+/// answer it prints) timed against this benchmark's cheapest physlab run at 1e-3, the two
+/// interleaved run by run, in three rounds of `repeats` pairs; each round's ratio is the
+/// minima's.
+fn study_answer(h: &Horizon, reference: &Reference, results: &[RunResult]) {
+    const TARGET: f64 = 1e-3;
+    let problem = Problem::Pendulum(params());
+    let sw = Sweep {
+        sample_dt: SAMPLE_DT,
+        duration: h.samples as f64 * SAMPLE_DT,
+        ..Sweep::work_precision(&problem)
+    };
+    let (rows, _) = physlab::study::sweep(&problem, &sw);
+    let ours = results
+        .iter()
+        .filter(|r| r.physlab.is_some() && r.error <= TARGET)
+        .min_by(|a, b| a.seconds.total_cmp(&b.seconds));
+    let (Some(row), Some(best)) = (cheapest(&rows, TARGET).0, ours) else {
+        println!("\nthe study or the benchmark reaches no {TARGET:e}");
+        return;
+    };
+    let study = PhyslabRun::of(row);
+    let bench = best.physlab.expect("a physlab run");
+    let words = physlab::study::settings(row, SAMPLE_DT).join(" ");
+    println!(
+        "\nAt {TARGET:.0e}: the study's answer (`physlab study work-precision --theta0 60 \
+         --sample-every 0.1 --duration 20`, {} runs) is `{words}` (error {:.2e}); the \
+         benchmark's best physlab run is {} {} (error {:.2e}).",
+        rows.len(),
+        reference.error(&study.samples(h.samples)),
+        best.side,
+        best.setting,
+        best.error,
+    );
+    let time = |run: &PhyslabRun| {
+        let t = Instant::now();
+        black_box(run.samples(h.samples));
+        t.elapsed().as_secs_f64()
+    };
+    let mut ratios = Vec::new();
+    for round in 1..=3 {
+        let (mut a, mut b) = (f64::INFINITY, f64::INFINITY);
+        for _ in 0..20_000 {
+            a = a.min(time(&study));
+            b = b.min(time(&bench));
+        }
+        println!(
+            "round {round}: study {:.2} µs, benchmark {:.2} µs, study / benchmark {:.3}",
+            a * 1e6,
+            b * 1e6,
+            a / b
+        );
+        ratios.push(a / b);
+    }
+    ratios.sort_by(f64::total_cmp);
+    println!(
+        "study / benchmark at {TARGET:.0e}: median {:.3} (spread {:.3}–{:.3}; ≤ 1: the study's \
+         answer is at least as fast)",
+        ratios[1], ratios[0], ratios[2]
+    );
 }
 
 mod os {
@@ -469,15 +606,23 @@ fn compare(h: &Horizon, long: bool) -> (Reference, Vec<RunResult>) {
         fixed.extend([(Method::KahanLi8, true), (Method::Sofroniou10, true)]);
     }
     for (m, compensated) in fixed {
-        let side = side_name(m, compensated);
-        sweep(h, &reference, r, side, across.clone(), |&(per, step)| {
-            let options = MethodOptions {
-                compensated,
-                step,
-                ..MethodOptions::default()
-            };
-            physlab_run(m, SAMPLE_DT / per as f64, per, options, n)
-        });
+        let runs = (across.iter())
+            .map(|(label, (per, step))| {
+                let options = MethodOptions {
+                    compensated,
+                    step: *step,
+                    ..MethodOptions::default()
+                };
+                let run = PhyslabRun {
+                    method: m,
+                    dt: SAMPLE_DT / *per as f64,
+                    per_sample: *per,
+                    options,
+                };
+                (label.clone(), run)
+            })
+            .collect();
+        physlab_sweep(h, &reference, r, side_name(m, compensated), runs);
     }
     for m in [
         Method::Dopri5,
@@ -487,20 +632,22 @@ fn compare(h: &Horizon, long: bool) -> (Reference, Vec<RunResult>) {
         Method::Dprkn8,
         Method::Dprkn12,
     ] {
-        sweep(
-            h,
-            &reference,
-            r,
-            side_name(m, false),
-            tols.clone(),
-            |&rtol| {
+        let runs = (tols.iter())
+            .map(|(label, rtol)| {
                 let options = MethodOptions {
-                    rtol,
+                    rtol: *rtol,
                     ..MethodOptions::default()
                 };
-                physlab_run(m, SAMPLE_DT, 1, options, n)
-            },
-        );
+                let run = PhyslabRun {
+                    method: m,
+                    dt: SAMPLE_DT,
+                    per_sample: 1,
+                    options,
+                };
+                (label.clone(), run)
+            })
+            .collect();
+        physlab_sweep(h, &reference, r, side_name(m, false), runs);
     }
     let tol_peer = |s: &(String, f64)| (s.0.replace("rtol", "tol"), s.1);
     sweep(h, &reference, r, "ode_solvers-rk4", steps.clone(), |&per| {
@@ -555,6 +702,12 @@ fn main() {
     };
     let (reference, results) = compare(&short, false);
     table(&short, &results);
+    study_answer(&short, &reference, &results);
+    // `cargo bench -p physlab-peers -- study-answer`: the short horizon and the study's answer
+    // only.
+    if std::env::args().any(|a| a == "study-answer") {
+        return;
+    }
     scipy_peer(&results, &reference.grid, k, p.theta0);
 
     // The same over 10⁴ periods: sample every 0.1 s up to 10⁴ T.

@@ -6,8 +6,8 @@ use crate::format::sci;
 use crate::study::drift::Drift;
 
 /// Energy error (left) and phase error (right, where a run measured one) against simulated
-/// time, per method.
-pub fn drift(scene: &str, runs: &[Drift], note: &str) -> Diagram {
+/// time, per method; `commands`, one per run or none, what its points say measures it.
+pub fn drift(scene: &str, (runs, commands): (&[Drift], Vec<String>), note: &str) -> Diagram {
     Diagram {
         stem: format!("{scene}-drift"),
         title: format!("{scene} drift"),
@@ -15,6 +15,7 @@ pub fn drift(scene: &str, runs: &[Drift], note: &str) -> Diagram {
         content: Content::Drift {
             scene: scene.to_string(),
             runs: runs.to_vec(),
+            commands,
             note: note.to_string(),
         },
     }
@@ -23,13 +24,17 @@ pub fn drift(scene: &str, runs: &[Drift], note: &str) -> Diagram {
 /// The picture `docs/pendulum-drift.png` shows: [`drift`] of the runs
 /// `report::figures::drift_pendulum_runs` gives.
 pub fn pendulum_drift_picture(runs: &[Drift]) -> Diagram {
-    drift("pendulum", runs, "dt = 0.01 s, θ0 = 60°, 10⁵ periods.")
+    drift(
+        "pendulum",
+        (runs, Vec::new()),
+        "dt = 0.01 s, θ0 = 60°, 10⁵ periods.",
+    )
 }
 
 /// A quantity of a checkpoint, positive where it was measured.
 type Quantity = fn(&crate::study::drift::Checkpoint) -> Option<f64>;
 
-pub(super) fn drift_plot(scene: &str, runs: &[Drift], note: &str) -> Plot {
+pub(super) fn drift_plot(scene: &str, (runs, commands): (&[Drift], &[String]), note: &str) -> Plot {
     // The rope has no phase: its energy alone, over the whole width.
     let phased = (runs.iter().flat_map(|r| &r.checkpoints)).any(|c| c.phase.is_some());
     let energy_desc = if scene == "pendulum" {
@@ -50,14 +55,17 @@ pub(super) fn drift_plot(scene: &str, runs: &[Drift], note: &str) -> Plot {
     let (x0, x1) = (10f64.powf(x.start), 10f64.powf(x.end));
     let panels = quantities.iter().take(if phased { 2 } else { 1 });
     let panels = panels.map(|&(title, y_desc, quantity)| {
-        let series: Vec<Series> = (runs.iter())
-            .map(|r| {
+        let series: Vec<Series> = (runs.iter().enumerate())
+            .map(|(i, r)| {
+                let made = commands
+                    .get(i)
+                    .map_or(String::new(), |c| format!("\nmade by: {c}"));
                 let (points, about) = (r.checkpoints.iter())
                     .filter_map(|c| {
                         let v = quantity(c).filter(|v| *v > 0.0)?;
                         let run = format!("{} (dt {} s", r.method.name(), sci(r.dt));
                         let about = format!(
-                            "{run}, {} evaluations in all)\nt = {} s\n{title} {}",
+                            "{run}, {} evaluations in all)\nt = {} s\n{title} {}{made}",
                             r.evals,
                             sci(c.t),
                             sci(v)
@@ -90,6 +98,7 @@ pub(super) fn drift_plot(scene: &str, runs: &[Drift], note: &str) -> Plot {
             y,
             series,
             guides,
+            y_names: Vec::new(),
         }
     });
     Plot {

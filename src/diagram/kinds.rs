@@ -1,14 +1,10 @@
 //! The diagrams: work-precision, convergence, stability and the hair trade, each from a
 //! study's rows.
 
-use super::{
-    BACKGROUND, Content, Diagram, FAINT, FONT, GRID, INK, Key, LEGEND_WIDTH, PANEL, Panel, Plot,
-    Res, Series, Ticks, decade_label, decades, draw_legend, label_of, marker,
-};
-use plotters::coord::Shift;
+use super::{Content, Diagram, Key, LEGEND_WIDTH, Panel, Plot, Series, decade_label, decades};
 use plotters::prelude::*;
-use plotters::style::text_anchor::{HPos, Pos, VPos};
 
+use crate::format::sci;
 use crate::integrate::Method;
 use crate::study::hair::HairRow;
 use crate::study::{Limit, Row, methods_of};
@@ -21,59 +17,47 @@ pub(super) fn error_desc(scene: &str) -> &'static str {
     }
 }
 
-/// Runs of one method that produced an error, in the order of their setting (dt or rtol); a
-/// composition's compensated runs are a series of their own.
-pub(super) fn runs(rows: &[Row], m: Method) -> Vec<&Row> {
-    rows.iter()
-        .filter(|r| r.method == m && !r.compensated && r.error.is_some_and(|e| e > 0.0))
-        .collect()
-}
-
-/// Per method, its runs' (x, error), x given by `x`, each point saying which run it is (and,
-/// given one per row, the command that makes it); a composition's compensated runs a series of
-/// their own.
-fn series(
-    rows: &[Row],
-    methods: &[Method],
-    x: fn(&Row) -> f64,
-    commands: &[String],
-) -> Vec<Series> {
-    let about = |r: &Row| {
-        let at = rows.iter().position(|x| std::ptr::eq(x, r));
-        let about = crate::report::study::run_about(r);
-        match at.and_then(|i| commands.get(i)) {
-            Some(command) => format!("{about}\nmade by: {command}"),
-            None => about,
+/// Per method and variant (plain, stepping across the samples: `--step` above `dt0`, with
+/// compensated sums), its runs' (x, error), x given by `x`, each point saying which run it is
+/// (and, given one per row, the command that makes it): a series and a legend key each.
+fn series(rows: &[Row], x: fn(&Row) -> f64, commands: &[String], dt0: f64) -> Vec<Series> {
+    let across = |r: &Row| r.rtol.is_none() && r.dt > dt0 * (1.0 + 1e-9);
+    let mut all: Vec<Series> = Vec::new();
+    for (i, r) in rows.iter().enumerate() {
+        if !r.error.is_some_and(|e| e > 0.0) {
+            continue;
         }
-    };
-    let of = |key: Key, runs: Vec<&Row>| Series {
-        key,
-        points: (runs.iter())
-            .map(|r| (x(r), r.error.unwrap_or(0.0)))
-            .collect(),
-        about: runs.iter().map(|r| about(r)).collect(),
-    };
-    let mut all = Vec::new();
-    for &m in methods {
-        all.push(of(Key::of(m), runs(rows, m)));
-        let compensated: Vec<&Row> = (rows.iter())
-            .filter(|r| r.method == m && r.compensated && r.error.is_some_and(|e| e > 0.0))
-            .collect();
-        if !compensated.is_empty() {
-            let mut key = Key::of(m);
-            key.name.push_str(" compensated");
-            all.push(of(key, compensated));
+        let key = Key::variant(r.method, across(r), r.compensated);
+        let at = match all.iter().position(|s| s.key.name == key.name) {
+            Some(at) => at,
+            None => {
+                all.push(Series {
+                    key,
+                    points: Vec::new(),
+                    about: Vec::new(),
+                });
+                all.len() - 1
+            }
+        };
+        let mut about = crate::report::study::run_about(r);
+        if let Some(command) = commands.get(i) {
+            about = format!("{about}\nmade by: {command}");
         }
+        all[at].points.push((x(r), r.error.unwrap_or(0.0)));
+        all[at].about.push(about);
     }
+    // In the registry's order, each method's variants after it.
+    all.sort_by_key(|s| (s.key.shape, s.key.name.len()));
     all
 }
 
 /// Work-precision: error against median wall time (left) and against force evaluations
 /// (right); `floor` is the reference's error (the study's floor), drawn as a dashed line;
-/// `commands`, one per row or none, what each point says makes its run.
+/// `commands`, one per row or none, what each point says makes its run; `dt0` the sweep's
+/// coarsest level (larger steps step across the samples: series of their own).
 pub fn work_precision(
     scene: &str,
-    rows: &[Row],
+    (rows, dt0): (&[Row], f64),
     floor: f64,
     note: &str,
     commands: Vec<String>,
@@ -81,10 +65,12 @@ pub fn work_precision(
     Diagram {
         stem: format!("{scene}-work-precision"),
         title: format!("{scene} work-precision"),
-        size: (1600, 820),
+        // Tall and wide enough for a legend key per method and variant.
+        size: (1600, 1100),
         content: Content::WorkPrecision {
             scene: scene.to_string(),
             rows: rows.to_vec(),
+            dt0,
             floor,
             note: note.to_string(),
             commands,
@@ -95,9 +81,11 @@ pub fn work_precision(
 /// The picture `docs/pendulum-work-precision.png` shows: [`work_precision`] of the pendulum's
 /// runs and reference error as `report::figures::work_precision_pendulum_runs` gives them.
 pub fn pendulum_work_precision_picture(runs: &(Vec<Row>, f64)) -> Diagram {
+    let dt0 =
+        crate::study::Sweep::defaults(&crate::study::Problem::Pendulum(Default::default())).dt0;
     work_precision(
         "pendulum",
-        &runs.0,
+        (&runs.0, dt0),
         runs.1,
         "wall times: median of the repeats on a two-core machine; machine-dependent.",
         Vec::new(),
@@ -109,12 +97,11 @@ type Axis = (&'static str, &'static str, fn(&Row) -> f64);
 
 pub(super) fn work_precision_plot(
     scene: &str,
-    rows: &[Row],
+    (rows, dt0): (&[Row], f64),
     floor: f64,
     note: &str,
     commands: &[String],
 ) -> Plot {
-    let methods = methods_of(rows, |_| true);
     let errors = || rows.iter().filter_map(|r| r.error);
     let y = decades(errors().chain([floor]));
     let axes: [Axis; 2] = [
@@ -138,26 +125,35 @@ pub(super) fn work_precision_plot(
             y_desc: error_desc(scene),
             x,
             y: y.clone(),
-            series: series(rows, &methods, cost, commands),
+            series: series(rows, cost, commands, dt0),
             guides: vec![(vec![(x1, floor), (x0, floor)], "reference's error".into())],
+            y_names: Vec::new(),
         }
     });
     let floor = crate::study::floor_text(floor);
     Plot {
+        keys: panels[0].series.iter().map(|s| s.key.clone()).collect(),
         panels: panels.into(),
-        keys: methods.iter().map(|&m| Key::of(m)).collect(),
         notes: vec![
             format!("{scene}: lower left is better."),
             format!("dashed: the reference's error {floor} (the floor)."),
             note.to_string(),
         ],
-        legend_px: LEGEND_WIDTH,
+        legend_px: LEGEND_WIDTH + 80,
     }
 }
 
 /// Convergence: error against dt for the fixed-step methods, with dashed reference slopes for
-/// each theoretical order present; `floor` is the reference's error floor.
-pub fn convergence(scene: &str, rows: &[Row], floor: f64, velocity_dependent: bool) -> Diagram {
+/// each theoretical order present; `floor` is the reference's error floor; `commands`, one per
+/// row or none, what each point says makes its run.
+pub fn convergence(
+    scene: &str,
+    (rows, commands): (&[Row], &[String]),
+    floor: f64,
+    velocity_dependent: bool,
+) -> Diagram {
+    let fixed = |i: &usize| rows[*i].rtol.is_none();
+    let kept: Vec<usize> = (0..rows.len()).filter(fixed).collect();
     Diagram {
         stem: format!(
             "{scene}-convergence{}",
@@ -170,7 +166,10 @@ pub fn convergence(scene: &str, rows: &[Row], floor: f64, velocity_dependent: bo
         size: (1300, 860),
         content: Content::Convergence {
             scene: scene.to_string(),
-            rows: rows.iter().filter(|r| r.rtol.is_none()).cloned().collect(),
+            rows: kept.iter().map(|&i| rows[i].clone()).collect(),
+            commands: (kept.iter())
+                .filter_map(|&i| commands.get(i).cloned())
+                .collect(),
             floor,
             velocity_dependent,
         },
@@ -179,14 +178,15 @@ pub fn convergence(scene: &str, rows: &[Row], floor: f64, velocity_dependent: bo
 
 pub(super) fn convergence_plot(
     scene: &str,
-    rows: &[Row],
+    (rows, commands): (&[Row], &[String]),
     floor: f64,
     velocity_dependent: bool,
 ) -> Plot {
     let methods = methods_of(rows, |_| true);
     let x = decades(rows.iter().map(|r| r.dt));
     let y = decades(rows.iter().filter_map(|r| r.error).chain([floor]));
-    let series = series(rows, &methods, |r| r.dt, &[]);
+    let series = series(rows, |r| r.dt, commands, f64::INFINITY);
+    let keys = series.iter().map(|s| s.key.clone()).collect();
     // One reference slope per theoretical order, parallel to and below that order's lowest
     // curve, over the same steps (from the coarsest dt down to the finest, or to the bottom).
     let dt_min = rows.iter().map(|r| r.dt).fold(f64::INFINITY, f64::min);
@@ -237,8 +237,9 @@ pub(super) fn convergence_plot(
             y,
             series,
             guides,
+            y_names: Vec::new(),
         }],
-        keys: methods.iter().map(|&m| Key::of(m)).collect(),
+        keys,
         notes: vec![
             "dashed slopes: dtᵖ for each theoretical order p, a quarter below that order's lowest curve."
                 .to_string(),
@@ -275,104 +276,94 @@ pub fn stability(scene: &str, limits: &[Limit], omega: f64) -> Diagram {
 
 pub(super) type LimitRow = (Method, Option<f64>, Option<f64>);
 
-pub(super) fn stability_on<DB: DrawingBackend>(
-    root: &DrawingArea<DB, Shift>,
-    scene: &str,
-    limits: &[LimitRow],
-    omega: f64,
-) -> Res
-where
-    DB::ErrorType: 'static,
-{
-    root.fill(&BACKGROUND)?;
-    let (body, legend) = root.split_horizontally(root.dim_in_pixel().0 - LEGEND_WIDTH);
-    let finite = limits
-        .iter()
-        .flat_map(|(_, m, t)| [*m, *t])
-        .flatten()
-        .filter(|v| v.is_finite());
-    let x = decades(finite);
-    let n = limits.len();
-    let names: Vec<String> = limits.iter().map(|l| l.0.name().to_string()).collect();
-    body.fill(&PANEL)?;
-    let mut chart = ChartBuilder::on(&body.margin(6, 6, 6, 6))
-        .caption(
-            format!("{scene}: largest stable dt, measured against theory (ω = {omega:.4} rad/s)"),
-            (FONT, 24).into_font().color(&INK),
-        )
-        .margin(14)
-        .x_label_area_size(56)
-        .y_label_area_size(190)
-        .build_cartesian_2d(
-            Ticks::decades(x.clone()),
-            Ticks {
-                range: -0.5..n as f64 - 0.5,
-                bold: (0..n).map(|i| i as f64).collect(),
-                light: Vec::new(),
-            },
-        )?;
-    let name_of = |v: &f64| {
-        let i = v.round();
-        if (0.0..n as f64).contains(&i) {
-            names[n - 1 - i as usize].clone()
-        } else {
-            String::new()
+/// What one method's row of the stability diagram says on hover: its measured limit, theory's
+/// and their ratio, or why theory gives none.
+fn limit_about(&(m, measured, theory): &LimitRow) -> String {
+    let measured = measured.map_or("none found".into(), |d| format!("{} s", sci(d)));
+    let theory = match theory {
+        Some(t) if t.is_finite() => format!("{} s", sci(t)),
+        Some(_) => "stable at every dt (measured: the largest tried)".into(),
+        None if m.info().stability == crate::integrate::Stability::Adaptive => {
+            "none: error control chooses the steps".into()
         }
+        None => "unstable at every dt".into(),
     };
-    chart
-        .configure_mesh()
-        .bold_line_style(GRID.stroke_width(1))
-        .light_line_style(FAINT.stroke_width(1))
-        .axis_style(INK.stroke_width(1))
-        .x_label_formatter(&label_of)
-        .y_label_formatter(&name_of)
-        .x_desc("dt [s]")
-        .label_style((FONT, 18).into_font().color(&INK))
-        .axis_desc_style((FONT, 19).into_font().color(&INK))
-        .draw()?;
-    let words = (FONT, 16).into_font().color(&RGBColor(200, 200, 200));
-    for (i, (m, measured, theory)) in limits.iter().enumerate() {
-        let yv = (n - 1 - i) as f64;
-        let said = match theory {
-            Some(t) if t.is_finite() => {
-                chart.draw_series(std::iter::once(Cross::new(
-                    (t.log10(), yv),
-                    9,
-                    INK.stroke_width(2),
-                )))?;
-                None
-            }
-            Some(_) => Some("theory: stable at every dt (marker: the largest tried)"),
-            None if m.info().stability == crate::integrate::Stability::Adaptive => {
-                Some("adaptive: error control chooses the steps")
-            }
-            None => Some("theory: unstable at every dt (marker: growth stays below 10⁴)"),
-        };
-        if let Some(d) = measured {
-            chart.draw_series(std::iter::once(
-                EmptyElement::at((d.log10(), yv)) + marker(&Key::of(*m), 7.0),
-            ))?;
+    format!(
+        "{}\nlargest stable dt, measured: {measured}\ntheory: {theory}",
+        m.name()
+    )
+}
+
+/// Stability: per method a row, its measured largest stable dt a point in its colour (which
+/// says on hover the method and both limits) and theory's a grey tick across the row, on a log
+/// dt axis; the rows without a finite theory said in the notes.
+pub(super) fn stability_plot(scene: &str, limits: &[LimitRow], omega: f64) -> Plot {
+    let n = limits.len();
+    // Row i at log10 y = n-1-i: the first method on top.
+    let row = |i: usize, dy: f64| 10f64.powf((n - 1 - i) as f64 + dy);
+    let mut series = Vec::new();
+    let mut guides = Vec::new();
+    for (i, l) in limits.iter().enumerate() {
+        if let Some(d) = l.1 {
+            let (points, about) = (vec![(d, row(i, 0.0))], vec![limit_about(l)]);
+            let key = Key::of(l.0);
+            series.push(Series { key, points, about });
         }
-        if let Some(text) = said {
-            // Beside the dot, on the side with room; at the left edge when there is no dot.
-            let (at, side) = match measured {
-                Some(d) if d.log10() > (x.start + x.end) / 2.0 => (d.log10() - 0.12, HPos::Right),
-                Some(d) => (d.log10() + 0.12, HPos::Left),
-                None => (x.start + 0.05, HPos::Left),
-            };
-            let style = words.clone().pos(Pos::new(side, VPos::Center));
-            chart.draw_series(std::iter::once(Text::new(text, (at, yv), style)))?;
+        if let Some(t) = l.2.filter(|t| t.is_finite()) {
+            guides.push((vec![(t, row(i, -0.3)), (t, row(i, 0.3))], String::new()));
         }
     }
-    draw_legend(
-        &legend,
-        &limits.iter().map(|l| Key::of(l.0)).collect::<Vec<_>>(),
-        &[
-            "marker: measured largest stable dt (bisection; for unconditionally stable methods the largest tried)."
-                .to_string(),
-            "cross: theory, limit h / ω on the linearised problem.".to_string(),
-        ],
-    )
+    let finite = limits.iter().flat_map(|l| [l.1, l.2]).flatten();
+    let x = decades(finite.filter(|v| v.is_finite()));
+    let title =
+        format!("{scene}: largest stable dt, measured against theory (ω = {omega:.4} rad/s)");
+    let mut notes = vec![
+        "point: measured largest stable dt (bisection); grey tick: theory, limit h / ω on the linearised problem.".to_string(),
+    ];
+    let adaptive = |l: &LimitRow| l.0.info().stability == crate::integrate::Stability::Adaptive;
+    let said = |which: &dyn Fn(&LimitRow) -> bool, what: &str| {
+        let names: Vec<&str> = limits
+            .iter()
+            .filter(|l| which(l))
+            .map(|l| l.0.name())
+            .collect();
+        (!names.is_empty()).then(|| format!("{}: {what}", names.join(", ")))
+    };
+    notes.extend(said(
+        &|l| l.2 == Some(f64::INFINITY),
+        "stable at every dt (point: the largest tried).",
+    ));
+    notes.extend(said(
+        &|l| l.2.is_none() && adaptive(l),
+        "adaptive: error control chooses the steps.",
+    ));
+    notes.extend(said(
+        &|l| l.1.is_none() && l.2.is_some_and(f64::is_finite),
+        "no limit measured (the table says why).",
+    ));
+    notes.extend(said(
+        &|l| l.2.is_none() && !adaptive(l),
+        "unstable at every dt (point: growth stays below 10⁴).",
+    ));
+    Plot {
+        panels: vec![Panel {
+            title,
+            x_desc: "dt [s]",
+            y_desc: "",
+            x,
+            y: -0.5..n as f64 - 0.5,
+            series,
+            guides,
+            y_names: limits
+                .iter()
+                .rev()
+                .map(|l| l.0.name().to_string())
+                .collect(),
+        }],
+        keys: limits.iter().map(|l| Key::of(l.0)).collect(),
+        notes,
+        legend_px: LEGEND_WIDTH,
+    }
 }
 
 /// The hair trade: largest stretch over the run against wall time per frame, one series per
@@ -428,6 +419,8 @@ pub(super) fn hair_trade_plot(rows: &[HairRow], note: &str) -> Plot {
                 name: family.clone(),
                 color: RGBColor(lighter(r), lighter(g), lighter(b)),
                 shape: i,
+                dashed: false,
+                hollow: false,
             }
         })
         .collect();
@@ -461,6 +454,7 @@ pub(super) fn hair_trade_plot(rows: &[HairRow], note: &str) -> Plot {
             y,
             series,
             guides: Vec::new(),
+            y_names: Vec::new(),
         }],
         keys,
         notes: vec![

@@ -14,7 +14,6 @@
 
 use std::path::{Path, PathBuf};
 
-use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use crate::integrate::Method;
@@ -30,12 +29,12 @@ pub mod stamp;
 use axes::{Ticks, decades, label_of};
 pub use axes::{decade_label, log_axis};
 pub use drift::{drift, pendulum_drift_picture};
-use kinds::{LimitRow, convergence_plot, hair_trade_plot, stability_on, work_precision_plot};
+use kinds::{LimitRow, convergence_plot, hair_trade_plot, stability_plot, work_precision_plot};
 pub use kinds::{
     convergence, hair_trade, pendulum_work_precision_picture, stability, work_precision,
 };
+use panel::draw_plot;
 pub use panel::{Panel, Plot, Series};
-use panel::{draw_legend, draw_plot};
 
 const FONT: &str = "sans-serif";
 const BACKGROUND: RGBColor = RGBColor(24, 26, 30);
@@ -57,6 +56,8 @@ enum Content {
     WorkPrecision {
         scene: String,
         rows: Vec<Row>,
+        /// The sweep's coarsest level: larger steps step across the samples.
+        dt0: f64,
         floor: f64,
         note: String,
         /// Per row, the command that makes its run as a scene (none: not said).
@@ -65,6 +66,8 @@ enum Content {
     Convergence {
         scene: String,
         rows: Vec<Row>,
+        /// Per row, the command that makes its run as a scene (none: not said).
+        commands: Vec<String>,
         floor: f64,
         velocity_dependent: bool,
     },
@@ -80,6 +83,8 @@ enum Content {
     Drift {
         scene: String,
         runs: Vec<crate::study::drift::Drift>,
+        /// Per run, the command that measures it (none: not said).
+        commands: Vec<String>,
         note: String,
     },
 }
@@ -199,49 +204,42 @@ impl Diagram {
         DB::ErrorType: 'static,
     {
         let root = backend.into_drawing_area();
-        self.draw(&root).map_err(err)?;
+        draw_plot(&root, &self.plot()).map_err(err)?;
         root.present().map_err(|e| err(Box::new(e)))
     }
 
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Res
-    where
-        DB::ErrorType: 'static,
-    {
-        match (&self.content, self.plot()) {
-            (_, Some(plot)) => draw_plot(root, &plot),
-            (
-                Content::Stability {
-                    scene,
-                    limits,
-                    omega,
-                },
-                None,
-            ) => stability_on(root, scene, limits, *omega),
-            (_, None) => Ok(()),
-        }
-    }
-
-    /// What it draws as a log-log plot (every kind but stability, whose rows are methods): the
-    /// data the picture and the study's recording are both drawn from.
-    pub fn plot(&self) -> Option<Plot> {
-        Some(match &self.content {
+    /// What it draws as a log-log plot (stability's y axis its methods' rows): the data both
+    /// its picture and the study's recording are drawn from.
+    pub fn plot(&self) -> Plot {
+        match &self.content {
             Content::WorkPrecision {
                 scene,
                 rows,
+                dt0,
                 floor,
                 note,
                 commands,
-            } => work_precision_plot(scene, rows, *floor, note, commands),
+            } => work_precision_plot(scene, (rows, *dt0), *floor, note, commands),
             Content::Convergence {
                 scene,
                 rows,
+                commands,
                 floor,
                 velocity_dependent,
-            } => convergence_plot(scene, rows, *floor, *velocity_dependent),
-            Content::Stability { .. } => return None,
+            } => convergence_plot(scene, (rows, commands), *floor, *velocity_dependent),
+            Content::Stability {
+                scene,
+                limits,
+                omega,
+            } => stability_plot(scene, limits, *omega),
             Content::HairTrade { rows, note } => hair_trade_plot(rows, note),
-            Content::Drift { scene, runs, note } => drift::drift_plot(scene, runs, note),
-        })
+            Content::Drift {
+                scene,
+                runs,
+                commands,
+                note,
+            } => drift::drift_plot(scene, (runs, commands), note),
+        }
     }
 }
 
@@ -257,6 +255,10 @@ pub struct Key {
     pub name: String,
     pub color: RGBColor,
     shape: usize,
+    /// Drawn as a dashed line (a method's runs stepping across the samples).
+    pub dashed: bool,
+    /// Drawn with hollow markers (a composition's runs with compensated sums).
+    pub hollow: bool,
 }
 
 impl Key {
@@ -273,8 +275,38 @@ impl Key {
             name: m.name().to_string(),
             color: RGBColor(r, g, b),
             shape: Method::ALL.iter().position(|&x| x == m).unwrap_or(0),
+            dashed: false,
+            hollow: false,
         }
     }
+
+    /// A method's series of one variant: its runs stepping across the samples (`--step`, a
+    /// dashed line), with compensated sums (hollow markers, its colour a third lighter).
+    fn variant(m: Method, across: bool, compensated: bool) -> Key {
+        let mut key = Key::of(m);
+        if across {
+            key.name.push_str(" --step");
+            key.dashed = true;
+        }
+        if compensated {
+            key.name.push_str(" compensated");
+            key.hollow = true;
+            let lighter = |c: u8| c + (255 - c) / 3;
+            let RGBColor(r, g, b) = key.color;
+            key.color = RGBColor(lighter(r), lighter(g), lighter(b));
+        }
+        key
+    }
+}
+
+/// The hole of a hollow marker ([`Key::hollow`]): the panel's colour inside [`marker`], or
+/// nothing.
+fn hole(key: &Key, size: f64) -> Polygon<(i32, i32)> {
+    let inner = Key {
+        color: if key.hollow { PANEL } else { key.color },
+        ..key.clone()
+    };
+    marker(&inner, if key.hollow { 0.5 * size } else { 0.0 })
 }
 
 /// A filled marker of `key`'s shape and colour at pixel offset (0, 0).

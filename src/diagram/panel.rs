@@ -1,7 +1,7 @@
 //! A log-log plot as data (its panels, legend and notes: what both the pictures and the
 //! recordings draw), and one panel and the legend drawn with `plotters`.
 
-use super::{BACKGROUND, FAINT, FONT, GRID, INK, Key, PANEL, Res, Ticks, label_of, marker};
+use super::{BACKGROUND, FAINT, FONT, GRID, INK, Key, PANEL, Res, Ticks, hole, label_of, marker};
 use std::ops::Range;
 
 use plotters::coord::Shift;
@@ -30,6 +30,9 @@ pub struct Panel {
     pub series: Vec<Series>,
     /// Dashed grey guides: points (linear units) and a label at the last point.
     pub guides: Vec<(Vec<(f64, f64)>, String)>,
+    /// The rows' names when the y axis is rows (row k at 10^k, so at log10 y = k), not
+    /// decades; empty for decades.
+    pub y_names: Vec<String>,
 }
 
 /// One series of a panel: its key, its points and what each point is (shown on hover in the
@@ -63,15 +66,17 @@ where
         .caption(&p.title, (FONT, 24).into_font().color(&INK))
         .margin(14)
         .x_label_area_size(56)
-        .y_label_area_size(78)
-        .build_cartesian_2d(Ticks::decades(p.x.clone()), Ticks::decades(p.y.clone()))?;
+        .y_label_area_size(if p.y_names.is_empty() { 78 } else { 190 })
+        .build_cartesian_2d(Ticks::decades(p.x.clone()), y_ticks(p))?;
+    // A rows axis (stability's methods) names its rows.
+    let y_label = |v: &f64| (p.y_names.get(v.round() as usize).cloned()).unwrap_or(label_of(v));
     chart
         .configure_mesh()
         .bold_line_style(GRID.stroke_width(1))
         .light_line_style(FAINT.stroke_width(1))
         .axis_style(INK.stroke_width(1))
         .x_label_formatter(&label_of)
-        .y_label_formatter(&label_of)
+        .y_label_formatter(&y_label)
         .x_desc(p.x_desc)
         .y_desc(p.y_desc)
         .label_style((FONT, 18).into_font().color(&INK))
@@ -89,6 +94,9 @@ where
             5,
             RGBColor(170, 170, 170).stroke_width(1),
         ))?;
+        if label.is_empty() {
+            continue;
+        }
         // The label sits above the line's last point, on the side away from the plot's edge.
         let end = l[l.len() - 1];
         let h = if end.0 < l[0].0 && end.0 > p.x.start + 0.3 {
@@ -107,14 +115,32 @@ where
     }
     for Series { key, points, .. } in &p.series {
         let l: Vec<(f64, f64)> = points.iter().copied().filter_map(log).collect();
-        chart.draw_series(LineSeries::new(l.clone(), key.color.stroke_width(2)))?;
-        chart.draw_series(l.iter().map(|&q| EmptyElement::at(q) + marker(key, 4.5)))?;
+        let style = key.color.stroke_width(2);
+        if key.dashed {
+            chart.draw_series(DashedLineSeries::new(l.clone(), 9, 6, style))?;
+        } else {
+            chart.draw_series(LineSeries::new(l.clone(), style))?;
+        }
+        let dot = |&q| EmptyElement::at(q) + marker(key, 4.5) + hole(key, 4.5);
+        chart.draw_series(l.iter().map(dot))?;
     }
     Ok(())
 }
 
+/// The y axis: decades, or a row per name.
+fn y_ticks(p: &Panel) -> Ticks {
+    match p.y_names.is_empty() {
+        true => Ticks::decades(p.y.clone()),
+        false => Ticks {
+            range: p.y.clone(),
+            bold: (0..p.y_names.len()).map(|k| k as f64).collect(),
+            light: Vec::new(),
+        },
+    }
+}
+
 /// The legend column: one swatch and name per series, and notes below.
-pub(super) fn draw_legend<DB: DrawingBackend>(
+fn draw_legend<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     keys: &[Key],
     notes: &[String],
@@ -126,12 +152,20 @@ where
     // About 10 px per character of the legend's text, right of its swatch.
     let chars = ((area.dim_in_pixel().0 as usize).saturating_sub(70) / 10).max(12);
     let mut y = 70;
+    // Many keys (a method's variants each its own) closer together.
+    let gap = if keys.len() > 20 { 2 } else { 8 };
     for key in keys {
-        area.draw(&PathElement::new(
-            vec![(14, y + 10), (48, y + 10)],
-            key.color.stroke_width(3),
-        ))?;
-        area.draw(&(EmptyElement::at((31, y + 10)) + marker(key, 5.5)))?;
+        let swatch = match key.dashed {
+            true => vec![
+                vec![(14, y + 10), (22, y + 10)],
+                vec![(40, y + 10), (48, y + 10)],
+            ],
+            false => vec![vec![(14, y + 10), (48, y + 10)]],
+        };
+        for part in swatch {
+            area.draw(&PathElement::new(part, key.color.stroke_width(3)))?;
+        }
+        area.draw(&(EmptyElement::at((31, y + 10)) + marker(key, 5.5) + hole(key, 5.5)))?;
         let lines = wrap(&key.name, chars);
         for (i, line) in lines.iter().enumerate() {
             area.draw(&Text::new(
@@ -140,7 +174,7 @@ where
                 font.clone(),
             ))?;
         }
-        y += 8 + 22 * lines.len() as i32;
+        y += gap + 22 * lines.len() as i32;
     }
     y += 16;
     let small = (FONT, 15).into_font().color(&RGBColor(180, 180, 180));

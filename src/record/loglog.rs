@@ -28,14 +28,21 @@ const INK: [u8; 3] = [225, 225, 225];
 const GRID: [u8; 3] = [95, 100, 110];
 const FAINT: [u8; 3] = [58, 62, 70];
 const GUIDE: [u8; 3] = [170, 170, 170];
+/// The inside of a hollow marker: the viewer's 2D background.
+const HOLE: [u8; 3] = [13, 16, 17];
 
 /// Logs `plot` under `base`, drawn on [`CANVAS`].
 pub fn log_plot(rec: &RecordingStream, base: &str, plot: &Plot) -> anyhow::Result<()> {
     let body = CANVAS[0] - plot.legend_px as f32;
     let width = body / plot.panels.len().max(1) as f32;
+    // Rows' names (stability's methods) need more room at the left than decades' labels.
+    let names = plot.panels.iter().flat_map(|p| &p.y_names);
+    let left = names.fold(LEFT, |l, n| {
+        l.max(CHAR_PX * n.chars().count() as f32 + 24.0)
+    });
     for (i, panel) in plot.panels.iter().enumerate() {
         let area = [
-            i as f32 * width + LEFT,
+            i as f32 * width + left,
             TOP,
             (i + 1) as f32 * width - RIGHT,
             CANVAS[1] - BOTTOM,
@@ -76,7 +83,11 @@ fn log_panel(rec: &RecordingStream, path: &str, p: &Panel, area: [f32; 4]) -> an
     )?;
     let (x0, x1, y0, y1) = (x0 as f32, x1 as f32, y0 as f32, y1 as f32);
     let (bold_x, light_x) = log_axis(p.x.clone());
-    let (bold_y, light_y) = log_axis(p.y.clone());
+    // A rows axis (stability's methods): a line and a name per row, no decades.
+    let (bold_y, light_y) = match p.y_names.is_empty() {
+        true => log_axis(p.y.clone()),
+        false => ((0..p.y_names.len()).map(|k| k as f64).collect(), Vec::new()),
+    };
     let vertical = |x: &f64| vec![[*x as f32, y0], [*x as f32, y1]];
     let horizontal = |y: &f64| vec![[x0, *y as f32], [x1, *y as f32]];
     let strips = |xs: &[f64], ys: &[f64]| -> Vec<Vec<[f32; 2]>> {
@@ -103,7 +114,10 @@ fn log_panel(rec: &RecordingStream, path: &str, p: &Panel, area: [f32; 4]) -> an
     let ticks: Vec<([f32; 2], String)> = (bold_x.iter())
         .map(|&k| ([k as f32, y0 - 8.0 / sy], decade_label(k.round() as i32)))
         .chain(bold_y.iter().map(|&k| {
-            let text = decade_label(k.round() as i32);
+            let text = match p.y_names.get(k as usize) {
+                Some(name) => name.clone(),
+                None => decade_label(k.round() as i32),
+            };
             let half = 0.5 * CHAR_PX * text.chars().count() as f32;
             ([x0 - (half + 10.0) / sx, k as f32 + 14.0 / sy], text)
         }))
@@ -133,8 +147,22 @@ fn log_panel(rec: &RecordingStream, path: &str, p: &Panel, area: [f32; 4]) -> an
         // One path part whatever the name holds (a hair family's "k/m", say).
         let name = rerun::EntityPath::new(vec![s.key.name.as_str().into()]);
         let entity = rerun::EntityPath::from(format!("{path}/runs")).join(&name);
-        let line = lines(vec![at.clone()], color, 2.0, 3.0);
-        rec.log_static(entity.join(&"line".into()), &line)?;
+        // A series stepping across the samples dashed, a compensated one's points hollow: a
+        // dot of the view's background inside each.
+        let strips = match s.key.dashed {
+            true => (at.windows(2))
+                .flat_map(|w| dashed(w[0], w[1], [sx, sy]))
+                .collect(),
+            false => vec![at.clone()],
+        };
+        rec.log_static(entity.join(&"line".into()), &lines(strips, color, 2.0, 3.0))?;
+        if s.key.hollow {
+            let holes = Points2D::new(at.clone())
+                .with_colors([HOLE])
+                .with_radii([Radius::new_ui_points(2.0)])
+                .with_draw_order(DrawOrder(4.5.into()));
+            rec.log_static(entity.join(&"holes".into()), &holes)?;
+        }
         rec.log_static(
             entity,
             &Points2D::new(at)
@@ -166,7 +194,7 @@ fn log_guides(rec: &RecordingStream, path: &str, p: &Panel, px: [f32; 2]) -> any
         for [a, b] in &cut {
             dashes.extend(dashed(*a, *b, px));
         }
-        if let Some([_, [x, y]]) = cut.last() {
+        if let Some([_, [x, y]]) = cut.last().filter(|_| !name.is_empty()) {
             let name = shown(name);
             let half = (0.5 * CHAR_PX * name.chars().count() as f32 + 24.0) / px[0];
             let inward = if f64::from(*x) < 0.5 * (p.x.start + p.x.end) {
@@ -229,14 +257,29 @@ fn log_legend(rec: &RecordingStream, path: &str, plot: &Plot, left: f32) -> anyh
     let mut swatches = Vec::new();
     let mut colors = Vec::new();
     let mut names = Vec::new();
+    // Many keys (a method's variants each its own) closer together.
+    let pitch = LINE_PX + if plot.keys.len() > 24 { 4.0 } else { 6.0 };
     for key in &plot.keys {
-        swatches.push(vec![[left, y], [left + 30.0, y]]);
-        colors.push(key.rgb());
+        let ends = [[left, y], [left + 30.0, y]];
+        // A dashed key's swatch in two dashes, either side of its dot.
+        if key.dashed {
+            swatches.extend([
+                vec![ends[0], [left + 9.0, y]],
+                vec![[left + 21.0, y], ends[1]],
+            ]);
+            colors.extend([key.rgb(), key.rgb()]);
+        } else {
+            swatches.push(ends.to_vec());
+            colors.push(key.rgb());
+        }
         let half = 0.5 * CHAR_PX * key.name.chars().count() as f32;
         names.push(([left + 42.0 + half, y - 13.0], key.name.clone()));
-        y += LINE_PX + 6.0;
+        y += pitch;
     }
-    let marks: Vec<[f32; 2]> = swatches.iter().map(|s| [s[0][0] + 15.0, s[0][1]]).collect();
+    let marks: Vec<[f32; 2]> = (0..plot.keys.len())
+        .map(|i| [left + 15.0, TOP + i as f32 * pitch])
+        .collect();
+    let mark_colors: Vec<[u8; 3]> = plot.keys.iter().map(|k| k.rgb()).collect();
     rec.log_static(
         format!("{path}/swatches"),
         &LineStrips2D::new(swatches)
@@ -245,9 +288,20 @@ fn log_legend(rec: &RecordingStream, path: &str, plot: &Plot, left: f32) -> anyh
     )?;
     rec.log_static(
         format!("{path}/swatches/marks"),
-        &Points2D::new(marks)
-            .with_colors(colors)
+        &Points2D::new(marks.clone())
+            .with_colors(mark_colors)
             .with_radii([Radius::new_ui_points(4.5)]),
+    )?;
+    let holes: Vec<[f32; 2]> = (marks.iter().zip(&plot.keys))
+        .filter(|(_, k)| k.hollow)
+        .map(|(m, _)| *m)
+        .collect();
+    rec.log_static(
+        format!("{path}/swatches/holes"),
+        &Points2D::new(holes)
+            .with_colors([HOLE])
+            .with_radii([Radius::new_ui_points(2.0)])
+            .with_draw_order(DrawOrder(31.0.into())),
     )?;
     let (at, text) = names.into_iter().unzip();
     rec.log_static(format!("{path}/names"), &labels(at, text, INK))?;

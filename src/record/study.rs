@@ -1,5 +1,5 @@
 //! A study as a recording: its diagrams drawn from their data (`loglog`: each run a point that
-//! says on hover which run it is), a stability diagram as its picture, each in a tab of its own,
+//! says on hover which run it is; stability's methods as rows), each in a tab of its own,
 //! and its tables as a rendered markdown document in the last.
 
 use rerun::blueprint::{
@@ -23,11 +23,8 @@ pub fn record_study(
     for (i, diagram) in diagrams.iter().enumerate() {
         let view =
             Spatial2DView::new(diagram.title.as_str()).with_origin(format!("/study/diagrams/{i}"));
-        views.push(match diagram.plot() {
-            // Opened on the canvas the plot is laid out on.
-            Some(_) => properties.bounds_2d(view, [0.0, 0.0], CANVAS),
-            None => view.into(),
-        });
+        // Opened on the canvas the plot is laid out on.
+        views.push(properties.bounds_2d(view, [0.0, 0.0], CANVAS));
     }
     if views.is_empty() {
         views.push(
@@ -52,14 +49,7 @@ pub fn record_study(
     super::send_provenance(rec, &format!("study {scene}"), config, methods)?;
     for (i, diagram) in diagrams.iter().enumerate() {
         let path = format!("study/diagrams/{i}");
-        match diagram.plot() {
-            Some(plot) => log_plot(rec, &path, &plot)?,
-            None => rec.log_static(
-                path,
-                &rerun::EncodedImage::from_file_contents(diagram.png()?)
-                    .with_media_type(rerun::components::MediaType::PNG),
-            )?,
-        }
+        log_plot(rec, &path, &diagram.plot())?;
     }
     rec.log_static(
         "study/tables",

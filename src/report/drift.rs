@@ -118,12 +118,8 @@ pub fn drift_table(runs: &[Drift], command: Option<(&str, f64)>, wide: bool) -> 
         } else {
             String::new()
         };
-        out = format!(
-            "each row measured alone by{rtol}:\n  physlab study drift --methods NAME {flags} --dt {} \
-             --duration {}\n\n",
-            shown(r.dt),
-            shown(r.duration),
-        );
+        let command = run_command("NAME", flags, r, None);
+        out = format!("each row measured alone by{rtol}:\n  {command}\n\n");
     }
     if !wide {
         out.push_str(
@@ -132,6 +128,17 @@ pub fn drift_table(runs: &[Drift], command: Option<(&str, f64)>, wide: bool) -> 
         );
     }
     out + &t.render_at(wide)
+}
+
+/// The command that measures `r` alone: `method` (a name, or "NAME" for every row), the
+/// scene's `flags`, its step and duration, and `rtol` (for an adaptive method).
+pub fn run_command(method: &str, flags: &str, r: &Drift, rtol: Option<f64>) -> String {
+    let rtol = rtol.map_or(String::new(), |t| format!(" --rtol {t:e}"));
+    format!(
+        "physlab study drift --methods {method} {flags} --dt {} --duration {}{rtol}",
+        shown(r.dt),
+        shown(r.duration),
+    )
 }
 
 /// One method's row of [`drift_table`] (without the rope's shortest spring).

@@ -87,9 +87,7 @@ fn work_precision_pendulum_sweep(repeats: u32) -> Sweep {
     Sweep {
         duration: 20.0,
         repeats,
-        all_settings: true,
-        rtols: study::work_precision_rtols(),
-        ..Sweep::defaults(&pendulum())
+        ..Sweep::work_precision(&pendulum())
     }
 }
 

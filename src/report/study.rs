@@ -89,14 +89,22 @@ pub fn answer(
     for t in unresolved {
         let _ = writeln!(out, "{t:.0e} left out: below {RESOLVES}× the floor.");
     }
+    // The rope scene has no reference lane: its summary cannot show the error the study
+    // measured, so the answer says where the error comes from and how to check it.
+    if let Problem::Rope(_) = problem {
+        out.push('\n');
+        out.push_str(&fit_lines(
+            "note: the rope scene has no reference, so its summary does not show these errors: \
+             they were measured against this study's reference (RK4 at dt/8 of the finest step). \
+             To check one, run this study again with --methods and that run's method: the same \
+             reference measures each of its runs.\n",
+        ));
+    }
     out.push_str(match problem {
         Problem::Pendulum(_) => {
             "\nthe command that makes each run as a scene (it measures the same error):\n"
         }
-        // The rope scene has no reference lane: its summary shows the run, not this error.
-        Problem::Rope(_) => {
-            "\nthe command that makes each run as a scene (the error is the study's):\n"
-        }
+        Problem::Rope(_) => "\nthe command that makes each run as a scene:\n",
     });
     for (target, _, words) in found.iter().filter(|a| a.1.is_some()) {
         out.push_str(&wrapped(&format!("{target:.0e}:"), words, 100));
@@ -320,6 +328,33 @@ pub fn rows_table(rows: &[Row], wide: bool) -> String {
         ]);
     }
     t.render_at(wide)
+}
+
+/// Work-precision's runs as its table shows them by default: per method its cheapest run
+/// (median wall time) reaching each target, and how many runs that leaves out and where they
+/// are.
+pub fn cheapest_table(rows: &[Row], targets: &[f64]) -> String {
+    let mut picked: Vec<&Row> = Vec::new();
+    for m in crate::study::methods_of(rows, |_| true) {
+        let of: Vec<Row> = rows.iter().filter(|r| r.method == m).cloned().collect();
+        for &t in targets {
+            let at = crate::study::cheapest(&of, t)
+                .0
+                .and_then(|c| rows.iter().find(|r| *r == c));
+            picked.extend(at.filter(|r| !picked.iter().any(|p| std::ptr::eq(*p, *r))));
+        }
+    }
+    let shown: Vec<Row> = (rows.iter())
+        .filter(|r| picked.iter().any(|p| std::ptr::eq(*p, *r)))
+        .cloned()
+        .collect();
+    let note = format!(
+        "{} of {} runs shown: each method's cheapest run per target; every run with --wide and \
+         in --csv.\n",
+        shown.len(),
+        rows.len()
+    );
+    rows_table(&shown, false) + "\n" + &fit_lines(&note)
 }
 
 /// Measured stability limits against theory; fitted, each note said once under the table with

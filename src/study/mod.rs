@@ -35,8 +35,8 @@ pub use orders::{
 };
 pub use roundoff::{energy_error_rms, growth_exponent};
 pub use sweep::{
-    Row, SAMPLE_EVERY, Sweep, damped_companion, planned_runs, planned_work, reference, sweep,
-    sweep_against, sweep_with,
+    Row, SAMPLE_EVERY, Sweep, damped_companion, planned_runs, planned_steps, planned_work,
+    reference, sweep, sweep_against, sweep_with,
 };
 
 use crate::integrate::{Integrator, Method, SecondOrderSystem};

@@ -34,6 +34,16 @@ impl Sweep {
             rtols: default_rtols(),
         }
     }
+
+    /// `study work-precision`'s default sweep of `problem`: every setting physlab has
+    /// ([`Sweep::all_settings`]) and the half-decade tolerances.
+    pub fn work_precision(problem: &Problem) -> Self {
+        Sweep {
+            all_settings: true,
+            rtols: super::work_precision_rtols(),
+            ..Self::defaults(problem)
+        }
+    }
 }
 
 /// One measured run.
@@ -313,7 +323,7 @@ fn accepted<'a>(problem: &Problem, s: &'a Sweep) -> impl Iterator<Item = Method>
 /// The runs [`sweep`] makes of `problem`: each accepted method over the levels, or the
 /// adaptive ones over the tolerances.
 pub fn planned_runs(problem: &Problem, s: &Sweep) -> usize {
-    planned(problem, s).len() - 1
+    plan(problem, s).len()
 }
 
 /// The damped rope `study convergence` runs beside an undamped one (velocity-dependent forces
@@ -371,8 +381,7 @@ pub fn sweep_against(
     done: &mut dyn FnMut(f64),
 ) -> Vec<Row> {
     let sample_dt = s.sample_dt;
-    let work = planned(problem, s);
-    done(work[0]);
+    done(reference_work(problem, s));
     let start = problem.start();
     let run = |trial: Trial| match problem {
         Problem::Pendulum(p) => measure(&Pendulum::new(p), &start, reference, trial),
@@ -410,93 +419,109 @@ pub fn sweep_against(
         });
     };
     let floor = super::error_floor(reference_error);
-    let mut planned = work[1..].iter();
-    for m in accepted(problem, s) {
-        if m.info().adaptive() {
-            // Adaptive: it is asked for the sample times only and chooses its steps itself.
-            for &rtol in &s.rtols {
-                if stop() {
-                    break;
-                }
-                one(
-                    (m, sample_dt, MethodOptions { rtol, ..s.options }, 1, 1),
-                    Some(rtol),
-                );
-                done(*planned.next().unwrap_or(&0.0));
-            }
-            continue;
+    let mut grid = Vec::new();
+    for (part, steps, evals) in plan(problem, s) {
+        if stop() {
+            break;
         }
+        match part {
+            Part::Asked(m, options, rtol) => one((m, sample_dt, options, 1, 1), rtol),
+            Part::Level(m, options, k) => {
+                // A method's grid is chosen at its first level, from its order when `by_order`.
+                if k == 0 {
+                    grid = match by_order {
+                        true => grid::by_order(m, problem, s, floor, |l| {
+                            run((m, l.dt, options, l.per, l.every))?.error
+                        }),
+                        false => grid::halving(s),
+                    };
+                }
+                if let Some(l) = grid.get(k) {
+                    one((m, l.dt, options, l.per, l.every), None);
+                }
+            }
+        }
+        done(work(problem, s, (steps, evals)));
+    }
+    rows
+}
+
+/// One run of a sweep as planned: asked for the sample times only (an adaptive method at its
+/// tolerance, or a fixed-step one at a `--step` across them), or a fixed-step method's k-th
+/// level on its grid.
+enum Part {
+    Asked(Method, MethodOptions, Option<f64>),
+    Level(Method, MethodOptions, usize),
+}
+
+/// The runs of a sweep of `problem`, in the order [`sweep_with`] makes them, each with its
+/// steps (a fixed-step method's levels as on the default grid, an adaptive run's steps guessed
+/// from its tolerance and order) and force evaluations a step (Newton: about three).
+fn plan(problem: &Problem, s: &Sweep) -> Vec<(Part, f64, f64)> {
+    let samples = s.duration / s.sample_dt;
+    let mut parts = Vec::new();
+    for m in accepted(problem, s) {
+        let (order, evals) = (f64::from(m.info().order), m.info().evals_per_step);
+        let per_step = match evals {
+            EvalsPerStep::Adaptive(e) => {
+                parts.extend(s.rtols.iter().map(|&rtol| {
+                    let steps = samples * (1.0 + 0.2 * rtol.powf(-1.0 / order));
+                    let options = MethodOptions { rtol, ..s.options };
+                    (
+                        Part::Asked(m, options, Some(rtol)),
+                        steps,
+                        f64::from(e.accepted),
+                    )
+                }));
+                continue;
+            }
+            EvalsPerStep::Fixed(n) => f64::from(n),
+            _ => 3.0,
+        };
         for &compensated in s.compensations(m) {
             let options = MethodOptions {
                 compensated,
                 ..s.options
             };
-            for h in s.steps_above(m) {
-                if stop() {
-                    break;
-                }
+            parts.extend(s.steps_above(m).into_iter().map(|h| {
                 let step = Some(h);
-                one(
-                    (m, sample_dt, MethodOptions { step, ..options }, 1, 1),
-                    None,
-                );
-                done(*planned.next().unwrap_or(&0.0));
-            }
-            let levels = match by_order {
-                true => grid::by_order(m, problem, s, floor, |l| {
-                    run((m, l.dt, options, l.per, l.every))?.error
-                }),
-                false => grid::halving(s),
-            };
-            for l in levels {
-                if stop() {
-                    break;
-                }
-                one((m, l.dt, options, l.per, l.every), None);
-                done(*planned.next().unwrap_or(&0.0));
-            }
+                let asked = MethodOptions { step, ..options };
+                (Part::Asked(m, asked, None), s.duration / h, per_step)
+            }));
+            parts.extend((0..s.levels).map(|k| {
+                let steps = s.duration / s.dt0 * f64::from(1u32 << k);
+                (Part::Level(m, options, k as usize), steps, per_step)
+            }));
         }
     }
-    rows
+    parts
 }
 
-/// The work of a sweep of `problem` (force evaluations × coordinates): its reference's, then
-/// each planned run's over its repeats, in the order [`sweep_with`] makes them (a fixed-step
-/// method's levels as on the default grid; an adaptive run's steps guessed from its tolerance
-/// and order). What the progress bar paces by.
-fn planned(problem: &Problem, s: &Sweep) -> Vec<f64> {
-    let coordinates = problem.start().0.len() as f64;
-    let samples = s.duration / s.sample_dt;
-    let reference = match problem {
-        Problem::Rope(_) => 1.5 * 4.0 * s.reference_steps() * coordinates,
+/// The work of a planned run over its repeats (force evaluations × coordinates): the units the
+/// progress bar paces by.
+fn work(problem: &Problem, s: &Sweep, (steps, evals): (f64, f64)) -> f64 {
+    f64::from(s.repeats.max(1)) * problem.start().0.len() as f64 * steps * evals
+}
+
+/// The steps of a sweep's planned runs over their repeats (its reference's not included).
+pub fn planned_steps(problem: &Problem, s: &Sweep) -> f64 {
+    let steps = plan(problem, s).iter().map(|p| p.1).sum::<f64>();
+    f64::from(s.repeats.max(1)) * steps
+}
+
+/// The work of a sweep's reference (the rope's fine and coarse runs), in [`plan`]'s units.
+fn reference_work(problem: &Problem, s: &Sweep) -> f64 {
+    match problem {
+        Problem::Rope(_) => 1.5 * 4.0 * s.reference_steps() * problem.start().0.len() as f64,
         Problem::Pendulum(_) => 0.0,
-    };
-    let repeats = f64::from(s.repeats.max(1)) * coordinates;
-    let mut work = vec![reference];
-    for m in accepted(problem, s) {
-        let (order, evals) = (f64::from(m.info().order), m.info().evals_per_step);
-        let per_step = match evals {
-            EvalsPerStep::Adaptive(e) => {
-                work.extend(s.rtols.iter().map(|&rtol| {
-                    let steps = 1.0 + 0.2 * rtol.powf(-1.0 / order);
-                    repeats * samples * steps * f64::from(e.accepted)
-                }));
-                continue;
-            }
-            EvalsPerStep::Fixed(n) => f64::from(n),
-            // Newton: about three evaluations a step.
-            _ => 3.0,
-        };
-        for _ in s.compensations(m) {
-            let above = s.steps_above(m).into_iter().map(|h| s.duration / h);
-            let levels = (0..s.levels).map(|k| s.duration / s.dt0 * f64::from(1u32 << k));
-            work.extend(above.chain(levels).map(|steps| repeats * steps * per_step));
-        }
     }
-    work
 }
 
 /// The whole work of a sweep of `problem`, in the units [`sweep_with`] reports.
 pub fn planned_work(problem: &Problem, s: &Sweep) -> f64 {
-    planned(problem, s).iter().sum()
+    let runs = plan(problem, s)
+        .iter()
+        .map(|p| work(problem, s, (p.1, p.2)))
+        .sum::<f64>();
+    reference_work(problem, s) + runs
 }

@@ -27,6 +27,12 @@ pub(super) fn scene_flags(
     let Some(table) = file.table(problem.name()) else {
         return Ok(Vec::new());
     };
+    // The losses as the problem has them: a damped companion's are the scene's, not the file's.
+    let mut table = table.clone();
+    if let Problem::Rope(p) = problem {
+        table.insert("spring_damping".into(), p.spring_damping.into());
+        table.insert("air_drag".into(), p.air_drag.into());
+    }
     let text = |v: &toml::Value| match v {
         toml::Value::Float(x) => shown(*x),
         toml::Value::String(s) => s.clone(),

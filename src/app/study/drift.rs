@@ -60,10 +60,21 @@ pub(super) fn drift_study(
         ),
     };
     let command = Some((flags.as_str(), sw.options.rtol));
+    // Per run, the command that measures it alone: what its points say on hover.
+    let commands = (runs.iter())
+        .map(|r| {
+            let rtol = r.method.info().adaptive().then_some(sw.options.rtol);
+            report::run_command(r.method.name(), &flags, r, rtol)
+        })
+        .collect();
     Found {
         out: header + &report::drift_table(&runs, command, out.wide),
         csv: report::drift_csv(problem.name(), &runs),
-        diagrams: vec![crate::diagram::drift(problem.name(), &runs, &note)],
+        diagrams: vec![crate::diagram::drift(
+            problem.name(),
+            (&runs, commands),
+            &note,
+        )],
         done: runs.len(),
     }
 }

@@ -23,6 +23,7 @@ use setup::Setup;
 
 /// What a study measured: its printed tables, its CSV, its diagrams, and how many runs (or
 /// methods' limits) are complete (after Ctrl-C or SIGTERM only those are shown).
+#[derive(Default)]
 struct Found {
     out: String,
     csv: String,
@@ -101,10 +102,10 @@ pub fn study(kind: &StudyKind) -> anyhow::Result<()> {
             }
         }
         StudyKind::Drift(_) => drift::drift_study(&mut progress, out, &problem, &sweep),
-        StudyKind::WorkPrecision(_) => {
-            work_precision(&problem, &sweep, &targets, &file, &mut progress, out.wide)?
+        _ => {
+            let study = (&problem, &sweep, &file);
+            sweep_study(kind, study, &targets, &mut progress, out.wide)?
         }
-        _ => sweep_study(kind, &problem, &sweep, &mut progress, out.wide),
     };
     progress.finish();
     // Ctrl-C or SIGTERM: what is complete is shown and written, then the study ends with 130;
@@ -126,63 +127,23 @@ pub fn study(kind: &StudyKind) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// `study convergence`: the sweep's runs, the fitted orders, how the adaptive methods' error
-/// follows rtol, and every run.
+/// `study convergence` and `study work-precision`: the reference once (its error the study's
+/// floor, shown the same everywhere), the sweep (convergence's on each method's own grid),
+/// then work-precision's answer first (per target the cheapest run and the command that makes
+/// it; given targets the reference cannot resolve refused) or convergence's fitted orders, and
+/// every run.
 fn sweep_study(
     kind: &StudyKind,
-    problem: &Problem,
-    sw: &Sweep,
-    progress: &mut Progress,
-    wide: bool,
-) -> Found {
-    let mut reached = 0.0;
-    let mut done = |w: f64| {
-        reached += w;
-        progress.at(reached);
-    };
-    let (mut rows, reference_error) = sweep_with(problem, sw, true, &mut done);
-    let floor = error_floor(reference_error);
-    let mut found = Found {
-        out: report::sweep_header(problem, kind.name(), sw, reference_error),
-        csv: String::new(),
-        diagrams: Vec::new(),
-        done: 0,
-    };
-    let damped = convergence_tables(problem, sw, &rows, floor, &mut found, (&mut done, wide));
-    let out = &mut found.out;
-    if rows.iter().any(|r| r.rtol.is_some()) {
-        out.push_str(&report::proportionality_header(floor));
-        out.push_str(&report::proportionality_table(&rows, floor));
-        out.push('\n');
-    }
-    // Every run in the runs table, the CSV and the count (the damped rope's too).
-    rows.extend(damped);
-    out.push_str(&report::rows_table(&rows, wide));
-    found.csv = report::rows_csv(&rows);
-    found.done = rows.len();
-    found
-}
-
-/// `study work-precision`: the reference once (its error the study's floor, shown the same
-/// everywhere), the targets it resolves (those given and unresolved refused), the sweep, then
-/// the answer first: per target the cheapest run and the command that makes it.
-fn work_precision(
-    problem: &Problem,
-    sw: &Sweep,
+    (problem, sw, file): (&Problem, &Sweep, &crate::app::SceneFile),
     targets: &(Vec<f64>, bool),
-    file: &crate::app::SceneFile,
     progress: &mut Progress,
     wide: bool,
 ) -> Result<Found, Error> {
-    let mut found = Found {
-        out: String::new(),
-        csv: String::new(),
-        diagrams: Vec::new(),
-        done: 0,
-    };
+    let mut found = Found::default();
     let Some((reference, floor)) = sw.reference(problem) else {
         return Ok(found);
     };
+    let convergence = matches!(kind, StudyKind::Convergence(_));
     if targets.1 {
         crate::study::refuse_unresolved(&targets.0, floor)?;
     }
@@ -191,22 +152,34 @@ fn work_precision(
         reached += w;
         progress.at(reached);
     };
-    let rows = sweep_against(problem, sw, (&reference, floor), false, &mut done);
+    let mut rows = sweep_against(problem, sw, (&reference, floor), convergence, &mut done);
+    let commands = answer::commands(problem, file, sw, &rows)?;
+    let header = report::sweep_header(problem, kind.name(), sw, floor);
+    let mut damped = Vec::new();
+    if convergence {
+        found.out = header;
+        let parts = (&mut done as &mut dyn FnMut(f64), wide, file);
+        damped = convergence_tables((problem, sw), (&rows, &commands), floor, &mut found, parts)?;
+    } else {
+        found.out = answer::answer(problem, file, sw, &targets.0, &rows, floor)? + &header;
+        let note = format!("wall times: median of {}; machine-dependent.", sw.repeats);
+        let runs = (rows.as_slice(), sw.dt0);
+        let d = diagram::work_precision(problem.name(), runs, floor, &note, commands);
+        found.diagrams.push(d);
+    }
     let out = &mut found.out;
-    out.push_str(&answer::answer(
-        problem, file, sw, &targets.0, &rows, floor,
-    )?);
-    out.push_str(&report::sweep_header(problem, "work-precision", sw, floor));
     if rows.iter().any(|r| r.rtol.is_some()) {
         out.push_str(&report::proportionality_header(error_floor(floor)));
         out.push_str(&report::proportionality_table(&rows, error_floor(floor)));
         out.push('\n');
     }
-    out.push_str(&report::rows_table(&rows, wide));
-    let note = format!("wall times: median of {}; machine-dependent.", sw.repeats);
-    let commands = answer::commands(problem, file, sw, &rows)?;
-    let d = diagram::work_precision(problem.name(), &rows, floor, &note, commands);
-    found.diagrams.push(d);
+    // Every run in the CSV and the count (the damped rope's too); work-precision's table by
+    // default each method's cheapest run per target.
+    rows.extend(damped);
+    match convergence || wide {
+        true => out.push_str(&report::rows_table(&rows, wide)),
+        false => out.push_str(&report::cheapest_table(&rows, &targets.0)),
+    }
     found.csv = report::rows_csv(&rows);
     found.done = rows.len();
     Ok(found)
@@ -215,14 +188,14 @@ fn work_precision(
 /// The fitted orders, and on the undamped rope the same rope with the scene's damping beside
 /// it: velocity-dependent forces change what some methods' orders are.
 fn convergence_tables(
-    problem: &Problem,
-    sw: &Sweep,
-    rows: &[Row],
+    (problem, sw): (&Problem, &Sweep),
+    (rows, commands): (&[Row], &[String]),
     floor: f64,
     found: &mut Found,
-    (done, wide): (&mut dyn FnMut(f64), bool),
-) -> Vec<Row> {
+    (done, wide, file): (&mut dyn FnMut(f64), bool, &crate::app::SceneFile),
+) -> Result<Vec<Row>, Error> {
     let by_velocity = problem.velocity_dependent();
+    let floor = error_floor(floor);
     let out = &mut found.out;
     out.push_str(&report::orders_table(rows, floor, by_velocity, wide));
     let stalled = report::stalled_note(rows, floor);
@@ -232,25 +205,28 @@ fn convergence_tables(
         out.push_str(&stalled);
     }
     let name = problem.name();
-    (found.diagrams).push(diagram::convergence(name, rows, floor, by_velocity));
+    let d = diagram::convergence(name, (rows, commands), floor, by_velocity);
+    found.diagrams.push(d);
     out.push('\n');
     let Some(damped) = damped_companion(problem) else {
-        return Vec::new();
+        return Ok(Vec::new());
     };
     if crate::interrupt::requested() {
-        return Vec::new();
+        return Ok(Vec::new());
     }
     let (damped_rows, damped_error) = sweep_with(&damped, sw, true, done);
     // A stop during the damped sweep leaves it out: only complete tables are shown.
     if crate::interrupt::requested() {
-        return Vec::new();
+        return Ok(Vec::new());
     }
     let floor = error_floor(damped_error);
     out.push_str(&report::damped_header(
         &crate::scene::rope::RopeParams::default(),
     ));
     out.push_str(&report::orders_table(&damped_rows, floor, true, wide));
-    (found.diagrams).push(diagram::convergence(name, &damped_rows, floor, true));
+    let commands = answer::commands(&damped, file, sw, &damped_rows)?;
+    let d = diagram::convergence(name, (&damped_rows, &commands), floor, true);
+    found.diagrams.push(d);
     out.push('\n');
-    damped_rows
+    Ok(damped_rows)
 }

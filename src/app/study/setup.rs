@@ -64,10 +64,10 @@ pub(super) fn sweep_setup(a: &SweepArgs, wp: Option<&WorkPrecisionArgs>) -> Resu
     })
 }
 
-/// Work-precision's horizon in periods (`--periods`, the pendulum's exact period), its sample
-/// interval (`--sample-every`, by default the study's default for the scene whatever --dt) and
-/// its wider sweep, validated.
-fn answer_setup(wp: &WorkPrecisionArgs, problem: &Problem, sweep: &mut Sweep) -> Result<(), Error> {
+/// Work-precision's horizon in periods (`--periods`, the pendulum's exact period) and its
+/// sample interval (`--sample-every`, by default the study's default for the scene whatever
+/// --dt).
+fn horizon(wp: &WorkPrecisionArgs, problem: &Problem, sweep: &mut Sweep) -> Result<(), Error> {
     if let Some(n) = wp.periods {
         params::positive("--periods", n, "periods")?;
         let period = match problem {
@@ -79,9 +79,9 @@ fn answer_setup(wp: &WorkPrecisionArgs, problem: &Problem, sweep: &mut Sweep) ->
         let period = period.ok_or_else(|| Error::param("--periods", shown(n), rule))?;
         sweep.duration = n * period;
     }
-    let default_every = study::SAMPLE_EVERY as f64 * study::default_schedule(problem).0;
-    sweep.sample_dt = wp.sample_every.unwrap_or(default_every);
-    sweep.all_settings = true;
+    sweep.sample_dt = wp
+        .sample_every
+        .unwrap_or(Sweep::work_precision(problem).sample_dt);
     Ok(())
 }
 
@@ -298,27 +298,67 @@ impl Scene {
         methods: Vec<Method>,
         wp: Option<&WorkPrecisionArgs>,
     ) -> Result<Sweep, Error> {
-        let default = study::default_schedule(&self.problem);
-        let (dt0, duration) = self.schedule(a.dt, a.duration, default);
+        let base = match wp {
+            Some(_) => Sweep::work_precision(&self.problem),
+            None => Sweep::defaults(&self.problem),
+        };
+        let (dt0, duration) = self.schedule(a.dt, a.duration, (base.dt0, base.duration));
         let mut sweep = Sweep {
             dt0,
             sample_dt: study::SAMPLE_EVERY as f64 * dt0,
-            all_settings: false,
-            levels: a.levels.unwrap_or(study::DEFAULT_LEVELS),
+            levels: a.levels.unwrap_or(base.levels),
             duration,
             methods,
-            options: MethodOptions::default(),
-            repeats: a.repeats.unwrap_or(study::DEFAULT_REPEATS),
-            rtols: (a.rtol.clone()).unwrap_or_else(match wp {
-                Some(_) => study::work_precision_rtols,
-                None => study::default_rtols,
-            }),
+            repeats: a.repeats.unwrap_or(base.repeats),
+            rtols: a.rtol.clone().unwrap_or(base.rtols.clone()),
+            ..base
         };
         if let Some(wp) = wp {
-            answer_setup(wp, &self.problem, &mut sweep)?;
+            horizon(wp, &self.problem, &mut sweep)?;
+        }
+        if let Some(n) = wp.and_then(|w| w.periods) {
+            self.refuse_periods(n, &sweep)?;
         }
         sweep.validate()?;
         Ok(sweep)
+    }
+
+    /// `--periods n` (giving `sweep`'s duration) beyond the study's limits on steps, work and
+    /// the reference's memory refused by its own name, with the most periods those allow (found
+    /// by bisection over the same checks).
+    fn refuse_periods(&self, n: f64, sweep: &Sweep) -> Result<(), Error> {
+        let period = sweep.duration / n;
+        let fits = |n: f64| {
+            let s = Sweep {
+                duration: n * period,
+                ..sweep.clone()
+            };
+            s.validate().is_ok() && sweep_work(&self.problem, &s, false).is_ok()
+        };
+        let mut lo = 1.0;
+        if fits(n) || !fits(lo) {
+            return Ok(());
+        }
+        let mut hi = n;
+        while hi / lo > 1.001 {
+            let mid = (lo * hi).sqrt();
+            if fits(mid) { lo = mid } else { hi = mid }
+        }
+        // Two digits, rounded down: the number said fits.
+        let unit = 10f64.powf(lo.log10().floor() - 1.0);
+        let lo = (lo / unit).floor() * unit;
+        let most = crate::format::sig(lo, 2);
+        Err(Error::param(
+            "--periods",
+            shown(n),
+            format!(
+                "at most about {most} periods ({} s) fit the study's limits on steps, work and \
+                 the reference's memory at --dt {} with --levels {}; lower --periods or raise --dt",
+                crate::format::sig(lo * period, 2),
+                shown(sweep.dt0),
+                sweep.levels
+            ),
+        ))
     }
 
     /// The study set up: its problem, `sweep`, and its scene as a scene file, the scene's table
@@ -356,45 +396,32 @@ fn size(problem: &Problem) -> (f64, f64, String) {
 }
 
 /// A sweep's work in node-steps and its reference's memory, refused beyond the limits: the
-/// reference (fine and coarse runs, for its error estimate), and every fixed-step method over
-/// dt0, dt0/2, ... dt0/2^(levels-1), each `repeats` times (the damped rope's second sweep of
-/// `study convergence` doubles it).
+/// reference (fine and coarse runs, for its error estimate) and every run the sweep plans, each
+/// `repeats` times ([`study::planned_steps`]; the damped rope's second sweep of `study
+/// convergence` doubles it).
 fn sweep_work(problem: &Problem, sweep: &Sweep, convergence: bool) -> Result<f64, Error> {
-    let (levels, repeats, duration, dt0) = (sweep.levels, sweep.repeats, sweep.duration, sweep.dt0);
-    let schedule = sweep.schedule();
+    let (repeats, schedule) = (sweep.repeats, sweep.schedule());
     let (work_per_step, dim, nodes) = size(problem);
-    let fixed = sweep
-        .methods
-        .iter()
-        .filter(|m| !m.info().adaptive())
-        .count() as f64;
-    let sweeps = if convergence && matches!(problem, Problem::Rope(_)) {
-        2.0
-    } else {
-        1.0
+    let sweeps = match convergence && matches!(problem, Problem::Rope(_)) {
+        true => 2.0,
+        false => 1.0,
     };
-    // Work-precision's steps above dt0 (twice for a composition: compensated too).
-    let above: f64 = (sweep.methods.iter())
-        .flat_map(|&m| sweep.steps_above(m))
-        .map(|h| 2.0 * duration / h)
-        .sum();
-    let steps = sweeps
-        * (1.5 * sweep.reference_steps()
-            + fixed * repeats as f64 * (duration / dt0) * (2f64.powi(levels as i32) - 1.0)
-            + repeats as f64 * above);
+    let planned = study::planned_steps(problem, sweep);
+    let steps = sweeps * (1.5 * sweep.reference_steps() + planned);
     let work = steps * work_per_step;
     if steps > STUDY_MAX_STEPS || work > MAX_NODE_STEPS {
         return Err(Error::Usage(format!(
-            "{schedule}, --repeats {repeats}{nodes} and {fixed} fixed-step methods is {steps:.2e} steps \
-             ({work:.2e} node-steps) in all; at most {STUDY_MAX_STEPS:.0e} steps and {MAX_NODE_STEPS:.0e} \
-             node-steps are allowed (raise --dt, lower --levels or --repeats, or choose fewer --methods)"
+            "{schedule}, --repeats {repeats}{nodes} and {} methods is {steps:.2e} steps \
+             ({work:.2e} node-steps) in all; at most {STUDY_MAX_STEPS:.0e} steps and \
+             {MAX_NODE_STEPS:.0e} node-steps are allowed (raise --dt, lower --levels or --repeats, \
+             or choose fewer --methods)",
+            sweep.methods.len()
         )));
     }
     // The reference is kept at every sample, twice (fine and coarse).
-    let samples = duration / (study::SAMPLE_EVERY as f64 * dt0);
     params::memory(
         &format!("the reference for {schedule}{nodes}"),
-        2.0 * samples * dim * 8.0,
+        2.0 * sweep.samples() as f64 * dim * 8.0,
         "raise --dt or shorten --duration",
     )?;
     Ok(work)
