@@ -324,31 +324,3 @@ pub const GIT_COMMIT: &str = env!("PHYSLAB_GIT_COMMIT");
 
 /// The Rerun SDK this build links (pinned in Cargo.toml).
 pub const RERUN_SDK_VERSION: &str = "0.36.3";
-
-#[cfg(test)]
-mod tests {
-    /// Every character that moves, hides or reorders text is shown as its UTF-8 bytes (the
-    /// hostile pass found U+061C, the Arabic letter mark, reaching the terminal), and plain text,
-    /// accents and CJK included, passes unchanged.
-    #[test]
-    fn characters_that_hide_or_reorder_text_are_shown_as_bytes() {
-        for (c, bytes) in [
-            ('\u{061c}', "\\xd8\\x9c"),
-            ('\u{200b}', "\\xe2\\x80\\x8b"),
-            ('\u{200f}', "\\xe2\\x80\\x8f"),
-            ('\u{2028}', "\\xe2\\x80\\xa8"),
-            ('\u{202e}', "\\xe2\\x80\\xae"),
-            ('\u{2069}', "\\xe2\\x81\\xa9"),
-            ('\u{feff}', "\\xef\\xbb\\xbf"),
-            ('\u{1b}', "\\x1b"),
-        ] {
-            assert_eq!(
-                super::escaped(&format!("a{c}b")),
-                format!("a{bytes}b"),
-                "{c:?}"
-            );
-        }
-        let plain = "θ0 = 60°, naïve 模型 E − E0";
-        assert_eq!(super::escaped(plain), plain);
-    }
-}
