@@ -34,18 +34,14 @@ use scenes::{AllFlags, Flags, RunContext, SCENES};
 const MEMORY_NOTICE_BYTES: f64 = 1e9;
 
 pub fn run(cli: Cli) -> anyhow::Result<()> {
+    let fresh = Replay::default();
     match cli.command {
         Command::Methods(a) => methods(a.name.as_deref()),
         Command::Inspect(args) => inspect::inspect_command(&args),
-        Command::Pendulum(c) => simulate(vec![Box::new(c.scene)], &c.run, None, &Replay::default()),
-        Command::Rope(c) => simulate(vec![Box::new(c.scene)], &c.run, None, &Replay::default()),
-        Command::Hair(c) => simulate(
-            vec![Box::new(c.scene)],
-            &c.run,
-            c.threads,
-            &Replay::default(),
-        ),
-        Command::All(c) => simulate(all_plan(&c)?, &c.run, None, &Replay::default()),
+        Command::Pendulum(c) => simulate(vec![Box::new(c.scene)], &c.run, None, &fresh),
+        Command::Rope(c) => simulate(vec![Box::new(c.scene)], &c.run, None, &fresh),
+        Command::Hair(c) => simulate(vec![Box::new(c.scene)], &c.run, c.threads, &fresh),
+        Command::All(c) => simulate(all_plan(&c)?, &c.run, None, &fresh),
         Command::Reproduce(args) => reproduce::reproduce_command(&args),
         Command::Diff(args) => diff::diff_command(&args),
         Command::Study(a) => study::study(&a),
@@ -74,13 +70,7 @@ type Plan = Vec<Box<dyn Flags>>;
 /// `physlab all`: every scene; its own --fps, --plot-every and --methods override every
 /// scene's. Each scene takes the listed methods it supports.
 fn all_plan(c: &AllArgs) -> Result<Plan, Error> {
-    let (registry, hair) = match &c.methods {
-        Some(names) => {
-            let (registry, hair) = split_methods(names)?;
-            (Some(registry), Some(hair))
-        }
-        None => (None, None),
-    };
+    let (registry, hair) = c.methods.as_deref().map(split_methods).transpose()?.unzip();
     let all = AllFlags {
         dt: c.dt,
         duration: c.duration,
@@ -226,10 +216,8 @@ fn simulate(
         print!("{text}");
         return Ok(());
     }
-    let mut pool = rayon::ThreadPoolBuilder::new();
-    if let Some(n) = threads {
-        pool = pool.num_threads(n);
-    }
+    // 0: rayon's own choice, as without --threads.
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads.unwrap_or(0));
     let pool = (pool.build()).map_err(|e| {
         anyhow::anyhow!("cannot start the worker threads: no threads available (`ulimit -u`): {e}")
     })?;
@@ -527,21 +515,15 @@ fn finish(
     if !run.wide {
         text = report::table::fit_lines(&text);
     }
-    if d.stdout {
-        eprint!("{text}");
-    } else {
-        print!("{text}");
-    }
+    crate::output::print_beside(d.stdout, &text);
     let bytes = committed?;
     if let Some(bytes) = bytes
         && !summaries.is_empty()
     {
         report_recording(d, bytes, started);
     } else if run.no_record {
-        println!(
-            "\nno recording (--no-record), {:.1} s",
-            started.elapsed().as_secs_f64()
-        );
+        let s = started.elapsed().as_secs_f64();
+        println!("\nno recording (--no-record), {s:.1} s");
     }
     // The viewers take what is left once the file and the summary are out.
     live.into_iter().for_each(record::live::Live::finish);
@@ -580,20 +562,13 @@ fn destinations(run: &RunArgs, scene: &str) -> Destinations {
 }
 
 fn report_recording(d: &Destinations, bytes: Option<u64>, started: Instant) {
+    let s = started.elapsed().as_secs_f64();
     match (&d.file, bytes) {
-        (Some(path), Some(bytes)) => println!(
-            "\nrecording: {} ({:.2} MB), {:.1} s",
-            path.display(),
-            bytes as f64 / 1e6,
-            started.elapsed().as_secs_f64()
-        ),
-        _ if d.stdout => eprintln!(
-            "\nrecording written to standard output, {:.1} s",
-            started.elapsed().as_secs_f64()
-        ),
-        _ => println!(
-            "\nstreamed, no file written, {:.1} s",
-            started.elapsed().as_secs_f64()
-        ),
+        (Some(path), Some(bytes)) => {
+            let mb = bytes as f64 / 1e6;
+            println!("\nrecording: {} ({mb:.2} MB), {s:.1} s", path.display());
+        }
+        _ if d.stdout => eprintln!("\nrecording written to standard output, {s:.1} s"),
+        _ => println!("\nstreamed, no file written, {s:.1} s"),
     }
 }
