@@ -50,11 +50,8 @@ pub fn diff_command(args: &DiffArgs) -> anyhow::Result<()> {
             .filter_map(|i| i.time_range.map(|(_, end)| end))
             .fold(0.0, f64::max),
     };
-    let mut writer = args
-        .output
-        .as_deref()
-        .map(|o| DiffWriter::create(o, &plan, &args.a, &args.b))
-        .transpose()?;
+    let create = |o| DiffWriter::create(o, &plan, &args.a, &args.b);
+    let mut writer = args.output.as_deref().map(create).transpose()?;
     let spec = StreamSpec {
         tolerance: tol,
         skip: &|_: &str| false,

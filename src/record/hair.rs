@@ -164,11 +164,8 @@ impl HairDraw {
             let q = p + o;
             [q.x as f32, q.y as f32, q.z as f32]
         };
-        let strips: Vec<Vec<[f32; 3]>> = self
-            .shown
-            .iter()
-            .map(|&k| hair.strand(k).map(f).collect())
-            .collect();
+        let strand = |k: usize| hair.strand(k).map(f).collect();
+        let strips: Vec<Vec<[f32; 3]>> = self.shown.iter().map(|&k| strand(k)).collect();
         rec.log(
             format!("hair/{name}/strands"),
             &rerun::LineStrips3D::update_fields().with_strips(strips),
@@ -322,9 +319,7 @@ fn roundoff_line(what: &str, unit: &str, scale: f64, worst: &[(&str, f64)]) -> S
 
 fn about_text(c: &HairConfig, drawn: usize) -> String {
     let p = &c.params;
-    let methods: Vec<String> = c
-        .methods
-        .iter()
+    let methods: Vec<String> = (c.methods.iter())
         .map(|m| format!("| {} | {} |", m.name(), m.description()))
         .collect();
     format!(

@@ -91,26 +91,16 @@ impl Table {
                     .unwrap_or(0)
             })
             .collect();
-        let line = |cells: &[String]| {
-            let mut s = String::from("|");
-            for (c, w) in widths.iter().enumerate() {
-                let cell = cells.get(c).map_or("", String::as_str);
-                let pad = w - cell.chars().count();
-                s.push(' ');
-                s.push_str(cell);
-                s.push_str(&" ".repeat(pad));
-                s.push_str(" |");
-            }
-            s.push('\n');
-            s
+        // Padded to `w` characters (format's width counts chars, as the widths do).
+        let line = |cells: &[String]| -> String {
+            let cell = |c: usize| cells.get(c).map_or("", String::as_str);
+            let padded: String = (widths.iter().enumerate())
+                .map(|(c, &w)| format!(" {:<w$} |", cell(c)))
+                .collect();
+            format!("|{padded}\n")
         };
-        let mut out = line(&self.header);
-        out.push('|');
-        for w in &widths {
-            out.push_str(&"-".repeat(w + 2));
-            out.push('|');
-        }
-        out.push('\n');
+        let rule: String = widths.iter().map(|w| "-".repeat(w + 2) + "|").collect();
+        let mut out = line(&self.header) + "|" + &rule + "\n";
         for r in &self.rows {
             out.push_str(&line(r));
         }
@@ -194,16 +184,9 @@ pub fn fit_lines(text: &str) -> String {
 
 /// `- name: text` wrapped to `width` columns, its continuation lines indented by two.
 pub fn list_item(name: &str, text: &str, width: usize) -> String {
-    let mut out = String::new();
-    for (k, line) in wrap(&format!("- {name}: {text}"), width - 2)
-        .into_iter()
-        .enumerate()
-    {
-        if k > 0 {
-            out.push_str("  ");
-        }
-        out.push_str(&line);
-        out.push('\n');
-    }
-    out
+    let lines = wrap(&format!("- {name}: {text}"), width - 2);
+    let indent = |k: usize| if k > 0 { "  " } else { "" };
+    (lines.iter().enumerate())
+        .map(|(k, line)| format!("{}{line}\n", indent(k)))
+        .collect()
 }
