@@ -84,15 +84,12 @@ pub fn sci(x: f64) -> String {
 /// A number with at most `decimals` decimals and no trailing zeros: 59.99999999999999 → "60".
 pub fn trim_number(x: f64, decimals: usize) -> String {
     let s = format!("{x:.decimals$}");
-    if s.contains('.') {
-        let t = s.trim_end_matches('0').trim_end_matches('.');
-        if t == "-0" {
-            "0".to_string()
-        } else {
-            t.to_string()
-        }
-    } else {
-        s
+    if !s.contains('.') {
+        return s;
+    }
+    match s.trim_end_matches('0').trim_end_matches('.') {
+        "-0" => "0".to_string(),
+        t => t.to_string(),
     }
 }
 

@@ -104,16 +104,15 @@ impl AllFlags {
     }
 }
 
+/// A scene's flags resolved: its configuration ready to run, or why it is refused.
+pub type Resolution = Result<Box<dyn ReadyScene>, Error>;
+
 /// A scene's flags as given.
 pub trait Flags {
     fn kind(&self) -> &'static SceneKind;
     /// These flags over the scene file's table (checked alone first, so that an error there
     /// names the file, table and key) over the defaults, validated.
-    fn resolve(
-        self: Box<Self>,
-        file: &SceneFile,
-        run: &RunArgs,
-    ) -> Result<Box<dyn ReadyScene>, Error>;
+    fn resolve(self: Box<Self>, file: &SceneFile, run: &RunArgs) -> Resolution;
 }
 
 /// A scene's validated configuration, ready to run: what the commands need of it besides its
@@ -184,19 +183,11 @@ impl Flags for PendulumArgs {
     fn kind(&self) -> &'static SceneKind {
         &PENDULUM
     }
-    fn resolve(
-        self: Box<Self>,
-        file: &SceneFile,
-        run: &RunArgs,
-    ) -> Result<Box<dyn ReadyScene>, Error> {
+    fn resolve(self: Box<Self>, file: &SceneFile, run: &RunArgs) -> Resolution {
         refuse_drawing_flags(run, &self.step.drawing_flags())?;
         let config: PendulumConfig = given(&*self, "pendulum", file)?.resolve()?;
-        refuse_unread(
-            &self.step.method_flags(),
-            &config.methods,
-            &Method::ALL,
-            Method::name,
-        )?;
+        let flags = self.step.method_flags();
+        refuse_unread(&flags, &config.methods, &Method::ALL, Method::name)?;
         Ok(Box::new(config))
     }
 }
@@ -205,11 +196,7 @@ impl Flags for RopeArgs {
     fn kind(&self) -> &'static SceneKind {
         &ROPE
     }
-    fn resolve(
-        self: Box<Self>,
-        file: &SceneFile,
-        run: &RunArgs,
-    ) -> Result<Box<dyn ReadyScene>, Error> {
+    fn resolve(self: Box<Self>, file: &SceneFile, run: &RunArgs) -> Resolution {
         refuse_drawing_flags(run, &self.step.drawing_flags())?;
         let config: RopeConfig = given(&*self, "rope", file)?.resolve()?;
         let mut flags = self.step.method_flags();
@@ -227,30 +214,20 @@ impl Flags for HairArgs {
     fn kind(&self) -> &'static SceneKind {
         &HAIR
     }
-    fn resolve(
-        self: Box<Self>,
-        file: &SceneFile,
-        run: &RunArgs,
-    ) -> Result<Box<dyn ReadyScene>, Error> {
-        refuse_drawing_flags(
-            run,
-            &[
-                ("--fps", self.fps.is_some()),
-                ("--window", self.window.is_some()),
-            ],
-        )?;
+    fn resolve(self: Box<Self>, file: &SceneFile, run: &RunArgs) -> Resolution {
+        let drawing = [
+            ("--fps", self.fps.is_some()),
+            ("--window", self.window.is_some()),
+        ];
+        refuse_drawing_flags(run, &drawing)?;
         let config: HairConfig = given(&*self, "hair", file)?.resolve()?;
         if run.no_record && config.log_strands.is_some() {
             return Err(Error::Usage(
                 "--no-record with --log-strands: --no-record draws nothing".into(),
             ));
         }
-        refuse_unread(
-            &self.method_flags(),
-            &config.methods,
-            &HairMethod::ALL,
-            HairMethod::name,
-        )?;
+        let flags = self.method_flags();
+        refuse_unread(&flags, &config.methods, &HairMethod::ALL, HairMethod::name)?;
         Ok(Box::new(config))
     }
 }
