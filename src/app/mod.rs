@@ -15,7 +15,6 @@ mod reproduce;
 mod scenes;
 mod study;
 
-use std::path::PathBuf;
 use std::time::Instant;
 
 use crate::error::Error;
@@ -211,7 +210,7 @@ fn simulate(
     if let Some(n) = threads {
         crate::scene::params::threads(n)?;
     }
-    refuse_contradictions(run, run.no_record)?;
+    refuse_contradictions(run)?;
     if run.print_config {
         print!("{text}");
         return Ok(());
@@ -263,9 +262,9 @@ fn simulate(
     }
     drop(stream);
     let summaries = if replay.silent {
-        &[][..]
+        &[]
     } else {
-        &ran.summaries
+        &ran.summaries[..]
     };
     finish(recording, &d, started, summaries, &ran.diverged, run)
 }
@@ -346,13 +345,11 @@ fn run_scenes(
         let memory = scene.memory_bytes();
         if memory > MEMORY_NOTICE_BYTES && !run.quiet {
             // Allowed (validation refuses what does not fit), but not to be taken silently.
-            eprintln!(
-                "{name}: its state takes about {:.1} GB of memory{}",
-                memory / 1e9,
-                crate::scene::params::available_memory()
-                    .map(|a| format!(" (of {:.1} GB available)", a / 1e9))
-                    .unwrap_or_default()
-            );
+            let of = crate::scene::params::available_memory().map_or(String::new(), |a| {
+                format!(" (of {:.1} GB available)", a / 1e9)
+            });
+            let gb = memory / 1e9;
+            eprintln!("{name}: its state takes about {gb:.1} GB of memory{of}");
         }
         let mut ran = scene.run(ctx)?;
         if let Some(w) = warning {
@@ -382,7 +379,7 @@ fn run_scenes(
 }
 
 /// Output options that cannot hold together.
-fn refuse_contradictions(run: &RunArgs, no_record: bool) -> Result<(), Error> {
+fn refuse_contradictions(run: &RunArgs) -> Result<(), Error> {
     if run.no_save
         && let Some(path) = &run.output
     {
@@ -396,7 +393,7 @@ fn refuse_contradictions(run: &RunArgs, no_record: bool) -> Result<(), Error> {
             "--no-save without --connect or --spawn: the run would go nowhere".into(),
         ));
     }
-    if no_record {
+    if run.no_record {
         for (given, flag) in [
             (run.output.is_some(), "-o/--output"),
             (run.connect.is_some(), "--connect"),
@@ -473,11 +470,7 @@ fn run_scene<S: Scene, D: Draw<S>>(
         diverged: run.diverged(scene.name()),
         end: SceneEnd {
             scene: scene.name(),
-            status: if run.interrupted {
-                "interrupted"
-            } else {
-                "complete"
-            },
+            status: ["complete", "interrupted"][run.interrupted as usize],
             last_tick: run.last_tick,
             end_time: schedule.time(run.last_tick),
             text: run.ending(&schedule),
@@ -549,12 +542,9 @@ fn finish(
 
 fn destinations(run: &RunArgs, scene: &str) -> Destinations {
     let to_stdout = run.output.as_ref().is_some_and(|p| p.as_os_str() == "-");
+    let file = (run.output.clone()).unwrap_or_else(|| format!("recordings/{scene}.rrd").into());
     Destinations {
-        file: (!run.no_save && !to_stdout).then(|| {
-            run.output
-                .clone()
-                .unwrap_or_else(|| PathBuf::from(format!("recordings/{scene}.rrd")))
-        }),
+        file: (!run.no_save && !to_stdout).then_some(file),
         connect: run.connect.clone(),
         spawn: run.spawn,
         stdout: to_stdout,
