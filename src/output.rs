@@ -19,7 +19,9 @@
 
 use std::io::Write as _;
 use std::os::unix::ffi::OsStrExt as _;
-use std::os::unix::fs::{FileTypeExt as _, MetadataExt as _, PermissionsExt as _};
+use std::os::unix::fs::{
+    FileTypeExt as _, MetadataExt as _, OpenOptionsExt as _, PermissionsExt as _,
+};
 use std::path::{Path, PathBuf};
 
 use crate::error::Error;
@@ -301,6 +303,17 @@ pub fn cause(e: &std::io::Error) -> String {
         _ => return e.to_string(),
     };
     format!("{words} ({e})")
+}
+
+/// Opens a new file at `path` for writing: created exclusively (a file or a symlink already there
+/// is an error, `EEXIST`), with `mode`.
+fn create_new(path: &Path, mode: u32) -> std::io::Result<std::fs::File> {
+    std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .custom_flags(libc::O_NOFOLLOW)
+        .mode(mode)
+        .open(path)
 }
 
 /// Whether this user may replace the old file `target` (the rename needs only its folder): root,

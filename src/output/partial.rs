@@ -8,7 +8,7 @@ use std::os::unix::ffi::{OsStrExt as _, OsStringExt as _};
 use std::os::unix::fs::{MetadataExt as _, OpenOptionsExt as _, PermissionsExt as _};
 use std::path::{Path, PathBuf};
 
-use super::{NAME_MAX, cause, parent_dir, temp};
+use super::{NAME_MAX, cause, create_new, parent_dir, temp};
 
 /// The hidden file's name for `name` written by process `pid`: `.NAME.PID.partial`, with NAME
 /// shortened (bytes from its end dropped) so that the whole fits in [`NAME_MAX`]; with
@@ -75,17 +75,6 @@ fn remove_if_stale(path: &Path) {
         }
     }
     let _ = std::fs::remove_file(path);
-}
-
-/// Opens a new file at `path` for writing: created exclusively (a file or a symlink already there
-/// is an error, `EEXIST`), with `mode`.
-pub(super) fn create_new(path: &Path, mode: u32) -> std::io::Result<std::fs::File> {
-    std::fs::OpenOptions::new()
-        .write(true)
-        .create_new(true)
-        .custom_flags(libc::O_NOFOLLOW)
-        .mode(mode)
-        .open(path)
 }
 
 enum Sink {

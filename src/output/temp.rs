@@ -6,8 +6,7 @@
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
-use super::cause;
-use super::partial::create_new;
+use super::{cause, create_new};
 
 /// The private folder once made, or why it could not be.
 static DIR: std::sync::OnceLock<Result<PathBuf, String>> = std::sync::OnceLock::new();
