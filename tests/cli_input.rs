@@ -9,6 +9,7 @@ mod common;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use common::{physlab, s, scratch_dir};
+use physlab::scene::params::SceneConfig;
 
 /// Where a row of [`REFUSALS`] writes its recording: [`refuse_all`] puts a scratch path there and
 /// checks that nothing appears at it.
@@ -1901,5 +1902,61 @@ mod error_codes {
         let runtime: Error = anyhow::Error::from(io).context("writing x").into();
         assert_eq!(runtime.exit_code(), 1);
         assert_eq!(runtime.report(), "error: writing x: disk full");
+    }
+}
+
+/// The flags and the configuration name the same parameters: every key the configuration
+/// writes is a flag (by clap's argument id, as `app` reads the flags given), and every flag is
+/// such a key or one of the `optional` ones a configuration writes only when given.
+fn same_parameters<A: clap::Args, C: SceneConfig>(scene: &str, optional: &[&str]) {
+    let mut flags: Vec<String> = A::augment_args(clap::Command::new("scene"))
+        .get_arguments()
+        .map(|a| a.get_id().to_string())
+        .collect();
+    let config = toml::Table::try_from(C::default()).unwrap();
+    let mut keys: Vec<String> = config.keys().cloned().collect();
+    keys.extend(optional.iter().map(|k| k.to_string()));
+    flags.sort();
+    keys.sort();
+    assert_eq!(flags, keys, "{scene}");
+}
+
+#[test]
+fn every_flag_is_a_key_of_its_scenes_configuration_and_back() {
+    use physlab::cli::{HairArgs, PendulumArgs, RopeArgs};
+    use physlab::scene::hair::run::HairConfig;
+    use physlab::scene::pendulum::run::PendulumConfig;
+    use physlab::scene::rope::run::RopeConfig;
+    same_parameters::<PendulumArgs, PendulumConfig>("pendulum", &["compensated", "step"]);
+    same_parameters::<RopeArgs, RopeConfig>("rope", &["preset", "compensated", "step"]);
+    same_parameters::<HairArgs, HairConfig>("hair", &["stiffness", "dt", "log_strands"]);
+}
+
+fn joined(args: &[&str]) -> Vec<String> {
+    physlab::cli::join_negative_values(args.iter().map(|a| a.into()))
+        .into_iter()
+        .map(|a| a.into_string().unwrap())
+        .collect()
+}
+
+#[test]
+fn negative_numbers_after_a_long_option_are_its_value_and_flags_stay_flags() {
+    assert_eq!(
+        joined(&["p", "pendulum", "--theta0", "-1e-3", "--omega0", "-2.5E+1"]),
+        ["p", "pendulum", "--theta0=-1e-3", "--omega0=-2.5E+1"]
+    );
+    assert_eq!(
+        joined(&["p", "hair", "--wind", "-1,0,-3e2", "-q"]),
+        ["p", "hair", "--wind=-1,0,-3e2", "-q"]
+    );
+    // Not numbers: left for clap (a missing value, a flag, stdout, a negative infinity).
+    for args in [
+        &["p", "pendulum", "--dt", "-o", "x"][..],
+        &["p", "pendulum", "-o", "-"],
+        &["p", "pendulum", "--dt", "--", "-1"],
+        &["p", "pendulum", "--dt", "-inf"],
+        &["p", "pendulum", "--dt=-1", "-1"],
+    ] {
+        assert_eq!(joined(args), args);
     }
 }

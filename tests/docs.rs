@@ -112,3 +112,12 @@ fn pictures_show_what_the_code_draws() {
         "docs/pendulum-drift.png is stale: run `cargo run --release --example figures`"
     );
 }
+
+#[test]
+fn blocks_are_found_and_replaced_between_their_markers() {
+    let doc = "a\n<!-- figure: x -->\n| old |\n<!-- /figure -->\nb\n";
+    assert_eq!(figures::block(doc, "x"), Some("| old |\n"));
+    assert_eq!(figures::block(doc, "y"), None);
+    let new = figures::replace(doc, "x", "| new |\n").unwrap();
+    assert_eq!(new, "a\n<!-- figure: x -->\n| new |\n<!-- /figure -->\nb\n");
+}

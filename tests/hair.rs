@@ -1015,3 +1015,48 @@ mod head {
         assert!(peak > 3.0 * 9.81 && peak < 10.0 * 9.81, "peak {peak} m/s²");
     }
 }
+
+#[cfg(feature = "rerun")]
+mod strands_drawn {
+    //! How many strands the recording draws in 3D (`physlab::record::hair::strand_plan`).
+
+    use physlab::record::hair::{DEFAULT_3D_BUDGET, spread, strand_plan};
+    use physlab::scene::hair::run::HairConfig;
+
+    #[test]
+    fn the_default_keeps_any_strand_count_within_the_budget() {
+        for strands in [1, 200, 2000, 10_000, 100_000] {
+            for nodes in [2, 16, 32, 64] {
+                let mut c = HairConfig::default();
+                c.params.strands = strands;
+                c.params.nodes = nodes;
+                let plan = strand_plan(&c, None);
+                assert!(plan.drawn >= 1 && plan.drawn <= strands);
+                // Within budget unless a single strand alone exceeds it (it never does here).
+                assert!(
+                    plan.expected_bytes <= DEFAULT_3D_BUDGET,
+                    "{strands}×{nodes}: {plan:?}"
+                );
+            }
+        }
+        // The default run (200 strands × 16 nodes, 2 methods, 241 logged frames) draws all of
+        // them: 200 × 16 × 241 × 2 × 13 B = 20.1 MB.
+        let plan = strand_plan(&HairConfig::default(), None);
+        assert_eq!(plan.drawn, HairConfig::default().params.strands);
+        // 10 000 strands × 16 nodes at the defaults: 180e6 / (13 × 16 × 241 × 2) = 1795 drawn.
+        let mut c = HairConfig::default();
+        c.params.strands = 10_000;
+        assert_eq!(strand_plan(&c, None).drawn, 1795);
+        assert_eq!(strand_plan(&c, Some(50)).drawn, 50);
+        assert_eq!(strand_plan(&c, Some(50_000)).drawn, 10_000);
+    }
+
+    #[test]
+    fn spread_takes_evenly_spaced_distinct_strands() {
+        assert_eq!(spread(4, 10), vec![0, 2, 5, 7]);
+        assert_eq!(spread(3, 3), vec![0, 1, 2]);
+        assert_eq!(spread(5, 2), vec![0, 1]);
+        let s = spread(1000, 10_000);
+        assert!(s.windows(2).all(|w| w[1] - w[0] == 10));
+    }
+}

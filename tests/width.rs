@@ -10,6 +10,7 @@ mod common;
 use std::process::Command;
 
 use common::{physlab, s, scratch_dir};
+use physlab::report::methods::{method_page, methods_table, page_names};
 
 const WIDTH: usize = 100;
 
@@ -238,4 +239,21 @@ fn wide_shows_the_full_tables() {
         "{wide}"
     );
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn the_methods_text_fits_a_terminal_of_100_columns_in_30_lines() {
+    let text = methods_table();
+    let widest = text.lines().map(|l| l.chars().count()).max().unwrap_or(0);
+    assert!(widest <= WIDTH, "{widest} columns");
+    assert!(text.lines().count() <= 30, "{text}");
+    assert!(text.contains("| rk4 "), "{text}");
+    for name in page_names() {
+        let page = method_page(name).unwrap();
+        let widest = page.lines().map(|l| l.chars().count()).max().unwrap_or(0);
+        assert!(widest <= WIDTH, "{name}: {widest} columns");
+    }
+    assert!(method_page("vern9").unwrap().contains("- notes: "));
+    assert!(method_page("ftl").unwrap().contains("in hair"));
+    assert!(method_page("nope").is_none());
 }

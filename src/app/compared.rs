@@ -319,6 +319,7 @@ pub(super) struct EntityLine {
 }
 
 /// The entities of one group and the one of them that parts first.
+#[derive(Default)]
 struct Group {
     entities: usize,
     differing: usize,
@@ -337,7 +338,6 @@ pub(super) fn difference_lines(
     methods: &BTreeSet<String>,
     verbose: bool,
 ) -> Vec<String> {
-    let cap = GROUPS_SHOWN;
     if verbose {
         return entries
             .iter()
@@ -346,13 +346,7 @@ pub(super) fn difference_lines(
     }
     let mut groups: BTreeMap<String, Group> = BTreeMap::new();
     for e in entries {
-        let g = groups
-            .entry(entity_group(&e.entity, methods))
-            .or_insert(Group {
-                entities: 0,
-                differing: 0,
-                earliest: None,
-            });
+        let g = groups.entry(entity_group(&e.entity, methods)).or_default();
         g.entities += 1;
         if e.differs {
             g.differing += 1;
@@ -368,7 +362,7 @@ pub(super) fn difference_lines(
     differing.sort_by_key(|g| g.2.first);
     let mut lines: Vec<String> = differing
         .iter()
-        .take(cap)
+        .take(GROUPS_SHOWN)
         .map(|(name, g, e)| {
             if g.entities == 1 {
                 format!("  {}: {}", e.entity, e.text)
@@ -382,10 +376,10 @@ pub(super) fn difference_lines(
             }
         })
         .collect();
-    if differing.len() > cap {
+    if differing.len() > GROUPS_SHOWN {
         lines.push(format!(
             "  … and {} more groups (-v lists every entity)",
-            differing.len() - cap
+            differing.len() - GROUPS_SHOWN
         ));
     }
     lines
@@ -408,14 +402,7 @@ pub(super) fn by_entity(diffs: Vec<((String, String), SeriesDiff)>) -> Vec<Entit
 
 /// Each table's keys, flattened: `pendulum.dt` → its value in TOML.
 pub(super) fn config_keys(info: &RecordingInfo) -> BTreeMap<String, String> {
-    let mut out = BTreeMap::new();
-    let Some(text) = info.properties.get("config") else {
-        return out;
-    };
-    let Ok(table) = text.parse::<toml::Table>() else {
-        return out;
-    };
-    pub(super) fn walk(prefix: &str, v: &toml::Value, out: &mut BTreeMap<String, String>) {
+    fn walk(prefix: &str, v: &toml::Value, out: &mut BTreeMap<String, String>) {
         match v {
             toml::Value::Table(t) => {
                 for (k, v) in t {
@@ -432,7 +419,10 @@ pub(super) fn config_keys(info: &RecordingInfo) -> BTreeMap<String, String> {
             }
         }
     }
-    walk("", &toml::Value::Table(table), &mut out);
+    let mut out = BTreeMap::new();
+    if let Some(Ok(table)) = info.properties.get("config").map(|t| t.parse()) {
+        walk("", &toml::Value::Table(table), &mut out);
+    }
     out
 }
 

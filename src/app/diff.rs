@@ -14,6 +14,7 @@ use super::compared::{
 };
 use super::scenes::{AllFlags, SCENES};
 use crate::cli::{DiffArgs, RunArgs};
+use crate::output::Dash;
 use crate::record::Framing;
 use crate::record::diff::{DiffPlan, DiffWriter};
 use crate::record::escaped;
@@ -24,11 +25,7 @@ pub fn diff_command(args: &DiffArgs) -> anyhow::Result<()> {
     let tol = tolerance(args.tolerance)?;
     // The inputs refused first: no folder is made for a difference that will not be written.
     let (ia, ib) = (physlab_made(&args.a)?, physlab_made(&args.b)?);
-    let output = check_output(
-        args.output.as_ref(),
-        crate::output::Dash::Binary,
-        &[&args.a, &args.b],
-    )?;
+    let output = check_output(args.output.as_ref(), Dash::Binary, &[&args.a, &args.b])?;
     // With `-o -` standard output carries the difference recording: the report goes to stderr.
     let to_stdout = output.as_ref().is_some_and(|o| o.is_stdout());
     // Runs of one method each: pair their lanes, so that Euler's series meet Verlet's.
@@ -50,11 +47,8 @@ pub fn diff_command(args: &DiffArgs) -> anyhow::Result<()> {
             .filter_map(|i| i.time_range.map(|(_, end)| end))
             .fold(0.0, f64::max),
     };
-    let mut writer = args
-        .output
-        .as_deref()
-        .map(|o| DiffWriter::create(o, &plan, &args.a, &args.b))
-        .transpose()?;
+    let create = |o| DiffWriter::create(o, &plan, &args.a, &args.b);
+    let mut writer = args.output.as_deref().map(create).transpose()?;
     let spec = StreamSpec {
         tolerance: tol,
         skip: &|_: &str| false,

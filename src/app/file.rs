@@ -131,15 +131,13 @@ fn read_capped(path: &Path) -> Result<Vec<u8>, Error> {
     use std::io::Read as _;
     use std::os::unix::fs::{FileTypeExt as _, OpenOptionsExt as _};
     let fail = |what: String| Error::Usage(format!("--config {}: {what}", path.display()));
+    let unreadable = |e: std::io::Error| fail(format!("cannot read it: {e}"));
     let file = std::fs::OpenOptions::new()
         .read(true)
         .custom_flags(libc::O_NONBLOCK)
         .open(path)
-        .map_err(|e| fail(format!("cannot read it: {e}")))?;
-    let kind = file
-        .metadata()
-        .map_err(|e| fail(format!("cannot read it: {e}")))?
-        .file_type();
+        .map_err(unreadable)?;
+    let kind = file.metadata().map_err(unreadable)?.file_type();
     let special = [
         (kind.is_fifo(), "a FIFO (named pipe)"),
         (kind.is_char_device(), "a character device"),
@@ -154,7 +152,7 @@ fn read_capped(path: &Path) -> Result<Vec<u8>, Error> {
     let mut bytes = Vec::new();
     file.take(MAX_SCENE_FILE_BYTES + 1)
         .read_to_end(&mut bytes)
-        .map_err(|e| fail(format!("cannot read it: {e}")))?;
+        .map_err(unreadable)?;
     if bytes.len() as u64 > MAX_SCENE_FILE_BYTES {
         return Err(fail(format!(
             "larger than {} MiB: not a scene file (a scene file is a few tables of numbers)",

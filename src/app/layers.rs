@@ -43,10 +43,7 @@ impl Given<'_> {
     /// Refuses a key of the file's table that the configuration does not read back (it would
     /// be ignored), and a value its key does not take, at its line.
     fn check_keys<C: SceneConfig>(&self, table: &toml::Table) -> Result<(), Error> {
-        let path = self
-            .file
-            .path()
-            .map_or(String::new(), |p| p.display().to_string());
+        let path = (self.file.path()).map_or(String::new(), |p| p.display().to_string());
         let at = |key: &str| {
             self.file
                 .line_of(self.scene, key)

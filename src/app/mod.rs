@@ -15,7 +15,6 @@ mod reproduce;
 mod scenes;
 mod study;
 
-use std::path::PathBuf;
 use std::time::Instant;
 
 use crate::error::Error;
@@ -34,18 +33,14 @@ use scenes::{AllFlags, Flags, RunContext, SCENES};
 const MEMORY_NOTICE_BYTES: f64 = 1e9;
 
 pub fn run(cli: Cli) -> anyhow::Result<()> {
+    let fresh = Replay::default();
     match cli.command {
         Command::Methods(a) => methods(a.name.as_deref()),
         Command::Inspect(args) => inspect::inspect_command(&args),
-        Command::Pendulum(c) => simulate(vec![Box::new(c.scene)], &c.run, None, &Replay::default()),
-        Command::Rope(c) => simulate(vec![Box::new(c.scene)], &c.run, None, &Replay::default()),
-        Command::Hair(c) => simulate(
-            vec![Box::new(c.scene)],
-            &c.run,
-            c.threads,
-            &Replay::default(),
-        ),
-        Command::All(c) => simulate(all_plan(&c)?, &c.run, None, &Replay::default()),
+        Command::Pendulum(c) => simulate(vec![Box::new(c.scene)], &c.run, None, &fresh),
+        Command::Rope(c) => simulate(vec![Box::new(c.scene)], &c.run, None, &fresh),
+        Command::Hair(c) => simulate(vec![Box::new(c.scene)], &c.run, c.threads, &fresh),
+        Command::All(c) => simulate(all_plan(&c)?, &c.run, None, &fresh),
         Command::Reproduce(args) => reproduce::reproduce_command(&args),
         Command::Diff(args) => diff::diff_command(&args),
         Command::Study(a) => study::study(&a),
@@ -74,13 +69,7 @@ type Plan = Vec<Box<dyn Flags>>;
 /// `physlab all`: every scene; its own --fps, --plot-every and --methods override every
 /// scene's. Each scene takes the listed methods it supports.
 fn all_plan(c: &AllArgs) -> Result<Plan, Error> {
-    let (registry, hair) = match &c.methods {
-        Some(names) => {
-            let (registry, hair) = split_methods(names)?;
-            (Some(registry), Some(hair))
-        }
-        None => (None, None),
-    };
+    let (registry, hair) = c.methods.as_deref().map(split_methods).transpose()?.unzip();
     let all = AllFlags {
         dt: c.dt,
         duration: c.duration,
@@ -221,15 +210,13 @@ fn simulate(
     if let Some(n) = threads {
         crate::scene::params::threads(n)?;
     }
-    refuse_contradictions(run, run.no_record)?;
+    refuse_contradictions(run)?;
     if run.print_config {
         print!("{text}");
         return Ok(());
     }
-    let mut pool = rayon::ThreadPoolBuilder::new();
-    if let Some(n) = threads {
-        pool = pool.num_threads(n);
-    }
+    // 0: rayon's own choice, as without --threads.
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads.unwrap_or(0));
     let pool = (pool.build()).map_err(|e| {
         anyhow::anyhow!("cannot start the worker threads: no threads available (`ulimit -u`): {e}")
     })?;
@@ -275,9 +262,9 @@ fn simulate(
     }
     drop(stream);
     let summaries = if replay.silent {
-        &[][..]
+        &[]
     } else {
-        &ran.summaries
+        &ran.summaries[..]
     };
     finish(recording, &d, started, summaries, &ran.diverged, run)
 }
@@ -358,13 +345,11 @@ fn run_scenes(
         let memory = scene.memory_bytes();
         if memory > MEMORY_NOTICE_BYTES && !run.quiet {
             // Allowed (validation refuses what does not fit), but not to be taken silently.
-            eprintln!(
-                "{name}: its state takes about {:.1} GB of memory{}",
-                memory / 1e9,
-                crate::scene::params::available_memory()
-                    .map(|a| format!(" (of {:.1} GB available)", a / 1e9))
-                    .unwrap_or_default()
-            );
+            let of = crate::scene::params::available_memory().map_or(String::new(), |a| {
+                format!(" (of {:.1} GB available)", a / 1e9)
+            });
+            let gb = memory / 1e9;
+            eprintln!("{name}: its state takes about {gb:.1} GB of memory{of}");
         }
         let mut ran = scene.run(ctx)?;
         if let Some(w) = warning {
@@ -394,7 +379,7 @@ fn run_scenes(
 }
 
 /// Output options that cannot hold together.
-fn refuse_contradictions(run: &RunArgs, no_record: bool) -> Result<(), Error> {
+fn refuse_contradictions(run: &RunArgs) -> Result<(), Error> {
     if run.no_save
         && let Some(path) = &run.output
     {
@@ -408,7 +393,7 @@ fn refuse_contradictions(run: &RunArgs, no_record: bool) -> Result<(), Error> {
             "--no-save without --connect or --spawn: the run would go nowhere".into(),
         ));
     }
-    if no_record {
+    if run.no_record {
         for (given, flag) in [
             (run.output.is_some(), "-o/--output"),
             (run.connect.is_some(), "--connect"),
@@ -485,11 +470,7 @@ fn run_scene<S: Scene, D: Draw<S>>(
         diverged: run.diverged(scene.name()),
         end: SceneEnd {
             scene: scene.name(),
-            status: if run.interrupted {
-                "interrupted"
-            } else {
-                "complete"
-            },
+            status: ["complete", "interrupted"][run.interrupted as usize],
             last_tick: run.last_tick,
             end_time: schedule.time(run.last_tick),
             text: run.ending(&schedule),
@@ -527,21 +508,15 @@ fn finish(
     if !run.wide {
         text = report::table::fit_lines(&text);
     }
-    if d.stdout {
-        eprint!("{text}");
-    } else {
-        print!("{text}");
-    }
+    crate::output::print_beside(d.stdout, &text);
     let bytes = committed?;
     if let Some(bytes) = bytes
         && !summaries.is_empty()
     {
         report_recording(d, bytes, started);
     } else if run.no_record {
-        println!(
-            "\nno recording (--no-record), {:.1} s",
-            started.elapsed().as_secs_f64()
-        );
+        let s = started.elapsed().as_secs_f64();
+        println!("\nno recording (--no-record), {s:.1} s");
     }
     // The viewers take what is left once the file and the summary are out.
     live.into_iter().for_each(record::live::Live::finish);
@@ -567,12 +542,9 @@ fn finish(
 
 fn destinations(run: &RunArgs, scene: &str) -> Destinations {
     let to_stdout = run.output.as_ref().is_some_and(|p| p.as_os_str() == "-");
+    let file = (run.output.clone()).unwrap_or_else(|| format!("recordings/{scene}.rrd").into());
     Destinations {
-        file: (!run.no_save && !to_stdout).then(|| {
-            run.output
-                .clone()
-                .unwrap_or_else(|| PathBuf::from(format!("recordings/{scene}.rrd")))
-        }),
+        file: (!run.no_save && !to_stdout).then_some(file),
         connect: run.connect.clone(),
         spawn: run.spawn,
         stdout: to_stdout,
@@ -580,20 +552,13 @@ fn destinations(run: &RunArgs, scene: &str) -> Destinations {
 }
 
 fn report_recording(d: &Destinations, bytes: Option<u64>, started: Instant) {
+    let s = started.elapsed().as_secs_f64();
     match (&d.file, bytes) {
-        (Some(path), Some(bytes)) => println!(
-            "\nrecording: {} ({:.2} MB), {:.1} s",
-            path.display(),
-            bytes as f64 / 1e6,
-            started.elapsed().as_secs_f64()
-        ),
-        _ if d.stdout => eprintln!(
-            "\nrecording written to standard output, {:.1} s",
-            started.elapsed().as_secs_f64()
-        ),
-        _ => println!(
-            "\nstreamed, no file written, {:.1} s",
-            started.elapsed().as_secs_f64()
-        ),
+        (Some(path), Some(bytes)) => {
+            let mb = bytes as f64 / 1e6;
+            println!("\nrecording: {} ({mb:.2} MB), {s:.1} s", path.display());
+        }
+        _ if d.stdout => eprintln!("\nrecording written to standard output, {s:.1} s"),
+        _ => println!("\nstreamed, no file written, {s:.1} s"),
     }
 }

@@ -104,16 +104,15 @@ impl AllFlags {
     }
 }
 
+/// A scene's flags resolved: its configuration ready to run, or why it is refused.
+pub type Resolution = Result<Box<dyn ReadyScene>, Error>;
+
 /// A scene's flags as given.
 pub trait Flags {
     fn kind(&self) -> &'static SceneKind;
     /// These flags over the scene file's table (checked alone first, so that an error there
     /// names the file, table and key) over the defaults, validated.
-    fn resolve(
-        self: Box<Self>,
-        file: &SceneFile,
-        run: &RunArgs,
-    ) -> Result<Box<dyn ReadyScene>, Error>;
+    fn resolve(self: Box<Self>, file: &SceneFile, run: &RunArgs) -> Resolution;
 }
 
 /// A scene's validated configuration, ready to run: what the commands need of it besides its
@@ -184,19 +183,11 @@ impl Flags for PendulumArgs {
     fn kind(&self) -> &'static SceneKind {
         &PENDULUM
     }
-    fn resolve(
-        self: Box<Self>,
-        file: &SceneFile,
-        run: &RunArgs,
-    ) -> Result<Box<dyn ReadyScene>, Error> {
+    fn resolve(self: Box<Self>, file: &SceneFile, run: &RunArgs) -> Resolution {
         refuse_drawing_flags(run, &self.step.drawing_flags())?;
         let config: PendulumConfig = given(&*self, "pendulum", file)?.resolve()?;
-        refuse_unread(
-            &self.step.method_flags(),
-            &config.methods,
-            &Method::ALL,
-            Method::name,
-        )?;
+        let flags = self.step.method_flags();
+        refuse_unread(&flags, &config.methods, &Method::ALL, Method::name)?;
         Ok(Box::new(config))
     }
 }
@@ -205,11 +196,7 @@ impl Flags for RopeArgs {
     fn kind(&self) -> &'static SceneKind {
         &ROPE
     }
-    fn resolve(
-        self: Box<Self>,
-        file: &SceneFile,
-        run: &RunArgs,
-    ) -> Result<Box<dyn ReadyScene>, Error> {
+    fn resolve(self: Box<Self>, file: &SceneFile, run: &RunArgs) -> Resolution {
         refuse_drawing_flags(run, &self.step.drawing_flags())?;
         let config: RopeConfig = given(&*self, "rope", file)?.resolve()?;
         let mut flags = self.step.method_flags();
@@ -227,30 +214,20 @@ impl Flags for HairArgs {
     fn kind(&self) -> &'static SceneKind {
         &HAIR
     }
-    fn resolve(
-        self: Box<Self>,
-        file: &SceneFile,
-        run: &RunArgs,
-    ) -> Result<Box<dyn ReadyScene>, Error> {
-        refuse_drawing_flags(
-            run,
-            &[
-                ("--fps", self.fps.is_some()),
-                ("--window", self.window.is_some()),
-            ],
-        )?;
+    fn resolve(self: Box<Self>, file: &SceneFile, run: &RunArgs) -> Resolution {
+        let drawing = [
+            ("--fps", self.fps.is_some()),
+            ("--window", self.window.is_some()),
+        ];
+        refuse_drawing_flags(run, &drawing)?;
         let config: HairConfig = given(&*self, "hair", file)?.resolve()?;
         if run.no_record && config.log_strands.is_some() {
             return Err(Error::Usage(
                 "--no-record with --log-strands: --no-record draws nothing".into(),
             ));
         }
-        refuse_unread(
-            &self.method_flags(),
-            &config.methods,
-            &HairMethod::ALL,
-            HairMethod::name,
-        )?;
+        let flags = self.method_flags();
+        refuse_unread(&flags, &config.methods, &HairMethod::ALL, HairMethod::name)?;
         Ok(Box::new(config))
     }
 }
@@ -396,25 +373,33 @@ impl RunContext<'_> {
     }
 }
 
+/// What every scene's configuration says alike: its kind, its table, its step warning, its
+/// staging (from `record::$record`), its fps and its methods' names.
+macro_rules! said_alike {
+    ($kind:ident, $record:ident) => {
+        fn kind(&self) -> &'static SceneKind {
+            &$kind
+        }
+        fn table(&self) -> Result<toml::Table, Error> {
+            table_of(self)
+        }
+        fn step_warning(&self) -> Option<String> {
+            SceneConfig::step_warning(self)
+        }
+        fn staging(&self) -> Staging {
+            record::$record::staging(self)
+        }
+        fn fps(&self) -> f64 {
+            self.fps
+        }
+        fn methods(&self) -> Vec<&'static str> {
+            self.methods.iter().map(|m| m.name()).collect()
+        }
+    };
+}
+
 impl ReadyScene for PendulumConfig {
-    fn kind(&self) -> &'static SceneKind {
-        &PENDULUM
-    }
-    fn table(&self) -> Result<toml::Table, Error> {
-        table_of(self)
-    }
-    fn step_warning(&self) -> Option<String> {
-        SceneConfig::step_warning(self)
-    }
-    fn staging(&self) -> Staging {
-        record::pendulum::staging(self)
-    }
-    fn fps(&self) -> f64 {
-        self.fps
-    }
-    fn methods(&self) -> Vec<&'static str> {
-        self.methods.iter().map(|m| m.name()).collect()
-    }
+    said_alike!(PENDULUM, pendulum);
     fn bulk(&self) -> Bulk {
         let (_, h) = crate::scene::params::fixed_step(self.dt, &self.options);
         let mut bulk = fixed_step_bulk(self.schedule(), h, self.duration, 1.0, self.methods.len());
@@ -439,24 +424,7 @@ impl ReadyScene for PendulumConfig {
 }
 
 impl ReadyScene for RopeConfig {
-    fn kind(&self) -> &'static SceneKind {
-        &ROPE
-    }
-    fn table(&self) -> Result<toml::Table, Error> {
-        table_of(self)
-    }
-    fn step_warning(&self) -> Option<String> {
-        SceneConfig::step_warning(self)
-    }
-    fn staging(&self) -> Staging {
-        record::rope::staging(self)
-    }
-    fn fps(&self) -> f64 {
-        self.fps
-    }
-    fn methods(&self) -> Vec<&'static str> {
-        self.methods.iter().map(|m| m.name()).collect()
-    }
+    said_alike!(ROPE, rope);
     fn memory_bytes(&self) -> f64 {
         RopeConfig::memory_bytes(self)
     }
@@ -475,24 +443,7 @@ impl ReadyScene for RopeConfig {
 }
 
 impl ReadyScene for HairConfig {
-    fn kind(&self) -> &'static SceneKind {
-        &HAIR
-    }
-    fn table(&self) -> Result<toml::Table, Error> {
-        table_of(self)
-    }
-    fn step_warning(&self) -> Option<String> {
-        SceneConfig::step_warning(self)
-    }
-    fn staging(&self) -> Staging {
-        record::hair::staging(self)
-    }
-    fn fps(&self) -> f64 {
-        self.fps
-    }
-    fn methods(&self) -> Vec<&'static str> {
-        self.methods.iter().map(|m| m.name()).collect()
-    }
+    said_alike!(HAIR, hair);
     fn memory_bytes(&self) -> f64 {
         HairConfig::memory_bytes(self)
     }
@@ -534,37 +485,5 @@ impl ReadyScene for HairConfig {
             ctx.pool.current_num_threads()
         );
         Ok(ran)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::scene::params::SceneConfig;
-
-    /// The flags and the configuration name the same parameters: every key the configuration
-    /// writes is a flag, and every flag is such a key or one of the `optional` ones a
-    /// configuration writes only when given.
-    fn same_parameters<A, C>(scene: &'static str, optional: &[&str])
-    where
-        A: clap::Args + Default + serde::Serialize,
-        C: SceneConfig,
-    {
-        let flags = given(&A::default(), scene, &SceneFile::default())
-            .unwrap()
-            .keys;
-        let mut keys: Vec<String> = table_of(&C::default()).unwrap().keys().cloned().collect();
-        keys.extend(optional.iter().map(|k| k.to_string()));
-        let (mut flags, mut keys) = (flags, keys);
-        flags.sort();
-        keys.sort();
-        assert_eq!(flags, keys, "{scene}");
-    }
-
-    #[test]
-    fn every_flag_is_a_key_of_its_scenes_configuration_and_back() {
-        same_parameters::<PendulumArgs, PendulumConfig>("pendulum", &["compensated", "step"]);
-        same_parameters::<RopeArgs, RopeConfig>("rope", &["preset", "compensated", "step"]);
-        same_parameters::<HairArgs, HairConfig>("hair", &["stiffness", "dt", "log_strands"]);
     }
 }

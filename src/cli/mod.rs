@@ -51,7 +51,7 @@ pub enum Command {
     /// All three scenes in one recording on one timeline (parameters from --config, a table per scene)
     All(AllArgs),
     /// Simple pendulum θ'' = -(g/L) sin θ: every method side by side against the exact solution
-    Pendulum(PendulumCommand),
+    Pendulum(SceneCommand<PendulumArgs>),
     /// Mass-spring rope: point masses, Hooke springs, spring damping, air drag, pinned nodes
     #[command(
         after_help = "Energy: E - E0 is the energy's change since the start, the physical loss to \
@@ -60,7 +60,7 @@ pub enum Command {
                       energy balance, zero for the exact motion: each method's own energy error \
                       (plotted as log10 |E + W - E0| / scale), whatever the damping."
     )]
-    Rope(RopeCommand),
+    Rope(SceneCommand<RopeArgs>),
     /// Hair strands on a moving head: Verlet, PBD and follow-the-leader with length constraints,
     /// sphere collision and wind
     Hair(HairCommand),
@@ -164,18 +164,11 @@ pub struct AllArgs {
     pub methods: Option<Vec<String>>,
 }
 
+// A scene's flags and where its run goes (no doc comment: the command's own is its help).
 #[derive(Args, Debug, Clone)]
-pub struct PendulumCommand {
+pub struct SceneCommand<A: Args> {
     #[command(flatten)]
-    pub scene: PendulumArgs,
-    #[command(flatten)]
-    pub run: RunArgs,
-}
-
-#[derive(Args, Debug, Clone)]
-pub struct RopeCommand {
-    #[command(flatten)]
-    pub scene: RopeArgs,
+    pub scene: A,
     #[command(flatten)]
     pub run: RunArgs,
 }

@@ -93,37 +93,3 @@ pub fn join_negative_values(
     }
     out
 }
-
-#[cfg(test)]
-mod tests {
-    use super::join_negative_values;
-
-    fn joined(args: &[&str]) -> Vec<String> {
-        join_negative_values(args.iter().map(|a| a.into()))
-            .into_iter()
-            .map(|a| a.into_string().unwrap())
-            .collect()
-    }
-
-    #[test]
-    fn negative_numbers_after_a_long_option_are_its_value_and_flags_stay_flags() {
-        assert_eq!(
-            joined(&["p", "pendulum", "--theta0", "-1e-3", "--omega0", "-2.5E+1"]),
-            ["p", "pendulum", "--theta0=-1e-3", "--omega0=-2.5E+1"]
-        );
-        assert_eq!(
-            joined(&["p", "hair", "--wind", "-1,0,-3e2", "-q"]),
-            ["p", "hair", "--wind=-1,0,-3e2", "-q"]
-        );
-        // Not numbers: left for clap (a missing value, a flag, stdout, a negative infinity).
-        for args in [
-            &["p", "pendulum", "--dt", "-o", "x"][..],
-            &["p", "pendulum", "-o", "-"],
-            &["p", "pendulum", "--dt", "--", "-1"],
-            &["p", "pendulum", "--dt", "-inf"],
-            &["p", "pendulum", "--dt=-1", "-1"],
-        ] {
-            assert_eq!(joined(args), args);
-        }
-    }
-}

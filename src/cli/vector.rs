@@ -24,18 +24,9 @@ impl FromStr for Vector {
             .map(|p| p.trim().parse::<f64>())
             .collect::<Result<_, _>>()
             .map_err(|_| bad())?;
-        Vector::from_components(&parts).ok_or_else(bad)
-    }
-}
-
-impl Vector {
-    fn from_components(c: &[f64]) -> Option<Self> {
-        if !c.iter().all(|x| x.is_finite()) {
-            return None;
-        }
-        match *c {
-            [x, y, z] => Some(Vector(DVec3::new(x, y, z))),
-            _ => None,
+        match parts[..] {
+            [x, y, z] if parts.iter().all(|c| c.is_finite()) => Ok(Vector(DVec3::new(x, y, z))),
+            _ => Err(bad()),
         }
     }
 }
@@ -56,7 +47,8 @@ impl Serialize for Vector {
 /// and hair take (0,0,-9.81 or [0, 0, -9.81] in a scene file), whose length is used. A plane
 /// pendulum swings about its pivot in the plane of gravity, so only |g| changes its motion; its
 /// angle θ is measured from the direction gravity points.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(transparent)]
 pub struct Magnitude(pub f64);
 
 impl FromStr for Magnitude {
@@ -75,15 +67,10 @@ impl FromStr for Magnitude {
     }
 }
 
-impl Serialize for Magnitude {
-    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        self.0.serialize(s)
-    }
-}
-
 /// Node indices given as "0,15" on the command line and as [0, 15] in a scene file; "" is none
 /// (a rope pinned nowhere falls freely), as `pinned = []` is in a file.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+#[serde(transparent)]
 pub struct Indices(pub Vec<usize>);
 
 impl FromStr for Indices {
@@ -95,11 +82,5 @@ impl FromStr for Indices {
         // At most 2^63 − 1, what a scene file holds (a larger one fails as an `i64`).
         let parts = (text.split(',').map(str::trim)).map(|p| p.parse::<i64>().and(p.parse()));
         parts.collect::<Result<_, _>>().map(Indices)
-    }
-}
-
-impl Serialize for Indices {
-    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        self.0.serialize(s)
     }
 }

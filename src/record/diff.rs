@@ -307,11 +307,7 @@ impl DiffWriter {
         pa: Vec<[f32; 3]>,
         pb: Vec<[f32; 3]>,
     ) -> anyhow::Result<()> {
-        let rec = self.recording.stream();
-        rec.set_time(
-            "sim_time",
-            std::time::Duration::from_nanos(time.max(0) as u64),
-        );
+        let rec = self.stream_at(time);
         let scene = entity.split('/').next().unwrap_or_default();
         match self.rings.get(scene) {
             Some(ring) => {
@@ -355,11 +351,7 @@ impl DiffWriter {
         a: &dyn PairedRow,
         b: &dyn PairedRow,
     ) -> anyhow::Result<()> {
-        let rec = self.recording.stream();
-        rec.set_time(
-            "sim_time",
-            std::time::Duration::from_nanos(time.max(0) as u64),
-        );
+        let rec = self.stream_at(time);
         for (run, row, color, width) in [("A", a, A_COLOR, 3.0), ("B", b, B_COLOR, 1.5)] {
             let v: Vec<f32> = row.nums().map(|x| x as f32).collect();
             let (pivot, bob) = ([v[0], v[1], v[2]], [v[3], v[4], v[5]]);
@@ -378,6 +370,16 @@ impl DiffWriter {
             )?;
         }
         Ok(())
+    }
+
+    /// The stream, its `sim_time` set to `time` [ns].
+    fn stream_at(&self, time: i64) -> &rerun::RecordingStream {
+        let rec = self.recording.stream();
+        rec.set_time(
+            "sim_time",
+            std::time::Duration::from_nanos(time.max(0) as u64),
+        );
+        rec
     }
 
     fn push(&mut self, series: String, time: i64, value: f64) -> anyhow::Result<()> {

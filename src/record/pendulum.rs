@@ -196,7 +196,8 @@ fn slot_pivots(n: usize, length: f32) -> Vec<[f32; 3]> {
         .collect()
 }
 
-/// The pendulum's 3D slots, ghosts and phase portrait.
+/// The pendulum's 3D slots, ghosts and phase portrait (every field set by `start`).
+#[derive(Default)]
 pub struct PendulumDraw {
     lanes: Vec<&'static str>,
     /// Each lane's pivot [m]: a wall of slots in the x-z plane, above the viewer's ground grid.
@@ -214,19 +215,7 @@ pub struct PendulumDraw {
 
 /// A recorder of pendulum runs.
 pub fn recorder(rec: RecordingStream, timings: bool) -> SceneRecorder<PendulumDraw> {
-    SceneRecorder::new(
-        rec,
-        PendulumDraw {
-            lanes: Vec::new(),
-            pivots: Vec::new(),
-            length: 1.0,
-            phase: Vec::new(),
-            phase_last: Vec::new(),
-            phase_stride: 1,
-            reference_description: String::new(),
-        },
-        timings,
-    )
+    SceneRecorder::new(rec, PendulumDraw::default(), timings)
 }
 
 impl PendulumDraw {
@@ -476,6 +465,7 @@ fn about_text(scene: &PendulumScene) -> String {
     let c = &scene.config;
     let p = &c.params;
     let s = scene.schedule();
+    let methods: Vec<&str> = c.methods.iter().map(|m| m.name()).collect();
     format!(
         "# pendulum\n\n\
          θ'' = −(g/L) sin θ, f64, state (θ, ω).\n\n\
@@ -497,11 +487,7 @@ fn about_text(scene: &PendulumScene) -> String {
         crate::format::trim_number(s.end_time(), 9),
         s.frames_text(),
         s.series_text(&scene.windows()),
-        c.methods
-            .iter()
-            .map(|m| m.name())
-            .collect::<Vec<_>>()
-            .join(", "),
+        methods.join(", "),
         c.options.verlet_damping,
         scene.reference_description(),
         scene.initial_energy,

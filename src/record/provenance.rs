@@ -2,6 +2,7 @@
 //! line, how each scene's run ended, and the summaries.
 
 use anyhow::Context as _;
+use rerun::components::Text;
 
 /// Sends the run's provenance as recording properties (`/__properties/physlab`): the scene file
 /// that reproduces it, physlab's version and git commit, the Rerun SDK's version, the command
@@ -15,8 +16,8 @@ pub fn send_provenance(
     send_properties(
         rec,
         build_properties(scenes)
-            .with_component::<rerun::components::Text>("methods", [methods.join(",")])
-            .with_component::<rerun::components::Text>("config", [config_toml]),
+            .with_component::<Text>("methods", [methods.join(",")])
+            .with_component::<Text>("config", [config_toml]),
     )
 }
 
@@ -31,8 +32,8 @@ pub fn send_diff_provenance(
     send_properties(
         rec,
         build_properties("diff")
-            .with_component::<rerun::components::Text>("diff_a", [shell_path(a)])
-            .with_component::<rerun::components::Text>("diff_b", [shell_path(b)]),
+            .with_component::<Text>("diff_a", [shell_path(a)])
+            .with_component::<Text>("diff_b", [shell_path(b)]),
     )
 }
 
@@ -40,11 +41,11 @@ pub fn send_diff_provenance(
 /// git commit, the Rerun SDK's version and the command line.
 fn build_properties(scenes: &str) -> rerun::AnyValues {
     rerun::AnyValues::default()
-        .with_component::<rerun::components::Text>("scenes", [scenes])
-        .with_component::<rerun::components::Text>("physlab_version", [env!("CARGO_PKG_VERSION")])
-        .with_component::<rerun::components::Text>("git_commit", [GIT_COMMIT])
-        .with_component::<rerun::components::Text>("rerun_sdk_version", [RERUN_SDK_VERSION])
-        .with_component::<rerun::components::Text>("command_line", [command_line()])
+        .with_component::<Text>("scenes", [scenes])
+        .with_component::<Text>("physlab_version", [env!("CARGO_PKG_VERSION")])
+        .with_component::<Text>("git_commit", [GIT_COMMIT])
+        .with_component::<Text>("rerun_sdk_version", [RERUN_SDK_VERSION])
+        .with_component::<Text>("command_line", [command_line()])
 }
 
 fn send_properties(rec: &rerun::RecordingStream, values: rerun::AnyValues) -> anyhow::Result<()> {
@@ -245,16 +246,10 @@ pub fn send_run_status(rec: &rerun::RecordingStream, ends: &[SceneEnd]) -> anyho
     for e in ends {
         let s = e.scene;
         values = values
-            .with_component::<rerun::components::Text>(key(s, "status")?, [e.status])
-            .with_component::<rerun::components::Text>(
-                key(s, "last_tick")?,
-                [e.last_tick.to_string()],
-            )
-            .with_component::<rerun::components::Text>(
-                key(s, "end_time")?,
-                [format!("{:?}", e.end_time)],
-            )
-            .with_component::<rerun::components::Text>(key(s, "ended")?, [e.text.as_str()]);
+            .with_component::<Text>(key(s, "status")?, [e.status])
+            .with_component::<Text>(key(s, "last_tick")?, [e.last_tick.to_string()])
+            .with_component::<Text>(key(s, "end_time")?, [format!("{:?}", e.end_time)])
+            .with_component::<Text>(key(s, "ended")?, [e.text.as_str()]);
     }
     rec.send_property("physlab_run", &values)?;
     Ok(())
@@ -324,31 +319,3 @@ pub const GIT_COMMIT: &str = env!("PHYSLAB_GIT_COMMIT");
 
 /// The Rerun SDK this build links (pinned in Cargo.toml).
 pub const RERUN_SDK_VERSION: &str = "0.36.3";
-
-#[cfg(test)]
-mod tests {
-    /// Every character that moves, hides or reorders text is shown as its UTF-8 bytes (the
-    /// hostile pass found U+061C, the Arabic letter mark, reaching the terminal), and plain text,
-    /// accents and CJK included, passes unchanged.
-    #[test]
-    fn characters_that_hide_or_reorder_text_are_shown_as_bytes() {
-        for (c, bytes) in [
-            ('\u{061c}', "\\xd8\\x9c"),
-            ('\u{200b}', "\\xe2\\x80\\x8b"),
-            ('\u{200f}', "\\xe2\\x80\\x8f"),
-            ('\u{2028}', "\\xe2\\x80\\xa8"),
-            ('\u{202e}', "\\xe2\\x80\\xae"),
-            ('\u{2069}', "\\xe2\\x81\\xa9"),
-            ('\u{feff}', "\\xef\\xbb\\xbf"),
-            ('\u{1b}', "\\x1b"),
-        ] {
-            assert_eq!(
-                super::escaped(&format!("a{c}b")),
-                format!("a{bytes}b"),
-                "{c:?}"
-            );
-        }
-        let plain = "θ0 = 60°, naïve 模型 E − E0";
-        assert_eq!(super::escaped(plain), plain);
-    }
-}

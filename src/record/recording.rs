@@ -33,12 +33,8 @@ impl Destinations {
 
     /// The recording as a checked output (`crate::output`): a file or standard output.
     pub fn written(&self) -> anyhow::Result<Option<crate::output::Output>> {
-        use crate::output::{Dash, check_recording};
-        match (&self.file, self.stdout) {
-            (Some(path), _) => check_recording(path, Dash::Binary).map(Some),
-            (None, true) => check_recording(Path::new("-"), Dash::Binary).map(Some),
-            (None, false) => Ok(None),
-        }
+        let path = self.file.as_deref().or(self.stdout.then(|| Path::new("-")));
+        (path.map(|p| crate::output::check_recording(p, crate::output::Dash::Binary))).transpose()
     }
 }
 
@@ -74,9 +70,7 @@ pub fn find_on_path(name: &str) -> Option<PathBuf> {
         .map(|dir| dir.join(name))
         .find(|p| {
             use std::os::unix::fs::PermissionsExt as _;
-            p.metadata()
-                .map(|m| m.is_file() && m.permissions().mode() & 0o111 != 0)
-                .unwrap_or(false)
+            (p.metadata()).is_ok_and(|m| m.is_file() && m.permissions().mode() & 0o111 != 0)
         })
 }
 

@@ -160,14 +160,10 @@ impl Draw<RopeScene> for RopeDraw {
                     .with_radii([0.5 * node_radius])
                     .with_colors([color]),
             )?;
-            let pinned: Vec<[f32; 3]> = p
-                .pinned
-                .iter()
-                .map(|&k| {
-                    let q = node(&scene.initial_positions, k);
-                    let o = self.offsets[i];
-                    f32_point([q.x + o[0], q.y + o[1], q.z + o[2]])
-                })
+            let o = self.offsets[i];
+            let at = |q: glam::DVec3| f32_point([q.x + o[0], q.y + o[1], q.z + o[2]]);
+            let pinned: Vec<[f32; 3]> = (p.pinned.iter())
+                .map(|&k| at(node(&scene.initial_positions, k)))
                 .collect();
             // Each 3D view is titled with its method; a pin is labelled only when its rope
             // diverges, to say when.
@@ -228,16 +224,9 @@ fn about_text(scene: &RopeScene) -> String {
     let c = &scene.config;
     let p = &c.params;
     let s = c.schedule();
-    let methods: Vec<String> = c
-        .methods
-        .iter()
-        .map(|m| {
-            format!(
-                "| {} | {} |",
-                m.name(),
-                cost_per_step(*m, p.newton_iterations)
-            )
-        })
+    let cost = |m: crate::integrate::Method| cost_per_step(m, p.newton_iterations);
+    let methods: Vec<String> = (c.methods.iter())
+        .map(|&m| format!("| {} | {} |", m.name(), cost(m)))
         .collect();
     format!(
         "# rope\n\n\

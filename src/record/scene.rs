@@ -129,19 +129,11 @@ impl<S: Scene, D: Draw<S>> Observer<S> for SceneRecorder<D> {
         self.quantities = lanes.iter().map(|l| scene.quantities(l.1)).collect();
         self.draw.start(&self.rec, scene, lanes)?;
         for &(name, lane) in lanes {
-            for &quantity in scene.quantities(lane) {
-                log_series_style(
-                    &self.rec,
-                    format!("{}/plots/{}/{name}", scene.name(), plotted(quantity)),
-                    name,
-                )?;
-            }
-            if self.timings && scene.is_method(lane) {
-                log_series_style(
-                    &self.rec,
-                    format!("{}/plots/{}/{name}", scene.name(), FRAME_COST.0),
-                    name,
-                )?;
+            let timed = self.timings && scene.is_method(lane);
+            let plots = scene.quantities(lane).iter().map(|&q| plotted(q));
+            for plot in plots.chain(timed.then_some(FRAME_COST.0)) {
+                let entity = format!("{}/plots/{plot}/{name}", scene.name());
+                log_series_style(&self.rec, entity, name)?;
             }
         }
         // The static styles in a flush of their own (see `event`).

@@ -185,11 +185,7 @@ fn drift_row(r: &Drift, wide: bool) -> Vec<String> {
             format!("{:.1e}", r.evals as f64),
         ];
     }
-    let symplectic = if r.method.info().symplectic {
-        "yes"
-    } else {
-        "no"
-    };
+    let symplectic = ["no", "yes"][r.method.info().symplectic as usize];
     vec![
         name,
         symplectic.into(),

@@ -10,7 +10,7 @@ use crate::integrate::Method;
 use crate::report::table::Table;
 use crate::report::{methods, study as study_tables};
 use crate::scene::hair::run::{HairConfig, HairScene};
-use crate::scene::harness::{LaneStats, NoObserver, run};
+use crate::scene::harness::{LaneStats, NoObserver, Scene, run};
 use crate::scene::pendulum::run::{PendulumConfig, PendulumScene};
 use crate::scene::rope::run::{RopeConfig, RopeScene};
 use crate::study::{self, Problem, Sweep, error_floor};
@@ -118,38 +118,53 @@ fn diverged(s: &LaneStats) -> String {
         .map_or("no".into(), |e| format!("at t = {:.3} s", e.time))
 }
 
+/// A scene's run at its defaults as a table: `header`, then per lane `row` of the scene, the
+/// lane and its stats, and whether it diverged (reference lanes only where `references`).
+fn defaults_table<S: Scene, const N: usize>(
+    mut scene: S,
+    references: bool,
+    header: [&str; N],
+    row: impl Fn(&S, &S::Lane, &LaneStats) -> Vec<String>,
+) -> String {
+    let r = run(&mut scene, &mut NoObserver).expect("a run without observers cannot fail");
+    let mut t = Table::new(header);
+    for (lane, s) in r.lanes.iter().zip(&r.stats) {
+        if references || s.is_method {
+            let mut cells = vec![s.name.to_string()];
+            cells.extend(row(&scene, lane, s));
+            cells.push(diverged(s));
+            t.row(cells);
+        }
+    }
+    t.render()
+}
+
 /// `physlab pendulum` at its defaults: errors against the exact solution.
 fn pendulum_default() -> String {
-    let mut scene = PendulumScene::new(PendulumConfig::default());
-    let r = run(&mut scene, &mut NoObserver).expect("a run without observers cannot fail");
-    let mut t = Table::new([
+    let header = [
         "method",
         "max abs(θ − θexact) [rad]",
         "max abs(ΔE/E0)",
         "period rel. error",
         "diverged",
-    ]);
-    for (lane, s) in r.lanes.iter().zip(&r.stats).filter(|(_, s)| s.is_method) {
+    ];
+    let scene = PendulumScene::new(PendulumConfig::default());
+    defaults_table(scene, false, header, |scene, lane, _| {
         let period = match (lane.meter.period(), scene.exact_period) {
             (Some(m), Some(e)) => format!("{:+.2e}", m / e - 1.0),
             _ => "—".into(),
         };
-        t.row([
-            s.name.to_string(),
+        vec![
             sci(lane.max_theta_error),
             sci(lane.max_energy_error),
             period,
-            diverged(s),
-        ]);
-    }
-    t.render()
+        ]
+    })
 }
 
 /// `physlab rope` at its defaults.
 fn rope_default() -> String {
-    let mut scene = RopeScene::new(RopeConfig::default());
-    let r = run(&mut scene, &mut NoObserver).expect("a run without observers cannot fail");
-    let mut t = Table::new([
+    let header = [
         "method",
         "steps",
         "E − E0 [J]",
@@ -157,43 +172,37 @@ fn rope_default() -> String {
         "E + W − E0 [J]",
         "max strain",
         "diverged",
-    ]);
-    for (lane, s) in r.lanes.iter().zip(&r.stats) {
-        t.row([
-            s.name.to_string(),
+    ];
+    let scene = RopeScene::new(RopeConfig::default());
+    defaults_table(scene, true, header, |scene, lane, s| {
+        vec![
             s.ticks_taken().to_string(),
             format!("{:+.3e}", lane.final_energy - scene.initial_energy),
             format!("{:.3e}", lane.final_work),
             format!("{:+.3e}", lane.balance_error(scene.initial_energy)),
             sci(lane.max_strain),
-            diverged(s),
-        ]);
-    }
-    t.render()
+        ]
+    })
 }
 
 /// `physlab hair` at its defaults.
 fn hair_default() -> String {
-    let mut scene = HairScene::new(HairConfig::default());
-    let r = run(&mut scene, &mut NoObserver).expect("a run without observers cannot fail");
-    let mut t = Table::new([
+    let header = [
         "method",
         "max stretch",
         "max penetration [m]",
         "final KE per kg [J/kg]",
         "diverged",
-    ]);
-    for (lane, s) in r.lanes.iter().zip(&r.stats) {
+    ];
+    let scene = HairScene::new(HairConfig::default());
+    defaults_table(scene, true, header, |_, lane, _| {
         let w = &lane.worst;
-        t.row([
-            s.name.to_string(),
+        vec![
             format!("{:.2e}", w.max_stretch),
             format!("{:.1e}", w.max_penetration),
             format!("{:.4e}", w.kinetic_energy),
-            diverged(s),
-        ]);
-    }
-    t.render()
+        ]
+    })
 }
 
 /// `physlab study drift` on its defaults: the fixed-step methods on the pendulum at 60°,
@@ -272,18 +281,4 @@ pub fn replace(document: &str, name: &str, markdown: &str) -> Option<String> {
         &document[..start],
         &document[start + old.len()..]
     ))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn blocks_are_found_and_replaced_between_their_markers() {
-        let doc = "a\n<!-- figure: x -->\n| old |\n<!-- /figure -->\nb\n";
-        assert_eq!(block(doc, "x"), Some("| old |\n"));
-        assert_eq!(block(doc, "y"), None);
-        let new = replace(doc, "x", "| new |\n").unwrap();
-        assert_eq!(new, "a\n<!-- figure: x -->\n| new |\n<!-- /figure -->\nb\n");
-    }
 }

@@ -12,6 +12,8 @@ use crate::scene::harness::Run;
 pub fn summary_text(scene: &HairScene, run: &Run<HairLane>, wide: bool) -> String {
     let c = &scene.config;
     let p = &c.params;
+    let spring = c.methods.iter().any(|m| m.is_spring());
+    let springs_text = if spring { springs(c) } else { String::new() };
     let mut out = format!(
         "hair: {} strands × {} nodes, segment {} m, head radius {} m (head motion {}), wind {:?} m/s² ± {}%, damping {} 1/s\n\
          verlet solver {}, {} iterations; {}\
@@ -29,11 +31,7 @@ pub fn summary_text(scene: &HairScene, run: &Run<HairLane>, wide: bool) -> Strin
         p.damping,
         p.solver.name(),
         p.iterations,
-        if c.methods.iter().any(|m| m.is_spring()) {
-            springs(c)
-        } else {
-            String::new()
-        },
+        springs_text,
         plural(c.substeps, "substep"),
         c.rate,
         c.step_dt(),

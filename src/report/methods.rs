@@ -144,25 +144,3 @@ pub fn method_page(name: &str) -> Option<String> {
     }
     Some(out)
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_methods_text_fits_a_terminal_of_100_columns_in_30_lines() {
-        let text = methods_table();
-        let widest = text.lines().map(|l| l.chars().count()).max().unwrap_or(0);
-        assert!(widest <= WIDTH, "{widest} columns");
-        assert!(text.lines().count() <= 30, "{text}");
-        assert!(text.contains("| rk4 "), "{text}");
-        for name in page_names() {
-            let page = method_page(name).unwrap();
-            let widest = page.lines().map(|l| l.chars().count()).max().unwrap_or(0);
-            assert!(widest <= WIDTH, "{name}: {widest} columns");
-        }
-        assert!(method_page("vern9").unwrap().contains("- notes: "));
-        assert!(method_page("ftl").unwrap().contains("in hair"));
-        assert!(method_page("nope").is_none());
-    }
-}

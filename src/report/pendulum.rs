@@ -97,16 +97,12 @@ fn lanes_table(scene: &PendulumScene, run: &Run<PendulumLane>, wide: bool) -> St
         "period err",
         "diverged",
     ]);
-    let err = |x: f64| {
-        if wide {
-            format!("{x:.3e}")
-        } else {
-            format!("{x:.1e}")
-        }
-    };
+    let digits = if wide { 3 } else { 1 };
+    let err = |x: f64| format!("{x:.digits$e}");
     let dash = || "—".to_string();
     for (lane, s) in run.lanes.iter().zip(&run.stats) {
-        let timed = s.is_method;
+        // The reference is not timed, and has no error of its own.
+        let timed = |shown: bool, text: String| if s.is_method && shown { text } else { dash() };
         let period = lane.meter.period();
         let period_err = match (period, scene.exact_period) {
             (Some(m), Some(e)) if wide => format!("{:+.2e}", m / e - 1.0),
@@ -116,22 +112,10 @@ fn lanes_table(scene: &PendulumScene, run: &Run<PendulumLane>, wide: bool) -> St
         table.row([
             s.name.to_string(),
             steps_cell(s, wide),
-            if timed {
-                s.counts.evals.to_string()
-            } else {
-                dash()
-            },
-            if timed {
-                format!("{:.3}", s.wall.as_secs_f64() * 1e3)
-            } else {
-                dash()
-            },
+            timed(true, s.counts.evals.to_string()),
+            timed(true, format!("{:.3}", s.wall.as_secs_f64() * 1e3)),
             s.ns_per_step().map_or_else(dash, |ns| format!("{ns:.1}")),
-            if timed && !s.failed_at_once() {
-                err(lane.max_theta_error)
-            } else {
-                dash()
-            },
+            timed(!s.failed_at_once(), err(lane.max_theta_error)),
             figure(s, err(lane.max_energy_error)),
             period.map_or_else(|| "— (< 2 crossings)".to_string(), |t| format!("{t:.9}")),
             period_err,

@@ -22,12 +22,8 @@ pub fn cost_per_step(method: Method, newton_iterations: u32) -> String {
 
 /// A vector as "(x, y, z)" with at most six decimals each.
 pub fn vector_text(d: glam::DVec3) -> String {
-    format!(
-        "({}, {}, {})",
-        trim_number(d.x, 6),
-        trim_number(d.y, 6),
-        trim_number(d.z, 6)
-    )
+    let [x, y, z] = d.to_array().map(|c| trim_number(c, 6));
+    format!("({x}, {y}, {z})")
 }
 
 /// The linearised rope's fastest rates against the step, which decide explicit stability.

@@ -91,26 +91,16 @@ impl Table {
                     .unwrap_or(0)
             })
             .collect();
-        let line = |cells: &[String]| {
-            let mut s = String::from("|");
-            for (c, w) in widths.iter().enumerate() {
-                let cell = cells.get(c).map_or("", String::as_str);
-                let pad = w - cell.chars().count();
-                s.push(' ');
-                s.push_str(cell);
-                s.push_str(&" ".repeat(pad));
-                s.push_str(" |");
-            }
-            s.push('\n');
-            s
+        // Padded to `w` characters (format's width counts chars, as the widths do).
+        let line = |cells: &[String]| -> String {
+            let cell = |c: usize| cells.get(c).map_or("", String::as_str);
+            let padded: String = (widths.iter().enumerate())
+                .map(|(c, &w)| format!(" {:<w$} |", cell(c)))
+                .collect();
+            format!("|{padded}\n")
         };
-        let mut out = line(&self.header);
-        out.push('|');
-        for w in &widths {
-            out.push_str(&"-".repeat(w + 2));
-            out.push('|');
-        }
-        out.push('\n');
+        let rule: String = widths.iter().map(|w| "-".repeat(w + 2) + "|").collect();
+        let mut out = line(&self.header) + "|" + &rule + "\n";
         for r in &self.rows {
             out.push_str(&line(r));
         }
@@ -194,63 +184,9 @@ pub fn fit_lines(text: &str) -> String {
 
 /// `- name: text` wrapped to `width` columns, its continuation lines indented by two.
 pub fn list_item(name: &str, text: &str, width: usize) -> String {
-    let mut out = String::new();
-    for (k, line) in wrap(&format!("- {name}: {text}"), width - 2)
-        .into_iter()
-        .enumerate()
-    {
-        if k > 0 {
-            out.push_str("  ");
-        }
-        out.push_str(&line);
-        out.push('\n');
-    }
-    out
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn table_pads_columns() {
-        let mut t = Table::new(["a", "long"]);
-        t.row(["xyz", "1"]);
-        assert_eq!(
-            t.render(),
-            "| a   | long |\n|-----|------|\n| xyz | 1    |\n"
-        );
-    }
-
-    /// The fitted table: short headers, a left-out column, a constant column said once above
-    /// and a constant dash left out; the full table keeps all.
-    #[test]
-    fn the_fitted_table_says_a_constant_column_once() {
-        let mut t = Table::new(["method", "steps taken", "wall", "diverged", "note"])
-            .short(["method", "steps", "", "diverged", "note"]);
-        t.row(["a", "10", "1", "no", "—"]);
-        t.row(["b", "20", "2", "no", "—"]);
-        let fitted = [
-            "every row: diverged = no",
-            "| method | steps |",
-            "|--------|-------|",
-            "| a      | 10    |",
-            "| b      | 20    |",
-        ];
-        assert_eq!(t.render_at(false), fitted.join("\n") + "\n");
-        assert_eq!(t.render_at(true), t.render());
-        assert!(t.render().contains("| steps taken | wall |"));
-    }
-
-    #[test]
-    fn long_lines_are_wrapped_and_table_rows_kept() {
-        let long = format!("  {}\n| {} |\nshort", "word ".repeat(30), "x".repeat(120));
-        let fitted = fit_lines(&long);
-        let lines: Vec<&str> = fitted.lines().collect();
-        assert_eq!(lines.len(), 4, "{fitted}");
-        assert!(lines[0].starts_with("  word") && lines[1].starts_with("  word"));
-        assert!(lines[..2].iter().all(|l| l.chars().count() <= WIDTH));
-        assert_eq!(lines[2].chars().count(), 124);
-        assert_eq!(lines[3], "short");
-    }
+    let lines = wrap(&format!("- {name}: {text}"), width - 2);
+    let indent = |k: usize| if k > 0 { "  " } else { "" };
+    (lines.iter().enumerate())
+        .map(|(k, line)| format!("{}{line}\n", indent(k)))
+        .collect()
 }

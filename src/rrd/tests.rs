@@ -2,7 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::compare::{SeriesDiff, StreamSpec, compare_within, time_text};
+use super::compare::{StreamSpec, compare_within};
 
 /// A recording of two series, `x` then `y` (or `y` then `x`), each `rows` rows on `sim_time`,
 /// cut into chunks of 1024 rows as physlab cuts them.
@@ -66,54 +66,6 @@ fn chunks_waiting_beyond_the_cap_are_refused() {
             .values()
             .all(|d| d.bit_identical() && d.paired == rows as usize)
     );
-    std::fs::remove_dir_all(&dir).unwrap();
-}
-
-/// Compares one series of (time [ns], value) rows written to two recordings.
-fn compare(dir: &Path, a: &[(i64, f64)], b: &[(i64, f64)], tolerance: f64) -> SeriesDiff {
-    let write = |name: &str, rows: &[(i64, f64)]| {
-        let path = dir.join(name);
-        let rec = rerun::RecordingStreamBuilder::new("physlab-test")
-            .save(&path)
-            .unwrap();
-        for &(t, v) in rows {
-            rec.set_time("sim_time", std::time::Duration::from_nanos(t as u64));
-            rec.log("x", &rerun::Scalars::single(v)).unwrap();
-        }
-        path
-    };
-    let spec = StreamSpec {
-        tolerance,
-        skip: &|_: &str| false,
-        rename_b: None,
-        cap_b: false,
-    };
-    let (a, b) = (write("a.rrd", a), write("b.rrd", b));
-    let mut found = compare_within(&a, &b, &spec, &mut |_, _, _| Ok(()), 1 << 30).unwrap();
-    found.timed.pop_first().unwrap().1
-}
-
-#[test]
-fn finds_the_first_difference_beyond_the_tolerance_and_the_largest() {
-    let dir = std::env::temp_dir().join(format!("physlab-rrd-pairs-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let a = [(0, 1.0), (10, 2.0), (20, -4.0), (30, 0.0)];
-    let b = [(0, 1.0), (10, 2.0 + 1e-15), (20, -4.5), (30, 0.0)];
-    let d = compare(&dir, &a, &b, 0.0);
-    assert_eq!(d.first.as_ref().unwrap().time, Some(10));
-    assert_eq!(d.largest.as_ref().unwrap().time, Some(20));
-    assert_eq!(d.largest.as_ref().unwrap().abs(), 0.5);
-    assert!(!d.same());
-    // Relative to the series' scale 4: 1e-15 passes 1e-3, 0.5 does not.
-    let d = compare(&dir, &a, &b, 1e-3);
-    assert_eq!(d.first.as_ref().unwrap().time, Some(20));
-    assert!(!compare(&dir, &a, &b, 0.2).bit_identical());
-    assert!(compare(&dir, &a, &b, 0.2).same());
-    // A missing row is a difference.
-    assert_eq!(compare(&dir, &a, &b[..3], 0.0).unpaired, 1);
-    assert_eq!(time_text(Some(1_460_000_000)), "t = 1.46 s");
-    assert_eq!(time_text(Some(3_000_000_000)), "t = 3 s");
-    assert_eq!(time_text(Some(-5)), "t = -0.000000005 s");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
