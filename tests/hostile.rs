@@ -925,7 +925,12 @@ fn tempdir_for_output() -> PathBuf {
 }
 
 /// Checks one command's run against what it should do; `Err` says how it failed.
-fn check(case: &Case, command: &str, args: &[&std::ffi::OsStr], want: Want) -> Result<i32, String> {
+fn check(
+    case: &Case,
+    command: &str,
+    args: &[&std::ffi::OsStr],
+    want: Want,
+) -> Result<(i32, f64), String> {
     let (code, out, err, peak) = run(args);
     let all = format!("{out}{err}");
     let fail = |what: String| {
@@ -994,7 +999,7 @@ fn check(case: &Case, command: &str, args: &[&std::ffi::OsStr], want: Want) -> R
     if !ok {
         return fail(format!("expected {want:?}, exit {code}"));
     }
-    Ok(code)
+    Ok((code, peak))
 }
 
 fn record_escaped(path: &Path) -> String {
@@ -1071,11 +1076,13 @@ fn crafted_recordings_meet_their_expected_outcome_through_every_command() {
 
     // The counts by class, for docs/trust.md: inputs, then each command's exit codes.
     let mut table: BTreeMap<&str, (usize, [Codes; 3])> = BTreeMap::new();
+    let mut largest = 0.0f64;
     for case in &cases {
         table.entry(case.class).or_default().0 += 1;
     }
     for (c, k, r) in &results {
-        if let Ok(code) = r {
+        if let Ok((code, peak)) = r {
+            largest = largest.max(*peak);
             let column = [0, 1, 1, 2][*k];
             *table.get_mut(cases[*c].class).unwrap().1[column]
                 .entry(*code)
@@ -1098,10 +1105,11 @@ fn crafted_recordings_meet_their_expected_outcome_through_every_command() {
         );
     }
     eprintln!(
-        "{} inputs, {} runs in {:.1} s",
+        "{} inputs, {} runs in {:.1} s; the largest peak resident memory {:.0} MB",
         cases.len(),
         results.len(),
-        started.elapsed().as_secs_f64()
+        started.elapsed().as_secs_f64(),
+        largest / 1e6
     );
     assert!(
         failures.is_empty(),

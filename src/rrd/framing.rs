@@ -38,10 +38,10 @@ pub struct Framed<R> {
     cut: Option<Cut>,
     /// The offset of the last footer (an end message holding a manifest) no message followed.
     footer: Option<u64>,
-    /// The offset of a footer that more messages followed: the file does not end there.
-    footer_followed: Option<u64>,
+    /// The offset of a footer that more messages followed: a part's footer, not the file's.
+    pub(super) footer_followed: Option<u64>,
     /// A store's info was read (Rerun writes it before the store's first chunk).
-    store_info_seen: bool,
+    pub(super) store_info_seen: bool,
 }
 
 /// One message of the file: its kind, the file offset and length of its payload and, for an
@@ -88,17 +88,6 @@ impl<R: Read> Framed<R> {
     /// finalised, not cut short.
     pub fn has_footer(&self) -> bool {
         self.footer.is_some()
-    }
-
-    /// Where a footer was read that more messages followed (and, unless `has_footer`, no footer
-    /// after them): the footer of a part of the file, not of the whole.
-    pub fn footer_followed(&self) -> Option<u64> {
-        self.footer_followed
-    }
-
-    /// Whether a store's info (`SetStoreInfo`) has been read so far.
-    pub fn store_info_seen(&self) -> bool {
-        self.store_info_seen
     }
 
     /// The next message, `None` at the end of the file (or where a length ran past it, or a

@@ -3,7 +3,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 
-use super::read::{ReadEnd, each_chunk};
+use super::read::each_chunk;
 
 /// A warning or info line of a scene's event log.
 #[derive(Clone, Debug, PartialEq)]
@@ -32,7 +32,7 @@ pub struct RecordingInfo {
     /// Why it has none, in words (empty when it has one).
     pub why_no_footer: String,
     /// Why it is not a whole recording though it has its footer: its data start without their
-    /// store's info ([`ReadEnd::missing_store_info`]).
+    /// store's info.
     pub headless: Option<String>,
 }
 
@@ -195,7 +195,12 @@ pub(super) fn read_recording_within(path: &Path, cap: usize) -> anyhow::Result<R
     if !end.has_footer {
         info.why_no_footer = end.missing_footer();
     }
-    info.headless = end.headless.map(ReadEnd::missing_store_info);
+    info.headless = end.headless.map(|at| {
+        format!(
+            "its data start at byte {at} without the store info Rerun writes before them (a \
+             piece cut from a recording, or an edited file)"
+        )
+    });
     info.events.sort_by(|a, b| {
         a.time
             .total_cmp(&b.time)

@@ -69,14 +69,6 @@ impl ReadEnd {
             },
         }
     }
-
-    /// Why a file whose data start without their store's info is not a whole recording.
-    pub fn missing_store_info(at: u64) -> String {
-        format!(
-            "its data start at byte {at} without the store info Rerun writes before them (a \
-             piece cut from a recording, or an edited file)"
-        )
-    }
 }
 
 /// The refusal of a message over [`MAX_MESSAGE_BYTES`], naming its size.
@@ -201,7 +193,7 @@ impl Messages {
             }
             let (store, bytes) = (std::mem::take(&mut arrow.store), arrow.size() as usize);
             one_recording(&mut self.framed, &mut self.recording, path, &store)?;
-            if store.recording && !self.framed.store_info_seen() {
+            if store.recording && !self.framed.store_info_seen {
                 self.headless.get_or_insert(at);
             }
             let chunk = guarded(path, || decode_chunk(arrow.ipc()?))?.map_err(whats_wrong)?;
@@ -222,7 +214,7 @@ impl Messages {
         ReadEnd {
             has_footer: self.framed.has_footer(),
             cut: self.framed.cut(),
-            footer_followed: self.framed.footer_followed(),
+            footer_followed: self.framed.footer_followed,
             headless: self.headless,
         }
     }
