@@ -4,6 +4,7 @@ use std::process::ExitCode;
 
 use physlab::cli::Command;
 use physlab::error::Error;
+use physlab::record::escaped;
 
 fn main() -> ExitCode {
     // A closed pipe and a file-size limit become errors of the write (EPIPE, EFBIG) that end the
@@ -47,6 +48,12 @@ fn main() -> ExitCode {
         // The reader of standard output left (`| head`): the output ends there, quietly.
         return ExitCode::from(Error::READER_GONE);
     }
-    eprintln!("{}", err.report());
+    // Escaped line by line: a file's name or a decoder's words may hold control characters.
+    let report: Vec<_> = err
+        .report()
+        .lines()
+        .map(|l| escaped(l).into_owned())
+        .collect();
+    eprintln!("{}", report.join("\n"));
     ExitCode::from(err.exit_code_for(compares))
 }

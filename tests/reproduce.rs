@@ -1343,42 +1343,7 @@ mod untrusted {
 
     use physlab::record::{escaped, shell_word, shell_words};
 
-    use crate::common::{physlab, run_within, s, scratch_dir};
-
-    /// A recording another program (or a hostile hand) made: the `physlab` properties `props`,
-    /// the `physlab_run` properties `run`, and (with `data`) ten rows of one pendulum series.
-    fn craft(
-        path: &Path,
-        app: &'static str,
-        props: &[(&str, &str)],
-        run: &[(&str, &str)],
-        data: bool,
-    ) {
-        let rec = rerun::RecordingStreamBuilder::new(app).save(path).unwrap();
-        let values = |pairs: &[(&str, &str)]| {
-            pairs.iter().fold(rerun::AnyValues::default(), |v, (k, x)| {
-                let key = rerun::ComponentIdentifier::try_new(*k).unwrap();
-                v.with_component::<rerun::components::Text>(key, [*x])
-            })
-        };
-        if !props.is_empty() {
-            rec.send_property("physlab", &values(props)).unwrap();
-        }
-        if !run.is_empty() {
-            rec.send_property("physlab_run", &values(run)).unwrap();
-        }
-        if data {
-            for i in 0..10 {
-                rec.set_duration_secs("sim_time", i as f64 * 0.01);
-                rec.log(
-                    "pendulum/plots/theta/verlet",
-                    &rerun::Scalars::single(i as f64),
-                )
-                .unwrap();
-            }
-        }
-        drop(rec);
-    }
+    use crate::common::{craft, physlab, run_within, s, scratch_dir};
 
     const PENDULUM: &str = "[pendulum]\nduration = 0.1\nmethods = [\"verlet\"]\n";
     /// A line of its own that claims the recording verified, the screen cleared and the

@@ -44,6 +44,10 @@ pub(super) fn physlab_made(path: &Path) -> anyhow::Result<RecordingInfo> {
             "truncated: {}, so its last data are lost; `physlab inspect` shows what it holds",
             info.why_no_footer
         )
+    } else if let Some(why) = &info.headless {
+        format!("not a whole recording: {why}; `physlab inspect` shows what it holds")
+    } else if info.application_id.is_empty() {
+        "holds no recorded data (a viewer layout, its blueprint, alone)".into()
     } else if !info.application_id.starts_with("physlab") {
         format!(
             "a recording of another application (\"{}\"), not of physlab",

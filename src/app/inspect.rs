@@ -60,6 +60,8 @@ fn described(info: &RecordingInfo, file: &Path, scene_file: &Path) -> Vec<String
     };
     if info.application_id.starts_with("physlab") {
         out.push(format!("  written by: {}{what}", version_line(info)));
+    } else if info.application_id.is_empty() {
+        out.push("  written by: (no recorded data: a viewer layout, its blueprint, alone)".into());
     } else {
         out.push(format!(
             "  written by: \"{}\", another application than physlab (no physlab provenance)",
@@ -87,6 +89,9 @@ fn described(info: &RecordingInfo, file: &Path, scene_file: &Path) -> Vec<String
             info.chunks, info.why_no_footer
         )
     });
+    if let Some(why) = &info.headless {
+        out.push(format!("  not a whole recording: {why}"));
+    }
     let study = p("scenes").starts_with("study");
     if info.run.is_empty() && info.properties.contains_key("config") && !study {
         out.push("  ended: (not recorded: killed before the end, or an older physlab)".into());

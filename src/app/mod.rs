@@ -351,6 +351,9 @@ fn run_scenes(
             let gb = memory / 1e9;
             eprintln!("{name}: its state takes about {gb:.1} GB of memory{of}");
         }
+        if !run.quiet && !replay.silent {
+            say_floor(name, scene.bulk(), !run.no_record);
+        }
         let mut ran = scene.run(ctx)?;
         if let Some(w) = warning {
             ran.append(&format!("\nwarning: {w}\n"));
@@ -376,6 +379,23 @@ fn run_scenes(
         }
     }
     Ok(ended)
+}
+
+/// Says before a scene's setup what its size alone makes it take, when long or large: a state of
+/// gigabytes takes seconds to build and its first frames longer, before its pace can be judged
+/// (`Progress`). `reproduce` states its own (`replay.silent`).
+fn say_floor(name: &str, bulk: scenes::Bulk, recorded: bool) {
+    let seconds = bulk.node_steps * crate::scene::params::NODE_STEP_SECONDS;
+    let bytes = bulk.node_frames * record::hair::BYTES_PER_NODE_FRAME * f64::from(recorded);
+    if seconds > progress::LONG_SECONDS || bytes > progress::LARGE_BYTES {
+        let (time, size) = (crate::format::duration(seconds), crate::format::size(bytes));
+        let notice = format!(
+            "{name}: this takes at least about {time} and writes about {size} to its recording \
+             (from its {:.1e} node-steps and 3D frames, before it starts); Ctrl-C stops it",
+            bulk.node_steps
+        );
+        eprintln!("{}", report::table::fit_lines(&notice));
+    }
 }
 
 /// Output options that cannot hold together.

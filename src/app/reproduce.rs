@@ -199,12 +199,11 @@ fn nothing_to_compare(file: &Path) -> Error {
     ))
 }
 
-/// Copies `file` into the temporary folder through one opened handle: the only time the path
-/// is opened. What is no regular file is refused by the reader's own checks, before any open.
+/// Copies `file` into the temporary folder through one opened handle, after the reader's own
+/// checks (no regular file, empty as `/proc` files are, no Rerun header): the copy is all that
+/// is read after that.
 fn read_once(file: &Path) -> anyhow::Result<TempFile> {
-    if !std::fs::metadata(file).is_ok_and(|m| m.is_file()) {
-        Messages::open(file)?;
-    }
+    Messages::open(file)?;
     let mut source =
         std::fs::File::open(file).map_err(|e| unusable(file, format!("cannot open it: {e}")))?;
     let copy = TempFile::create("reproduce-input.rrd", b"")?;

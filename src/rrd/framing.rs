@@ -36,7 +36,12 @@ pub struct Framed<R> {
     done: bool,
     /// Where the read ended early: a message declaring more bytes than the file has left.
     cut: Option<Cut>,
-    has_footer: bool,
+    /// The offset of the last footer (an end message holding a manifest) no message followed.
+    footer: Option<u64>,
+    /// The offset of a footer that more messages followed: a part's footer, not the file's.
+    pub(super) footer_followed: Option<u64>,
+    /// A store's info was read (Rerun writes it before the store's first chunk).
+    pub(super) store_info_seen: bool,
 }
 
 /// One message of the file: its kind, the file offset and length of its payload and, for an
@@ -68,7 +73,9 @@ impl<R: Read> Framed<R> {
             footer_next: false,
             done: false,
             cut: None,
-            has_footer: false,
+            footer: None,
+            footer_followed: None,
+            store_info_seen: false,
         }
     }
 
@@ -80,7 +87,7 @@ impl<R: Read> Framed<R> {
     /// Whether an end message with a footer holding a manifest was read: the file was
     /// finalised, not cut short.
     pub fn has_footer(&self) -> bool {
-        self.has_footer
+        self.footer.is_some()
     }
 
     /// The next message, `None` at the end of the file (or where a length ran past it, or a
@@ -130,6 +137,11 @@ impl<R: Read> Framed<R> {
     fn payload(&mut self, at: u64, header: MessageHeader) -> io::Result<Message> {
         let len = header.len;
         let mut payload = None;
+        if header.kind != MessageKind::End && self.footer.is_some() {
+            // A footer ends what it lists: one with more after it is not the file's.
+            self.footer_followed = self.footer.take();
+        }
+        self.store_info_seen |= header.kind == MessageKind::SetStoreInfo;
         match header.kind {
             MessageKind::ArrowMsg if len <= self.max_held => {
                 let mut bytes = vec![0; len as usize];
@@ -144,7 +156,9 @@ impl<R: Read> Framed<R> {
                 let n = len.min(FOOTER_HEAD_BYTES);
                 self.inner.read_exact(&mut head[..n as usize])?;
                 self.advance(n);
-                self.has_footer |= footer_starts_with_manifest(&head[..n as usize], len);
+                if footer_starts_with_manifest(&head[..n as usize], len) {
+                    self.footer = Some(at);
+                }
                 self.skip(len - n)?;
                 self.footer_next = true;
             }

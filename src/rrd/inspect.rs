@@ -31,6 +31,9 @@ pub struct RecordingInfo {
     pub has_footer: bool,
     /// Why it has none, in words (empty when it has one).
     pub why_no_footer: String,
+    /// Why it is not a whole recording though it has its footer: its data start without their
+    /// store's info.
+    pub headless: Option<String>,
 }
 
 impl RecordingInfo {
@@ -135,6 +138,13 @@ pub(super) fn read_recording_within(path: &Path, cap: usize) -> anyhow::Result<R
                 None
             };
             if let Some(target) = target {
+                if !target.is_empty() {
+                    // physlab sends each once a run: two are two runs under one recording id.
+                    return Err(format!(
+                        "it holds two runs' provenance ({entity} twice) in one recording, and \
+                         physlab reads one run a file"
+                    ));
+                }
                 for (key, v) in properties(&chunk) {
                     let freed = target.get(&key).map_or(0, |old| key.len() + old.len());
                     hold(key.len() + v.len(), freed)?;
@@ -185,6 +195,12 @@ pub(super) fn read_recording_within(path: &Path, cap: usize) -> anyhow::Result<R
     if !end.has_footer {
         info.why_no_footer = end.missing_footer();
     }
+    info.headless = end.headless.map(|at| {
+        format!(
+            "its data start at byte {at} without the store info Rerun writes before them (a \
+             piece cut from a recording, or an edited file)"
+        )
+    });
     info.events.sort_by(|a, b| {
         a.time
             .total_cmp(&b.time)

@@ -42,6 +42,11 @@ pub struct ReadEnd {
     pub has_footer: bool,
     /// The read stopped at a message declaring more bytes than the file has left.
     pub cut: Option<Cut>,
+    /// Where a footer was read with more of the file after it (see `missing_footer`).
+    pub footer_followed: Option<u64>,
+    /// Where the recording's first chunk was read with no store info before it: the file is
+    /// not a whole recording (Rerun writes a store's info before its data).
+    pub headless: Option<u64>,
 }
 
 impl ReadEnd {
@@ -53,9 +58,15 @@ impl ReadEnd {
                  where {left} are left (the writing process was killed or the file cut short, or \
                  the file is corrupt there)"
             ),
-            None => "the file ends without its footer (the writing process was killed or the \
-                     file cut short)"
-                .into(),
+            None => match self.footer_followed {
+                Some(at) => format!(
+                    "the footer at byte {at} is followed by more messages and the file ends \
+                     without another (a finished file and a cut one joined, or an edited file)"
+                ),
+                None => "the file ends without its footer (the writing process was killed or \
+                         the file cut short)"
+                    .into(),
+            },
         }
     }
 }
@@ -93,6 +104,10 @@ pub struct Messages {
     seen_any: bool,
     /// The recording the file's data was logged to (the first met).
     recording: Option<Store>,
+    /// The ids of the chunks read: a chunk met again is skipped, as Rerun's store does (`cat
+    /// a.rrd a.rrd` holds each twice). 16 B a chunk, a chunk taking hundreds as stored.
+    chunk_ids: std::collections::HashSet<rerun::log::ChunkId>,
+    headless: Option<u64>,
 }
 
 impl Messages {
@@ -128,6 +143,8 @@ impl Messages {
             framed: Framed::new(BufReader::new(file), meta.len(), MAX_MESSAGE_BYTES),
             seen_any: false,
             recording: None,
+            chunk_ids: Default::default(),
+            headless: None,
         })
     }
 
@@ -176,7 +193,13 @@ impl Messages {
             }
             let (store, bytes) = (std::mem::take(&mut arrow.store), arrow.size() as usize);
             one_recording(&mut self.framed, &mut self.recording, path, &store)?;
+            if store.recording && !self.framed.store_info_seen {
+                self.headless.get_or_insert(at);
+            }
             let chunk = guarded(path, || decode_chunk(arrow.ipc()?))?.map_err(whats_wrong)?;
+            if !self.chunk_ids.insert(chunk.id()) {
+                continue;
+            }
             return Ok(Some(ChunkMessage {
                 recording: store.recording,
                 application_id: store.application_id,
@@ -191,6 +214,8 @@ impl Messages {
         ReadEnd {
             has_footer: self.framed.has_footer(),
             cut: self.framed.cut(),
+            footer_followed: self.framed.footer_followed,
+            headless: self.headless,
         }
     }
 

@@ -283,3 +283,33 @@ pub fn run_within(args: &[&str], limit: Duration) -> (i32, String, Duration) {
         std::thread::sleep(Duration::from_millis(20));
     }
 }
+
+/// A recording another program (or a hostile hand) made: the `physlab` properties `props`, the
+/// `physlab_run` properties `run`, and (with `data`) ten rows of one pendulum series.
+pub fn craft(path: &Path, app: &str, props: &[(&str, &str)], run: &[(&str, &str)], data: bool) {
+    let app: &'static str = Box::leak(app.to_string().into_boxed_str());
+    let rec = rerun::RecordingStreamBuilder::new(app).save(path).unwrap();
+    let values = |pairs: &[(&str, &str)]| {
+        pairs.iter().fold(rerun::AnyValues::default(), |v, (k, x)| {
+            let key = rerun::ComponentIdentifier::try_new(*k).unwrap();
+            v.with_component::<rerun::components::Text>(key, [*x])
+        })
+    };
+    if !props.is_empty() {
+        rec.send_property("physlab", &values(props)).unwrap();
+    }
+    if !run.is_empty() {
+        rec.send_property("physlab_run", &values(run)).unwrap();
+    }
+    if data {
+        for i in 0..10 {
+            rec.set_duration_secs("sim_time", i as f64 * 0.01);
+            rec.log(
+                "pendulum/plots/theta/verlet",
+                &rerun::Scalars::single(i as f64),
+            )
+            .unwrap();
+        }
+    }
+    drop(rec);
+}
