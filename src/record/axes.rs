@@ -62,8 +62,8 @@ pub fn time_end(end: f64, width: f32) -> f64 {
     }
     std::iter::successors(Some(1i64), |&s| (next_step(s) > s).then(|| next_step(s)))
         .take_while(|&s| s as f64 <= end * 1e9)
-        // 3% to spare: the last label whole, not cut at the plot's edge.
-        .map(|s| (end * 1e9 / s as f64).ceil().max(2.0) * s as f64 / 1e9 * 1.03)
+        // 6% to spare: the last label whole, not cut at the plot's edge.
+        .map(|s| (end * 1e9 / s as f64).ceil().max(2.0) * s as f64 / 1e9 * 1.06)
         .filter(|&e| time_labels(e, width) >= 3.0)
         .fold(f64::INFINITY, f64::min)
         .min(20.0 * end)
