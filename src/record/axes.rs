@@ -174,34 +174,21 @@ impl LateAxes {
     /// Sends each plot's range around its data and floor, and makes the layout active again (the
     /// viewer shows a copy of the blueprint made at its activation).
     pub fn send(self, rec: &rerun::RecordingStream, extents: &Extents) -> anyhow::Result<()> {
-        let ranges: Vec<_> = (self.axes.iter())
+        let properties: Vec<_> = (self.axes.iter())
             .filter_map(|a| {
                 let (lo, hi) = extents.of(&a.origin)?;
                 let (lo, hi) = a.floor.map_or((lo, hi), |f| (lo.min(f.0), hi.max(f.1)));
                 let (lo, hi) = value_range(lo, hi, a.height);
                 let axis = ScalarAxis::new().with_range(rerun::components::Range1D::new(lo, hi));
-                Some((format!("{}/ScalarAxis", a.view), axis))
+                let batches = rerun::AsComponents::as_serialized_batches(&axis);
+                Some((format!("{}/ScalarAxis", a.view), batches))
             })
             .collect();
-        if ranges.is_empty() {
-            return Ok(());
+        if !properties.is_empty() {
+            let (app, activation) = (&self.application_id, &self.activation);
+            let messages = super::layout::property_messages(app, activation, properties, 1)?;
+            rec.send_blueprint(messages, self.activation);
         }
-        let properties = ranges
-            .iter()
-            .map(|(path, axis)| {
-                (
-                    path.clone(),
-                    rerun::AsComponents::as_serialized_batches(axis),
-                )
-            })
-            .collect();
-        let messages = super::layout::property_messages(
-            &self.application_id,
-            &self.activation,
-            properties,
-            1,
-        )?;
-        rec.send_blueprint(messages, self.activation);
         Ok(())
     }
 }

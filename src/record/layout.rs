@@ -186,13 +186,14 @@ impl ViewProperties {
     ) -> ContainerLike {
         let mut view = view.into();
         if let ContainerLike::View(v) = &view {
-            let path = v.blueprint_path().to_string();
-            self.1.push(ValueAxis {
-                view: path,
+            let view = v.blueprint_path().to_string();
+            let axis = ValueAxis {
+                view,
                 origin,
                 height,
                 floor,
-            });
+            };
+            self.1.push(axis);
         }
         if let Some((lo, hi)) = floor {
             let range = rerun::components::Range1D::new(lo, hi);
