@@ -1243,6 +1243,42 @@ fn angles_are_bounded_by_a_stated_number_of_turns() {
     }
 }
 
+/// An argument that is not UTF-8 is refused on one line naming its option, the value as the
+/// shell word that gives it, and what the option takes; nothing is written.
+#[test]
+fn a_non_utf8_argument_names_its_option_and_value() {
+    use std::os::unix::ffi::OsStrExt as _;
+    let dir = scratch_dir("non-utf8");
+    let out = dir.join("out.rrd");
+    let bad = std::ffi::OsStr::from_bytes(b"rk4,\xff");
+    let joined = std::ffi::OsStr::from_bytes(b"--methods=\xffx");
+    for (args, expected) in [
+        (
+            vec!["--methods".as_ref(), bad],
+            "--methods $'rk4,\\xff': not UTF-8 text",
+        ),
+        (vec![joined], "--methods $'\\xffx': not UTF-8 text"),
+    ] {
+        let output = std::process::Command::new(env!("CARGO_BIN_EXE_physlab"))
+            .arg("pendulum")
+            .args(args)
+            .arg("-o")
+            .arg(&out)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(2), "{stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{stderr}");
+        assert!(
+            stderr.starts_with(&format!("error: {expected}")),
+            "{stderr}"
+        );
+        assert!(stderr.contains("take UTF-8"), "{stderr}");
+        assert!(!out.exists());
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// Worker threads are bounded by a stated multiple of the cores; counts and indices that cannot
 /// be negative say so, naming the flag and the value.
 #[test]

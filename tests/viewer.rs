@@ -11,9 +11,11 @@ mod layout {
     use std::collections::BTreeMap;
     use std::path::Path;
 
+    use rerun::components::Range1D;
     use rerun::external::re_log_encoding::DecoderApp;
     use rerun::external::re_sdk_types::blueprint::archetypes::{
-        ContainerBlueprint, EyeControls3D, PlotLegend, TimeAxis, ViewBlueprint, ViewContents,
+        ContainerBlueprint, EyeControls3D, PlotLegend, ScalarAxis, TimeAxis, ViewBlueprint,
+        ViewContents,
     };
     use rerun::external::re_sdk_types::blueprint::components::TimeRange;
     use rerun::external::re_sdk_types::datatypes::{TimeInt, TimeRangeBoundary};
@@ -96,13 +98,21 @@ mod layout {
         let file = std::io::BufReader::new(std::fs::File::open(path).unwrap());
         let mut containers: BTreeMap<String, Container> = BTreeMap::new();
         let mut views: BTreeMap<String, View> = BTreeMap::new();
+        // The viewer shows a copy of the blueprint made when it is activated: what is written
+        // into it after its last activation is not seen.
+        let mut activated = false;
         for msg in DecoderApp::decode_lazy(file) {
-            let LogMsg::ArrowMsg(store_id, arrow_msg) = msg.unwrap() else {
+            let msg = msg.unwrap();
+            if let LogMsg::BlueprintActivationCommand(a) = &msg {
+                activated = a.make_active;
+            }
+            let LogMsg::ArrowMsg(store_id, arrow_msg) = msg else {
                 continue;
             };
             if !store_id.is_blueprint() {
                 continue;
             }
+            activated = false;
             let chunk = Chunk::from_arrow_msg(&arrow_msg).unwrap();
             let entity = chunk.entity_path().to_string();
             let parts: Vec<&str> = entity.trim_start_matches('/').split('/').collect();
@@ -169,6 +179,10 @@ mod layout {
             .cloned()
             .collect();
         assert_eq!(roots.len(), 1, "one root container: {roots:?}");
+        assert!(
+            activated,
+            "blueprint rows written after its last activation"
+        );
         blueprint.place(&roots[0], WINDOW, true);
         blueprint
     }
@@ -316,6 +330,124 @@ mod layout {
                 plot.title,
                 plot.size[1],
                 series.len()
+            );
+        }
+    }
+
+    /// Rerun 0.36's time series, read from its source (re_view_time_series `nanos_grid_spacer`,
+    /// egui_plot's `log_grid_spacer` and axis labels): time grid lines at 10ⁿ ns up to 10 s, then
+    /// 1 min, 10 min, 1 h, 12 h, a day, ×10; the coarsest step whose lines stand 150 px apart
+    /// across the view's width is the "medium" one, a tenth (a sixth) of it the "small" one.
+    /// Value grid lines at multiples of 10ⁿ alone, the finest at least 8 px apart. A mark is
+    /// labelled by the step it belongs to (the largest that divides it), when that step is more
+    /// than 60 px apart across (20 px up), fading in to full brightness at 80 (30) px: a label
+    /// counts here when drawn at half brightness or more (65 px, 22.5 px), and fits beside the
+    /// next ("+10s" is 5.8 px a character).
+    const TIME_LINES_PX: f64 = 150.0;
+    const TIME_LABEL_PX: f64 = 65.0;
+    const VALUE_GRID_PX: f64 = 8.0;
+    const VALUE_LABEL_PX: f64 = 22.5;
+    /// A plot's frame in its view: less the value labels at its left (up to "-0.001", 45 px)
+    /// and the time labels below it (16 px measured: a view 164.6 px tall below its title drew
+    /// θ's range of 2.875 on 148.6 px, one 447.5 px tall hair's 0.907 on 432 px; 18 here).
+    const VALUE_LABELS_PX: f64 = 45.0;
+    const TIME_LABELS_PX: f64 = 18.0;
+
+    fn next_time_step(ns: i64) -> i64 {
+        const S: i64 = 1_000_000_000;
+        match ns {
+            n if n <= S => n * 10,
+            n if n == 10 * S || n == 600 * S => n * 6,
+            n if n == 60 * S => n * 10,
+            n if n == 3600 * S => n * 12,
+            n if n == 43_200 * S => n * 2,
+            n => n.saturating_mul(10),
+        }
+    }
+
+    /// The time labels counted on a plot's time axis from 0 to `end` ns, `width` px wide.
+    fn time_labels(end: f64, width: f64) -> Vec<String> {
+        let lines = width / TIME_LINES_PX;
+        let mut small = 1i64;
+        while end / next_time_step(small) as f64 > lines {
+            small = next_time_step(small);
+        }
+        let medium = next_time_step(small);
+        let big = next_time_step(medium);
+        let px = (width - VALUE_LABELS_PX) / end;
+        (0..=(end / small as f64).floor() as i64)
+            .map(|i| i * small)
+            .filter(|&t| {
+                let step = [big, medium, small]
+                    .into_iter()
+                    .find(|s| t % s == 0)
+                    .unwrap();
+                let label = format!("+{}s", t as f64 / 1e9);
+                let spacing = step as f64 * px;
+                spacing >= TIME_LABEL_PX && spacing >= 5.8 * label.chars().count() as f64
+            })
+            .map(|t| format!("+{}s", t as f64 / 1e9))
+            .collect()
+    }
+
+    /// The value labels counted on a plot's value axis from `lo` to `hi`, `height` px tall.
+    fn value_labels(lo: f64, hi: f64, height: f64) -> Vec<f64> {
+        let per_px = (hi - lo) / height;
+        let small = 10f64.powf((VALUE_GRID_PX * per_px).log10().ceil());
+        ((lo / small).ceil() as i64..(hi / small).ceil() as i64)
+            .filter(|i| {
+                let step = [100, 10, 1].into_iter().find(|s| i % s == 0).unwrap();
+                step as f64 * small / per_px >= VALUE_LABEL_PX
+            })
+            .map(|i| i as f64 * small)
+            .collect()
+    }
+
+    /// Every plot (in view or behind a tab) shows three tick labels or more on each axis, and
+    /// its value axis' range holds every value it plots (no data clipped).
+    fn check_ticks(path: &Path, blueprint: &Blueprint) {
+        let data = decode(path);
+        let range = TimeAxis::descriptor_view_range().component;
+        let values = ScalarAxis::descriptor_range().component;
+        for plot in blueprint.views_of("TimeSeries") {
+            let axis = &plot.properties["TimeAxis"];
+            let view_range = axis.component_mono::<TimeRange>(range, 0).unwrap().unwrap();
+            let TimeRangeBoundary::Absolute(TimeInt(end)) = view_range.0.end else {
+                panic!("'{}': {view_range:?}", plot.title);
+            };
+            let times = time_labels(end as f64, f64::from(plot.size[0]));
+            assert!(
+                times.len() >= 3,
+                "'{}' ({:.0} px wide, to {} s): time labels {times:?}",
+                plot.title,
+                plot.size[0],
+                end as f64 / 1e9
+            );
+            let (lo, hi) = (data.scalars.iter())
+                .filter(|(e, _)| e.starts_with(&format!("{}/", plot.origin)))
+                .flat_map(|(_, rows)| rows.iter().map(|r| r.1))
+                .filter(|v| v.is_finite())
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                    (a.min(v), b.max(v))
+                });
+            let set = (plot.properties.get("ScalarAxis"))
+                .and_then(|c| c.component_mono::<Range1D>(values, 0)?.ok());
+            if let Some(r) = set {
+                assert!(
+                    r.start() <= lo && hi <= r.end(),
+                    "'{}': its range {r:?} clips its values {lo}..{hi}",
+                    plot.title
+                );
+            }
+            // Without a range of its own, the viewer's spans the values and 5% more each way.
+            let margin = 0.05 * (hi - lo);
+            let (lo, hi) = set.map_or((lo - margin, hi + margin), |r| (r.start(), r.end()));
+            let height = f64::from(plot.size[1]) - TIME_LABELS_PX;
+            let labels = value_labels(lo, hi, height);
+            assert!(
+                labels.len() >= 3,
+                "'{}' ({height:.0} px tall, {lo}..{hi}): value labels {labels:?}",
+                plot.title
             );
         }
     }
@@ -619,11 +751,35 @@ mod layout {
         let out = record(&dir, "all.rrd", &["all"]);
         let blueprint = read_blueprint(&out);
         check_legends(&out, &blueprint);
+        check_ticks(&out, &blueprint);
         check_titles(&blueprint);
         check_event_logs(&out, &blueprint);
         let titles = check_framing(&out, &blueprint, 1.0 / 3.0);
         // One view per lane: the reference and seven methods, seven ropes, two heads.
         assert_eq!(titles.len(), 8 + 7 + 2, "{titles:?}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// The scenes as the screenshots show them (docs/pendulum.png, rope.png, hair.png): every
+    /// plot, in view or behind a tab, with three tick labels or more on each axis.
+    #[test]
+    fn every_scene_plot_shows_three_tick_labels_on_each_axis() {
+        let dir = scratch_dir("viewer-ticks");
+        let three = [
+            "pendulum",
+            "--methods",
+            "explicit-euler,semi-implicit-euler,verlet",
+        ];
+        for (name, args) in [
+            ("pendulum.rrd", &three[..]),
+            ("rope.rrd", &["rope"]),
+            ("hair.rrd", &["hair"]),
+        ] {
+            let out = record(&dir, name, args);
+            let blueprint = read_blueprint(&out);
+            check_legends(&out, &blueprint);
+            check_ticks(&out, &blueprint);
+        }
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
@@ -657,6 +813,7 @@ mod layout {
         assert_eq!(code, 1, "{stderr}");
         let blueprint = read_blueprint(&d);
         check_legends(&d, &blueprint);
+        check_ticks(&d, &blueprint);
         assert!(
             blueprint
                 .views_of("TimeSeries")
@@ -1007,6 +1164,7 @@ mod layout {
         );
         let blueprint = read_blueprint(&out);
         check_legends(&out, &blueprint);
+        check_ticks(&out, &blueprint);
         let titles = check_framing(&out, &blueprint, 1.0 / 3.0);
         // The pendulum's reference and four methods, the rope's four, the hair's two.
         assert_eq!(titles.len(), 5 + 4 + 2, "{titles:?}");
@@ -1030,6 +1188,7 @@ mod layout {
         );
         let blueprint = read_blueprint(&pendulum);
         check_legends(&pendulum, &blueprint);
+        check_ticks(&pendulum, &blueprint);
         check_titles(&blueprint);
         check_event_logs(&pendulum, &blueprint);
         check_phase(&pendulum, &blueprint);
@@ -1044,6 +1203,7 @@ mod layout {
         let default = record(&dir, "default.rrd", &["pendulum", "--duration", "4"]);
         let blueprint = read_blueprint(&default);
         check_legends(&default, &blueprint);
+        check_ticks(&default, &blueprint);
         check_titles(&blueprint);
         check_phase(&default, &blueprint);
         check_framing(&default, &blueprint, 1.0 / 3.0);
@@ -1057,6 +1217,7 @@ mod layout {
         );
         let blueprint = read_blueprint(&one);
         check_legends(&one, &blueprint);
+        check_ticks(&one, &blueprint);
         let springs = record(
             &dir,
             "springs.rrd",
@@ -1070,6 +1231,7 @@ mod layout {
         );
         let blueprint = read_blueprint(&springs);
         check_legends(&springs, &blueprint);
+        check_ticks(&springs, &blueprint);
         check_titles(&blueprint);
         assert!(
             blueprint
@@ -1091,6 +1253,7 @@ mod layout {
         );
         let blueprint = read_blueprint(&rope);
         check_legends(&rope, &blueprint);
+        check_ticks(&rope, &blueprint);
         assert_eq!(check_framing(&rope, &blueprint, 1.0 / 3.0).len(), 1);
         std::fs::remove_dir_all(&dir).unwrap();
     }

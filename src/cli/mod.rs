@@ -268,7 +268,8 @@ pub fn parse() -> Cli {
         .clone()
         .try_get_matches_from(&args)
         .unwrap_or_else(|e| {
-            if let Some(message) = negative::count_error(&e, &command) {
+            let message = negative::count_error(&e, &command);
+            if let Some(message) = message.or_else(|| negative::not_utf8(&e, &args)) {
                 eprintln!("error: {message}");
                 std::process::exit(2);
             }

@@ -1,5 +1,5 @@
 //! Numbers on the command line: a negative one joined to the option before it, and a count
-//! that is negative or too large said as what is wrong.
+//! that is negative or too large said as what is wrong; and an argument that is not UTF-8.
 
 /// A count or an index given as a negative number (`--pinned -1`), which clap reports only as
 /// "invalid digit found in string", or as one too large for it, which clap reports as "number
@@ -92,4 +92,34 @@ pub fn join_negative_values(
         }
     }
     out
+}
+
+/// An argument that is not UTF-8, which clap reports only as "invalid UTF-8 was detected in one
+/// or more arguments": said with the option it is given to (the one before it, or its
+/// `--name=`), the value as a shell word (`$'\xff'`) and what the option takes.
+pub(super) fn not_utf8(e: &clap::Error, args: &[std::ffi::OsString]) -> Option<String> {
+    use std::os::unix::ffi::OsStrExt as _;
+    if e.kind() != clap::error::ErrorKind::InvalidUtf8 {
+        return None;
+    }
+    let i = args.iter().position(|a| a.to_str().is_none())?;
+    let bytes = args[i].as_bytes();
+    let (flag, value) = match bytes.iter().position(|&b| b == b'=') {
+        Some(eq) if bytes.starts_with(b"--") => {
+            (String::from_utf8_lossy(&bytes[..eq]), &bytes[eq + 1..])
+        }
+        _ => {
+            let before = (i > 1).then(|| args[i - 1].to_string_lossy());
+            (
+                before
+                    .filter(|b| b.starts_with('-'))
+                    .unwrap_or("argument".into()),
+                bytes,
+            )
+        }
+    };
+    let value = crate::record::shell_word(value);
+    Some(format!(
+        "{flag} {value}: not UTF-8 text; options other than file paths take UTF-8"
+    ))
 }

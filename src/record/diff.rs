@@ -77,7 +77,13 @@ impl DiffPlan<'_> {
     fn layout(&self, names: [&str; 2]) -> super::Layout {
         let mut props = ViewProperties::default();
         let mut by_scene: BTreeMap<String, Vec<ContainerLike>> = BTreeMap::new();
-        for ((scene, quantity), lanes) in &self.quantities() {
+        let quantities = self.quantities();
+        // A plot's height: the lower two thirds of the window less the tabs' bar, in rows of three.
+        let height = |scene: &str| {
+            let n = quantities.keys().filter(|(s, _)| s == scene).count();
+            (2.0 / 3.0 * super::WINDOW[1] - 24.0) / n.div_ceil(3) as f32
+        };
+        for ((scene, quantity), lanes) in &quantities {
             // A log10 plot's values, not their logarithms: its title's quantity without "log10".
             let title = self.title(scene, quantity);
             let title = match title.strip_prefix("log10 ") {
@@ -87,15 +93,14 @@ impl DiffPlan<'_> {
                 ),
                 None => format!("B − A: {title}"),
             };
-            let view =
-                TimeSeriesView::new(title).with_origin(format!("/diff/{scene}/plots/{quantity}"));
+            let origin = format!("/diff/{scene}/plots/{quantity}");
+            let view = TimeSeriesView::new(title).with_origin(origin.clone());
             // Each plot's legend in a band past the run's end, as in the scenes' own plots; the
             // plots are a third of the window wide.
             let lanes: Vec<&str> = lanes.iter().map(String::as_str).collect();
-            by_scene
-                .entry(scene.clone())
-                .or_default()
-                .push(props.legend_beside(view, &lanes, self.end_time, 1600.0 / 3.0));
+            let view = props.legend_beside(view, &lanes, self.end_time, 1600.0 / 3.0);
+            let view = props.value_axis(view, origin, height(scene), None);
+            by_scene.entry(scene.clone()).or_default().push(view);
         }
         // Three plots a row: each tall enough for a legend of eight methods at 1600×1000.
         let grid = |views: Vec<ContainerLike>| Grid::new(views).with_grid_columns(3);
@@ -110,7 +115,9 @@ impl DiffPlan<'_> {
             .collect();
         let distance = TimeSeriesView::new("3D: largest distance between A's and B's points [m]")
             .with_origin("/diff/distance");
-        plots.push(props.legend_beside(distance, &drawn, self.end_time, 1600.0));
+        let distance = props.legend_beside(distance, &drawn, self.end_time, 1600.0);
+        let height = 2.0 / 3.0 * super::WINDOW[1] - 24.0;
+        plots.push(props.value_axis(distance, "/diff/distance".into(), height, None));
         let plots: ContainerLike = match plots.len() {
             1 => plots.remove(0),
             _ => Tabs::new(plots).into(),

@@ -15,11 +15,14 @@
 
 use rerun::blueprint::components::{BackgroundKind, Corner2D};
 use rerun::blueprint::{Blueprint, BlueprintActivation, ContainerLike};
+use rerun::external::re_log_types::BlueprintActivationCommand;
 use rerun::external::re_sdk_types::blueprint::archetypes::{
     Background, EyeControls3D, LineGrid3D, PlotLegend, ScalarAxis, TimeAxis, VisualBounds2D,
 };
 use rerun::external::re_sdk_types::datatypes::{TimeInt, TimeRange, TimeRangeBoundary};
 use rerun::log::LogMsg;
+
+use super::axes::{LateAxes, ValueAxis, time_end};
 use rerun::{AsComponents, SerializedComponentBatch};
 
 /// The box a 3D view frames [m, z up]: where a scene draws its subject (slots, swings, labels).
@@ -94,6 +97,15 @@ pub fn legend_band(series: &[&str], width: f32) -> f32 {
     (curves + legend) / curves
 }
 
+/// The end of a plot's time axis [s]: past the run's end (`end_time`) by the band of a legend
+/// naming `series` in a plot `width` px wide, further where three tick labels need it; and
+/// whether the band's end is enough.
+pub fn time_axis_end(series: &[&str], end_time: f64, width: f32) -> (f64, bool) {
+    let band = end_time * f64::from(legend_band(series, width));
+    let end = time_end(band, width);
+    (end, end == band)
+}
+
 /// The part of a plot's width its value axis' labels take [logical px].
 const PLOT_AXIS_PX: f32 = 40.0;
 
@@ -101,6 +113,7 @@ const PLOT_AXIS_PX: f32 = 40.0;
 pub struct Layout {
     blueprint: Blueprint,
     properties: Vec<(String, Vec<SerializedComponentBatch>)>,
+    axes: Vec<ValueAxis>,
 }
 
 impl From<Blueprint> for Layout {
@@ -110,9 +123,9 @@ impl From<Blueprint> for Layout {
 }
 
 /// View properties gathered while a layout is built: (entity path in the blueprint store, the
-/// archetype's components).
+/// archetype's components), and the plots whose value range is set at the recording's end.
 #[derive(Default)]
-pub struct ViewProperties(Vec<(String, Vec<SerializedComponentBatch>)>);
+pub struct ViewProperties(Vec<(String, Vec<SerializedComponentBatch>)>, Vec<ValueAxis>);
 
 impl ViewProperties {
     /// `view` as a container entry, with `property` (an archetype called `name`) set on it.
@@ -152,7 +165,7 @@ impl ViewProperties {
                 .with_corner(Corner2D::RightTop)
                 .with_visible(true),
         );
-        let end = end_time * f64::from(legend_band(series, width));
+        let end = time_axis_end(series, end_time, width).0;
         let at = |t: f64| TimeRangeBoundary::Absolute(TimeInt((t * 1e9).round() as i64));
         let range = TimeRange {
             start: at(0.0),
@@ -161,18 +174,32 @@ impl ViewProperties {
         self.add(view, "TimeAxis", &TimeAxis::new().with_view_range(range))
     }
 
-    /// A plot whose value axis opens on `lo..hi` (a floor a round-off level sits on, say).
-    pub fn value_range(
+    /// A plot of the series under `origin`, `height` px tall (its title bar included), whose
+    /// value range is set when the recording ends: around its data and `floor` (a range a
+    /// round-off level sits on, which it also opens on), with three tick labels or more.
+    pub fn value_axis(
         &mut self,
         view: impl Into<ContainerLike>,
-        lo: f64,
-        hi: f64,
+        origin: String,
+        height: f32,
+        floor: Option<(f64, f64)>,
     ) -> ContainerLike {
-        self.add(
-            view,
-            "ScalarAxis",
-            &ScalarAxis::new().with_range(rerun::components::Range1D::new(lo, hi)),
-        )
+        let mut view = view.into();
+        if let ContainerLike::View(v) = &view {
+            let view = v.blueprint_path().to_string();
+            let axis = ValueAxis {
+                view,
+                origin,
+                height,
+                floor,
+            };
+            self.1.push(axis);
+        }
+        if let Some((lo, hi)) = floor {
+            let range = rerun::components::Range1D::new(lo, hi);
+            view = self.add(view, "ScalarAxis", &ScalarAxis::new().with_range(range));
+        }
+        view
     }
 
     /// A 3D view opening on the eye that frames `framing` in a view of width/height `aspect`.
@@ -220,6 +247,7 @@ impl ViewProperties {
         Layout {
             blueprint,
             properties: self.0,
+            axes: self.1,
         }
     }
 }
@@ -227,8 +255,12 @@ impl ViewProperties {
 impl Layout {
     /// Sends the layout to `rec` as its active and default blueprint (what
     /// `RecordingStreamBuilder::with_blueprint` does), with the view properties in the same
-    /// blueprint store, before the activation.
-    pub fn send(self, rec: &rerun::RecordingStream, application_id: &str) -> anyhow::Result<()> {
+    /// blueprint store, before the activation. Returns the value axes to set at the end.
+    pub fn send(
+        self,
+        rec: &rerun::RecordingStream,
+        application_id: &str,
+    ) -> anyhow::Result<LateAxes> {
         let app = rerun::ApplicationId::try_new(application_id)?;
         let (scratch, storage) = rerun::RecordingStreamBuilder::new(app.clone())
             .send_properties(false)
@@ -248,25 +280,40 @@ impl Layout {
         let Some(LogMsg::BlueprintActivationCommand(activation)) = messages.pop() else {
             anyhow::bail!("the Rerun SDK wrote no blueprint activation");
         };
-        if !self.properties.is_empty() {
-            let (props, storage) = rerun::RecordingStreamBuilder::new(app)
-                .recording_id(activation.blueprint_id.recording_id().clone())
-                .blueprint()
-                .send_properties(false)
-                .memory()?;
-            props.set_log_time_enabled(false); // no wall clock in a recording
-            props.set_time_sequence("blueprint", 0); // as the SDK logs blueprints
-            for (path, batches) in self.properties {
-                props.log_serialized_batches(path, false, batches)?;
-            }
-            messages.extend(
-                storage
-                    .take()
-                    .into_iter()
-                    .filter(|m| matches!(m, LogMsg::ArrowMsg(..))),
-            );
-        }
-        rec.send_blueprint(messages, activation);
-        Ok(())
+        messages.extend(property_messages(&app, &activation, self.properties, 0)?);
+        rec.send_blueprint(messages, activation.clone());
+        Ok(LateAxes {
+            application_id: app,
+            activation,
+            axes: self.axes,
+        })
     }
+}
+
+/// The messages that write `properties` into the blueprint store `activation` names, at
+/// `blueprint` = `time` (as the SDK logs blueprints).
+pub fn property_messages(
+    app: &rerun::ApplicationId,
+    activation: &BlueprintActivationCommand,
+    properties: Vec<(String, Vec<SerializedComponentBatch>)>,
+    time: i64,
+) -> anyhow::Result<Vec<LogMsg>> {
+    if properties.is_empty() {
+        return Ok(Vec::new());
+    }
+    let (props, storage) = rerun::RecordingStreamBuilder::new(app.clone())
+        .recording_id(activation.blueprint_id.recording_id().clone())
+        .blueprint()
+        .send_properties(false)
+        .memory()?;
+    props.set_log_time_enabled(false); // no wall clock in a recording
+    props.set_time_sequence("blueprint", time);
+    for (path, batches) in properties {
+        props.log_serialized_batches(path, false, batches)?;
+    }
+    Ok(storage
+        .take()
+        .into_iter()
+        .filter(|m| matches!(m, LogMsg::ArrowMsg(..)))
+        .collect())
 }

@@ -11,6 +11,7 @@ pub mod rope;
 pub mod scene;
 pub mod study;
 
+mod axes;
 pub mod layout;
 pub mod live;
 mod provenance;
@@ -26,8 +27,9 @@ pub use recording::{
     BATCHING, CHUNK_BYTES, Destinations, Recording, check_destinations, find_on_path,
 };
 pub use views::{
-    Plot, SceneViews, Slot, Staging, WINDOW, about_and_events, all_layout, grid_columns,
-    plot_column, scene_blueprint, scene_layout, slot_grid, summary_view, view_above_text,
+    PLOTS_SHARE, Plot, SceneViews, Slot, Staging, WINDOW, about_and_events, all_layout,
+    grid_columns, plot_column, scene_blueprint, scene_layout, slot_grid, summary_view,
+    view_above_text,
 };
 
 /// One colour per method (the palette is shared with the diagrams: `crate::palette`).

@@ -16,8 +16,8 @@ use rerun::blueprint::{Blueprint, Horizontal, Spatial2DView, Vertical};
 
 use super::scene::{Draw, SceneRecorder, clear_diverged, plotted};
 use super::{
-    Framing, Staging, ViewProperties, WINDOW, about_and_events, method_color, plot_column,
-    scene_blueprint, slot_cells, slot_grid,
+    Framing, PLOTS_SHARE, Staging, ViewProperties, WINDOW, about_and_events, method_color,
+    plot_column, scene_blueprint, slot_cells, slot_grid,
 };
 use crate::integrate::EvalsPerStep;
 use crate::scene::harness::{Event, Frame, Run, Scene as _, SeriesBatch, WHOLE};
@@ -61,9 +61,9 @@ pub fn blueprint(
     methods: &[&'static str],
     props: &mut ViewProperties,
 ) -> Blueprint {
-    let half = 0.5 * WINDOW[0];
+    let [left, right] = [1.0 - PLOTS_SHARE, PLOTS_SHARE].map(|s| s * WINDOW[0]);
     let left = Vertical::new([
-        slot_grid("pendulum", &staging.slots, [half, 0.6 * WINDOW[1]], props),
+        slot_grid("pendulum", &staging.slots, [left, 0.6 * WINDOW[1]], props),
         Horizontal::new([
             Spatial2DView::new("phase portrait: x = θ [rad], y = ω [rad/s]")
                 .with_origin("/pendulum/phase")
@@ -81,7 +81,7 @@ pub fn blueprint(
             staging,
             timings,
             methods,
-            [half, WINDOW[1]],
+            [right, WINDOW[1]],
             props,
         ),
     )

@@ -109,6 +109,8 @@ pub struct Recording {
     written: Option<std::sync::Arc<std::sync::atomic::AtomicU64>>,
     /// The live streams to viewers.
     live: Vec<live::Live>,
+    /// The plots' value axes, set from the values written when the recording ends.
+    axes: Option<(super::axes::LateAxes, super::axes::Extents)>,
 }
 
 impl Recording {
@@ -165,6 +167,8 @@ impl Recording {
         }
         let (live, live_sinks): (Vec<_>, Vec<_>) = live.into_iter().unzip();
         sinks.extend(live_sinks.into_iter().map(|s| Box::new(s) as _));
+        let extents = super::axes::Extents::default();
+        sinks.push(Box::new(extents.clone()));
         let mut builder = rerun::RecordingStreamBuilder::new(application_id)
             .enabled(true) // the recording is the product: ignore RERUN=off
             .send_properties(false);
@@ -174,7 +178,7 @@ impl Recording {
         let rec = builder
             .set_sinks(sinks)
             .context("cannot start the recording")?;
-        layout.send(&rec, application_id)?;
+        let axes = Some((layout.send(&rec, application_id)?, extents));
         rec.set_log_time_enabled(false);
         rec.send_recording_name(recording_name)?;
         Ok(Recording {
@@ -183,6 +187,7 @@ impl Recording {
             target,
             written,
             live,
+            axes,
         })
     }
 
@@ -204,7 +209,11 @@ impl Recording {
     /// size.
     pub fn commit(mut self) -> anyhow::Result<Option<u64>> {
         let rec = self.rec.take().expect("commit once");
-        let flushed = rec.flush_blocking();
+        let mut flushed = rec.flush_blocking();
+        if let (Ok(()), Some((axes, extents))) = (&flushed, self.axes.take()) {
+            axes.send(&rec, &extents)?;
+            flushed = rec.flush_blocking();
+        }
         // Dropping the last handle hands every message still batched to the sinks.
         drop(rec);
         let Some(file) = self.file.take() else {

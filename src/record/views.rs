@@ -7,7 +7,7 @@ use rerun::blueprint::{
     Tabs, TextDocumentView, TextLogView, TimePanel, TimeSeriesView, Vertical,
 };
 
-use super::layout::LEGEND_ROW_PX;
+use super::layout::{LEGEND_ROW_PX, time_axis_end};
 use super::{Framing, Layout, ViewProperties, scene};
 
 /// The viewer's room for views at 1600×1000 [logical px]: the window less its top bar and the
@@ -109,37 +109,40 @@ impl Staging {
 /// A scene's plots in a column of `size` [px], each legend beside its curves. Each plot gets
 /// the height its legend needs: as many as fit are stacked, and when some do not, the last
 /// place holds the rest as tabs. Plots expected at round-off stand in tabs behind the
-/// scene's statement of their largest values, in a place of their own.
+/// scene's statement of their largest values, in a place as tall as their legends need.
 fn plot_views(
     scene: &str,
     plots: &[Plot],
     end_time: f64,
     size: [f32; 2],
     props: &mut ViewProperties,
-) -> Vec<ContainerLike> {
-    let mut view = |p: &Plot| {
-        let view = TimeSeriesView::new(p.title).with_origin(format!("/{scene}/plots/{}", p.name));
-        let view = props.legend_beside(view, &p.series, end_time, size[0]);
-        match p.range {
-            Some((lo, hi)) => props.value_range(view, lo, hi),
-            None => view,
-        }
-    };
+) -> Vertical {
     let (quiet, shown): (Vec<&Plot>, Vec<&Plot>) = plots.iter().partition(|p| p.roundoff);
-    let mut views: Vec<ContainerLike> = shown.iter().map(|p| view(p)).collect();
     let room = usize::from(!quiet.is_empty());
     let places = stacked_plots(plots, size[1]).max(room + 1) - room;
+    let rows = quiet.iter().map(|p| p.series.len()).max();
+    let low = rows.map_or(0.0, |n| PLOT_CHROME_PX + LEGEND_ROW_PX * n as f32);
+    let high = (size[1] - low) / places.min(shown.len()).max(1) as f32;
+    let mut view = |p: &Plot, height: f32| {
+        let origin = format!("/{scene}/plots/{}", p.name);
+        let view = TimeSeriesView::new(p.title).with_origin(origin.clone());
+        let view = props.legend_beside(view, &p.series, end_time, size[0]);
+        props.value_axis(view, origin, height, p.range)
+    };
+    let mut views: Vec<ContainerLike> = shown.iter().map(|p| view(p, high)).collect();
     if views.len() > places {
         let rest = views.split_off(places - 1);
         views.push(Tabs::new(rest).into());
     }
+    let mut shares = vec![high; views.len()];
     if !quiet.is_empty() {
         let statement =
             TextDocumentView::new("round-off").with_origin(format!("/{scene}/roundoff"));
-        let tabs = std::iter::once(statement.into()).chain(quiet.iter().map(|p| view(p)));
+        let tabs = std::iter::once(statement.into()).chain(quiet.iter().map(|p| view(p, low)));
         views.push(Tabs::new(tabs).into());
+        shares.push(low);
     }
-    views
+    Vertical::new(views).with_row_shares(shares)
 }
 
 /// How many plots a column `height` px tall stacks, each tall enough for its legend (at least
@@ -164,7 +167,7 @@ pub fn plot_column(
     props: &mut ViewProperties,
 ) -> Vertical {
     let plots = staging.shown(timings, methods);
-    Vertical::new(plot_views(scene, &plots, staging.end_time, size, props))
+    plot_views(scene, &plots, staging.end_time, size, props)
 }
 
 /// The scene's 3D views in a grid filling `size` [px]: as many columns as make the subjects
@@ -282,7 +285,7 @@ const ALL_PLOTS: [&str; 7] = [
 /// `physlab all`'s rows: 3D views, plots, the event log [shares of the height]. The log holds
 /// its tab, its header and five rows of 18 px (54 px tall, it showed its header alone; 132 px
 /// tall, it scrolled its first row away to keep the time cursor's row in view).
-const ALL_ROWS: [f32; 3] = [5.0, 3.5, 1.7];
+const ALL_ROWS: [f32; 3] = [4.2, 4.3, 1.7];
 
 /// The most rows of 3D views a scene stacks in `physlab all`.
 const ALL_3D_ROWS: usize = 3;
@@ -308,18 +311,19 @@ pub fn all_layout(timings: bool, scenes: &[(&SceneViews, Staging, Vec<&'static s
         .zip(&widths)
         .map(|((v, s, _), &w)| slot_grid(v.name, &s.slots, [w, share(0)], &mut props))
         .collect();
-    let width = WINDOW[0] / scenes.len().max(1) as f32;
-    let plots: Vec<ContainerLike> = scenes
-        .iter()
-        .map(|(views, staging, methods)| {
-            let shown: Vec<Plot> = staging
-                .shown(timings, methods)
-                .into_iter()
-                .filter(|p| ALL_PLOTS.contains(&p.name) || p.name == scene::FRAME_COST.0)
-                .collect();
-            let end = staging.end_time;
-            let views = plot_views(views.name, &shown, end, [width, share(1)], &mut props);
-            Vertical::new(views).into()
+    let shown: Vec<Vec<Plot>> = (scenes.iter())
+        .map(|(_, staging, methods)| {
+            let shown = staging.shown(timings, methods).into_iter();
+            (shown.filter(|p| ALL_PLOTS.contains(&p.name) || p.name == scene::FRAME_COST.0))
+                .collect()
+        })
+        .collect();
+    let ends: Vec<f64> = scenes.iter().map(|s| s.1.end_time).collect();
+    let plot_widths = time_widths(&shown, &ends);
+    let plots: Vec<ContainerLike> = (scenes.iter().zip(&shown).zip(&plot_widths))
+        .map(|(((views, staging, _), shown), &w)| {
+            let size = [w, share(1)];
+            plot_views(views.name, shown, staging.end_time, size, &mut props).into()
         })
         .collect();
     let log = TextLogView::new("events").with_origin("/").with_contents(
@@ -332,7 +336,9 @@ pub fn all_layout(timings: bool, scenes: &[(&SceneViews, Staging, Vec<&'static s
     let blueprint = only_these_views(Blueprint::new(
         Vertical::new([
             Horizontal::new(grids).with_column_shares(widths).into(),
-            Horizontal::new(plots).into(),
+            Horizontal::new(plots)
+                .with_column_shares(plot_widths)
+                .into(),
             Tabs::new(bottom).into(),
         ])
         .with_row_shares(ALL_ROWS),
@@ -340,7 +346,47 @@ pub fn all_layout(timings: bool, scenes: &[(&SceneViews, Staging, Vec<&'static s
     props.layout(blueprint)
 }
 
-/// A single scene's layout: its 3D views (3/4 of the left half) above its about text and
+/// A column of plots is at least this wide in `physlab all` [px].
+const NARROWEST_PLOTS: f32 = 300.0;
+
+/// The widths of `physlab all`'s columns of plots (`plots` of runs ending at `ends` [s]): each
+/// as wide as its time axes need to show three tick labels within the legend's band, the
+/// narrowest needs first while the rest keep [`NARROWEST_PLOTS`]; a column whose need does not
+/// fit shares what is left (its time axes reach further), or all share what is spare.
+fn time_widths(plots: &[Vec<Plot>], ends: &[f64]) -> Vec<f32> {
+    let needs: Vec<f32> = (plots.iter().zip(ends))
+        .map(|(plots, &end)| {
+            let fits = |w: f32| (plots.iter()).all(|p| time_axis_end(&p.series, end, w).1);
+            let widths = (30..=160).map(|w| w as f32 * 10.0);
+            widths
+                .into_iter()
+                .find(|&w| fits(w))
+                .unwrap_or(f32::INFINITY)
+        })
+        .collect();
+    let mut order: Vec<usize> = (0..needs.len()).collect();
+    order.sort_by(|&a, &b| needs[a].total_cmp(&needs[b]));
+    let mut widths = vec![0.0; needs.len()];
+    let mut left = WINDOW[0];
+    for (k, &i) in order.iter().enumerate() {
+        let others = (needs.len() - k - 1) as f32 * NARROWEST_PLOTS;
+        if needs[i] + others <= left {
+            widths[i] = needs[i];
+            left -= needs[i];
+        }
+    }
+    let unmet = widths.iter().filter(|w| **w == 0.0).count();
+    let spare = left / unmet.max(widths.len()) as f32;
+    (widths.iter())
+        .map(|&w| if w == 0.0 || unmet == 0 { w + spare } else { w })
+        .collect()
+}
+
+/// A single scene's plots take this share of the window's width (the rest its 3D views): a
+/// rope's plots need 880 px for a tick label a second on their time axes.
+pub const PLOTS_SHARE: f32 = 0.55;
+
+/// A single scene's layout: its 3D views (3/4 of the left column) above its about text and
 /// events, beside its plots.
 pub fn view_above_text(
     scene: &str,
@@ -349,11 +395,11 @@ pub fn view_above_text(
     methods: &[&'static str],
     props: &mut ViewProperties,
 ) -> Blueprint {
-    let half = 0.5 * WINDOW[0];
-    let grid = slot_grid(scene, &staging.slots, [half, 0.75 * WINDOW[1]], props);
+    let [left, right] = [1.0 - PLOTS_SHARE, PLOTS_SHARE].map(|s| s * WINDOW[0]);
+    let grid = slot_grid(scene, &staging.slots, [left, 0.75 * WINDOW[1]], props);
     let left = Vertical::new([grid, Horizontal::new(about_and_events(scene)).into()])
         .with_row_shares([3.0, 1.0]);
-    let plots = plot_column(scene, staging, timings, methods, [half, WINDOW[1]], props);
+    let plots = plot_column(scene, staging, timings, methods, [right, WINDOW[1]], props);
     scene_blueprint(left, plots)
 }
 
@@ -382,7 +428,8 @@ pub fn summary_view(scene: &str) -> TextDocumentView {
 /// A single scene's layout: `left` beside the plots, nothing else shown, `sim_time` selected.
 pub fn scene_blueprint(left: Vertical, plots: Vertical) -> Blueprint {
     only_these_views(Blueprint::new(
-        Horizontal::new([left.into(), plots.into()]).with_column_shares([1.0, 1.0]),
+        Horizontal::new([left.into(), plots.into()])
+            .with_column_shares([1.0 - PLOTS_SHARE, PLOTS_SHARE]),
     ))
 }
 
