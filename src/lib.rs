@@ -18,6 +18,7 @@ pub mod output;
 pub mod palette;
 pub mod report;
 pub mod scene;
+pub mod shell;
 pub mod study;
 
 #[cfg(feature = "rerun")]

@@ -4,7 +4,7 @@ use std::process::ExitCode;
 
 use physlab::cli::Command;
 use physlab::error::Error;
-use physlab::record::escaped;
+use physlab::shell::escaped;
 
 fn main() -> ExitCode {
     // A closed pipe and a file-size limit become errors of the write (EPIPE, EFBIG) that end the

@@ -1003,7 +1003,7 @@ fn check(
 }
 
 fn record_escaped(path: &Path) -> String {
-    physlab::record::escaped(&path.display().to_string()).into_owned()
+    physlab::shell::escaped(&path.display().to_string()).into_owned()
 }
 
 /// How many runs exited with each code.

@@ -1341,7 +1341,7 @@ mod untrusted {
     use std::process::{Command, Stdio};
     use std::time::Duration;
 
-    use physlab::record::{escaped, shell_word, shell_words};
+    use physlab::shell::{escaped, shell_word, shell_words};
 
     use crate::common::{craft, physlab, run_within, s, scratch_dir};
 

@@ -1,6 +1,6 @@
 //! Text as physlab prints it: numbers in their forms (`physlab::format`), tables fitted to a
 //! terminal (`physlab::report::table`), and a recording's text escaped before it reaches one
-//! (`physlab::record::escaped`), each against text written out by hand.
+//! (`physlab::shell::escaped`), each against text written out by hand.
 
 use physlab::format::*;
 use physlab::report::table::{Table, WIDTH, fit_lines};
@@ -133,11 +133,11 @@ fn characters_that_hide_or_reorder_text_are_shown_as_bytes() {
         ('\u{1b}', "\\x1b"),
     ] {
         assert_eq!(
-            physlab::record::escaped(&format!("a{c}b")),
+            physlab::shell::escaped(&format!("a{c}b")),
             format!("a{bytes}b"),
             "{c:?}"
         );
     }
     let plain = "θ0 = 60°, naïve 模型 E − E0";
-    assert_eq!(physlab::record::escaped(plain), plain);
+    assert_eq!(physlab::shell::escaped(plain), plain);
 }

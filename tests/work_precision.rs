@@ -35,7 +35,7 @@ fn commands(out: &str) -> Vec<(f64, Vec<String>)> {
         .iter()
         .map(|line| {
             let (target, command) = line.split_once(':').unwrap();
-            let words = physlab::record::shell_words(command.trim()).expect("shell words");
+            let words = physlab::shell::shell_words(command.trim()).expect("shell words");
             let words = words.into_iter().map(|w| String::from_utf8(w).unwrap());
             (target.trim().parse().unwrap(), words.collect())
         })

@@ -9,9 +9,9 @@ use std::path::{Path, PathBuf};
 use super::scenes::SCENES;
 use super::{Error, SceneFile};
 use crate::format::{sig, sig_pair};
-use crate::record::{escaped, shell_path, shell_word, shell_words};
 use crate::rrd::compare::{SeriesDiff, time_text};
 use crate::rrd::inspect::{RecordingInfo, read_recording};
+use crate::shell::{escaped, shell_path, shell_word, shell_words};
 
 /// Entities whose values depend on the wall clock, so that no re-run can match them: the
 /// --timings plots, and with --timings the summaries (which then hold wall times, ns/step).

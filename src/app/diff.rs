@@ -17,9 +17,9 @@ use crate::cli::{DiffArgs, RunArgs};
 use crate::output::Dash;
 use crate::record::Framing;
 use crate::record::diff::{DiffPlan, DiffWriter};
-use crate::record::escaped;
 use crate::rrd::compare::{Key, SeriesIndex, StreamSpec, Streamed, compare_files, renamed};
 use crate::rrd::inspect::RecordingInfo;
+use crate::shell::escaped;
 
 pub fn diff_command(args: &DiffArgs) -> anyhow::Result<()> {
     let tol = tolerance(args.tolerance)?;

@@ -6,8 +6,8 @@ use std::path::Path;
 use super::compared::{print_lines, remake_commands, scene_command, version_line};
 use crate::cli::InspectArgs;
 use crate::error::Error;
-use crate::record::escaped;
 use crate::rrd::inspect::{LoggedEvent, RecordingInfo, read_recording};
+use crate::shell::escaped;
 
 pub fn inspect_command(args: &InspectArgs) -> anyhow::Result<()> {
     use crate::output::{Dash, check, distinct};

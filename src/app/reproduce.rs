@@ -15,12 +15,12 @@ use super::{Error, Plan, Replay, SceneFile, simulate};
 use crate::cli::{ReproduceArgs, RunArgs};
 use crate::format::{duration as duration_text, size as size_text};
 use crate::output::TempFile;
-use crate::record::escaped;
 use crate::record::hair::BYTES_PER_NODE_FRAME;
 use crate::rrd::compare::{StreamSpec, compare_files};
 use crate::rrd::inspect::RecordingInfo;
 use crate::rrd::read::{Messages, unusable};
 use crate::scene::params::NODE_STEP_SECONDS;
+use crate::shell::escaped;
 
 /// Why the re-run failed, in words true to the cause: a stop request stays an interruption (exit
 /// 130), a configuration this build refuses says so without the temporary file's name, and

@@ -118,7 +118,7 @@ pub(super) fn not_utf8(e: &clap::Error, args: &[std::ffi::OsString]) -> Option<S
             )
         }
     };
-    let value = crate::record::shell_word(value);
+    let value = crate::shell::shell_word(value);
     Some(format!(
         "{flag} {value}: not UTF-8 text; options other than file paths take UTF-8"
     ))

@@ -20,8 +20,8 @@ mod sink;
 mod views;
 pub use layout::{Framing, Layout, ViewProperties};
 pub use provenance::{
-    GIT_COMMIT, RERUN_SDK_VERSION, SceneEnd, command_line, escaped, log_summary, send_provenance,
-    send_run_status, shell_path, shell_word, shell_words, summary_markdown,
+    GIT_COMMIT, RERUN_SDK_VERSION, SceneEnd, log_summary, send_provenance, send_run_status,
+    summary_markdown,
 };
 pub use recording::{
     BATCHING, CHUNK_BYTES, Destinations, Recording, check_destinations, find_on_path,

@@ -53,7 +53,7 @@ pub(super) fn scene_flags(
 
 /// The lines that answer the targets the reference resolves (given ones it cannot were
 /// refused before the sweep; default ones are left out, said so), each command's words quoted
-/// for a shell ([`crate::record::shell_word`]).
+/// for a shell ([`crate::shell::shell_word`]).
 pub(super) fn answer(
     problem: &Problem,
     file: &SceneFile,
@@ -68,7 +68,7 @@ pub(super) fn answer(
     let (mut found, unresolved) = answers(scene, rows, schedule, targets, floor);
     for (_, _, words) in &mut found {
         *words = (words.iter())
-            .map(|w| crate::record::shell_word(w.as_bytes()))
+            .map(|w| crate::shell::shell_word(w.as_bytes()))
             .collect();
     }
     Ok(report::answer(problem, sw, floor, &found, &unresolved))
@@ -88,7 +88,7 @@ pub(super) fn commands(
         .map(|r| {
             let words = scene_command(problem.name(), &flags, r, schedule, "run.rrd");
             let quoted: Vec<String> = (words.iter())
-                .map(|w| crate::record::shell_word(w.as_bytes()))
+                .map(|w| crate::shell::shell_word(w.as_bytes()))
                 .collect();
             quoted.join(" ")
         })

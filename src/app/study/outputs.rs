@@ -39,7 +39,7 @@ pub(super) fn write_study(
     }
     if let Some(path) = &a.output {
         let d = crate::record::Destinations::output(path);
-        let command = crate::record::command_line();
+        let command = crate::shell::command_line();
         let config = format!("# the scene of `{command}`\n{scene_file}");
         let bytes =
             crate::record::study::record_study(&d, scene, diagrams, out, (&config, methods))?;
