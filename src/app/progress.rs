@@ -154,9 +154,7 @@ impl Progress {
     }
 
     fn bytes(&self) -> u64 {
-        self.written
-            .as_ref()
-            .map_or(0, |w| w.load(Ordering::Relaxed))
+        (self.written.as_ref()).map_or(0, |w| w.load(Ordering::Relaxed))
     }
 
     /// Progress reached (ticks, or the stage's unit).

@@ -57,9 +57,7 @@ pub(super) fn drift_plot(scene: &str, (runs, commands): (&[Drift], &[String]), n
     let panels = panels.map(|&(title, y_desc, quantity)| {
         let series: Vec<Series> = (runs.iter().enumerate())
             .map(|(i, r)| {
-                let made = commands
-                    .get(i)
-                    .map_or(String::new(), |c| format!("\nmade by: {c}"));
+                let made = (commands.get(i)).map_or(String::new(), |c| format!("\nmade by: {c}"));
                 let (points, about) = (r.checkpoints.iter())
                     .filter_map(|c| {
                         let v = quantity(c).filter(|v| *v > 0.0)?;

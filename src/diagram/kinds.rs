@@ -322,8 +322,7 @@ pub(super) fn stability_plot(scene: &str, limits: &[LimitRow], omega: f64) -> Pl
     ];
     let adaptive = |l: &LimitRow| l.0.info().stability == crate::integrate::Stability::Adaptive;
     let said = |which: &dyn Fn(&LimitRow) -> bool, what: &str| {
-        let names: Vec<&str> = limits
-            .iter()
+        let names: Vec<&str> = (limits.iter())
             .filter(|l| which(l))
             .map(|l| l.0.name())
             .collect();
@@ -354,8 +353,7 @@ pub(super) fn stability_plot(scene: &str, limits: &[LimitRow], omega: f64) -> Pl
             y: -0.5..n as f64 - 0.5,
             series,
             guides,
-            y_names: limits
-                .iter()
+            y_names: (limits.iter())
                 .rev()
                 .map(|l| l.0.name().to_string())
                 .collect(),

@@ -103,9 +103,7 @@ pub fn damped_study_rope() -> crate::scene::rope::RopeParams {
 
 /// `physlab methods`, then every `physlab methods NAME` page.
 fn methods_reference() -> String {
-    let pages = methods::page_names()
-        .into_iter()
-        .filter_map(methods::method_page);
+    let pages = (methods::page_names().into_iter()).filter_map(methods::method_page);
     std::iter::once(methods::methods_table())
         .chain(pages)
         .collect::<Vec<_>>()
@@ -113,9 +111,7 @@ fn methods_reference() -> String {
 }
 
 fn diverged(s: &LaneStats) -> String {
-    s.divergence
-        .as_ref()
-        .map_or("no".into(), |e| format!("at t = {:.3} s", e.time))
+    (s.divergence.as_ref()).map_or("no".into(), |e| format!("at t = {:.3} s", e.time))
 }
 
 /// A scene's run at its defaults as a table: `header`, then per lane `row` of the scene, the

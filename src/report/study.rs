@@ -190,26 +190,20 @@ pub fn orders_table(rows: &[Row], floor: f64, velocity_dependent: bool, wide: bo
         "diverged at dt",
     ])
     .short(["method", "theory", "fitted", "range", "diverged at dt [s]"]);
-    let unfitted = if wide {
-        "— (fewer than 2 usable rows)"
-    } else {
-        "— (< 2 rows)"
+    let unfitted = match wide {
+        true => "— (fewer than 2 usable rows)",
+        false => "— (< 2 rows)",
     };
     for o in orders(rows, floor) {
+        let diverged: Vec<String> = (o.diverged_at.iter()).map(|d| format!("{d:.3e}")).collect();
         t.row([
             o.method.name().to_string(),
             o.method.info().order_for(velocity_dependent).to_string(),
             o.fitted.map_or(unfitted.into(), |f| format!("{f:.3}")),
-            o.range
-                .map_or("—".into(), |(lo, hi)| format!("{lo:.3} – {hi:.3}")),
-            if o.diverged_at.is_empty() {
-                "—".into()
-            } else {
-                o.diverged_at
-                    .iter()
-                    .map(|d| format!("{d:.3e}"))
-                    .collect::<Vec<_>>()
-                    .join(", ")
+            (o.range).map_or("—".into(), |(lo, hi)| format!("{lo:.3} – {hi:.3}")),
+            match diverged.is_empty() {
+                true => "—".into(),
+                false => diverged.join(", "),
             },
         ]);
     }
@@ -256,10 +250,8 @@ pub fn proportionality_table(rows: &[Row], floor: f64) -> String {
             p.fitted.map_or("— (fewer than 2 usable rows)".into(), |f| {
                 format!("{f:.3}")
             }),
-            p.range
-                .map_or("—".into(), |(lo, hi)| format!("{lo:.3} – {hi:.3}")),
-            p.rtols
-                .map_or("—".into(), |(lo, hi)| format!("{lo:.0e} – {hi:.0e}")),
+            (p.range).map_or("—".into(), |(lo, hi)| format!("{lo:.3} – {hi:.3}")),
+            (p.rtols).map_or("—".into(), |(lo, hi)| format!("{lo:.0e} – {hi:.0e}")),
         ]);
     }
     t.render()
@@ -312,18 +304,17 @@ pub fn rows_table(rows: &[Row], wide: bool) -> String {
         t.row([
             r.method.name().to_string(),
             step_text(r),
-            r.rtol.map_or(
-                "—".into(),
-                |t| if wide { sci(t) } else { format!("{t:.0e}") },
-            ),
+            r.rtol.map_or("—".into(), |t| match wide {
+                true => sci(t),
+                false => format!("{t:.0e}"),
+            }),
             r.error.map_or("diverged".into(), sci),
             r.evals.to_string(),
             r.accepted.to_string(),
             r.rejected.to_string(),
-            if wide {
-                sci(r.wall_seconds)
-            } else {
-                format!("{:.1e}", r.wall_seconds)
+            match wide {
+                true => sci(r.wall_seconds),
+                false => format!("{:.1e}", r.wall_seconds),
             },
         ]);
     }

@@ -170,13 +170,8 @@ pub fn fit_lines(text: &str) -> String {
         }
         let indent = &body[..body.len() - body.trim_start().len()];
         let lines = wrap(body, WIDTH - indent.chars().count());
-        out.push_str(
-            &lines
-                .iter()
-                .map(|l| format!("{indent}{l}"))
-                .collect::<Vec<_>>()
-                .join("\n"),
-        );
+        let indented: Vec<String> = (lines.iter()).map(|l| format!("{indent}{l}")).collect();
+        out.push_str(&indented.join("\n"));
         out.push_str(&line[body.len()..]);
     }
     out

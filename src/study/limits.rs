@@ -348,9 +348,7 @@ mod tests {
     /// bisection in the first cell past 2.
     fn first_crossing_of_the_closed_form(w: &[f64]) -> f64 {
         let trace = |h: f64| {
-            let p = w
-                .iter()
-                .fold([[1.0, 0.0], [0.0, 1.0]], |p, &wk| mul(step(wk * h), p));
+            let p = (w.iter()).fold([[1.0, 0.0], [0.0, 1.0]], |p, &wk| mul(step(wk * h), p));
             (p[0][0] + p[1][1]).abs()
         };
         let mut k = 1.0;

@@ -70,8 +70,7 @@ impl Problem {
     /// need forces of position alone (the Nyström methods) left out.
     pub fn methods(&self) -> Vec<Method> {
         let v = self.velocity_dependent();
-        Method::ALL
-            .into_iter()
+        (Method::ALL.into_iter())
             .filter(|m| !v || m.info().accepts_velocity_dependent())
             .collect()
     }

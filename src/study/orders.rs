@@ -60,8 +60,7 @@ pub fn orders(rows: &[Row], floor: f64) -> Vec<Order> {
                 .iter()
                 .filter(|r| r.method == m && r.rtol.is_none())
                 .collect();
-            let diverged_at = mine
-                .iter()
+            let diverged_at = (mine.iter())
                 .filter(|r| r.error.is_none())
                 .map(|r| r.dt)
                 .collect();
@@ -136,8 +135,7 @@ pub(super) fn fit(pts: &[(f64, f64)]) -> (Option<f64>, Option<(f64, f64)>) {
         let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
         sxy / sxx
     });
-    let local: Vec<f64> = pts
-        .windows(2)
+    let local: Vec<f64> = (pts.windows(2))
         .map(|w| (w[0].1 - w[1].1) / (w[0].0 - w[1].0))
         .collect();
     let range = (!local.is_empty()).then(|| {

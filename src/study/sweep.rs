@@ -98,8 +98,7 @@ fn measure<S: SecondOrderSystem>(
             return None;
         }
         let x = it.position();
-        let err = x
-            .iter()
+        let err = (x.iter())
             .zip(r)
             .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
         if !err.is_finite() {
@@ -519,8 +518,7 @@ fn reference_work(problem: &Problem, s: &Sweep) -> f64 {
 
 /// The whole work of a sweep of `problem`, in the units [`sweep_with`] reports.
 pub fn planned_work(problem: &Problem, s: &Sweep) -> f64 {
-    let runs = plan(problem, s)
-        .iter()
+    let runs = (plan(problem, s).iter())
         .map(|p| work(problem, s, (p.1, p.2)))
         .sum::<f64>();
     reference_work(problem, s) + runs

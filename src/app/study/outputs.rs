@@ -139,8 +139,7 @@ pub(super) fn check_outputs(
 ) -> anyhow::Result<Outputs> {
     use crate::output::{Dash, check, distinct};
     use std::path::Path;
-    let csv = a
-        .csv
+    let csv = (a.csv)
         .as_deref()
         .map(|p| check("--csv", p, Dash::Text))
         .transpose()?;
