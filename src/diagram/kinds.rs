@@ -1,7 +1,7 @@
 //! The diagrams: work-precision, convergence, stability and the hair trade, each from a
 //! study's rows.
 
-use super::{Content, Diagram, Key, LEGEND_WIDTH, Panel, Plot, Series, decade_label, decades};
+use super::{Diagram, Key, LEGEND_WIDTH, Panel, Plot, Series, decade_label, decades};
 use plotters::prelude::*;
 
 use crate::format::sci;
@@ -67,14 +67,8 @@ pub fn work_precision(
         title: format!("{scene} work-precision"),
         // Tall and wide enough for a legend key per method and variant.
         size: (1600, 1100),
-        content: Content::WorkPrecision {
-            scene: scene.to_string(),
-            rows: rows.to_vec(),
-            dt0,
-            floor,
-            note: note.to_string(),
-            commands,
-        },
+        plot: work_precision_plot(scene, (rows, dt0), floor, note, &commands),
+        data: super::rows_data(rows, floor),
     }
 }
 
@@ -95,7 +89,7 @@ pub fn pendulum_work_precision_picture(runs: &(Vec<Row>, f64)) -> Diagram {
 /// A work-precision panel: title, x axis description, and the cost it plots.
 type Axis = (&'static str, &'static str, fn(&Row) -> f64);
 
-pub(super) fn work_precision_plot(
+fn work_precision_plot(
     scene: &str,
     (rows, dt0): (&[Row], f64),
     floor: f64,
@@ -154,6 +148,10 @@ pub fn convergence(
 ) -> Diagram {
     let fixed = |i: &usize| rows[*i].rtol.is_none();
     let kept: Vec<usize> = (0..rows.len()).filter(fixed).collect();
+    let rows: Vec<Row> = kept.iter().map(|&i| rows[i].clone()).collect();
+    let commands: Vec<String> = (kept.iter())
+        .filter_map(|&i| commands.get(i).cloned())
+        .collect();
     Diagram {
         stem: format!(
             "{scene}-convergence{}",
@@ -164,19 +162,12 @@ pub fn convergence(
             if velocity_dependent { ", damped" } else { "" }
         ),
         size: (1300, 860),
-        content: Content::Convergence {
-            scene: scene.to_string(),
-            rows: kept.iter().map(|&i| rows[i].clone()).collect(),
-            commands: (kept.iter())
-                .filter_map(|&i| commands.get(i).cloned())
-                .collect(),
-            floor,
-            velocity_dependent,
-        },
+        plot: convergence_plot(scene, (&rows, &commands), floor, velocity_dependent),
+        data: super::rows_data(&rows, floor),
     }
 }
 
-pub(super) fn convergence_plot(
+fn convergence_plot(
     scene: &str,
     (rows, commands): (&[Row], &[String]),
     floor: f64,
@@ -262,19 +253,21 @@ pub fn stability(scene: &str, limits: &[Limit], omega: f64) -> Diagram {
         .map(|l| (l.method, l.measured_dt, l.theory_dt))
         .collect();
     let height = 180 + 44 * limits.len() as u32;
+    let data: String = (limits.iter())
+        .map(|(m, measured, theory)| {
+            format!("{} measured={measured:?} theory={theory:?}\n", m.name())
+        })
+        .collect();
     Diagram {
         stem: format!("{scene}-stability"),
         title: format!("{scene} stability"),
         size: (1300, height.max(500)),
-        content: Content::Stability {
-            scene: scene.to_string(),
-            limits,
-            omega,
-        },
+        plot: stability_plot(scene, &limits, omega),
+        data: format!("omega={omega:e}\n{data}"),
     }
 }
 
-pub(super) type LimitRow = (Method, Option<f64>, Option<f64>);
+type LimitRow = (Method, Option<f64>, Option<f64>);
 
 /// What one method's row of the stability diagram says on hover: its measured limit, theory's
 /// and their ratio, or why theory gives none.
@@ -297,7 +290,7 @@ fn limit_about(&(m, measured, theory): &LimitRow) -> String {
 /// Stability: per method a row, its measured largest stable dt a point in its colour (which
 /// says on hover the method and both limits) and theory's a grey tick across the row, on a log
 /// dt axis; the rows without a finite theory said in the notes.
-pub(super) fn stability_plot(scene: &str, limits: &[LimitRow], omega: f64) -> Plot {
+fn stability_plot(scene: &str, limits: &[LimitRow], omega: f64) -> Plot {
     let n = limits.len();
     // Row i at log10 y = n-1-i: the first method on top.
     let row = |i: usize, dy: f64| 10f64.powf((n - 1 - i) as f64 + dy);
@@ -372,10 +365,10 @@ pub fn hair_trade(rows: &[HairRow], note: &str) -> Diagram {
         stem: "hair-trade".to_string(),
         title: "hair trade".to_string(),
         size: (1500, 900),
-        content: Content::HairTrade {
-            rows: rows.to_vec(),
-            note: note.to_string(),
-        },
+        plot: hair_trade_plot(rows, note),
+        data: (rows.iter())
+            .map(|r| format!("{} stretch={:?}\n", r.flags(), r.stretch))
+            .collect(),
     }
 }
 
@@ -396,7 +389,7 @@ fn hair_family(r: &HairRow) -> String {
     }
 }
 
-pub(super) fn hair_trade_plot(rows: &[HairRow], note: &str) -> Plot {
+fn hair_trade_plot(rows: &[HairRow], note: &str) -> Plot {
     let mut families: Vec<(String, crate::scene::hair::HairMethod)> = Vec::new();
     for r in rows {
         let f = hair_family(r);
