@@ -5,7 +5,6 @@ use super::{Diagram, Key, LEGEND_WIDTH, Panel, Plot, Series, decade_label, decad
 use plotters::prelude::*;
 
 use crate::format::sci;
-use crate::integrate::Method;
 use crate::study::hair::HairRow;
 use crate::study::{Limit, Row, methods_of};
 
@@ -248,30 +247,26 @@ pub(super) fn superscript(p: u32) -> String {
 /// Stability: per method, the measured largest stable dt (the method's marker) against theory
 /// (a cross), on a log dt axis; unconditional and absent limits said in words.
 pub fn stability(scene: &str, limits: &[Limit], omega: f64) -> Diagram {
-    let limits: Vec<LimitRow> = limits
-        .iter()
-        .map(|l| (l.method, l.measured_dt, l.theory_dt))
-        .collect();
     let height = 180 + 44 * limits.len() as u32;
     let data: String = (limits.iter())
-        .map(|(m, measured, theory)| {
-            format!("{} measured={measured:?} theory={theory:?}\n", m.name())
+        .map(|l| {
+            let (m, measured, theory) = (l.method.name(), l.measured_dt, l.theory_dt);
+            format!("{m} measured={measured:?} theory={theory:?}\n")
         })
         .collect();
     Diagram {
         stem: format!("{scene}-stability"),
         title: format!("{scene} stability"),
         size: (1300, height.max(500)),
-        plot: stability_plot(scene, &limits, omega),
+        plot: stability_plot(scene, limits, omega),
         data: format!("omega={omega:e}\n{data}"),
     }
 }
 
-type LimitRow = (Method, Option<f64>, Option<f64>);
-
 /// What one method's row of the stability diagram says on hover: its measured limit, theory's
 /// and their ratio, or why theory gives none.
-fn limit_about(&(m, measured, theory): &LimitRow) -> String {
+fn limit_about(l: &Limit) -> String {
+    let (m, measured, theory) = (l.method, l.measured_dt, l.theory_dt);
     let measured = measured.map_or("none found".into(), |d| format!("{} s", sci(d)));
     let theory = match theory {
         Some(t) if t.is_finite() => format!("{} s", sci(t)),
@@ -290,51 +285,54 @@ fn limit_about(&(m, measured, theory): &LimitRow) -> String {
 /// Stability: per method a row, its measured largest stable dt a point in its colour (which
 /// says on hover the method and both limits) and theory's a grey tick across the row, on a log
 /// dt axis; the rows without a finite theory said in the notes.
-fn stability_plot(scene: &str, limits: &[LimitRow], omega: f64) -> Plot {
+fn stability_plot(scene: &str, limits: &[Limit], omega: f64) -> Plot {
     let n = limits.len();
     // Row i at log10 y = n-1-i: the first method on top.
     let row = |i: usize, dy: f64| 10f64.powf((n - 1 - i) as f64 + dy);
     let mut series = Vec::new();
     let mut guides = Vec::new();
     for (i, l) in limits.iter().enumerate() {
-        if let Some(d) = l.1 {
+        if let Some(d) = l.measured_dt {
             let (points, about) = (vec![(d, row(i, 0.0))], vec![limit_about(l)]);
-            let key = Key::of(l.0);
+            let key = Key::of(l.method);
             series.push(Series { key, points, about });
         }
-        if let Some(t) = l.2.filter(|t| t.is_finite()) {
+        if let Some(t) = l.theory_dt.filter(|t| t.is_finite()) {
             guides.push((vec![(t, row(i, -0.3)), (t, row(i, 0.3))], String::new()));
         }
     }
-    let finite = limits.iter().flat_map(|l| [l.1, l.2]).flatten();
+    let finite = limits
+        .iter()
+        .flat_map(|l| [l.measured_dt, l.theory_dt])
+        .flatten();
     let x = decades(finite.filter(|v| v.is_finite()));
     let title =
         format!("{scene}: largest stable dt, measured against theory (ω = {omega:.4} rad/s)");
     let mut notes = vec![
         "point: measured largest stable dt (bisection); grey tick: theory, limit h / ω on the linearised problem.".to_string(),
     ];
-    let adaptive = |l: &LimitRow| l.0.info().stability == crate::integrate::Stability::Adaptive;
-    let said = |which: &dyn Fn(&LimitRow) -> bool, what: &str| {
+    let adaptive = |l: &Limit| l.method.info().stability == crate::integrate::Stability::Adaptive;
+    let said = |which: &dyn Fn(&Limit) -> bool, what: &str| {
         let names: Vec<&str> = (limits.iter())
             .filter(|l| which(l))
-            .map(|l| l.0.name())
+            .map(|l| l.method.name())
             .collect();
         (!names.is_empty()).then(|| format!("{}: {what}", names.join(", ")))
     };
     notes.extend(said(
-        &|l| l.2 == Some(f64::INFINITY),
+        &|l| l.theory_dt == Some(f64::INFINITY),
         "stable at every dt (point: the largest tried).",
     ));
     notes.extend(said(
-        &|l| l.2.is_none() && adaptive(l),
+        &|l| l.theory_dt.is_none() && adaptive(l),
         "adaptive: error control chooses the steps.",
     ));
     notes.extend(said(
-        &|l| l.1.is_none() && l.2.is_some_and(f64::is_finite),
+        &|l| l.measured_dt.is_none() && l.theory_dt.is_some_and(f64::is_finite),
         "no limit measured (the table says why).",
     ));
     notes.extend(said(
-        &|l| l.2.is_none() && !adaptive(l),
+        &|l| l.theory_dt.is_none() && !adaptive(l),
         "unstable at every dt (point: growth stays below 10⁴).",
     ));
     Plot {
@@ -348,10 +346,10 @@ fn stability_plot(scene: &str, limits: &[LimitRow], omega: f64) -> Plot {
             guides,
             y_names: (limits.iter())
                 .rev()
-                .map(|l| l.0.name().to_string())
+                .map(|l| l.method.name().to_string())
                 .collect(),
         }],
-        keys: limits.iter().map(|l| Key::of(l.0)).collect(),
+        keys: limits.iter().map(|l| Key::of(l.method)).collect(),
         notes,
         legend_px: LEGEND_WIDTH,
     }
