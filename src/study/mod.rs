@@ -162,6 +162,11 @@ fn stop() -> bool {
     crate::interrupt::requested()
 }
 
+/// The largest |a − b| over two states' coordinates (`f64::max` passes over a NaN).
+fn largest_difference(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).fold(0.0, |m, (x, y)| m.max((x - y).abs()))
+}
+
 /// Takes `n` steps, looking at the stop flag every [`stop_stride`]; false when stopped.
 fn steps<S: SecondOrderSystem>(it: &mut Integrator, sys: &S, n: u64) -> bool {
     let stride = stop_stride(it.position().len());
