@@ -182,14 +182,13 @@ pub fn stability_header(problem: &Problem, steps: u64) -> String {
 /// Fitted order per method against theory (the order for velocity-dependent forces when the
 /// problem has them), leaving out errors below `floor`; in full (`wide`) or fitted.
 pub fn orders_table(rows: &[Row], floor: f64, velocity_dependent: bool, wide: bool) -> String {
-    let mut t = Table::new([
-        "method",
-        "theory order",
-        "fitted order",
-        "order range",
-        "diverged at dt",
-    ])
-    .short(["method", "theory", "fitted", "range", "diverged at dt [s]"]);
+    let mut t = Table::with_short([
+        ("method", "method"),
+        ("theory order", "theory"),
+        ("fitted order", "fitted"),
+        ("order range", "range"),
+        ("diverged at dt", "diverged at dt [s]"),
+    ]);
     let unfitted = match wide {
         true => "— (fewer than 2 usable rows)",
         false => "— (< 2 rows)",
@@ -287,18 +286,15 @@ pub fn run_about(r: &Row) -> String {
 
 /// Every measured run; fitted, rtol and the wall time to one digit.
 pub fn rows_table(rows: &[Row], wide: bool) -> String {
-    let mut t = Table::new([
-        "method",
-        "dt [s]",
-        "rtol",
-        "error",
-        "force evals",
-        "steps accepted",
-        "rejected",
-        "median wall [s]",
-    ])
-    .short([
-        "method", "dt [s]", "rtol", "error", "evals", "steps", "rejected", "wall [s]",
+    let mut t = Table::with_short([
+        ("method", "method"),
+        ("dt [s]", "dt [s]"),
+        ("rtol", "rtol"),
+        ("error", "error"),
+        ("force evals", "evals"),
+        ("steps accepted", "steps"),
+        ("rejected", "rejected"),
+        ("median wall [s]", "wall [s]"),
     ]);
     for r in rows {
         t.row([
@@ -351,14 +347,13 @@ pub fn cheapest_table(rows: &[Row], targets: &[f64]) -> String {
 /// Measured stability limits against theory; fitted, each note said once under the table with
 /// the methods it concerns.
 pub fn stability_table(limits: &[Limit], wide: bool) -> String {
-    let mut t = Table::new([
-        "method",
-        "measured dt [s]",
-        "theory dt [s]",
-        "measured / theory",
-        "note",
-    ])
-    .short(["method", "measured dt [s]", "theory dt [s]", "ratio", ""]);
+    let mut t = Table::with_short([
+        ("method", "method"),
+        ("measured dt [s]", "measured dt [s]"),
+        ("theory dt [s]", "theory dt [s]"),
+        ("measured / theory", "ratio"),
+        ("note", ""),
+    ]);
     for l in limits {
         let ratio = match (l.measured_dt, l.theory_dt) {
             (Some(m), Some(t)) if t.is_finite() => format!("{:.4}", m / t),

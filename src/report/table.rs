@@ -29,6 +29,11 @@ impl Table {
         }
     }
 
+    /// A table of columns each with its full header and its fitted one ([`Table::short`]).
+    pub fn with_short<const N: usize>(columns: [(&str, &str); N]) -> Self {
+        Table::new(columns.map(|c| c.0)).short(columns.map(|c| c.1))
+    }
+
     /// The headers of the fitted table, one per column: short, units kept; an empty one leaves
     /// its column out there (what the others or the lines above already say).
     pub fn short<'a>(mut self, short: impl IntoIterator<Item = &'a str>) -> Self {
