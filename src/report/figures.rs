@@ -13,7 +13,7 @@ use crate::scene::hair::run::{HairConfig, HairScene};
 use crate::scene::harness::{LaneStats, NoObserver, Scene, run};
 use crate::scene::pendulum::run::{PendulumConfig, PendulumScene};
 use crate::scene::rope::run::{RopeConfig, RopeScene};
-use crate::study::{self, Problem, Sweep, error_floor};
+use crate::study::{self, Problem, Sweep, error_floor, study_rope};
 
 /// One table and where it goes.
 pub struct Figure {
@@ -34,7 +34,7 @@ pub fn deterministic() -> Vec<Figure> {
         markdown,
     };
     let results = |name, markdown| fig(name, "docs/results.md", markdown);
-    let (pendulum, rope) = (Problem::Pendulum(Default::default()), Problem::Rope);
+    let (pendulum, rope) = (pendulum(), Problem::Rope);
     vec![
         results("methods", methods_reference()),
         fig("pendulum-default", "README.md", pendulum_default()),
@@ -44,14 +44,14 @@ pub fn deterministic() -> Vec<Figure> {
         results("convergence-pendulum", convergence(&pendulum)),
         results(
             "convergence-rope-undamped",
-            convergence(&rope(study::study_rope(false))),
+            convergence(&rope(study_rope(false))),
         ),
         results(
             "convergence-rope-damped",
             convergence(&rope(damped_study_rope())),
         ),
         results("stability-pendulum", stability(&pendulum)),
-        results("stability-rope", stability(&rope(study::study_rope(true)))),
+        results("stability-rope", stability(&rope(study_rope(true)))),
     ]
 }
 
@@ -97,7 +97,7 @@ pub fn damped_study_rope() -> crate::scene::rope::RopeParams {
     crate::scene::rope::RopeParams {
         spring_damping: scene.spring_damping,
         air_drag: scene.air_drag,
-        ..study::study_rope(false)
+        ..study_rope(false)
     }
 }
 
@@ -228,12 +228,8 @@ fn convergence(problem: &Problem) -> String {
         ..Sweep::defaults(problem)
     };
     let (rows, reference_error) = study::sweep_with(problem, &sweep, true, &mut |_| {});
-    study_tables::orders_table(
-        &rows,
-        error_floor(reference_error),
-        problem.velocity_dependent(),
-        true,
-    )
+    let floor = error_floor(reference_error);
+    study_tables::orders_table(&rows, floor, problem.velocity_dependent(), true)
 }
 
 /// `physlab study stability` on `problem`.
