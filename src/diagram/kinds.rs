@@ -151,15 +151,13 @@ pub fn convergence(
     let commands: Vec<String> = (kept.iter())
         .filter_map(|&i| commands.get(i).cloned())
         .collect();
+    let (stem, title) = match velocity_dependent {
+        true => ("-damped", ", damped"),
+        false => ("", ""),
+    };
     Diagram {
-        stem: format!(
-            "{scene}-convergence{}",
-            if velocity_dependent { "-damped" } else { "" }
-        ),
-        title: format!(
-            "{scene} convergence{}",
-            if velocity_dependent { ", damped" } else { "" }
-        ),
+        stem: format!("{scene}-convergence{stem}"),
+        title: format!("{scene} convergence{title}"),
         size: (1300, 860),
         plot: convergence_plot(scene, (&rows, &commands), floor, velocity_dependent),
         data: super::rows_data(&rows, floor),
@@ -210,14 +208,11 @@ fn convergence_plot(
             format!("∝ dt{}", superscript(p)),
         ));
     }
-    let title = format!(
-        "{scene}{}: error against step size, fixed-step methods",
-        if velocity_dependent {
-            ", damped (velocity-dependent forces)"
-        } else {
-            ""
-        }
-    );
+    let damped = match velocity_dependent {
+        true => ", damped (velocity-dependent forces)",
+        false => "",
+    };
+    let title = format!("{scene}{damped}: error against step size, fixed-step methods");
     Plot {
         panels: vec![Panel {
             title,
