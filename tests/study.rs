@@ -292,7 +292,7 @@ fn convergence_points_say_the_command_of_their_own_run() {
     ];
     let commands = ["adaptive", "at 0.1", "at 0.05"].map(String::from);
     let d = physlab::diagram::convergence("pendulum", (&rows, &commands), 1e-14, false);
-    let plot = d.plot();
+    let plot = &d.plot;
     let series = &plot.panels[0].series;
     assert_eq!(series.len(), 1, "rk4 alone: dopri5 chooses its steps");
     assert_eq!(series[0].points, [(0.1, 1e-4), (0.05, 6.25e-6)]);

@@ -147,16 +147,8 @@ impl Progress {
         }
     }
 
-    /// A 3D frame was drawn, taking the recorder `took`.
-    fn drawn(&mut self, took: Duration) {
-        self.pace.drawn += 1;
-        self.pace.drawing += took;
-    }
-
     fn bytes(&self) -> u64 {
-        self.written
-            .as_ref()
-            .map_or(0, |w| w.load(Ordering::Relaxed))
+        (self.written.as_ref()).map_or(0, |w| w.load(Ordering::Relaxed))
     }
 
     /// Progress reached (ticks, or the stage's unit).
@@ -199,7 +191,7 @@ impl Progress {
         self.shown = Instant::now();
         let left = estimate.map(|(seconds, _)| seconds - elapsed.as_secs_f64());
         if let Some(bar) = &self.bar {
-            bar.set_position((1000.0 * (t / self.pace.end).clamp(0.0, 1.0)) as u64);
+            bar.set_position((1000.0 * done.clamp(0.0, 1.0)) as u64);
             bar.set_message(left.map_or("?".into(), format::eta));
         }
     }
@@ -241,11 +233,6 @@ impl Progress {
         self.judge(seconds, None, basis);
     }
 
-    /// Its stepping starts (the stage's setup is done).
-    fn stepping(&mut self) {
-        self.pace.stepping = Some(Instant::now());
-    }
-
     pub fn finish(&mut self) {
         if let Some(bar) = self.bar.take() {
             bar.finish_and_clear();
@@ -283,7 +270,8 @@ pub struct WithProgress<'a, O: ?Sized> {
 
 impl<S: Scene, O: Observer<S> + ?Sized> Observer<S> for WithProgress<'_, O> {
     fn start(&mut self, scene: &S, lanes: &[(&'static str, &S::Lane)]) -> anyhow::Result<()> {
-        self.progress.stepping();
+        // Its stepping starts: the stage's setup is done.
+        self.progress.pace.stepping = Some(Instant::now());
         self.inner.start(scene, lanes)
     }
     fn rows(&self) -> WantedRows {
@@ -296,7 +284,8 @@ impl<S: Scene, O: Observer<S> + ?Sized> Observer<S> for WithProgress<'_, O> {
         let started = Instant::now();
         let drawn = self.inner.frame(scene, frame);
         // Its progress is the block's, said by `reached` (a frame inside a block is older).
-        self.progress.drawn(started.elapsed());
+        self.progress.pace.drawn += 1;
+        self.progress.pace.drawing += started.elapsed();
         drawn
     }
     fn event(&mut self, scene: &S, event: &Event) -> anyhow::Result<()> {

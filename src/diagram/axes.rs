@@ -38,12 +38,10 @@ pub(super) fn decades(values: impl Iterator<Item = f64>) -> Range<f64> {
 pub fn log_axis(range: Range<f64>) -> (Vec<f64>, Vec<f64>) {
     let (lo, hi) = (range.start as i32, range.end as i32);
     let span = hi - lo;
-    let step = if span > 16 {
-        3
-    } else if span > 9 {
-        2
-    } else {
-        1
+    let step = match span {
+        17.. => 3,
+        10..=16 => 2,
+        _ => 1,
     };
     let bold: Vec<f64> = (lo..=hi)
         .filter(|k| (k - lo) % step == 0)

@@ -1,7 +1,7 @@
 //! The drift diagram: energy error and phase error against time, log-log, one series per
 //! method, with dashed guides of slopes 0, 1 and 2 (what the theory says they grow like).
 
-use super::{Content, Diagram, Key, LEGEND_WIDTH, Panel, Plot, Series, decades};
+use super::{Diagram, Key, LEGEND_WIDTH, Panel, Plot, Series, decades};
 use crate::format::sci;
 use crate::study::drift::Drift;
 
@@ -12,12 +12,18 @@ pub fn drift(scene: &str, (runs, commands): (&[Drift], Vec<String>), note: &str)
         stem: format!("{scene}-drift"),
         title: format!("{scene} drift"),
         size: (1600, 820),
-        content: Content::Drift {
-            scene: scene.to_string(),
-            runs: runs.to_vec(),
-            commands,
-            note: note.to_string(),
-        },
+        plot: drift_plot(scene, (runs, &commands), note),
+        data: (runs.iter())
+            .flat_map(|r| {
+                r.checkpoints.iter().map(|c| {
+                    let m = r.method.name();
+                    format!(
+                        "{m} dt={:e} t={:e} energy={:e} phase={:?}\n",
+                        r.dt, c.t, c.energy, c.phase
+                    )
+                })
+            })
+            .collect(),
     }
 }
 
@@ -34,7 +40,7 @@ pub fn pendulum_drift_picture(runs: &[Drift]) -> Diagram {
 /// A quantity of a checkpoint, positive where it was measured.
 type Quantity = fn(&crate::study::drift::Checkpoint) -> Option<f64>;
 
-pub(super) fn drift_plot(scene: &str, (runs, commands): (&[Drift], &[String]), note: &str) -> Plot {
+fn drift_plot(scene: &str, (runs, commands): (&[Drift], &[String]), note: &str) -> Plot {
     // The rope has no phase: its energy alone, over the whole width.
     let phased = (runs.iter().flat_map(|r| &r.checkpoints)).any(|c| c.phase.is_some());
     let energy_desc = if scene == "pendulum" {
@@ -57,9 +63,7 @@ pub(super) fn drift_plot(scene: &str, (runs, commands): (&[Drift], &[String]), n
     let panels = panels.map(|&(title, y_desc, quantity)| {
         let series: Vec<Series> = (runs.iter().enumerate())
             .map(|(i, r)| {
-                let made = commands
-                    .get(i)
-                    .map_or(String::new(), |c| format!("\nmade by: {c}"));
+                let made = (commands.get(i)).map_or(String::new(), |c| format!("\nmade by: {c}"));
                 let (points, about) = (r.checkpoints.iter())
                     .filter_map(|c| {
                         let v = quantity(c).filter(|v| *v > 0.0)?;

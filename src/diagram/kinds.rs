@@ -1,11 +1,10 @@
 //! The diagrams: work-precision, convergence, stability and the hair trade, each from a
 //! study's rows.
 
-use super::{Content, Diagram, Key, LEGEND_WIDTH, Panel, Plot, Series, decade_label, decades};
+use super::{Diagram, Key, LEGEND_WIDTH, Panel, Plot, Series, decade_label, decades};
 use plotters::prelude::*;
 
 use crate::format::sci;
-use crate::integrate::Method;
 use crate::study::hair::HairRow;
 use crate::study::{Limit, Row, methods_of};
 
@@ -67,14 +66,8 @@ pub fn work_precision(
         title: format!("{scene} work-precision"),
         // Tall and wide enough for a legend key per method and variant.
         size: (1600, 1100),
-        content: Content::WorkPrecision {
-            scene: scene.to_string(),
-            rows: rows.to_vec(),
-            dt0,
-            floor,
-            note: note.to_string(),
-            commands,
-        },
+        plot: work_precision_plot(scene, (rows, dt0), floor, note, &commands),
+        data: super::rows_data(rows, floor),
     }
 }
 
@@ -95,7 +88,7 @@ pub fn pendulum_work_precision_picture(runs: &(Vec<Row>, f64)) -> Diagram {
 /// A work-precision panel: title, x axis description, and the cost it plots.
 type Axis = (&'static str, &'static str, fn(&Row) -> f64);
 
-pub(super) fn work_precision_plot(
+fn work_precision_plot(
     scene: &str,
     (rows, dt0): (&[Row], f64),
     floor: f64,
@@ -154,29 +147,24 @@ pub fn convergence(
 ) -> Diagram {
     let fixed = |i: &usize| rows[*i].rtol.is_none();
     let kept: Vec<usize> = (0..rows.len()).filter(fixed).collect();
+    let rows: Vec<Row> = kept.iter().map(|&i| rows[i].clone()).collect();
+    let commands: Vec<String> = (kept.iter())
+        .filter_map(|&i| commands.get(i).cloned())
+        .collect();
+    let (stem, title) = match velocity_dependent {
+        true => ("-damped", ", damped"),
+        false => ("", ""),
+    };
     Diagram {
-        stem: format!(
-            "{scene}-convergence{}",
-            if velocity_dependent { "-damped" } else { "" }
-        ),
-        title: format!(
-            "{scene} convergence{}",
-            if velocity_dependent { ", damped" } else { "" }
-        ),
+        stem: format!("{scene}-convergence{stem}"),
+        title: format!("{scene} convergence{title}"),
         size: (1300, 860),
-        content: Content::Convergence {
-            scene: scene.to_string(),
-            rows: kept.iter().map(|&i| rows[i].clone()).collect(),
-            commands: (kept.iter())
-                .filter_map(|&i| commands.get(i).cloned())
-                .collect(),
-            floor,
-            velocity_dependent,
-        },
+        plot: convergence_plot(scene, (&rows, &commands), floor, velocity_dependent),
+        data: super::rows_data(&rows, floor),
     }
 }
 
-pub(super) fn convergence_plot(
+fn convergence_plot(
     scene: &str,
     (rows, commands): (&[Row], &[String]),
     floor: f64,
@@ -220,14 +208,11 @@ pub(super) fn convergence_plot(
             format!("∝ dt{}", superscript(p)),
         ));
     }
-    let title = format!(
-        "{scene}{}: error against step size, fixed-step methods",
-        if velocity_dependent {
-            ", damped (velocity-dependent forces)"
-        } else {
-            ""
-        }
-    );
+    let damped = match velocity_dependent {
+        true => ", damped (velocity-dependent forces)",
+        false => "",
+    };
+    let title = format!("{scene}{damped}: error against step size, fixed-step methods");
     Plot {
         panels: vec![Panel {
             title,
@@ -257,28 +242,26 @@ pub(super) fn superscript(p: u32) -> String {
 /// Stability: per method, the measured largest stable dt (the method's marker) against theory
 /// (a cross), on a log dt axis; unconditional and absent limits said in words.
 pub fn stability(scene: &str, limits: &[Limit], omega: f64) -> Diagram {
-    let limits: Vec<LimitRow> = limits
-        .iter()
-        .map(|l| (l.method, l.measured_dt, l.theory_dt))
-        .collect();
     let height = 180 + 44 * limits.len() as u32;
+    let data: String = (limits.iter())
+        .map(|l| {
+            let (m, measured, theory) = (l.method.name(), l.measured_dt, l.theory_dt);
+            format!("{m} measured={measured:?} theory={theory:?}\n")
+        })
+        .collect();
     Diagram {
         stem: format!("{scene}-stability"),
         title: format!("{scene} stability"),
         size: (1300, height.max(500)),
-        content: Content::Stability {
-            scene: scene.to_string(),
-            limits,
-            omega,
-        },
+        plot: stability_plot(scene, limits, omega),
+        data: format!("omega={omega:e}\n{data}"),
     }
 }
 
-pub(super) type LimitRow = (Method, Option<f64>, Option<f64>);
-
 /// What one method's row of the stability diagram says on hover: its measured limit, theory's
 /// and their ratio, or why theory gives none.
-fn limit_about(&(m, measured, theory): &LimitRow) -> String {
+fn limit_about(l: &Limit) -> String {
+    let (m, measured, theory) = (l.method, l.measured_dt, l.theory_dt);
     let measured = measured.map_or("none found".into(), |d| format!("{} s", sci(d)));
     let theory = match theory {
         Some(t) if t.is_finite() => format!("{} s", sci(t)),
@@ -297,52 +280,54 @@ fn limit_about(&(m, measured, theory): &LimitRow) -> String {
 /// Stability: per method a row, its measured largest stable dt a point in its colour (which
 /// says on hover the method and both limits) and theory's a grey tick across the row, on a log
 /// dt axis; the rows without a finite theory said in the notes.
-pub(super) fn stability_plot(scene: &str, limits: &[LimitRow], omega: f64) -> Plot {
+fn stability_plot(scene: &str, limits: &[Limit], omega: f64) -> Plot {
     let n = limits.len();
     // Row i at log10 y = n-1-i: the first method on top.
     let row = |i: usize, dy: f64| 10f64.powf((n - 1 - i) as f64 + dy);
     let mut series = Vec::new();
     let mut guides = Vec::new();
     for (i, l) in limits.iter().enumerate() {
-        if let Some(d) = l.1 {
+        if let Some(d) = l.measured_dt {
             let (points, about) = (vec![(d, row(i, 0.0))], vec![limit_about(l)]);
-            let key = Key::of(l.0);
+            let key = Key::of(l.method);
             series.push(Series { key, points, about });
         }
-        if let Some(t) = l.2.filter(|t| t.is_finite()) {
+        if let Some(t) = l.theory_dt.filter(|t| t.is_finite()) {
             guides.push((vec![(t, row(i, -0.3)), (t, row(i, 0.3))], String::new()));
         }
     }
-    let finite = limits.iter().flat_map(|l| [l.1, l.2]).flatten();
+    let finite = limits
+        .iter()
+        .flat_map(|l| [l.measured_dt, l.theory_dt])
+        .flatten();
     let x = decades(finite.filter(|v| v.is_finite()));
     let title =
         format!("{scene}: largest stable dt, measured against theory (ω = {omega:.4} rad/s)");
     let mut notes = vec![
         "point: measured largest stable dt (bisection); grey tick: theory, limit h / ω on the linearised problem.".to_string(),
     ];
-    let adaptive = |l: &LimitRow| l.0.info().stability == crate::integrate::Stability::Adaptive;
-    let said = |which: &dyn Fn(&LimitRow) -> bool, what: &str| {
-        let names: Vec<&str> = limits
-            .iter()
+    let adaptive = |l: &Limit| l.method.info().stability == crate::integrate::Stability::Adaptive;
+    let said = |which: &dyn Fn(&Limit) -> bool, what: &str| {
+        let names: Vec<&str> = (limits.iter())
             .filter(|l| which(l))
-            .map(|l| l.0.name())
+            .map(|l| l.method.name())
             .collect();
         (!names.is_empty()).then(|| format!("{}: {what}", names.join(", ")))
     };
     notes.extend(said(
-        &|l| l.2 == Some(f64::INFINITY),
+        &|l| l.theory_dt == Some(f64::INFINITY),
         "stable at every dt (point: the largest tried).",
     ));
     notes.extend(said(
-        &|l| l.2.is_none() && adaptive(l),
+        &|l| l.theory_dt.is_none() && adaptive(l),
         "adaptive: error control chooses the steps.",
     ));
     notes.extend(said(
-        &|l| l.1.is_none() && l.2.is_some_and(f64::is_finite),
+        &|l| l.measured_dt.is_none() && l.theory_dt.is_some_and(f64::is_finite),
         "no limit measured (the table says why).",
     ));
     notes.extend(said(
-        &|l| l.2.is_none() && !adaptive(l),
+        &|l| l.theory_dt.is_none() && !adaptive(l),
         "unstable at every dt (point: growth stays below 10⁴).",
     ));
     Plot {
@@ -354,13 +339,12 @@ pub(super) fn stability_plot(scene: &str, limits: &[LimitRow], omega: f64) -> Pl
             y: -0.5..n as f64 - 0.5,
             series,
             guides,
-            y_names: limits
-                .iter()
+            y_names: (limits.iter())
                 .rev()
-                .map(|l| l.0.name().to_string())
+                .map(|l| l.method.name().to_string())
                 .collect(),
         }],
-        keys: limits.iter().map(|l| Key::of(l.0)).collect(),
+        keys: limits.iter().map(|l| Key::of(l.method)).collect(),
         notes,
         legend_px: LEGEND_WIDTH,
     }
@@ -374,10 +358,10 @@ pub fn hair_trade(rows: &[HairRow], note: &str) -> Diagram {
         stem: "hair-trade".to_string(),
         title: "hair trade".to_string(),
         size: (1500, 900),
-        content: Content::HairTrade {
-            rows: rows.to_vec(),
-            note: note.to_string(),
-        },
+        plot: hair_trade_plot(rows, note),
+        data: (rows.iter())
+            .map(|r| format!("{} stretch={:?}\n", r.flags(), r.stretch))
+            .collect(),
     }
 }
 
@@ -398,7 +382,7 @@ fn hair_family(r: &HairRow) -> String {
     }
 }
 
-pub(super) fn hair_trade_plot(rows: &[HairRow], note: &str) -> Plot {
+fn hair_trade_plot(rows: &[HairRow], note: &str) -> Plot {
     let mut families: Vec<(String, crate::scene::hair::HairMethod)> = Vec::new();
     for r in rows {
         let f = hair_family(r);

@@ -29,7 +29,6 @@ pub mod stamp;
 use axes::{Ticks, decades, label_of};
 pub use axes::{decade_label, log_axis};
 pub use drift::{drift, pendulum_drift_picture};
-use kinds::{LimitRow, convergence_plot, hair_trade_plot, stability_plot, work_precision_plot};
 pub use kinds::{
     convergence, hair_trade, pendulum_work_precision_picture, stability, work_precision,
 };
@@ -49,44 +48,12 @@ pub struct Diagram {
     pub stem: String,
     pub title: String,
     pub size: (u32, u32),
-    content: Content,
-}
-
-enum Content {
-    WorkPrecision {
-        scene: String,
-        rows: Vec<Row>,
-        /// The sweep's coarsest level: larger steps step across the samples.
-        dt0: f64,
-        floor: f64,
-        note: String,
-        /// Per row, the command that makes its run as a scene (none: not said).
-        commands: Vec<String>,
-    },
-    Convergence {
-        scene: String,
-        rows: Vec<Row>,
-        /// Per row, the command that makes its run as a scene (none: not said).
-        commands: Vec<String>,
-        floor: f64,
-        velocity_dependent: bool,
-    },
-    Stability {
-        scene: String,
-        limits: Vec<LimitRow>,
-        omega: f64,
-    },
-    HairTrade {
-        rows: Vec<crate::study::hair::HairRow>,
-        note: String,
-    },
-    Drift {
-        scene: String,
-        runs: Vec<crate::study::drift::Drift>,
-        /// Per run, the command that measures it (none: not said).
-        commands: Vec<String>,
-        note: String,
-    },
+    /// What it draws as a log-log plot (stability's y axis its methods' rows): the data both
+    /// its picture and the study's recording are drawn from.
+    pub plot: Plot,
+    /// What it draws, without wall times: a line per point (method or series, settings,
+    /// deterministic values), stamped below its title into its PNG ([`stamp`]).
+    data: String,
 }
 
 /// The files a diagram was written to.
@@ -142,60 +109,9 @@ impl Diagram {
         stamp::png_with_text(&rgb, self.size, &self.data())
     }
 
-    /// What it draws, without wall times: a line per point (method or series, settings,
-    /// deterministic values), stamped into its PNG ([`stamp`]).
+    /// What it draws under its title, as its PNG is stamped with.
     pub fn data(&self) -> String {
-        let runs = |rows: &[Row]| -> String {
-            rows.iter()
-                .map(|r| {
-                    format!(
-                        "{} dt={:e} rtol={:?} evals={} error={:?}\n",
-                        r.method.name(),
-                        r.dt,
-                        r.rtol,
-                        r.evals,
-                        r.error
-                    )
-                })
-                .collect()
-        };
-        let title = format!("{}\n", self.title);
-        match &self.content {
-            Content::WorkPrecision { rows, floor, .. }
-            | Content::Convergence { rows, floor, .. } => {
-                format!("{title}floor={floor:e}\n{}", runs(rows))
-            }
-            Content::Stability { limits, omega, .. } => {
-                let lines: String = limits
-                    .iter()
-                    .map(|(m, measured, theory)| {
-                        format!("{} measured={measured:?} theory={theory:?}\n", m.name())
-                    })
-                    .collect();
-                format!("{title}omega={omega:e}\n{lines}")
-            }
-            Content::HairTrade { rows, .. } => {
-                let lines: String = rows
-                    .iter()
-                    .map(|r| format!("{} stretch={:?}\n", r.flags(), r.stretch))
-                    .collect();
-                format!("{title}{lines}")
-            }
-            Content::Drift { runs, .. } => {
-                let lines: String = (runs.iter())
-                    .flat_map(|r| {
-                        r.checkpoints.iter().map(|c| {
-                            let m = r.method.name();
-                            format!(
-                                "{m} dt={:e} t={:e} energy={:e} phase={:?}\n",
-                                r.dt, c.t, c.energy, c.phase
-                            )
-                        })
-                    })
-                    .collect();
-                format!("{title}{lines}")
-            }
-        }
+        format!("{}\n{}", self.title, self.data)
     }
 
     /// Draws it whole on `backend`.
@@ -204,43 +120,18 @@ impl Diagram {
         DB::ErrorType: 'static,
     {
         let root = backend.into_drawing_area();
-        draw_plot(&root, &self.plot()).map_err(err)?;
+        draw_plot(&root, &self.plot).map_err(err)?;
         root.present().map_err(|e| err(Box::new(e)))
     }
+}
 
-    /// What it draws as a log-log plot (stability's y axis its methods' rows): the data both
-    /// its picture and the study's recording are drawn from.
-    pub fn plot(&self) -> Plot {
-        match &self.content {
-            Content::WorkPrecision {
-                scene,
-                rows,
-                dt0,
-                floor,
-                note,
-                commands,
-            } => work_precision_plot(scene, (rows, *dt0), *floor, note, commands),
-            Content::Convergence {
-                scene,
-                rows,
-                commands,
-                floor,
-                velocity_dependent,
-            } => convergence_plot(scene, (rows, commands), *floor, *velocity_dependent),
-            Content::Stability {
-                scene,
-                limits,
-                omega,
-            } => stability_plot(scene, limits, *omega),
-            Content::HairTrade { rows, note } => hair_trade_plot(rows, note),
-            Content::Drift {
-                scene,
-                runs,
-                commands,
-                note,
-            } => drift::drift_plot(scene, (runs, commands), note),
-        }
-    }
+/// A sweep's runs as [`Diagram`]'s stamp says them, below the reference's error `floor`.
+fn rows_data(rows: &[Row], floor: f64) -> String {
+    let runs = rows.iter().map(|r| {
+        let (m, dt, rtol, evals, error) = (r.method.name(), r.dt, r.rtol, r.evals, r.error);
+        format!("{m} dt={dt:e} rtol={rtol:?} evals={evals} error={error:?}\n")
+    });
+    format!("floor={floor:e}\n{}", runs.collect::<String>())
 }
 
 type Res = Result<(), Box<dyn std::error::Error>>;

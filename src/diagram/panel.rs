@@ -88,12 +88,8 @@ where
         if l.len() < 2 {
             continue;
         }
-        chart.draw_series(DashedLineSeries::new(
-            l.clone(),
-            6,
-            5,
-            RGBColor(170, 170, 170).stroke_width(1),
-        ))?;
+        let grey = RGBColor(170, 170, 170).stroke_width(1);
+        chart.draw_series(DashedLineSeries::new(l.clone(), 6, 5, grey))?;
         if label.is_empty() {
             continue;
         }
@@ -104,14 +100,9 @@ where
         } else {
             HPos::Left
         };
-        chart.draw_series(std::iter::once(Text::new(
-            label.clone(),
-            end,
-            (FONT, 17)
-                .into_font()
-                .color(&RGBColor(190, 190, 190))
-                .pos(Pos::new(h, VPos::Bottom)),
-        )))?;
+        let font = (FONT, 17).into_font().color(&RGBColor(190, 190, 190));
+        let text = Text::new(label.clone(), end, font.pos(Pos::new(h, VPos::Bottom)));
+        chart.draw_series(std::iter::once(text))?;
     }
     for Series { key, points, .. } in &p.series {
         let l: Vec<(f64, f64)> = points.iter().copied().filter_map(log).collect();
@@ -168,11 +159,8 @@ where
         area.draw(&(EmptyElement::at((31, y + 10)) + marker(key, 5.5) + hole(key, 5.5)))?;
         let lines = wrap(&key.name, chars);
         for (i, line) in lines.iter().enumerate() {
-            area.draw(&Text::new(
-                line.clone(),
-                (58, y + 22 * i as i32),
-                font.clone(),
-            ))?;
+            let at = (58, y + 22 * i as i32);
+            area.draw(&Text::new(line.clone(), at, font.clone()))?;
         }
         y += gap + 22 * lines.len() as i32;
     }

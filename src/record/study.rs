@@ -49,7 +49,7 @@ pub fn record_study(
     super::send_provenance(rec, &format!("study {scene}"), config, methods)?;
     for (i, diagram) in diagrams.iter().enumerate() {
         let path = format!("study/diagrams/{i}");
-        log_plot(rec, &path, &diagram.plot())?;
+        log_plot(rec, &path, &diagram.plot)?;
     }
     rec.log_static(
         "study/tables",

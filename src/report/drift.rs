@@ -96,11 +96,7 @@ pub fn drift_table(runs: &[Drift], command: Option<(&str, f64)>, wide: bool) -> 
     };
     let rope = runs.iter().any(|r| r.shortest_spring.is_some());
     if rope {
-        header.push(if wide {
-            "shortest spring / rest"
-        } else {
-            "min spring/rest"
-        });
+        header.push(pick(wide, "shortest spring / rest", "min spring/rest"));
     }
     let mut t = Table::new(header);
     for r in runs {
@@ -141,6 +137,11 @@ pub fn run_command(method: &str, flags: &str, r: &Drift, rtol: Option<f64>) -> S
     )
 }
 
+/// `full` in the full table (`wide`), else its `word`.
+fn pick<'a>(wide: bool, full: &'a str, word: &'a str) -> &'a str {
+    if wide { full } else { word }
+}
+
 /// One method's row of [`drift_table`] (without the rope's shortest spring).
 fn drift_row(r: &Drift, wide: bool) -> Vec<String> {
     let energy: Vec<(f64, f64)> = r.checkpoints.iter().map(|c| (c.t, c.energy)).collect();
@@ -158,18 +159,18 @@ fn drift_row(r: &Drift, wide: bool) -> Vec<String> {
     // A method whose energy error stays near f64's resolution measures its round-off, not
     // its truncation, which the theory speaks of.
     let round_off = last.is_some_and(|c| c.energy < ROUND_OFF);
-    let pick = |full: &str, word: &str| if wide { full } else { word }.to_string();
+    let said = |full, word| pick(wide, full, word).to_string();
     let energy_said = if round_off {
-        pick("none: at round-off (a random walk, ~0.5)", "round-off")
+        said("none: at round-off (a random walk, ~0.5)", "round-off")
     } else {
         theory_text(energy_theory, r.method, wide)
     };
     let phase_said = if round_off && phased {
-        pick("none: at round-off", "round-off")
+        said("none: at round-off", "round-off")
     } else if phased || r.lost_at.is_some() {
         theory_text(phase_theory, r.method, wide)
     } else {
-        pick("none (no closed form)", "no closed form")
+        said("none (no closed form)", "no closed form")
     };
     let energy_exponent = exponent_text(r.lost_at.map_or(exponent(&energy), |_| None));
     let phase_exponent = exponent_text(r.lost_at.map_or(exponent(&phase), |_| None));
@@ -185,10 +186,10 @@ fn drift_row(r: &Drift, wide: bool) -> Vec<String> {
             format!("{:.1e}", r.evals as f64),
         ];
     }
-    let symplectic = ["no", "yes"][r.method.info().symplectic as usize];
+    let symplectic = r.method.info().symplectic;
     vec![
         name,
-        symplectic.into(),
+        if symplectic { "yes" } else { "no" }.into(),
         energy_exponent,
         energy_said,
         phase_exponent,

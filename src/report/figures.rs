@@ -13,7 +13,7 @@ use crate::scene::hair::run::{HairConfig, HairScene};
 use crate::scene::harness::{LaneStats, NoObserver, Scene, run};
 use crate::scene::pendulum::run::{PendulumConfig, PendulumScene};
 use crate::scene::rope::run::{RopeConfig, RopeScene};
-use crate::study::{self, Problem, Sweep, error_floor};
+use crate::study::{self, Problem, Sweep, error_floor, study_rope};
 
 /// One table and where it goes.
 pub struct Figure {
@@ -34,7 +34,7 @@ pub fn deterministic() -> Vec<Figure> {
         markdown,
     };
     let results = |name, markdown| fig(name, "docs/results.md", markdown);
-    let (pendulum, rope) = (Problem::Pendulum(Default::default()), Problem::Rope);
+    let (pendulum, rope) = (pendulum(), Problem::Rope);
     vec![
         results("methods", methods_reference()),
         fig("pendulum-default", "README.md", pendulum_default()),
@@ -44,14 +44,14 @@ pub fn deterministic() -> Vec<Figure> {
         results("convergence-pendulum", convergence(&pendulum)),
         results(
             "convergence-rope-undamped",
-            convergence(&rope(study::study_rope(false))),
+            convergence(&rope(study_rope(false))),
         ),
         results(
             "convergence-rope-damped",
             convergence(&rope(damped_study_rope())),
         ),
         results("stability-pendulum", stability(&pendulum)),
-        results("stability-rope", stability(&rope(study::study_rope(true)))),
+        results("stability-rope", stability(&rope(study_rope(true)))),
     ]
 }
 
@@ -97,15 +97,13 @@ pub fn damped_study_rope() -> crate::scene::rope::RopeParams {
     crate::scene::rope::RopeParams {
         spring_damping: scene.spring_damping,
         air_drag: scene.air_drag,
-        ..study::study_rope(false)
+        ..study_rope(false)
     }
 }
 
 /// `physlab methods`, then every `physlab methods NAME` page.
 fn methods_reference() -> String {
-    let pages = methods::page_names()
-        .into_iter()
-        .filter_map(methods::method_page);
+    let pages = (methods::page_names().into_iter()).filter_map(methods::method_page);
     std::iter::once(methods::methods_table())
         .chain(pages)
         .collect::<Vec<_>>()
@@ -113,9 +111,7 @@ fn methods_reference() -> String {
 }
 
 fn diverged(s: &LaneStats) -> String {
-    s.divergence
-        .as_ref()
-        .map_or("no".into(), |e| format!("at t = {:.3} s", e.time))
+    (s.divergence.as_ref()).map_or("no".into(), |e| format!("at t = {:.3} s", e.time))
 }
 
 /// A scene's run at its defaults as a table: `header`, then per lane `row` of the scene, the
@@ -232,12 +228,8 @@ fn convergence(problem: &Problem) -> String {
         ..Sweep::defaults(problem)
     };
     let (rows, reference_error) = study::sweep_with(problem, &sweep, true, &mut |_| {});
-    study_tables::orders_table(
-        &rows,
-        error_floor(reference_error),
-        problem.velocity_dependent(),
-        true,
-    )
+    let floor = error_floor(reference_error);
+    study_tables::orders_table(&rows, floor, problem.velocity_dependent(), true)
 }
 
 /// `physlab study stability` on `problem`.

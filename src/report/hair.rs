@@ -40,31 +40,18 @@ pub fn summary_text(scene: &HairScene, run: &Run<HairLane>, wide: bool) -> Strin
         p.margin,
         crate::scene::hair::run::STRETCH_BOUND,
     );
-    let mut table = Table::new([
-        "method",
-        "frames",
-        "wall [ms]",
-        "ms/frame",
-        "frames/s",
-        "× real time",
-        "max stretch",
-        "max penetration [m]",
-        "max root error [m]",
-        "final KE per kg [J/kg]",
-        "diverged",
-    ])
-    .short([
-        "method",
-        "",
-        "",
-        "ms/frame",
-        "",
-        "",
-        "max stretch",
-        "penetr. [m]",
-        "root err [m]",
-        "KE [J/kg]",
-        "diverged",
+    let mut table = Table::with_short([
+        ("method", "method"),
+        ("frames", ""),
+        ("wall [ms]", ""),
+        ("ms/frame", "ms/frame"),
+        ("frames/s", ""),
+        ("× real time", ""),
+        ("max stretch", "max stretch"),
+        ("max penetration [m]", "penetr. [m]"),
+        ("max root error [m]", "root err [m]"),
+        ("final KE per kg [J/kg]", "KE [J/kg]"),
+        ("diverged", "diverged"),
     ]);
     for (lane, s) in run.lanes.iter().zip(&run.stats) {
         let wall = s.wall.as_secs_f64();
@@ -131,14 +118,13 @@ pub fn trade_cheapest_table(
             kinds.push((r.method, r.solver));
         }
     }
-    let mut t = Table::new([
-        "max stretch ≤",
-        "among",
-        "cheapest",
-        "max stretch",
-        "ms/frame",
-    ])
-    .short(["target", "among", "cheapest", "stretch", "ms/frame"]);
+    let mut t = Table::with_short([
+        ("max stretch ≤", "target"),
+        ("among", "among"),
+        ("cheapest", "cheapest"),
+        ("max stretch", "stretch"),
+        ("ms/frame", "ms/frame"),
+    ]);
     let kind = |m: HairMethod, s: Option<Solver>| match s {
         Some(s) => format!("{} {}", m.name(), s.name()),
         None => m.name().to_string(),

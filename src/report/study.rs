@@ -182,34 +182,27 @@ pub fn stability_header(problem: &Problem, steps: u64) -> String {
 /// Fitted order per method against theory (the order for velocity-dependent forces when the
 /// problem has them), leaving out errors below `floor`; in full (`wide`) or fitted.
 pub fn orders_table(rows: &[Row], floor: f64, velocity_dependent: bool, wide: bool) -> String {
-    let mut t = Table::new([
-        "method",
-        "theory order",
-        "fitted order",
-        "order range",
-        "diverged at dt",
-    ])
-    .short(["method", "theory", "fitted", "range", "diverged at dt [s]"]);
-    let unfitted = if wide {
-        "— (fewer than 2 usable rows)"
-    } else {
-        "— (< 2 rows)"
+    let mut t = Table::with_short([
+        ("method", "method"),
+        ("theory order", "theory"),
+        ("fitted order", "fitted"),
+        ("order range", "range"),
+        ("diverged at dt", "diverged at dt [s]"),
+    ]);
+    let unfitted = match wide {
+        true => "— (fewer than 2 usable rows)",
+        false => "— (< 2 rows)",
     };
     for o in orders(rows, floor) {
+        let diverged: Vec<String> = (o.diverged_at.iter()).map(|d| format!("{d:.3e}")).collect();
         t.row([
             o.method.name().to_string(),
             o.method.info().order_for(velocity_dependent).to_string(),
             o.fitted.map_or(unfitted.into(), |f| format!("{f:.3}")),
-            o.range
-                .map_or("—".into(), |(lo, hi)| format!("{lo:.3} – {hi:.3}")),
-            if o.diverged_at.is_empty() {
-                "—".into()
-            } else {
-                o.diverged_at
-                    .iter()
-                    .map(|d| format!("{d:.3e}"))
-                    .collect::<Vec<_>>()
-                    .join(", ")
+            (o.range).map_or("—".into(), |(lo, hi)| format!("{lo:.3} – {hi:.3}")),
+            match diverged.is_empty() {
+                true => "—".into(),
+                false => diverged.join(", "),
             },
         ]);
     }
@@ -256,10 +249,8 @@ pub fn proportionality_table(rows: &[Row], floor: f64) -> String {
             p.fitted.map_or("— (fewer than 2 usable rows)".into(), |f| {
                 format!("{f:.3}")
             }),
-            p.range
-                .map_or("—".into(), |(lo, hi)| format!("{lo:.3} – {hi:.3}")),
-            p.rtols
-                .map_or("—".into(), |(lo, hi)| format!("{lo:.0e} – {hi:.0e}")),
+            (p.range).map_or("—".into(), |(lo, hi)| format!("{lo:.3} – {hi:.3}")),
+            (p.rtols).map_or("—".into(), |(lo, hi)| format!("{lo:.0e} – {hi:.0e}")),
         ]);
     }
     t.render()
@@ -295,35 +286,31 @@ pub fn run_about(r: &Row) -> String {
 
 /// Every measured run; fitted, rtol and the wall time to one digit.
 pub fn rows_table(rows: &[Row], wide: bool) -> String {
-    let mut t = Table::new([
-        "method",
-        "dt [s]",
-        "rtol",
-        "error",
-        "force evals",
-        "steps accepted",
-        "rejected",
-        "median wall [s]",
-    ])
-    .short([
-        "method", "dt [s]", "rtol", "error", "evals", "steps", "rejected", "wall [s]",
+    let mut t = Table::with_short([
+        ("method", "method"),
+        ("dt [s]", "dt [s]"),
+        ("rtol", "rtol"),
+        ("error", "error"),
+        ("force evals", "evals"),
+        ("steps accepted", "steps"),
+        ("rejected", "rejected"),
+        ("median wall [s]", "wall [s]"),
     ]);
     for r in rows {
         t.row([
             r.method.name().to_string(),
             step_text(r),
-            r.rtol.map_or(
-                "—".into(),
-                |t| if wide { sci(t) } else { format!("{t:.0e}") },
-            ),
+            r.rtol.map_or("—".into(), |t| match wide {
+                true => sci(t),
+                false => format!("{t:.0e}"),
+            }),
             r.error.map_or("diverged".into(), sci),
             r.evals.to_string(),
             r.accepted.to_string(),
             r.rejected.to_string(),
-            if wide {
-                sci(r.wall_seconds)
-            } else {
-                format!("{:.1e}", r.wall_seconds)
+            match wide {
+                true => sci(r.wall_seconds),
+                false => format!("{:.1e}", r.wall_seconds),
             },
         ]);
     }
@@ -360,14 +347,13 @@ pub fn cheapest_table(rows: &[Row], targets: &[f64]) -> String {
 /// Measured stability limits against theory; fitted, each note said once under the table with
 /// the methods it concerns.
 pub fn stability_table(limits: &[Limit], wide: bool) -> String {
-    let mut t = Table::new([
-        "method",
-        "measured dt [s]",
-        "theory dt [s]",
-        "measured / theory",
-        "note",
-    ])
-    .short(["method", "measured dt [s]", "theory dt [s]", "ratio", ""]);
+    let mut t = Table::with_short([
+        ("method", "method"),
+        ("measured dt [s]", "measured dt [s]"),
+        ("theory dt [s]", "theory dt [s]"),
+        ("measured / theory", "ratio"),
+        ("note", ""),
+    ]);
     for l in limits {
         let ratio = match (l.measured_dt, l.theory_dt) {
             (Some(m), Some(t)) if t.is_finite() => format!("{:.4}", m / t),

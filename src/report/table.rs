@@ -29,6 +29,11 @@ impl Table {
         }
     }
 
+    /// A table of columns each with its full header and its fitted one ([`Table::short`]).
+    pub fn with_short<const N: usize>(columns: [(&str, &str); N]) -> Self {
+        Table::new(columns.map(|c| c.0)).short(columns.map(|c| c.1))
+    }
+
     /// The headers of the fitted table, one per column: short, units kept; an empty one leaves
     /// its column out there (what the others or the lines above already say).
     pub fn short<'a>(mut self, short: impl IntoIterator<Item = &'a str>) -> Self {
@@ -170,13 +175,8 @@ pub fn fit_lines(text: &str) -> String {
         }
         let indent = &body[..body.len() - body.trim_start().len()];
         let lines = wrap(body, WIDTH - indent.chars().count());
-        out.push_str(
-            &lines
-                .iter()
-                .map(|l| format!("{indent}{l}"))
-                .collect::<Vec<_>>()
-                .join("\n"),
-        );
+        let indented: Vec<String> = (lines.iter()).map(|l| format!("{indent}{l}")).collect();
+        out.push_str(&indented.join("\n"));
         out.push_str(&line[body.len()..]);
     }
     out

@@ -60,7 +60,7 @@ impl HairRow {
 
 /// The configurations the study measures, on `base` (its scene, strands and duration).
 pub fn configurations(base: &HairConfig) -> Vec<HairConfig> {
-    let with = |method: HairMethod, solver: Solver, iterations: u32, substeps: u32, k: f64| {
+    let with = |(method, solver): (HairMethod, Solver), iterations: u32, substeps: u32, k: f64| {
         let mut c = base.clone();
         c.methods = vec![method];
         c.params.solver = solver;
@@ -70,36 +70,27 @@ pub fn configurations(base: &HairConfig) -> Vec<HairConfig> {
         c
     };
     let k0 = base.params.stiffness;
+    let gauss_seidel = (HairMethod::Verlet, Solver::GaussSeidel);
+    let springs = (HairMethod::SemiImplicitEuler, Solver::Direct);
+    let implicit = (HairMethod::ImplicitEuler, Solver::Direct);
     let mut out = Vec::new();
     for substeps in [1, 2, 4, 8] {
         for sweeps in [1, 2, 4, 8, 16, 32, 64] {
-            out.push(with(
-                HairMethod::Verlet,
-                Solver::GaussSeidel,
-                sweeps,
-                substeps,
-                k0,
-            ));
+            out.push(with(gauss_seidel, sweeps, substeps, k0));
         }
     }
     for newton in 1..=4 {
-        out.push(with(HairMethod::Verlet, Solver::Direct, newton, 1, k0));
+        out.push(with((HairMethod::Verlet, Solver::Direct), newton, 1, k0));
     }
     for k in [1e8, 2e8, 4e8, 8e8] {
-        out.push(with(HairMethod::SemiImplicitEuler, Solver::Direct, 1, 1, k));
+        out.push(with(springs, 1, 1, k));
     }
     for substeps in [1, 4, 16] {
         for k in [1e8, 4e8] {
-            out.push(with(
-                HairMethod::ImplicitEuler,
-                Solver::Direct,
-                2,
-                substeps,
-                k,
-            ));
+            out.push(with(implicit, 2, substeps, k));
         }
     }
-    out.push(with(HairMethod::Ftl, Solver::Direct, 1, 1, k0));
+    out.push(with((HairMethod::Ftl, Solver::Direct), 1, 1, k0));
     out
 }
 
@@ -107,9 +98,7 @@ pub fn configurations(base: &HairConfig) -> Vec<HairConfig> {
 /// stop request ([`crate::interrupt::requested`]) the rows of the configurations that ran to the
 /// end: one cut short has no stretch or cost to show, and the rest never ran.
 pub fn hair_trade(configs: &[HairConfig], mut done: impl FnMut(usize)) -> Vec<HairRow> {
-    configs
-        .iter()
-        .enumerate()
+    (configs.iter().enumerate())
         .map_while(|(i, c)| {
             if crate::interrupt::requested() {
                 return None;

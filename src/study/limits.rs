@@ -1,7 +1,7 @@
 //! Stability limits: each method's largest stable step on the linearised problem, found by
 //! bisection and set against theory.
 
-use super::{Problem, stop, stop_stride};
+use super::{Problem, largest_difference, stop, stop_stride};
 use crate::integrate::{
     Integrator, Method, MethodOptions, SecondOrderSystem, Stability, composition_drift,
     yoshida_weights,
@@ -79,21 +79,11 @@ fn bounded(
         dt: f64,
         steps: u64,
     ) -> bool {
-        let size = |x: &[f64]| {
-            x.iter()
-                .zip(rest)
-                .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
-        };
+        let size = |x: &[f64]| largest_difference(x, rest);
         let initial = size(&start.0);
         let stride = stop_stride(start.0.len());
-        let mut it = Integrator::new(
-            method,
-            sys,
-            &start.0,
-            &start.1,
-            dt,
-            MethodOptions::default(),
-        );
+        let options = MethodOptions::default();
+        let mut it = Integrator::new(method, sys, &start.0, &start.1, dt, options);
         for k in 0..steps {
             it.step(sys);
             let s = size(it.position());
@@ -348,9 +338,7 @@ mod tests {
     /// bisection in the first cell past 2.
     fn first_crossing_of_the_closed_form(w: &[f64]) -> f64 {
         let trace = |h: f64| {
-            let p = w
-                .iter()
-                .fold([[1.0, 0.0], [0.0, 1.0]], |p, &wk| mul(step(wk * h), p));
+            let p = (w.iter()).fold([[1.0, 0.0], [0.0, 1.0]], |p, &wk| mul(step(wk * h), p));
             (p[0][0] + p[1][1]).abs()
         };
         let mut k = 1.0;

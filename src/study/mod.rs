@@ -70,8 +70,7 @@ impl Problem {
     /// need forces of position alone (the Nyström methods) left out.
     pub fn methods(&self) -> Vec<Method> {
         let v = self.velocity_dependent();
-        Method::ALL
-            .into_iter()
+        (Method::ALL.into_iter())
             .filter(|m| !v || m.info().accepts_velocity_dependent())
             .collect()
     }
@@ -161,6 +160,11 @@ fn stop_stride(coordinates: usize) -> u64 {
 /// Whether a stop was asked for.
 fn stop() -> bool {
     crate::interrupt::requested()
+}
+
+/// The largest |a − b| over two states' coordinates (`f64::max` passes over a NaN).
+fn largest_difference(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).fold(0.0, |m, (x, y)| m.max((x - y).abs()))
 }
 
 /// Takes `n` steps, looking at the stop flag every [`stop_stride`]; false when stopped.

@@ -60,8 +60,7 @@ pub fn orders(rows: &[Row], floor: f64) -> Vec<Order> {
                 .iter()
                 .filter(|r| r.method == m && r.rtol.is_none())
                 .collect();
-            let diverged_at = mine
-                .iter()
+            let diverged_at = (mine.iter())
                 .filter(|r| r.error.is_none())
                 .map(|r| r.dt)
                 .collect();
@@ -106,13 +105,8 @@ pub fn proportionality(rows: &[Row], floor: f64) -> Vec<Proportionality> {
                 })
                 .collect();
             let (fitted, range) = fit(&pts);
-            let rtols = (!pts.is_empty()).then(|| {
-                let xs = pts.iter().map(|p| p.0.exp());
-                (
-                    xs.clone().fold(f64::INFINITY, f64::min),
-                    xs.fold(0.0, f64::max),
-                )
-            });
+            let rtols: Vec<f64> = pts.iter().map(|p| p.0.exp()).collect();
+            let rtols = (!rtols.is_empty()).then(|| extent(&rtols));
             Proportionality {
                 method: m,
                 fitted,
@@ -136,17 +130,17 @@ pub(super) fn fit(pts: &[(f64, f64)]) -> (Option<f64>, Option<(f64, f64)>) {
         let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
         sxy / sxx
     });
-    let local: Vec<f64> = pts
-        .windows(2)
+    let local: Vec<f64> = (pts.windows(2))
         .map(|w| (w[0].1 - w[1].1) / (w[0].0 - w[1].0))
         .collect();
-    let range = (!local.is_empty()).then(|| {
-        (
-            local.iter().copied().fold(f64::INFINITY, f64::min),
-            local.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-        )
-    });
-    (fitted, range)
+    (fitted, (!local.is_empty()).then(|| extent(&local)))
+}
+
+/// The smallest and the largest of `xs`.
+fn extent(xs: &[f64]) -> (f64, f64) {
+    let smallest = xs.iter().copied().fold(f64::INFINITY, f64::min);
+    let largest = xs.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    (smallest, largest)
 }
 
 /// The cheapest measured run reaching `target` error: by wall time, and by force evaluations.

@@ -5,7 +5,8 @@ use std::time::Instant;
 
 use super::grid;
 use super::{
-    DEFAULT_LEVELS, DEFAULT_REPEATS, Problem, default_rtols, default_schedule, steps, stop,
+    DEFAULT_LEVELS, DEFAULT_REPEATS, Problem, default_rtols, default_schedule, largest_difference,
+    steps, stop,
 };
 use crate::format;
 use crate::integrate::{
@@ -97,11 +98,7 @@ fn measure<S: SecondOrderSystem>(
         if !steps(&mut it, sys, per_sample) {
             return None;
         }
-        let x = it.position();
-        let err = x
-            .iter()
-            .zip(r)
-            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        let err = largest_difference(it.position(), r);
         if !err.is_finite() {
             worst = f64::NAN;
             break;
@@ -153,11 +150,11 @@ pub fn reference(
     let run = |h: f64, per: u64| fine_run(&rope, &start, h, per, samples);
     let fine = run(h, per)?;
     let coarse = run(2.0 * h, per / 2)?;
-    let diff = fine
+    let differences = fine
         .iter()
         .zip(&coarse)
-        .flat_map(|(a, b)| a.iter().zip(b).map(|(x, y)| (x - y).abs()))
-        .fold(0.0, f64::max);
+        .map(|(a, b)| largest_difference(a, b));
+    let diff = differences.fold(0.0, f64::max);
     Some((fine, diff / 15.0))
 }
 
@@ -168,14 +165,8 @@ fn fine_run<S: SecondOrderSystem>(
     per: u64,
     samples: usize,
 ) -> Option<Vec<Vec<f64>>> {
-    let mut it = Integrator::new(
-        Method::Rk4,
-        sys,
-        &start.0,
-        &start.1,
-        h,
-        MethodOptions::default(),
-    );
+    let options = MethodOptions::default();
+    let mut it = Integrator::new(Method::Rk4, sys, &start.0, &start.1, h, options);
     (0..samples)
         .map(|_| steps(&mut it, sys, per).then(|| it.position().to_vec()))
         .collect()
@@ -519,8 +510,7 @@ fn reference_work(problem: &Problem, s: &Sweep) -> f64 {
 
 /// The whole work of a sweep of `problem`, in the units [`sweep_with`] reports.
 pub fn planned_work(problem: &Problem, s: &Sweep) -> f64 {
-    let runs = plan(problem, s)
-        .iter()
+    let runs = (plan(problem, s).iter())
         .map(|p| work(problem, s, (p.1, p.2)))
         .sum::<f64>();
     reference_work(problem, s) + runs

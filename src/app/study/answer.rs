@@ -8,6 +8,7 @@ use crate::format::shown;
 use crate::report::study as report;
 use crate::scene::pendulum::run::PendulumConfig;
 use crate::scene::rope::run::RopeConfig;
+use crate::shell::shell_word;
 use crate::study::{Problem, Row, Sweep, answers, scene_command};
 
 /// Keys of a scene's table that the command sets from the run, not from the study's scene.
@@ -36,9 +37,7 @@ pub(super) fn scene_flags(
     let text = |v: &toml::Value| match v {
         toml::Value::Float(x) => shown(*x),
         toml::Value::String(s) => s.clone(),
-        toml::Value::Array(a) => a
-            .iter()
-            .map(|x| x.to_string())
+        toml::Value::Array(a) => (a.iter().map(|x| x.to_string()))
             .collect::<Vec<_>>()
             .join(","),
         other => other.to_string(),
@@ -53,7 +52,7 @@ pub(super) fn scene_flags(
 
 /// The lines that answer the targets the reference resolves (given ones it cannot were
 /// refused before the sweep; default ones are left out, said so), each command's words quoted
-/// for a shell ([`crate::shell::shell_word`]).
+/// for a shell ([`shell_word`]).
 pub(super) fn answer(
     problem: &Problem,
     file: &SceneFile,
@@ -67,9 +66,7 @@ pub(super) fn answer(
     let schedule = (sw.sample_dt, sw.duration);
     let (mut found, unresolved) = answers(scene, rows, schedule, targets, floor);
     for (_, _, words) in &mut found {
-        *words = (words.iter())
-            .map(|w| crate::shell::shell_word(w.as_bytes()))
-            .collect();
+        *words = quoted(words);
     }
     Ok(report::answer(problem, sw, floor, &found, &unresolved))
 }
@@ -84,13 +81,11 @@ pub(super) fn commands(
 ) -> Result<Vec<String>, Error> {
     let flags = scene_flags(problem, file)?;
     let schedule = (sw.sample_dt, sw.duration);
-    Ok((rows.iter())
-        .map(|r| {
-            let words = scene_command(problem.name(), &flags, r, schedule, "run.rrd");
-            let quoted: Vec<String> = (words.iter())
-                .map(|w| crate::shell::shell_word(w.as_bytes()))
-                .collect();
-            quoted.join(" ")
-        })
-        .collect())
+    let command = |r| scene_command(problem.name(), &flags, r, schedule, "run.rrd");
+    Ok(rows.iter().map(|r| quoted(&command(r)).join(" ")).collect())
+}
+
+/// Each of `words` quoted for a shell ([`shell_word`]).
+fn quoted(words: &[String]) -> Vec<String> {
+    (words.iter()).map(|w| shell_word(w.as_bytes())).collect()
 }

@@ -5,7 +5,7 @@ use super::Found;
 use crate::app::progress::Progress;
 use crate::cli::StudyOutputs;
 use crate::format::shown;
-use crate::report::drift as report;
+use crate::report::{drift as report, rope};
 use crate::study::drift::{Drift, pendulum_drift, rope_drift};
 use crate::study::{Problem, Sweep};
 
@@ -52,11 +52,7 @@ pub(super) fn drift_study(
                 shown(p.spring_damping),
                 shown(p.air_drag)
             ),
-            format!(
-                "dt = {} s, {}.",
-                shown(sw.dt0),
-                crate::report::rope::forces_text(p)
-            ),
+            format!("dt = {} s, {}.", shown(sw.dt0), rope::forces_text(p)),
         ),
     };
     let command = Some((flags.as_str(), sw.options.rtol));
@@ -70,11 +66,11 @@ pub(super) fn drift_study(
     Found {
         out: header + &report::drift_table(&runs, command, out.wide),
         csv: report::drift_csv(problem.name(), &runs),
+        done: runs.len(),
         diagrams: vec![crate::diagram::drift(
             problem.name(),
             (&runs, commands),
             &note,
         )],
-        done: runs.len(),
     }
 }

@@ -208,21 +208,19 @@ fn convergence_tables(
     let d = diagram::convergence(name, (rows, commands), floor, by_velocity);
     found.diagrams.push(d);
     out.push('\n');
-    let Some(damped) = damped_companion(problem) else {
+    // Stopped already, or no damped companion: the undamped tables alone.
+    let damped = damped_companion(problem).filter(|_| !crate::interrupt::requested());
+    let Some(damped) = damped else {
         return Ok(Vec::new());
     };
-    if crate::interrupt::requested() {
-        return Ok(Vec::new());
-    }
     let (damped_rows, damped_error) = sweep_with(&damped, sw, true, done);
     // A stop during the damped sweep leaves it out: only complete tables are shown.
     if crate::interrupt::requested() {
         return Ok(Vec::new());
     }
     let floor = error_floor(damped_error);
-    out.push_str(&report::damped_header(
-        &crate::scene::rope::RopeParams::default(),
-    ));
+    let scene = crate::scene::rope::RopeParams::default();
+    out.push_str(&report::damped_header(&scene));
     out.push_str(&report::orders_table(&damped_rows, floor, true, wide));
     let commands = answer::commands(&damped, file, sw, &damped_rows)?;
     let d = diagram::convergence(name, (&damped_rows, &commands), floor, true);

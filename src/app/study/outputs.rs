@@ -17,10 +17,9 @@ pub(super) fn write_study(
 ) -> anyhow::Result<()> {
     // With `-o -` or `--csv -` standard output carries the file: the tables go to stderr.
     let to_stdout = outputs.to_stdout();
-    let printed = if a.wide {
-        out.to_string()
-    } else {
-        crate::report::table::fit_lines(out)
+    let printed = match a.wide {
+        true => out.to_string(),
+        false => crate::report::table::fit_lines(out),
     };
     crate::output::print_beside(to_stdout, &printed);
     // Another study writing the same files waits for this set to be whole, and vice versa.
@@ -93,15 +92,12 @@ pub(super) fn interrupted_after(
     what: &str,
     complete: bool,
 ) -> anyhow::Error {
-    let kept = if complete {
-        "; the tables above (and any --csv and -o files) hold the complete ones"
-    } else {
-        "; nothing was written"
+    let kept = match complete {
+        true => "; the tables above (and any --csv and -o files) hold the complete ones",
+        false => "; nothing was written",
     };
-    Error::Interrupted(format!(
-        "interrupted: {done} of {planned} {what} complete{kept}"
-    ))
-    .into()
+    let said = format!("interrupted: {done} of {planned} {what} complete{kept}");
+    Error::Interrupted(said).into()
 }
 
 /// A study's outputs, checked before it runs (`crate::output`): the CSV, the recording, and
@@ -118,17 +114,20 @@ pub(super) struct Outputs {
 impl Outputs {
     /// The folders the outputs go to.
     fn folders(&self) -> Vec<std::path::PathBuf> {
-        let files = [&self.csv, &self.recording].into_iter().flatten();
-        (files.filter_map(|o| o.target.as_deref().map(crate::output::parent_dir)))
-            .chain(self.plots.as_ref().map(|p| p.0.clone()))
+        let targets = self.files().filter_map(|o| o.target.as_deref());
+        let plots = self.plots.as_ref().map(|p| p.0.clone());
+        (targets.map(crate::output::parent_dir))
+            .chain(plots)
             .collect()
     }
 
+    /// The CSV and the recording, those asked for.
+    fn files(&self) -> impl Iterator<Item = &crate::output::Output> {
+        [&self.csv, &self.recording].into_iter().flatten()
+    }
+
     pub(super) fn to_stdout(&self) -> bool {
-        [&self.csv, &self.recording]
-            .into_iter()
-            .flatten()
-            .any(|o| o.is_stdout())
+        self.files().any(|o| o.is_stdout())
     }
 }
 
@@ -139,11 +138,8 @@ pub(super) fn check_outputs(
 ) -> anyhow::Result<Outputs> {
     use crate::output::{Dash, check, distinct};
     use std::path::Path;
-    let csv = a
-        .csv
-        .as_deref()
-        .map(|p| check("--csv", p, Dash::Text))
-        .transpose()?;
+    let csv = (a.csv.as_deref()).map(|p| check("--csv", p, Dash::Text));
+    let csv = csv.transpose()?;
     let recording = match &a.output {
         Some(path) => crate::record::Destinations::output(path).written()?,
         None => None,
@@ -180,15 +176,10 @@ pub(super) fn check_outputs(
             }
         }
     }
-    let all: Vec<&crate::output::Output> = csv
-        .iter()
-        .chain(recording.iter())
-        .chain(diagrams.iter())
-        .collect();
-    let inputs: Vec<(&str, &Path)> = config
-        .iter()
-        .map(|p| ("the scene file read (--config)", *p))
-        .collect();
+    let all: Vec<&crate::output::Output> =
+        (csv.iter().chain(&recording)).chain(&diagrams).collect();
+    let read = config.map(|p| ("the scene file read (--config)", p));
+    let inputs: Vec<(&str, &Path)> = read.into_iter().collect();
     distinct(&all, &inputs)?;
     Ok(Outputs {
         csv,

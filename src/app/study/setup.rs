@@ -79,9 +79,7 @@ fn horizon(wp: &WorkPrecisionArgs, problem: &Problem, sweep: &mut Sweep) -> Resu
         let period = period.ok_or_else(|| Error::param("--periods", shown(n), rule))?;
         sweep.duration = n * period;
     }
-    sweep.sample_dt = wp
-        .sample_every
-        .unwrap_or(Sweep::work_precision(problem).sample_dt);
+    sweep.sample_dt = (wp.sample_every).unwrap_or(Sweep::work_precision(problem).sample_dt);
     Ok(())
 }
 

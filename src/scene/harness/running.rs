@@ -110,9 +110,7 @@ impl<L: Send> Running<L> {
         let schedule = self.schedule;
         // A block is at most as long as the ticks before it: the first ones are short, so that
         // a run's pace is measured within its first moments whatever a tick costs.
-        let mut last = schedule
-            .total
-            .min(first.saturating_add(scene.max_block().min(first) - 1));
+        let mut last = (schedule.total).min(first.saturating_add(scene.max_block().min(first) - 1));
         if !scene.traced() {
             last = last.min(schedule.frame_tick(schedule.next_frame(first)));
         }
@@ -190,9 +188,7 @@ impl<L: Send> Running<L> {
         self.cost[i] += elapsed;
         self.accepted[i] = checked.accepted;
         s.ticks += checked.accepted as u64;
-        s.counts = checked
-            .counts
-            .unwrap_or_else(|| scene.counts(&self.lanes[i]));
+        s.counts = (checked.counts).unwrap_or_else(|| scene.counts(&self.lanes[i]));
         if let Some((offset, what)) = checked.solver_miss
             && self.missed[i].is_none()
         {

@@ -376,8 +376,7 @@ impl Schedule {
             return format!("{every} of the run");
         };
         let edge = trim_number(self.time((plan.last_rows as u64 - 1) * self.plot_stride), 3);
-        let asked = windows
-            .asked
+        let asked = (windows.asked)
             .iter()
             .map(|w| format!(" and {w} s"))
             .collect::<String>();
