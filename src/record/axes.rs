@@ -186,9 +186,37 @@ impl LateAxes {
             .collect();
         if !properties.is_empty() {
             let (app, activation) = (&self.application_id, &self.activation);
-            let messages = super::layout::property_messages(app, activation, properties, 1)?;
+            let messages = property_messages(app, activation, properties, 1)?;
             rec.send_blueprint(messages, self.activation);
         }
         Ok(())
     }
+}
+
+/// The messages that write `properties` into the blueprint store `activation` names, at
+/// `blueprint` = `time` (as the SDK logs blueprints).
+pub fn property_messages(
+    app: &rerun::ApplicationId,
+    activation: &BlueprintActivationCommand,
+    properties: Vec<(String, Vec<rerun::SerializedComponentBatch>)>,
+    time: i64,
+) -> anyhow::Result<Vec<LogMsg>> {
+    if properties.is_empty() {
+        return Ok(Vec::new());
+    }
+    let (props, storage) = rerun::RecordingStreamBuilder::new(app.clone())
+        .recording_id(activation.blueprint_id.recording_id().clone())
+        .blueprint()
+        .send_properties(false)
+        .memory()?;
+    props.set_log_time_enabled(false); // no wall clock in a recording
+    props.set_time_sequence("blueprint", time);
+    for (path, batches) in properties {
+        props.log_serialized_batches(path, false, batches)?;
+    }
+    Ok(storage
+        .take()
+        .into_iter()
+        .filter(|m| matches!(m, LogMsg::ArrowMsg(..)))
+        .collect())
 }

@@ -15,14 +15,13 @@
 
 use rerun::blueprint::components::{BackgroundKind, Corner2D};
 use rerun::blueprint::{Blueprint, BlueprintActivation, ContainerLike};
-use rerun::external::re_log_types::BlueprintActivationCommand;
 use rerun::external::re_sdk_types::blueprint::archetypes::{
     Background, EyeControls3D, LineGrid3D, PlotLegend, ScalarAxis, TimeAxis, VisualBounds2D,
 };
 use rerun::external::re_sdk_types::datatypes::{TimeInt, TimeRange, TimeRangeBoundary};
 use rerun::log::LogMsg;
 
-use super::axes::{LateAxes, ValueAxis, time_end};
+use super::axes::{LateAxes, ValueAxis, property_messages, time_end};
 use rerun::{AsComponents, SerializedComponentBatch};
 
 /// The box a 3D view frames [m, z up]: where a scene draws its subject (slots, swings, labels).
@@ -288,32 +287,4 @@ impl Layout {
             axes: self.axes,
         })
     }
-}
-
-/// The messages that write `properties` into the blueprint store `activation` names, at
-/// `blueprint` = `time` (as the SDK logs blueprints).
-pub fn property_messages(
-    app: &rerun::ApplicationId,
-    activation: &BlueprintActivationCommand,
-    properties: Vec<(String, Vec<SerializedComponentBatch>)>,
-    time: i64,
-) -> anyhow::Result<Vec<LogMsg>> {
-    if properties.is_empty() {
-        return Ok(Vec::new());
-    }
-    let (props, storage) = rerun::RecordingStreamBuilder::new(app.clone())
-        .recording_id(activation.blueprint_id.recording_id().clone())
-        .blueprint()
-        .send_properties(false)
-        .memory()?;
-    props.set_log_time_enabled(false); // no wall clock in a recording
-    props.set_time_sequence("blueprint", time);
-    for (path, batches) in properties {
-        props.log_serialized_batches(path, false, batches)?;
-    }
-    Ok(storage
-        .take()
-        .into_iter()
-        .filter(|m| matches!(m, LogMsg::ArrowMsg(..)))
-        .collect())
 }

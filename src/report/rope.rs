@@ -155,9 +155,9 @@ pub fn summary_text(scene: &RopeScene, run: &Run<RopeLane>, wide: bool) -> Strin
         "",
         "ns/step",
         "",
-        "E−E0 [J]",
+        "E-E0 [J]",
         "",
-        "E+W−E0 [J]",
+        "E+W-E0 [J]",
         "max strain",
         "diverged",
     ]);

@@ -146,12 +146,18 @@ pub const OWN_STEPS_NOTE: &str = "adaptive methods, and fixed-step ones given --
      sampled on (by their dense output or interpolant); their own accepted and rejected steps are in \
      brackets, and ns/step is per own step\n";
 
-/// Text broken into lines of at most `width` characters at spaces (a longer word stands alone).
+/// The most columns any terminal gives `text`: two for every character outside ASCII, as a
+/// terminal that draws East Asian ambiguous-width characters (°, θ, ≤, −) wide does.
+pub fn columns(text: &str) -> usize {
+    text.chars().map(|c| if c.is_ascii() { 1 } else { 2 }).sum()
+}
+
+/// Text broken into lines of at most `width` [`columns`] at spaces (a longer word stands alone).
 pub fn wrap(text: &str, width: usize) -> Vec<String> {
     let mut lines = vec![String::new()];
     for word in text.split_whitespace() {
         let last = lines.last_mut().expect("one line");
-        if !last.is_empty() && last.chars().count() + 1 + word.chars().count() > width {
+        if !last.is_empty() && columns(last) + 1 + columns(word) > width {
             lines.push(word.to_string());
         } else {
             if !last.is_empty() {
@@ -169,7 +175,7 @@ pub fn fit_lines(text: &str) -> String {
     let mut out = String::new();
     for line in text.split_inclusive('\n') {
         let body = line.trim_end_matches('\n');
-        if body.chars().count() <= WIDTH || body.starts_with('|') {
+        if columns(body) <= WIDTH || body.starts_with('|') {
             out.push_str(line);
             continue;
         }
