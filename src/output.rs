@@ -1,7 +1,7 @@
 //! Every file physlab writes goes through here, so that each is written the same way:
 //!
 //! - only to a regular file or a new one: a symlink is written through (its target is replaced,
-//!   the link kept); a folder, FIFO, device or socket is refused (`-` is standard output);
+//!   the link kept) when it leads to a recording or to nothing yet; a folder, FIFO, device or socket is refused (`-` is standard output);
 //! - checked before any work ([`check`]): the folder can be created and written in, the name
 //!   fits, and no two outputs of a command, nor an output and an input, are one file
 //!   ([`distinct`]);
@@ -105,7 +105,32 @@ pub fn check_recording(path: &Path, dash: Dash) -> anyhow::Result<Output> {
         ))
         .into());
     }
+    // A symlink is written through, but only onto a recording or a new file: the link's name
+    // ends in .rrd whatever it leads to (`-o l.rrd` → /etc/passwd, run as root, replaced it).
+    let target = follow_links(path).unwrap_or_else(|_| path.to_path_buf());
+    if target != path && holds_other_data(&target) {
+        return Err(Error::Usage(format!(
+            "-o {}: is a symbolic link to {}, which is not a Rerun recording; physlab replaces \
+             only a recording or writes a new file: give another path",
+            path.display(),
+            target.display()
+        ))
+        .into());
+    }
     check("-o", path, dash)
+}
+
+/// Whether `path` is a non-empty file that does not start as a Rerun recording does (`RRF2`).
+fn holds_other_data(path: &Path) -> bool {
+    use std::io::Read as _;
+    let mut head = [0u8; 4];
+    if !std::fs::metadata(path).is_ok_and(|m| m.is_file()) {
+        return false; // a FIFO would block the open; `check` refuses what is not a file
+    }
+    match std::fs::File::open(path) {
+        Ok(mut f) => f.read_exact(&mut head).is_ok() && &head != b"RRF2",
+        Err(_) => false,
+    }
 }
 
 /// Checks an output before any work: see the module documentation. Creates its folder.

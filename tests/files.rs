@@ -136,6 +136,49 @@ fn symlinks_planted_at_predictable_temporary_and_partial_names_are_never_followe
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// `-o l.rrd` where l.rrd is a symlink to a file that is not a recording (run as root against
+/// /etc/passwd, the run replaced it): refused with exit 2 naming the link and its target, the
+/// file untouched. A link to a recording is still written through, its target replaced.
+#[test]
+fn a_symlinked_output_never_replaces_a_file_that_is_not_a_recording() {
+    let dir = scratch_dir("files-symlinked-output");
+    let victim = dir.join("passwd");
+    std::fs::write(&victim, "root:x:0:0:root:/root:/bin/bash\n").unwrap();
+    let link = dir.join("l.rrd");
+    std::os::unix::fs::symlink(&victim, &link).unwrap();
+    let (code, _, err) = physlab(&["pendulum", "-q", "--duration", "0.5", "-o", s(&link)]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("l.rrd") && err.contains("passwd") && err.contains("not a Rerun recording"),
+        "{err}"
+    );
+    assert_eq!(
+        std::fs::read_to_string(&victim).unwrap(),
+        "root:x:0:0:root:/root:/bin/bash\n"
+    );
+
+    let recording = good_recording(&dir, "a.rrd");
+    let to_recording = dir.join("m.rrd");
+    std::os::unix::fs::symlink(&recording, &to_recording).unwrap();
+    let (code, _, err) = physlab(&[
+        "pendulum",
+        "-q",
+        "--duration",
+        "0.5",
+        "-o",
+        s(&to_recording),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        std::fs::symlink_metadata(&to_recording)
+            .unwrap()
+            .file_type()
+            .is_symlink()
+    );
+    common::decode(&recording);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// Issue 43 point 7: a hidden partial whose writer lives (in another PID namespace, on another
 /// NFS client: its PID is not running here) holds it locked; it is left alone. Unlocked, it is
 /// stale and removed when its target is written again.
