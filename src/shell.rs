@@ -12,6 +12,11 @@ pub fn command_line() -> String {
         .join(" ")
 }
 
+/// A path as a terminal may show it ([`escaped`]): what physlab prints of a path it writes.
+pub fn shown(path: &std::path::Path) -> String {
+    escaped(&path.display().to_string()).into_owned()
+}
+
 /// A path as one shell word ([`shell_word`]).
 pub fn shell_path(path: &std::path::Path) -> String {
     shell_word(std::os::unix::ffi::OsStrExt::as_bytes(path.as_os_str()))

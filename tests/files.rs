@@ -179,6 +179,25 @@ fn a_symlinked_output_never_replaces_a_file_that_is_not_a_recording() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// A file name holding ESC (a name the user was handed, or pasted): the "recording:" and
+/// "replaced" lines show it escaped (`\x1b`), so the terminal never acts on it.
+#[test]
+fn a_written_path_with_control_characters_is_shown_escaped() {
+    let dir = scratch_dir("files-escaped-path");
+    let out = dir.join("a\x1b[2Jb.rrd");
+    for _ in 0..2 {
+        let run = Command::new(env!("CARGO_BIN_EXE_physlab"))
+            .args(["pendulum", "--duration", "0.5", "-o", s(&out)])
+            .output()
+            .unwrap();
+        assert_eq!(run.status.code(), Some(0));
+        let all = [run.stdout, run.stderr].concat();
+        assert!(!all.contains(&0x1b), "{}", String::from_utf8_lossy(&all));
+        assert!(String::from_utf8_lossy(&all).contains("a\\x1b[2Jb.rrd"));
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// Issue 43 point 7: a hidden partial whose writer lives (in another PID namespace, on another
 /// NFS client: its PID is not running here) holds it locked; it is left alone. Unlocked, it is
 /// stale and removed when its target is written again.

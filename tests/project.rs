@@ -161,7 +161,7 @@ const MAY_IMPORT: &[(&str, &[&str])] = &[
         &["integrate", "elliptic", "interrupt", "error", "format"],
     ),
     ("integrate", &[]),
-    ("output", &["interrupt", "error", "format"]),
+    ("output", &["interrupt", "error", "format", "shell"]),
     ("format", &[]),
     ("shell", &[]),
     ("elliptic", &[]),

@@ -82,7 +82,7 @@ pub fn diff_command(args: &DiffArgs) -> anyhow::Result<()> {
         print_lines(
             &[format!(
                 "wrote {} ({n} series: B − A per plotted quantity, both runs' 3D overlaid)",
-                out.display()
+                crate::shell::shown(out)
             )],
             to_stdout,
         );

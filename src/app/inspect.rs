@@ -53,7 +53,7 @@ pub fn inspect_command(args: &InspectArgs) -> anyhow::Result<()> {
 /// What `inspect` says of a recording, line by line (printed escaped: it is a stranger's text).
 fn described(info: &RecordingInfo, file: &Path, scene_file: &Path) -> Vec<String> {
     let p = |k| info.property(k);
-    let mut out = vec![format!("recording: {}", file.display())];
+    let mut out = vec![format!("recording: {}", crate::shell::shown(file))];
     let what = match p("scenes") {
         "diff" => format!(" (a diff recording of {} and {})", p("diff_a"), p("diff_b")),
         _ => String::new(),

@@ -576,7 +576,10 @@ fn report_recording(d: &Destinations, bytes: Option<u64>, started: Instant) {
     match (&d.file, bytes) {
         (Some(path), Some(bytes)) => {
             let mb = bytes as f64 / 1e6;
-            println!("\nrecording: {} ({mb:.2} MB), {s:.1} s", path.display());
+            println!(
+                "\nrecording: {} ({mb:.2} MB), {s:.1} s",
+                crate::shell::shown(path)
+            );
         }
         _ if d.stdout => eprintln!("\nrecording written to standard output, {s:.1} s"),
         _ => println!("\nstreamed, no file written, {s:.1} s"),

@@ -204,7 +204,7 @@ impl Partial {
         crate::interrupt::remove_partial_file(slot);
         if let Some(old) = old {
             // Its origin on a line of its own: the path may take the width of a terminal.
-            eprintln!("replaced {}\n  ({old})", target.display());
+            eprintln!("replaced {}\n  ({old})", crate::shell::shown(&target));
         }
         // The rename is durable once the folder is.
         if let Ok(dir) = std::fs::File::open(parent_dir(&target)) {

@@ -27,13 +27,17 @@ pub(super) fn write_study(
     if let Some(csv_out) = &outputs.csv {
         csv_out.write(csv.as_bytes())?;
         if !csv_out.is_stdout() {
-            eprintln!("wrote {}", csv_out.given.display());
+            eprintln!("wrote {}", crate::shell::shown(&csv_out.given));
         }
     }
     if let Some((dir, prefix)) = &outputs.plots {
         for d in diagrams {
             let w = d.write(dir, prefix)?;
-            eprintln!("wrote {} and {}", w.svg.display(), w.png.display());
+            eprintln!(
+                "wrote {} and {}",
+                crate::shell::shown(&w.svg),
+                crate::shell::shown(&w.png)
+            );
         }
     }
     if let Some(path) = &a.output {
@@ -52,7 +56,7 @@ fn report_recording(path: &std::path::Path, bytes: Option<u64>, to_stdout: bool)
     let line = match bytes {
         Some(bytes) => format!(
             "\nrecording: {} ({:.2} MB)\n",
-            path.display(),
+            crate::shell::shown(path),
             bytes as f64 / 1e6
         ),
         None => "\nrecording written to standard output\n".into(),
