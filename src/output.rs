@@ -105,18 +105,6 @@ pub fn check_recording(path: &Path, dash: Dash) -> anyhow::Result<Output> {
         ))
         .into());
     }
-    // A symlink is written through, but only onto a recording or a new file: the link's name
-    // ends in .rrd whatever it leads to (`-o l.rrd` → /etc/passwd, run as root, replaced it).
-    let target = follow_links(path).unwrap_or_else(|_| path.to_path_buf());
-    if target != path && holds_other_data(&target) {
-        return Err(Error::Usage(format!(
-            "-o {}: is a symbolic link to {}, which is not a Rerun recording; physlab replaces \
-             only a recording or writes a new file: give another path",
-            path.display(),
-            target.display()
-        ))
-        .into());
-    }
     check("-o", path, dash)
 }
 
@@ -251,6 +239,22 @@ pub fn distinct(outputs: &[&Output], inputs: &[(&str, &Path)]) -> Result<(), Err
                 "{}: is {what} ({}); writing it would replace it; give another path",
                 a.named(),
                 input.display()
+            )));
+        }
+    }
+    // A recording's symlink is written through, but only onto a recording or a new file: the
+    // link's name ends in .rrd whatever it leads to (`-o l.rrd` → /etc/passwd, run as root,
+    // replaced it). Checked after the outputs' own clashes, which name the case better.
+    for o in outputs.iter().filter(|o| o.flag == "-o") {
+        if let Some(t) = &o.target
+            && std::fs::symlink_metadata(&o.given).is_ok_and(|m| m.file_type().is_symlink())
+            && holds_other_data(t)
+        {
+            return Err(Error::Usage(format!(
+                "{}: is a symbolic link to {}, which is not a Rerun recording; physlab replaces \
+                 only a recording or writes a new file: give another path",
+                o.named(),
+                t.display()
             )));
         }
     }

@@ -231,11 +231,9 @@ fn simulate(
         destinations(run, name)
     };
     // The recording never replaces the scene file it was made from.
-    if let (Some(out), Some(input)) = (d.written()?, &run.config) {
-        crate::output::distinct(
-            &[&out],
-            &[("the scene file read (--config)", input.as_path())],
-        )?;
+    if let Some(out) = d.written()? {
+        let input = (run.config.as_deref()).map(|p| ("the scene file read (--config)", p));
+        crate::output::distinct(&[&out], input.as_slice())?;
     }
     let recording = if run.no_record {
         None
