@@ -14,12 +14,10 @@ use physlab::report::methods::{method_page, methods_table, page_names};
 
 const WIDTH: usize = 100;
 
-/// The widest line of `text` in the columns a terminal may give it (two for a character outside
-/// ASCII: East Asian terminals draw ambiguous-width ones such as °, θ and ≤ wide), and the line.
+/// The widest line of `text` in characters, and the line.
 fn widest(text: &str) -> (usize, &str) {
-    let columns = |l: &str| -> usize { l.chars().map(|c| 1 + usize::from(!c.is_ascii())).sum() };
     (text.lines())
-        .map(|l| (columns(l), l))
+        .map(|l| (l.chars().count(), l))
         .max_by_key(|&(n, _)| n)
         .unwrap_or((0, ""))
 }
