@@ -87,7 +87,6 @@ fn hair_frames(c: &mut Criterion) {
                                     recorder.series(&scene, 0, &series.batch).unwrap();
                                 }
                                 let view = Frame {
-                                    index: frame / 2,
                                     tick: frame,
                                     time: schedule.time(frame),
                                     lanes: vec![Some((&lane, 0))],

@@ -343,7 +343,7 @@ fn run_scenes(
         let memory = scene.memory_bytes();
         if memory > MEMORY_NOTICE_BYTES && !run.quiet {
             // Allowed (validation refuses what does not fit), but not to be taken silently.
-            let of = crate::scene::params::available_memory().map_or(String::new(), |a| {
+            let of = crate::scene::params::memory_room().map_or(String::new(), |(a, _)| {
                 format!(" (of {:.1} GB available)", a / 1e9)
             });
             let gb = memory / 1e9;

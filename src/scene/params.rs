@@ -33,11 +33,6 @@ pub fn refuse_unless(
         .ok_or_else(|| Invalid::param(option, value, rule))
 }
 
-pub fn finite(option: &str, value: f64, unit: &str) -> Result<(), Invalid> {
-    let rule = format!("must be a finite number [{unit}]");
-    require(value.is_finite(), option, value, rule)
-}
-
 pub fn positive(option: &str, value: f64, unit: &str) -> Result<(), Invalid> {
     let rule = format!("must be a finite number > 0 [{unit}]");
     require(value.is_finite() && value > 0.0, option, value, rule)
@@ -159,11 +154,16 @@ pub fn own_step(
     }
 }
 
-/// The most own steps a fixed-step method takes in one sample (tick) of dt: 1 without
-/// `--step`. A scene divides its blocks by it, so that a block holds about as many steps either
+/// Steps a fixed-step scene takes per method between checks; large enough that the clock reads
+/// cost nothing.
+pub const BLOCK_STEPS: usize = 4096;
+
+/// The longest block of ticks of a fixed-step scene: [`BLOCK_STEPS`] over the most own steps a
+/// method takes in a tick (`--step` below dt), so that a block holds about as many steps either
 /// way and Ctrl-C is looked at as often.
-pub fn steps_per_sample(dt: f64, options: &crate::integrate::MethodOptions) -> u64 {
-    options.step.map_or(1, |h| (dt / h).ceil().max(1.0) as u64)
+pub fn block_ticks(dt: f64, options: &crate::integrate::MethodOptions) -> u64 {
+    let per_tick = options.step.map_or(1, |h| (dt / h).ceil().max(1.0) as u64);
+    (BLOCK_STEPS as u64 / per_tick).max(1)
 }
 
 /// A refusal of runs of more than `MAX_STEPS` steps of `step` (the flag `option` sets), or
@@ -208,11 +208,6 @@ pub fn memory_room() -> Option<(f64, &'static str)> {
         .into_iter()
         .flatten()
         .min_by(|a, b| a.0.total_cmp(&b.0))
-}
-
-/// The memory a run may still take [bytes] ([`memory_room`]).
-pub fn available_memory() -> Option<f64> {
-    memory_room().map(|(bytes, _)| bytes)
 }
 
 /// Refuses a run whose state would not fit in memory, naming the estimate and what to change.
@@ -264,9 +259,12 @@ pub fn threads(n: usize) -> Result<(), Invalid> {
     }
 }
 
-/// At least one method to run; `names` lists those allowed.
-pub fn some_methods<M>(methods: &[M], names: &str) -> Result<(), Invalid> {
-    let rule = format!("must name at least one method (any of: {names})");
+/// At least one method to run; `names` are those allowed.
+pub fn some_methods<M>(methods: &[M], names: &[&str]) -> Result<(), Invalid> {
+    let rule = format!(
+        "must name at least one method (any of: {})",
+        names.join(", ")
+    );
     refuse_unless(!methods.is_empty(), "--methods", "[]", rule)
 }
 
@@ -292,27 +290,19 @@ pub mod vec3 {
 
 /// A magnitude written as a number or as a vector `[x, y, z]`, of which it is the length (the
 /// pendulum's gravity, which the other scenes take as a vector).
-pub mod magnitude {
-    use serde::{Deserialize, Deserializer, Serialize, Serializer};
-
-    pub fn serialize<S: Serializer>(x: &f64, s: S) -> Result<S::Ok, S::Error> {
-        x.serialize(s)
+pub fn magnitude<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    #[derive(serde::Deserialize)]
+    #[serde(untagged)]
+    enum Written {
+        Number(f64),
+        Vector(#[serde(with = "vec3")] glam::DVec3),
     }
-
-    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
-        #[derive(Deserialize)]
-        #[serde(untagged)]
-        enum Written {
-            Number(f64),
-            Vector(#[serde(with = "super::vec3")] glam::DVec3),
-        }
-        Written::deserialize(d)
-            .map(|g| match g {
-                Written::Number(x) => x,
-                Written::Vector(v) => v.length(),
-            })
-            .map_err(|_| serde::de::Error::custom("expected g or [x, y, z] with finite numbers"))
-    }
+    serde::Deserialize::deserialize(d)
+        .map(|g| match g {
+            Written::Number(x) => x,
+            Written::Vector(v) => v.length(),
+        })
+        .map_err(|_| serde::de::Error::custom("expected g or [x, y, z] with finite numbers"))
 }
 
 /// A scene's configuration as the scene file and the flags give it: its serialised form is its

@@ -91,7 +91,7 @@ impl params::SceneConfig for HairConfig {
         let p = &self.params;
         let (strands, nodes, iterations, substeps) =
             (p.strands, p.nodes, p.iterations, self.substeps);
-        params::some_methods(&self.methods, &HairMethod::names())?;
+        params::some_methods(&self.methods, &HairMethod::ALL.map(HairMethod::name))?;
         params::count_within("--strands", strands as u64, 1, 1_000_000)?;
         params::count_within("--nodes", nodes as u64, 2, 10_000)?;
         // The same physical ranges as the pendulum's and the rope's magnitudes.
@@ -284,16 +284,11 @@ pub struct HairLane {
 /// A hair run.
 pub struct HairScene {
     pub config: HairConfig,
-    /// Worker threads the strands are spread over (for the summary; results do not depend on it).
-    pub threads: usize,
 }
 
 impl HairScene {
     pub fn new(config: HairConfig) -> Self {
-        HairScene {
-            config,
-            threads: rayon::current_num_threads(),
-        }
+        HairScene { config }
     }
 }
 
@@ -357,10 +352,8 @@ impl Scene for HairScene {
                 "state not finite".into()
             };
             return Checked {
-                accepted: 0,
                 divergence: Some(why),
-                solver_miss: None,
-                counts: None,
+                ..Checked::default()
             };
         }
         let w = &mut lane.worst;

@@ -115,8 +115,6 @@ pub trait Scene: Sync {
 
 /// Every lane at one 3D frame.
 pub struct Frame<'a, L> {
-    /// Frames counted from 0 at tick 0.
-    pub index: u64,
     pub tick: u64,
     pub time: f64,
     /// Per lane: its state and the offset of this tick in its last block (for untraced scenes

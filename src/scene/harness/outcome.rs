@@ -68,8 +68,6 @@ impl LaneStats {
 pub struct Run<L> {
     pub lanes: Vec<L>,
     pub stats: Vec<LaneStats>,
-    /// 3D frames handed out.
-    pub frames: u64,
     /// Whether the run stopped early on request (Ctrl-C).
     pub interrupted: bool,
     /// The last tick the run reached: the schedule's total, or where it was interrupted.

@@ -22,7 +22,6 @@ pub(super) struct Running<L> {
     cost: Vec<Duration>,
     /// The time of each lane's first missed implicit solve, once there was one.
     missed: Vec<Option<f64>>,
-    frames: u64,
 }
 
 impl<L: Send> Running<L> {
@@ -78,7 +77,6 @@ impl<L: Send> Running<L> {
         observer.frame(
             scene,
             &Frame {
-                index: 0,
                 tick: 0,
                 time: 0.0,
                 lanes: lanes.iter().map(|l| Some((l, 0))).collect(),
@@ -95,7 +93,6 @@ impl<L: Send> Running<L> {
             accepted: vec![0; n],
             cost: vec![Duration::ZERO; n],
             missed: vec![None; n],
-            frames: 1,
         })
     }
 
@@ -241,7 +238,6 @@ impl<L: Send> Running<L> {
         while tick <= last {
             let offset = (tick - first) as usize;
             let view = Frame {
-                index: k,
                 tick,
                 time: schedule.time(tick),
                 lanes: (self.lanes.iter().enumerate())
@@ -251,7 +247,6 @@ impl<L: Send> Running<L> {
             };
             observer.frame(scene, &view)?;
             self.cost.fill(Duration::ZERO);
-            self.frames += 1;
             k = schedule.drawn_from(k + 1);
             tick = schedule.frame_tick(k);
         }
@@ -293,7 +288,6 @@ impl<L: Send> Running<L> {
         let run = Run {
             lanes: self.lanes,
             stats: self.stats,
-            frames: self.frames,
             interrupted,
             last_tick,
         };

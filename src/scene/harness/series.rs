@@ -274,8 +274,7 @@ fn push_row(batch: &mut SeriesBatch, schedule: &Schedule, step: u64, row: &[f64]
 
 fn push_rows(batch: &mut SeriesBatch, schedule: &Schedule, rows: &Kept, width: usize) {
     for (i, &step) in rows.steps.iter().enumerate() {
-        let row = &rows.values[i * width..(i + 1) * width];
-        push_row(batch, schedule, step, row, rows.needed[i]);
+        push_row(batch, schedule, step, row(rows, i, width), rows.needed[i]);
     }
 }
 

@@ -403,10 +403,6 @@ impl M4 {
         })
     }
 
-    pub fn columns(&self) -> u32 {
-        self.columns
-    }
-
     /// Adds the row at `step`. Steps come in increasing order and at most N (a lane that stops
     /// early simply stops pushing; steps may be skipped). Panics otherwise: that is a bug in the
     /// caller, not input.

@@ -70,11 +70,6 @@ impl ExactPendulum {
     pub fn period(&self) -> f64 {
         4.0 * self.quarter / self.omega_n
     }
-
-    /// The parameter m = k² and its complement m1 = k'² = cos²(θ0/2), as used.
-    pub fn parameters(&self) -> (f64, f64) {
-        (self.m, self.m1)
-    }
 }
 
 /// The exact period [s] of the motion with the start's energy: 4K(k²)/ωn for libration

@@ -21,7 +21,7 @@ pub const NEWTON_MAX_ITERATIONS: u32 = 50;
 #[serde(default)]
 pub struct PendulumParams {
     /// g [m/s²]
-    #[serde(with = "crate::scene::params::magnitude")]
+    #[serde(deserialize_with = "crate::scene::params::magnitude")]
     pub gravity: f64,
     /// L [m]
     pub length: f64,

@@ -89,12 +89,7 @@ impl FineStepReference {
 
     /// A reference sampled every `dt`, stepped with RK4 at dt / substeps and dt / (2 substeps).
     pub fn new(p: &PendulumParams, dt: f64) -> Self {
-        Self::with_substeps(p, dt, Self::substeps(p, dt) as u64)
-    }
-
-    /// As [`FineStepReference::new`], with `substeps` coarse steps per sample (at least 1).
-    pub fn with_substeps(p: &PendulumParams, dt: f64, substeps: u64) -> Self {
-        let substeps = substeps.max(1);
+        let substeps = (Self::substeps(p, dt) as u64).max(1);
         let h = dt / substeps as f64;
         FineStepReference {
             coarse: CompensatedRk4::new(p, h),
@@ -133,11 +128,6 @@ impl FineStepReference {
     /// the true error.
     pub fn error_estimate(&self) -> f64 {
         2.0 * self.max_difference / 15.0 + 4.0 * f64::EPSILON * self.max_theta
-    }
-
-    /// The fine step size [s].
-    pub fn fine_step(&self) -> f64 {
-        self.fine.h
     }
 }
 
@@ -217,7 +207,7 @@ impl Reference {
             Reference::FineStep(f) => format!(
                 "reference: no closed form for this start (ω0 ≠ 0 or |θ0| ≥ 180°); RK4 at h = {:.3e} s, \
                  estimated max θ error {:.1e} rad (Richardson against a run at 2h)",
-                f.fine_step(),
+                f.fine.h,
                 f.error_estimate()
             ),
         }

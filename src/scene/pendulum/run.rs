@@ -8,15 +8,12 @@ use super::{Pendulum, PendulumParams, step_block};
 use crate::format;
 use crate::integrate::{Counts, Integrator, Method, MethodOptions};
 use crate::scene::harness::{Checked, Sampler, Scene, Schedule, Window, Windows};
-use crate::scene::params::{self, Invalid};
+use crate::scene::params::{self, BLOCK_STEPS, Invalid};
 
 /// A method diverges when θ or ω stops being finite or its energy exceeds this many times
 /// max(E0, 2gL): far beyond anything a pendulum started with E0 can reach, so only an unstable
 /// integrator gets there.
 pub const DIVERGENCE_ENERGY_FACTOR: f64 = 10.0;
-
-/// Steps taken per method between switches; large enough that the clock reads cost nothing.
-const BLOCK_STEPS: usize = 4096;
 
 /// Everything a pendulum run needs; its serialised form is the scene file's `[pendulum]` table.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -76,10 +73,7 @@ impl params::SceneConfig for PendulumConfig {
     fn validate(&self) -> Result<(), Invalid> {
         let p = &self.params;
         let max = params::MAX_MAGNITUDE;
-        params::some_methods(
-            &self.methods,
-            &Method::names().collect::<Vec<_>>().join(", "),
-        )?;
+        params::some_methods(&self.methods, &Method::names().collect::<Vec<_>>())?;
         params::within("--gravity", p.gravity, 1.0 / max, max, "m/s²")?;
         params::within("--length", p.length, 1.0 / max, max, "m")?;
         let turns = super::MAX_THETA0_TURNS;
@@ -320,8 +314,7 @@ impl Scene for PendulumScene {
     }
 
     fn max_block(&self) -> u64 {
-        let per_tick = params::steps_per_sample(self.config.dt, &self.config.options);
-        (BLOCK_STEPS as u64 / per_tick).max(1)
+        params::block_ticks(self.config.dt, &self.config.options)
     }
 
     /// The first and the last five periods (small-angle periods when there is no exact one).

@@ -226,10 +226,7 @@ impl params::SceneConfig for RopeConfig {
 
     fn validate(&self) -> Result<(), Invalid> {
         let p = &self.params;
-        params::some_methods(
-            &self.methods,
-            &Method::names().collect::<Vec<_>>().join(", "),
-        )?;
+        params::some_methods(&self.methods, &Method::names().collect::<Vec<_>>())?;
         refuse_position_only_methods(p, &self.methods)?;
         params::count_within("--nodes", p.nodes as u64, 2, MAX_NODES as u64)?;
         let rule = "must differ from --start (the spacing is the springs' rest length)";
@@ -445,12 +442,10 @@ impl Scene for RopeScene {
         Windows::with(&self.config.window)
     }
 
-    /// Blocks end at 3D frames, and also after this many steps: a long run's rows are sampled
-    /// every step, and a block's rows are held until it is checked (fewer ticks when a method
-    /// takes several steps of its own per tick, `--step`).
+    /// Blocks end at 3D frames, and also after [`params::BLOCK_STEPS`] steps: a block's rows
+    /// are held until it is checked.
     fn max_block(&self) -> u64 {
-        let per_tick = params::steps_per_sample(self.config.dt, &self.config.options);
-        (4096 / per_tick).max(1)
+        params::block_ticks(self.config.dt, &self.config.options)
     }
 
     fn lanes(&self) -> Vec<(&'static str, RopeLane)> {
