@@ -14,13 +14,9 @@
 //! position update and pushes each node out of the head as it goes. The run solves eight strands
 //! at once in the lanes of a vector register ([`super::lanes`]).
 //!
-//! The tension solve ([`tension_solve_lanes`]): Newton's corrections point along
-//! the predicted segments, an explicit step on the tension's transverse stiffness (ω dt ≈ 3.3 at
-//! the root of a 16-node strand at 60 Hz, beyond the limit 2: hanging strands zig-zagged for
-//! ever). So the Newton steps only measure the tensions (their summed multipliers), and the
-//! positions are then solved with those tensions acting along the end-of-step segments: the
-//! stationarity condition of the closest-point projection, a second tridiagonal system, which
-//! damps every transverse mode instead (backward Euler).
+//! The Newton steps only measure the tensions (their summed multipliers); the positions are then
+//! solved with those tensions acting along the end-of-step segments ([`tension_solve_lanes`],
+//! which says why).
 //!
 //! The safeguard (chosen by measurement, see `tests/hair.rs`): from a prediction stretched several
 //! times over at 60 Hz the Newton iterates converge quadratically but from far away, so after

@@ -3,34 +3,20 @@
 //! A strand is a chain of dependent square roots and divisions, so one strand at a time is
 //! latency-bound; eight strands in the eight f64 lanes of an AVX-512 register (two AVX2 ones)
 //! make every operation one vector instruction (two), and the chains of different strands
-//! overlap. These methods keep their state in lane form for good (`HairState::Lanes` in the parent
-//! module): chunks of [`LANES`] strands, node-major within a chunk, one [`V3`] (x, y, z each an
-//! [`F8`] of eight strands) per node, so [`StepContext::step_lanes`] steps each chunk in place,
-//! with nothing copied in or out. Readers go through `Hair::node`, `Hair::strand` and
-//! `Hair::positions`, which transpose one node at a time. A chunk with fewer than eight strands
-//! holds copies of its first strand in the spare lanes; they are stepped with it (the same
-//! inputs, so the same bits) and never measured or read.
-//!
-//! The kernel takes the chunk's state slices (`x`, the start-of-step positions `p`, ftl's
-//! velocities `v`) and the per-thread [`LaneScratch`] for the solver's buffers.
+//! overlap. These methods keep their state in lane form for good (`HairState::Lanes`), so
+//! [`StepContext::step_lanes`] steps each chunk in place, with nothing copied in or out.
 //!
 //! Per lane the arithmetic and its order are the scalar code's (glam's `DVec3` operations:
-//! `length` = sqrt of (x² + y²) + z², normalisation multiplies by 1/ℓ); Rust does not contract
-//! a·b + c into a fused multiply-add, so the AVX-512 and AVX2 builds and the portable fallback
-//! give the same bits (tested). The collision push and the follow pass's contact case (the point
-//! on the circle where the rest-length sphere meets the collision sphere) run in lanes, with
-//! the scalar code's branches as per-lane selections; only degenerate lanes (a zero-length
-//! segment, a parent at the centre, a prediction along the axis, non-finite values) run the
-//! scalar code ([`StepContext::follow`]). "Outside the head" is decided on squared distances
-//! against an exact threshold ([`sqrt_threshold`]), with no square root.
-//!
-//! `F8` is a plain `[f64; 8]` whose operations are per-lane loops marked `#[inline(always)]`;
-//! inlined into a function compiled with `avx512f` or `avx2` (chosen at run time) LLVM turns
-//! each into one `zmm` instruction or two `ymm` ones (`vsqrtpd`, `vdivpd`, `vmulpd`, ... : see
-//! `objdump -d` of the binary, functions `kernel_avx512` and `kernel_avx2`). Two things keep
-//! LLVM from undoing that: the Newton step's first loop hides its index from the loop vectoriser
-//! (which would otherwise gather lanes of four segments), and the finite test compares with an
-//! opaque `f64::MAX` (a comparison with the constant becomes integer bit tests per lane).
+//! `length` = sqrt of (x² + y²) + z², normalisation multiplies by 1/ℓ), so every compilation
+//! ([`super::simd`]) gives the same bits (tested). The collision push and the follow pass's
+//! contact case run in lanes, with the scalar code's branches as per-lane selections; only
+//! degenerate lanes (a zero-length segment, a parent at the centre, a prediction along the axis,
+//! non-finite values) run the scalar code ([`StepContext::follow`]). "Outside the head" is
+//! decided on squared distances against an exact threshold ([`sqrt_threshold`]), with no square
+//! root. Two things keep LLVM from undoing the vectors (`objdump -d`, `kernel_avx512`): the
+//! Newton step's first loop hides its index from the loop vectoriser (which would gather lanes of
+//! four segments), and the finite test compares with an opaque `f64::MAX` (a comparison with the
+//! constant becomes integer bit tests per lane).
 
 // Lane loops index every array by the lane on purpose: it is the form LLVM turns into one
 // vector instruction.

@@ -2,31 +2,19 @@
 //! damping and sphere collision, stepped by four methods that really differ:
 //!
 //! - `verlet`: position Verlet, then the segments' length constraints, solved by `--solver`:
-//!   `direct` (the chain's constraints together, Newton on the multipliers with a tridiagonal
-//!   system per strand solved by the Thomas algorithm in O(nodes): [`direct`]) or `gauss-seidel`
-//!   (relaxation sweeps from root to tip);
+//!   `direct` ([`direct`]) or `gauss-seidel` (relaxation sweeps from root to tip);
 //! - `semi-implicit-euler`: force-based, each segment a stiff damped spring (as the rope models
 //!   it), symplectic Euler with as many inner steps as its stability needs ([`spring`]);
-//! - `implicit-euler`: the same springs, backward Euler by the rope's block-tridiagonal solve
-//!   (`scene::rope::implicit`, shared, one strand at a time);
+//! - `implicit-euler`: the same springs, backward Euler by the rope's block-tridiagonal solve;
 //! - `ftl`: dynamic follow-the-leader (Müller, Kim & Chentanez 2012), inextensible in one pass.
 //!
-//! Layout is structure-of-arrays: positions, previous positions and velocities are separate
-//! arrays, and a method keeps only the arrays it needs (verlet: positions and previous
-//! positions; ftl: positions and velocities; the springs all three). Two layouts (`HairState`):
-//! - lane form, for `verlet` with the direct solver and `ftl`, which step eight strands at once
-//!   in the lanes of a vector register ([`lanes`]): chunks of eight strands, node-major within a
-//!   chunk (node k of strand s in lane s % 8 of element (s / 8)·nodes + k), stepped in place;
-//! - strand-major `DVec3` (node k of strand s at s·nodes + k) for gauss-seidel verlet and the
-//!   spring methods, which step one strand at a time.
-//!
-//! Either way the strands of a group are contiguous, so groups are stepped in parallel without
-//! sharing anything. Nothing outside this module depends on the layout: positions are read
-//! through [`Hair::node`], [`Hair::strand`] and [`Hair::positions`] (the recorder, the tests, the
-//! invariants), so the transposition happens only where something is read. The hot loop
-//! allocates nothing (per-thread scratch is made once). f64 throughout: segment lengths (~1 cm)
-//! must hold to 1e-6 relative at positions ~1 m away from the origin, which f32 (7 digits)
-//! cannot.
+//! Layout is structure-of-arrays, each method keeping only the arrays it needs, in one of two
+//! layouts (`HairState`); the strands of a group are contiguous, so groups are stepped in
+//! parallel without sharing anything. Nothing outside this module depends on the layout:
+//! positions are read through [`Hair::node`], [`Hair::strand`] and [`Hair::positions`], so the
+//! transposition happens only where something is read. The hot loop allocates nothing. f64
+//! throughout: segment lengths (~1 cm) must hold to 1e-6 relative at positions ~1 m away from
+//! the origin, which f32 (7 digits) cannot.
 
 pub mod direct;
 pub mod head;
@@ -109,8 +97,7 @@ pub struct Hair {
     pub method: HairMethod,
     /// Root directions in the head frame (unit).
     roots: Vec<DVec3>,
-    /// Positions and what the method keeps besides, in the method's layout: read them through
-    /// [`Hair::node`], [`Hair::strand`] or [`Hair::positions`].
+    /// Positions and what the method keeps besides, in the method's layout.
     state: HairState,
     /// Time of the current state [s].
     pub time: f64,

@@ -8,12 +8,9 @@ use crate::scene::harness::{Checked, Clock, Sampler, Scene, Schedule, Window, Wi
 use crate::scene::params::{self, Invalid};
 
 /// A method diverges when a position stops being finite or a segment is stretched by more than
-/// this many rest lengths (|ℓ - ℓ0|/ℓ0 > 10: the segment is over 11 times its length). No sound
-/// run comes near it: the constrained methods hold length to ~1e-14, Gauss–Seidel's 4 sweeps
-/// leave ~1.7 and the springs ~1e-2 at the defaults, while a wind the solver cannot hold
-/// (`--wind 1000,0,0`: Gauss–Seidel 267, implicit-euler springs 582) goes far past it. Position
-/// methods do not blow up the way force-based ones do; this is where their strands stop being
-/// hair. The summary and the recording state it.
+/// this many rest lengths (|ℓ - ℓ0|/ℓ0 > 10: the segment is over 11 times its length), far past
+/// any sound run and short of a wind the solver cannot hold. Position methods do not blow up the
+/// way force-based ones do; this is where their strands stop being hair.
 pub const STRETCH_BOUND: f64 = 10.0;
 
 /// Everything a hair run needs; its serialised form is the scene file's `[hair]` table.
@@ -114,12 +111,8 @@ impl params::SceneConfig for HairConfig {
         params::within("--damping", p.damping, 0.0, max, "1/s")?;
         self.schedule().check_windows(&self.window)?;
         let margin_ok = p.margin.is_finite() && (0.0..0.5).contains(&p.margin);
-        params::require(
-            margin_ok,
-            "--margin",
-            p.margin,
-            "must be in [0, 0.5) head radii",
-        )?;
+        let rule = "must be in [0, 0.5) head radii";
+        params::require(margin_ok, "--margin", p.margin, rule)?;
         params::at_least_one("--iterations", iterations.into())?;
         self.validate_stiffness()?;
         params::within("--spring-damping", p.spring_damping, 0.0, max, "1/s")?;

@@ -1,8 +1,6 @@
 //! The one run loop every scene shares: N lanes (methods, and a reference where a scene has
-//! one) side by side on one schedule. The harness steps each lane a block at a time (timing only
-//! the stepping), has the scene check every tick of the block, stops a lane that diverged with
-//! its event, batches the sampled series, hands 3D frames to the observer, and ends early and
-//! cleanly on Ctrl-C. A scene says only what is particular to it through [`Scene`].
+//! one) side by side on one schedule, stepped a block at a time (only the stepping timed) and
+//! checked every tick; a scene says only what is particular to it through [`Scene`].
 //!
 //! A "tick" is the scene's unit of time on the schedule: one step of dt for the pendulum and the
 //! rope, one simulation frame (of `substeps` steps) for hair.

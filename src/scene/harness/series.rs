@@ -62,14 +62,9 @@ fn merged(a: Kept, b: Kept, width: usize) -> Kept {
         let sb = b.steps.get(j).copied().unwrap_or(u64::MAX);
         if sa == sb {
             let (na, nb) = (a.needed[i], b.needed[j]);
+            let (ra, rb) = (row(&a, i, width), row(&b, j, width));
             let values: Vec<f64> = (0..width)
-                .map(|q| {
-                    if na & (1 << q) != 0 {
-                        row(&a, i, width)[q]
-                    } else {
-                        row(&b, j, width)[q]
-                    }
-                })
+                .map(|q| if na & (1 << q) != 0 { ra[q] } else { rb[q] })
                 .collect();
             out.push(sa, &values, na | nb);
             (i, j) = (i + 1, j + 1);

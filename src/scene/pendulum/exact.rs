@@ -4,15 +4,6 @@
 use super::PendulumParams;
 use crate::elliptic::{complete_k_m1, jacobi_m1};
 
-/// θ(t) = 2 atan2(k sn, dn)(K - ωn t | k²) (= 2 asin(k sn), written so that it keeps its
-/// digits near the top, where k sn → 1), ω(t) = -2 k ωn cn(K - ωn t | k²), with k = sin(θ0/2),
-/// ωn = sqrt(g/L): the exact motion after release from rest at θ0, |θ0| < 180°.
-///
-/// Near the separatrix the parameter m = k² rounds to 1, so the complement m1 = k'² is formed
-/// from k' = cos(θ0/2) = sin((π - |θ0|)/2), the complement taken from the angle as typed
-/// ([`PendulumParams::half_angle`]: θ0 in degrees rounded to radians alone would move k' by up to
-/// 1.3e-7 relative at 179.9999999°), and handed to [`complete_k_m1`] and [`jacobi_m1`]. The
-/// period and θ(t) then keep their full precision up to the last double below 180°.
 /// How well [`ExactPendulum::state`] gives θ [rad] within the first periods: measured against
 /// 100-digit mpmath values from 10° to 179.99999999999° (`tests/pendulum.rs`, worst 9.6e-15
 /// rad). Over a run it grows by [`EXACT_THETA_DRIFT`] per radian of ωn t
@@ -22,10 +13,18 @@ pub const EXACT_THETA_ACCURACY: f64 = 1e-14;
 /// How much the closed form's θ error grows per radian of ωn t [rad]: ωn is a rounded double
 /// (its relative error, up to 1.1e-16, becomes a phase error growing with t), and so are
 /// ωn t and its reduction by the period. Measured over whole runs against mpmath
-/// (`tests/pendulum.rs`, 10° to 179.999999°, 30–100 s): at most 5.5e-16 per radian
-/// (120° over 30 s: 2.8e-14 rad in all; -150° over 100 s at ωn = 3.1/s: 1.0e-13).
+/// (`tests/pendulum.rs`, 10° to 179.999999°, 30–100 s): at most 5.5e-16 per radian.
 pub const EXACT_THETA_DRIFT: f64 = 1e-15;
 
+/// θ(t) = 2 atan2(k sn, dn)(K - ωn t | k²) (= 2 asin(k sn), written so that it keeps its
+/// digits near the top, where k sn → 1), ω(t) = -2 k ωn cn(K - ωn t | k²), with k = sin(θ0/2),
+/// ωn = sqrt(g/L): the exact motion after release from rest at θ0, |θ0| < 180°.
+///
+/// Near the separatrix the parameter m = k² rounds to 1, so the complement m1 = k'² is formed
+/// from k' = cos(θ0/2) = sin((π - |θ0|)/2), the complement taken from the angle as typed
+/// ([`PendulumParams::half_angle`]: θ0 in degrees rounded to radians alone would move k' by up to
+/// 1.3e-7 relative at 179.9999999°), and handed to [`complete_k_m1`] and [`jacobi_m1`]. The
+/// period and θ(t) then keep their full precision up to the last double below 180°.
 #[derive(Clone, Copy, Debug)]
 pub struct ExactPendulum {
     k: f64,

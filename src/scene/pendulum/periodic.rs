@@ -17,15 +17,11 @@
 //!
 //! # The time argument
 //! Step n stands for the time n·dt, the exact product of the step count and the double dt.
-//! [`reduce`] forms it without rounding as a double-double (Dekker's exact product), subtracts q·T
-//! (q = ⌊n·dt / T⌋) also as an exact double-double, and rounds once: the phase is within about
-//! 2 ulp(T) of n·dt mod T whatever n is (for n < 2⁵³), so it adds no error that grows with the
-//! run. What does grow is the period's own rounding: T = 4K/ωn is a double, within a few ulps of
-//! the true period, so after n·dt/T periods the phase has moved by about that many times
-//! |δT| ≈ 2 eps T. Over 10⁸ steps of 0.01 s (10⁶ s) at the default T ≈ 4.0 s that is 2.5·10⁵
-//! periods × 1.8e-15 s ≈ 4.4e-10 s, i.e. up to |ω|max × 4.4e-10 ≈ 7e-10 rad, the same order as
-//! the closed form's own drift ([`super::exact::EXACT_THETA_DRIFT`] per radian of ωn t:
-//! 1.7e-9 rad there), and far below any method's error after 10⁸ steps.
+//! [`reduce`] forms n·dt mod T within about 2 ulp(T) whatever n is (for n < 2⁵³), so it adds no
+//! error that grows with the run. What does grow is the period's own rounding: T = 4K/ωn is a
+//! double, within a few ulps of the true period, so the phase moves by about 2 eps T a period:
+//! the same order as the closed form's own drift ([`super::exact::EXACT_THETA_DRIFT`]), and far
+//! below any method's error.
 
 use super::PendulumParams;
 use super::exact::ExactPendulum;

@@ -54,12 +54,9 @@ impl CompensatedRk4 {
     }
 }
 
-/// A fine-step RK4 solution for starts the closed form does not cover. It is run twice, at
-/// h and h/2, and the finer one is used; their difference / (2⁴ - 1) (Richardson for order 4)
-/// estimates its error, reported with the run. Both runs keep their state as compensated sums
-/// ([`CompensatedRk4`]), so that what is left of their error is truncation, which the
-/// comparison sees; the estimate is checked against mpmath over whole runs with ω0 ≠ 0
-/// (`tests/pendulum.rs`).
+/// A fine-step RK4 solution for starts the closed form does not cover, run at h and h/2: the
+/// finer one is used, their difference estimates its error ([`FineStepReference::error_estimate`]),
+/// and both keep compensated sums ([`CompensatedRk4`]) so that what is left of it is truncation.
 #[derive(Clone, Debug)]
 pub struct FineStepReference {
     fine: CompensatedRk4,

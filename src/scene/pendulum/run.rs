@@ -82,14 +82,10 @@ impl params::SceneConfig for PendulumConfig {
             let typed: f64 = format!("{:.11e}", p.theta0.to_degrees())
                 .parse()
                 .unwrap_or(f64::NAN);
-            return Err(Invalid::param(
-                "--theta0",
-                format::shown(typed),
-                format!(
-                    "must be a finite angle within ±{turns} turns (±{}°) [degrees]",
-                    turns * 360.0
-                ),
-            ));
+            let degrees = turns * 360.0;
+            let rule =
+                format!("must be a finite angle within ±{turns} turns (±{degrees}°) [degrees]");
+            return Err(Invalid::param("--theta0", format::shown(typed), rule));
         }
         params::within("--omega0", p.omega0, -max, max, "rad/s")?;
         params::time(self.dt, self.duration, self.fps, 1)?;

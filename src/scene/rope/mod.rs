@@ -9,12 +9,9 @@
 //! one more coordinate, the work W the damping and drag have dissipated, as a *velocity*
 //! component whose "acceleration" is the dissipated power P(x, v) = Σ kd (Δv·u)² + Σ ka |v|²
 //! (its position component is unused). Every method then integrates W' = P with its own stages
-//! and weights, exactly as it integrates v' = a(x, v): the Runge–Kutta methods (explicit and
-//! adaptive) with their tableau, explicit and semi-implicit Euler with their one evaluation,
-//! the compositions with their kicks, Verlet through its velocity identity (W at the half steps
-//! advanced by h·P, the midpoint rule on the staggered grid: second order, and exempt from its
-//! damping factor, [`SecondOrderSystem::first_order_tail`]), implicit Euler by
-//! W1 = W0 + h P(x1, v1) after its Newton solve. So W has the method's order on these forces and
+//! and weights, exactly as it integrates v' = a(x, v) (Verlet through its velocity identity,
+//! exempt from its damping factor: [`SecondOrderSystem::first_order_tail`]; implicit Euler by
+//! W1 = W0 + h P(x1, v1) after its Newton solve). So W has the method's order on these forces and
 //! E + W − E0 converges at it; a quadrature of P at the samples would not.
 
 pub mod implicit;
@@ -239,8 +236,7 @@ impl Rope {
     /// [`Rope::forces`], and with `POWER` the dissipated power: the springs' share in their pass
     /// (it shares their direction and relative velocity), the drag's by [`sum_of_squares`]
     /// (pinned nodes are at rest: no share). Never inlined, so the force loops compile alike with
-    /// and without it: inlined, with one running sum in the node loop, they did not vectorise
-    /// and W cost 12 % of a 16-node step instead of 6 % (`benches/rope_step.rs`).
+    /// and without it: inlined, they did not vectorise (`benches/rope_step.rs`).
     #[inline(never)]
     fn forces_with<const POWER: bool>(&self, x: &[f64], v: &[f64], f: &mut [f64]) -> f64 {
         let p = &self.params;

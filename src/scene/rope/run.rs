@@ -246,14 +246,9 @@ impl params::SceneConfig for RopeConfig {
         params::within("--spring-damping", p.spring_damping, 0.0, max, "N·s/m")?;
         params::within("--air-drag", p.air_drag, 0.0, max, "N·s/m")?;
         if let Some(&bad) = p.pinned.iter().find(|&&i| i >= p.nodes) {
-            return Err(Invalid::param(
-                "--pinned",
-                bad,
-                format!(
-                    "node index out of range; the rope has nodes 0..={}",
-                    p.nodes - 1
-                ),
-            ));
+            let last = p.nodes - 1;
+            let rule = format!("node index out of range; the rope has nodes 0..={last}");
+            return Err(Invalid::param("--pinned", bad, rule));
         }
         params::at_least_one("--newton-iterations", p.newton_iterations.into())?;
         params::time(self.dt, self.duration, self.fps, p.nodes)?;
@@ -375,11 +370,9 @@ pub struct RopeScene {
     pub energy_scale: f64,
     /// See [`strain_bound`].
     pub strain_bound: f64,
-    /// Highest angular frequency of the linearised springs [rad/s]: the pinned-free chain's
-    /// exact value when only node 0 is pinned, otherwise the bound 2 sqrt(k/m) that holds for
-    /// any pinning.
+    /// Highest angular frequency of the linearised springs [rad/s], and whether it is exact
+    /// ([`RopeParams::omega_max`]).
     pub omega_max: f64,
-    /// Which of the two `omega_max` is.
     pub omega_max_is_exact: bool,
     /// Largest damping rate of the linearised chain [1/s]: the damping matrix's Gershgorin bound
     /// (4 kd + ka)/m. Explicit steps also need it well below 2/dt, whatever the springs allow.
