@@ -18,9 +18,8 @@ pub enum HeadMotion {
     Nod,
     /// Sway, turn, nod, then a rest, repeating.
     Tour,
-    /// A fast shake: side to side at 3 Hz (±1.2 head radii) while turning at 2.5 Hz (±0.3 rad),
-    /// both under a sin² window of 2 s, so it starts and ends at rest; peak accelerations of
-    /// several g (see the test), smooth (C²) and deterministic.
+    /// A fast shake: side to side while turning, both under a sin² window of one pulse, so it
+    /// starts and ends at rest; peak accelerations of several g (see the test).
     Shake,
 }
 

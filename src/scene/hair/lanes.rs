@@ -356,12 +356,8 @@ impl StepContext<'_> {
         }
     }
 
-    /// [`StepContext::follow`] on eight nodes, in lanes: the free case (a segment of non-zero
-    /// length whose rest-length point is outside the head) and the contact case (the point on
-    /// the circle where the rest-length sphere meets the collision sphere, or straight out when
-    /// they do not meet); the degenerate cases (a zero-length segment, a parent at the centre, a
-    /// prediction along the axis, non-finite values) by the scalar code on the lanes that take
-    /// them. Per lane the operations and their order are the scalar code's.
+    /// [`StepContext::follow`] on eight nodes, in lanes, the degenerate cases by the scalar code
+    /// on the lanes that take them (module docs).
     #[inline(always)]
     fn follow_lanes(&self, parent: V3, predicted: V3) -> (V3, V3) {
         let l0 = self.params.segment_length;

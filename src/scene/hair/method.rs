@@ -23,9 +23,8 @@ impl HairMethod {
     ];
 
     /// The methods a run takes by default. The spring methods are chosen by --methods:
-    /// semi-implicit-euler takes ~500 inner steps a frame at the default stiffness (a default run
-    /// would take seconds more per 200 strands), and implicit-euler up to 40 Newton steps per
-    /// frame, each a block-tridiagonal solve per strand.
+    /// semi-implicit-euler takes hundreds of inner steps a frame at the default stiffness, and
+    /// implicit-euler up to 40 Newton steps per frame, each a block-tridiagonal solve per strand.
     pub const DEFAULT: [HairMethod; 2] = [HairMethod::Verlet, HairMethod::Ftl];
 
     /// Every method's name, comma-separated, for the messages that list them.

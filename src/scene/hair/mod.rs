@@ -330,10 +330,8 @@ impl Hair {
         self.last_dt = dt;
     }
 
-    /// The invariants at the end of the last step: what the step measured on its way (largest
-    /// stretch, deepest penetration of a non-root node into R(1 + margin), the kinetic energy,
-    /// whether every position is finite), plus the roots' distance from their anchors (one pass
-    /// over the strands, not the nodes).
+    /// The invariants at the end of the last step: what the step measured on its way, plus the
+    /// roots' distance from their anchors (one pass over the strands, not the nodes).
     pub fn stats(&self) -> HairStats {
         let mut out = HairStats {
             finite: true,

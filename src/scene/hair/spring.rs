@@ -4,9 +4,8 @@
 //! held on the moving head (its velocity is the anchor's over the step). Collision pushes a
 //! node out to R(1 + margin) and removes the velocity into the head.
 //!
-//! - symplectic Euler: v += h a(x, v), x += h v, with h ≤ 0.9 × the stability limit of the
-//!   highest mode (ω² = 4k/m, damping rate 4kd/m): h²ω² + 2hγ < 4
-//!   ([`super::HairParams::spring_step_limit`]);
+//! - symplectic Euler: v += h a(x, v), x += h v, with h within the stability limit of the
+//!   highest mode ([`super::HairParams::spring_step_limit`]);
 //! - backward Euler: the rope's block-tridiagonal Newton solve, shared through
 //!   [`crate::scene::rope::implicit::Chain`], one strand at a time. Three things make it hold
 //!   length: Newton to tolerance rather than the linearised

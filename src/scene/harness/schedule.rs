@@ -298,26 +298,22 @@ impl Schedule {
         let mut ticks = Vec::new();
         for &w in asked {
             let Some(t) = self.window_ticks(&w) else {
-                return Err((
-                    w,
-                    format!(
-                        "holds no plotted step of the run, which spans 0 to {} s (FROM must not \
-                         be after TO; negative ends count back from the end)",
-                        shown(self.end_time())
-                    ),
-                ));
+                let end = shown(self.end_time());
+                let why = format!(
+                    "holds no plotted step of the run, which spans 0 to {end} s (FROM must not be \
+                     after TO; negative ends count back from the end)"
+                );
+                return Err((w, why));
             };
             ticks = merged_ranges(ticks, t);
             let rows: u64 = ticks.iter().map(|&t| self.rows_in(t)).sum();
             if rows > MAX_ASKED_WINDOW_ROWS {
-                return Err((
-                    w,
-                    format!(
-                        "the windows keep {rows} plotted steps per lane whole so far; at most \
-                         {MAX_ASKED_WINDOW_ROWS} are kept (shorten the windows, or thin them with \
-                         --plot-every)"
-                    ),
-                ));
+                let why = format!(
+                    "the windows keep {rows} plotted steps per lane whole so far; at most \
+                     {MAX_ASKED_WINDOW_ROWS} are kept (shorten the windows, or thin them with \
+                     --plot-every)"
+                );
+                return Err((w, why));
             }
         }
         Ok(ticks)

@@ -412,14 +412,9 @@ impl Scene for PendulumScene {
             && offset <= checked.accepted
             && offset < len
         {
-            checked.solver_miss = Some((
-                offset,
-                format!(
-                    "|Δω| ≤ {:e}·(1+|ω|) within {} iterations",
-                    super::NEWTON_TOL,
-                    super::NEWTON_MAX_ITERATIONS
-                ),
-            ));
+            let (tol, most) = (super::NEWTON_TOL, super::NEWTON_MAX_ITERATIONS);
+            let asked = format!("|Δω| ≤ {tol:e}·(1+|ω|) within {most} iterations");
+            checked.solver_miss = Some((offset, asked));
         }
         checked
     }

@@ -19,18 +19,15 @@ use glam::{DMat3, DVec3};
 use super::{Rope, node};
 use crate::integrate::ImplicitSolve;
 
-/// A chain's masses and springs.
+/// A chain's masses and springs (every node's mass, every spring's stiffness and rest length).
 #[derive(Clone, Copy, Debug)]
 pub struct ChainConstants {
-    /// Number of nodes, ≥ 2.
+    /// At least 2.
     pub nodes: usize,
-    /// Mass of every node.
     pub mass: f64,
-    /// Hooke stiffness of every spring.
     pub stiffness: f64,
     /// Damping on the relative velocity along each spring.
     pub spring_damping: f64,
-    /// Rest length of every spring.
     pub rest: f64,
     /// Linear drag: force -drag·v on every node.
     pub air_drag: f64,

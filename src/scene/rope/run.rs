@@ -535,15 +535,12 @@ impl Scene for RopeScene {
             Some((k, why)) => (k, Some(why)),
             None => (len, None),
         };
+        let tol = super::implicit::NEWTON_TOL;
         Checked {
             accepted,
             divergence,
-            solver_miss: lane.first_miss.map(|k| {
-                (
-                    k,
-                    format!("max |δv| ≤ {:e}·(1 + max |v|)", super::implicit::NEWTON_TOL),
-                )
-            }),
+            solver_miss: (lane.first_miss)
+                .map(|k| (k, format!("max |δv| ≤ {tol:e}·(1 + max |v|)"))),
             // The rope stops stepping at its failing step: its integrator's counts are exact.
             counts: None,
         }
