@@ -354,10 +354,8 @@ impl Scene for HairScene {
         w.max_penetration = w.max_penetration.max(st.max_penetration);
         w.max_root_error = w.max_root_error.max(st.max_root_error);
         w.kinetic_energy = st.kinetic_energy;
-        out.push(
-            first,
-            &[st.max_stretch, st.max_penetration, st.kinetic_energy],
-        );
+        let row = [st.max_stretch, st.max_penetration, st.kinetic_energy];
+        out.push(first, &row);
         Checked::all(1)
     }
 }

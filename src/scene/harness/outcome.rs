@@ -7,7 +7,7 @@ use super::{Event, Schedule};
 use crate::integrate::Counts;
 
 /// One lane's bookkeeping: what the summary needs besides the scene's own measurements.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 pub struct LaneStats {
     pub name: &'static str,
     pub is_method: bool,

@@ -39,14 +39,12 @@ impl<L: Send> Running<L> {
             .map(|(&name, lane)| LaneStats {
                 name,
                 is_method: scene.is_method(lane),
-                ticks: 0,
-                wall: Duration::ZERO,
-                timed_ticks: 0,
                 counts: scene.counts(lane),
-                divergence: None,
+                ..LaneStats::default()
             })
             .collect();
         let wanted = observer.rows();
+        let keep = wanted != WantedRows::None;
         let plan = match wanted {
             WantedRows::Plotted => schedule.series_plan(&scene.windows()),
             WantedRows::None | WantedRows::Every => None,
@@ -59,12 +57,7 @@ impl<L: Send> Running<L> {
                     .iter()
                     .map(|q| absent_when_zero(q))
                     .collect();
-                LaneSeries::new(
-                    &schedule,
-                    &absent,
-                    plan.as_ref(),
-                    wanted != WantedRows::None,
-                )
+                LaneSeries::new(&schedule, &absent, plan.as_ref(), keep)
             })
             .collect();
         let named: Vec<(&'static str, &L)> = names.iter().copied().zip(&lanes).collect();
@@ -74,15 +67,13 @@ impl<L: Send> Running<L> {
                 Sampler::new(&schedule, &mut series[i]).push(0, &values);
             }
         }
-        observer.frame(
-            scene,
-            &Frame {
-                tick: 0,
-                time: 0.0,
-                lanes: lanes.iter().map(|l| Some((l, 0))).collect(),
-                cost_ms: vec![0.0; lanes.len()],
-            },
-        )?;
+        let start = Frame {
+            tick: 0,
+            time: 0.0,
+            lanes: lanes.iter().map(|l| Some((l, 0))).collect(),
+            cost_ms: vec![0.0; lanes.len()],
+        };
+        observer.frame(scene, &start)?;
         let n = lanes.len();
         Ok(Running {
             schedule,

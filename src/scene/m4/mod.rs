@@ -277,10 +277,8 @@ impl Open {
         self.extremes.fill(Extremes::default());
     }
 
-    /// Takes in consecutive rows of this column. One pass over the rows finds every value's
-    /// extremes at once (a row is a fixed-size array, so the pass is a few vector
-    /// instructions per row) and which values are not plain (a NaN, or an absent zero); only
-    /// those take the slower way.
+    /// Takes in consecutive rows of this column: one pass finds every value's extremes at once
+    /// and which values are not plain (a NaN, or an absent zero); only those take the slower way.
     fn add(&mut self, rows: &[Sample], absent: &[bool; MAX_VALUES]) {
         // The pass over the values the rows have, not all MAX_VALUES.
         let chunks = &mut self.chunks;
@@ -356,11 +354,8 @@ impl Open {
 
 /// The M4 aggregate of rows of `width` values (one series per value, sharing their steps) over
 /// the steps 0..=N, fed one step at a time. Each value is aggregated on its own; a column keeps
-/// the union of the rows its values keep, so every value keeps its first, last, minimum,
-/// maximum and first NaN per column (and maybe more of its true points, which changes nothing
-/// drawn: see the module documentation; [`Kept::needed`] says which rows each value needs). A
-/// value marked `absent_when_zero` (plotted as log10 |x|, where zeros are left out) treats its
-/// zeros as no point at all.
+/// the union of the rows its values keep ([`Kept::needed`] says which each value needs). A value
+/// marked `absent_when_zero` (plotted as log10 |x|) treats its zeros as no point at all.
 #[derive(Clone, Debug)]
 pub struct M4 {
     last_step: u64,

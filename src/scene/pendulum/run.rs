@@ -235,17 +235,9 @@ impl PendulumScene {
     }
 
     fn lane(&self, method: Option<Method>) -> PendulumLane {
-        let p = self.config.params;
-        let integrator = method.map(|m| {
-            Integrator::new(
-                m,
-                &self.system,
-                &[p.theta0],
-                &[p.omega0],
-                self.config.dt,
-                self.config.options,
-            )
-        });
+        let (p, dt, options) = (self.config.params, self.config.dt, self.config.options);
+        let (x0, v0) = ([p.theta0], [p.omega0]);
+        let integrator = method.map(|m| Integrator::new(m, &self.system, &x0, &v0, dt, options));
         let mut meter = PeriodMeter::new();
         meter.push(0.0, p.theta0, p.omega0);
         let mut theta = vec![0.0; BLOCK_STEPS];
@@ -278,13 +270,9 @@ impl Scene for PendulumScene {
     }
 
     fn lanes(&self) -> Vec<(&'static str, PendulumLane)> {
+        let methods = (self.config.methods.iter()).map(|&m| (m.name(), self.lane(Some(m))));
         std::iter::once((self.reference.name(), self.lane(None)))
-            .chain(
-                self.config
-                    .methods
-                    .iter()
-                    .map(|&m| (m.name(), self.lane(Some(m)))),
-            )
+            .chain(methods)
             .collect()
     }
 

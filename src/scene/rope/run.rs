@@ -451,20 +451,14 @@ impl Scene for RopeScene {
             &self.initial_positions
         };
         let v0 = vec![0.0; x0.len()];
+        let (dt, options) = (self.config.dt, self.config.options);
         self.config
             .methods
             .iter()
             .map(|&m| {
                 let lane = RopeLane {
                     method: m,
-                    integrator: Integrator::new(
-                        m,
-                        &self.rope,
-                        x0,
-                        &v0,
-                        self.config.dt,
-                        self.config.options,
-                    ),
+                    integrator: Integrator::new(m, &self.rope, x0, &v0, dt, options),
                     rows: Vec::new(),
                     failed: None,
                     first_miss: None,
@@ -483,13 +477,8 @@ impl Scene for RopeScene {
     }
 
     fn initial(&self, _lane: &RopeLane) -> Option<Vec<f64>> {
-        let x0 = &self.initial_positions;
-        Some(vec![
-            self.initial_energy,
-            0.0,
-            0.0,
-            self.rope.max_strain(x0),
-        ])
+        let strain = self.rope.max_strain(&self.initial_positions);
+        Some(vec![self.initial_energy, 0.0, 0.0, strain])
     }
 
     /// Steps and checks every step: a rope cannot keep every step's state, so the O(N) energy
