@@ -136,22 +136,20 @@ pub fn own_step(
     duration: f64,
     work_per_step: usize,
 ) -> Result<(), Invalid> {
-    match step {
-        Some(h) => {
-            positive("--step", h, "s")?;
-            let rule = format!("must not exceed --duration {} s", shown(duration));
-            require(h <= duration, "--step", h, rule)?;
-            let least = dt / MAX_STEPS_PER_SAMPLE;
-            let rule = format!(
-                "must be at least --dt / {MAX_STEPS_PER_SAMPLE} = {} s (steps between two \
-                 samples); for finer steps lower --dt and plot every Nth with --plot-every",
-                shown(least)
-            );
-            require(h >= least, "--step", h, rule)?;
-            step_count("--step", h, duration, work_per_step)
-        }
-        None => Ok(()),
-    }
+    let Some(h) = step else {
+        return Ok(());
+    };
+    positive("--step", h, "s")?;
+    let rule = format!("must not exceed --duration {} s", shown(duration));
+    require(h <= duration, "--step", h, rule)?;
+    let least = dt / MAX_STEPS_PER_SAMPLE;
+    let rule = format!(
+        "must be at least --dt / {MAX_STEPS_PER_SAMPLE} = {} s (steps between two samples); for \
+         finer steps lower --dt and plot every Nth with --plot-every",
+        shown(least)
+    );
+    require(h >= least, "--step", h, rule)?;
+    step_count("--step", h, duration, work_per_step)
 }
 
 /// Steps a fixed-step scene takes per method between checks; large enough that the clock reads

@@ -98,12 +98,10 @@ impl params::SceneConfig for PendulumConfig {
     /// A step beyond a tenth of the period (the exact one for the start given; the small-angle
     /// 2π/ωn at rest) follows a swing with fewer than ten steps.
     fn step_warning(&self) -> Option<String> {
+        let small_angle = std::f64::consts::TAU / self.params.omega_n();
         let (period, what) = match exact_period(&self.params) {
             Some(t) => (t, "period"),
-            None => (
-                std::f64::consts::TAU / self.params.omega_n(),
-                "small-angle period",
-            ),
+            None => (small_angle, "small-angle period"),
         };
         let (flag, h) = params::fixed_step(self.dt, &self.options);
         (h > period / 10.0).then(|| {
