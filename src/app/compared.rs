@@ -6,8 +6,8 @@ use std::ffi::OsString;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use super::scenes::SCENES;
-use super::{Error, SceneFile};
+use super::Error;
+use super::scenes::{parse_scene_file, scene_named};
 use crate::format::{sig, sig_pair};
 use crate::rrd::compare::{SeriesDiff, time_text};
 use crate::rrd::inspect::{RecordingInfo, read_recording};
@@ -86,10 +86,9 @@ pub(super) fn recorded_command(info: &RecordingInfo) -> Option<String> {
 /// them; `None` unless every scene it names is one and its configuration parses.
 pub(super) fn scene_command(info: &RecordingInfo, config: &Path) -> Option<String> {
     let listed: Vec<&'static str> = (info.properties.get("scenes")?.split(','))
-        .map(|s| SCENES.iter().find(|k| k.name == s).map(|k| k.name))
+        .map(|s| scene_named(s).map(|k| k.name))
         .collect::<Option<_>>()?;
-    let names: Vec<&str> = SCENES.iter().map(|s| s.name).collect();
-    SceneFile::parse(info.properties.get("config")?, &names).ok()?;
+    parse_scene_file(info.properties.get("config")?).ok()?;
     let subcommand = match listed[..] {
         [one] => one,
         _ => "all",

@@ -7,13 +7,12 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use super::Error;
-use super::SceneFile;
 use super::compared::{
     EntityLine, by_entity, check_output, config_keys, difference_lines, lane_names, physlab_made,
     print_lines, single_method, tolerance, version_line,
 };
-use super::scenes::{AllFlags, SCENES};
-use crate::cli::{DiffArgs, RunArgs};
+use super::scenes::{SCENES, parse_scene_file};
+use crate::cli::DiffArgs;
 use crate::output::Dash;
 use crate::record::Framing;
 use crate::record::diff::{DiffPlan, DiffWriter};
@@ -395,19 +394,14 @@ fn configuration_lines(ia: &RecordingInfo, ib: &RecordingInfo) -> Vec<String> {
 /// Each scene's 3D framing as the recording's configuration draws it (none when it holds no
 /// configuration this build runs).
 fn framings(info: &RecordingInfo) -> Vec<(&'static str, Framing)> {
-    let Some(text) = info.properties.get("config") else {
-        return Vec::new();
-    };
-    let names: Vec<&str> = SCENES.iter().map(|s| s.name).collect();
-    let Ok(file) = SceneFile::parse(text, &names) else {
+    let Some(Ok(file)) = (info.properties.get("config")).map(|t| parse_scene_file(t)) else {
         return Vec::new();
     };
     SCENES
         .iter()
         .filter(|s| file.table(s.name).is_some())
         .filter_map(|s| {
-            let ready = s.flags(&AllFlags::default());
-            let ready = ready.resolve(&file, &RunArgs::default()).ok()?;
+            let ready = s.as_recorded(&file).ok()?;
             // One overlay view per scene: the box around every lane's slot.
             let framing = ready
                 .staging()

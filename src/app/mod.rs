@@ -189,10 +189,7 @@ pub fn config_from_flags<C: crate::scene::params::SceneConfig>(
 /// The scene file `--config` names (an empty one without it), its tables among the scenes'.
 fn load_scene_file(path: Option<&std::path::Path>) -> Result<SceneFile, Error> {
     match path {
-        Some(path) => {
-            let names: Vec<&str> = SCENES.iter().map(|s| s.name).collect();
-            SceneFile::load(path, &names)
-        }
+        Some(path) => SceneFile::load(path, &scenes::scene_names()),
         None => Ok(SceneFile::default()),
     }
 }
@@ -383,8 +380,7 @@ fn run_scenes(
 /// gigabytes takes seconds to build and its first frames longer, before its pace can be judged
 /// (`Progress`). `reproduce` states its own (`replay.silent`).
 fn say_floor(name: &str, bulk: scenes::Bulk, recorded: bool) {
-    let seconds = bulk.node_steps * crate::scene::params::NODE_STEP_SECONDS;
-    let bytes = bulk.node_frames * record::hair::BYTES_PER_NODE_FRAME * f64::from(recorded);
+    let (seconds, bytes) = (bulk.seconds(), bulk.bytes() * f64::from(recorded));
     if seconds > progress::LONG_SECONDS || bytes > progress::LARGE_BYTES {
         let (time, size) = (crate::format::duration(seconds), crate::format::size(bytes));
         let notice = format!(
@@ -450,50 +446,51 @@ impl Ran {
     }
 }
 
-/// Runs one scene through the harness (recording it when a recorder is given) and returns its
-/// summary, the lanes that diverged and where it ended.
-fn run_scene<S: Scene, D: Draw<S>>(
-    mut scene: S,
-    mut recorder: Option<SceneRecorder<D>>,
-    summary: fn(&S, &Run<S::Lane>, bool) -> String,
-    progress: &mut Progress,
-    stop_after: Option<u64>,
-) -> anyhow::Result<Ran> {
-    let schedule = scene.schedule();
-    let end = stop_after.map_or(schedule.total, |t| t.min(schedule.total));
-    progress.stage(scene.name(), end as f64, Some(schedule.frames()));
-    let mut quiet = NoObserver;
-    let inner: &mut dyn Observer<S> = match &mut recorder {
-        Some(r) => r,
-        None => &mut quiet,
-    };
-    let run = harness::run_until(
-        &mut scene,
-        &mut WithProgress { inner, progress },
-        stop_after,
-    )?;
-    let schedule = scene.schedule();
-    let mut text = String::new();
-    if let (true, Some(_)) = (schedule.aggregates(), &recorder) {
-        let plots = schedule.series_text(&scene.windows());
-        text.push_str(&format!("\nplots: {plots}\n"));
+impl RunContext<'_> {
+    /// Runs `scene` through the harness, recorded (when a recording is made) by `recorder`, and
+    /// summarised by `summary`.
+    fn run<S: Scene, D: Draw<S>>(
+        &mut self,
+        mut scene: S,
+        recorder: impl FnOnce(rerun::RecordingStream, bool) -> SceneRecorder<D>,
+        summary: fn(&S, &Run<S::Lane>, bool) -> String,
+    ) -> anyhow::Result<Ran> {
+        let mut recorder = (self.stream.clone())
+            .map(|s| recorder(s, self.timings).with_frame_rate(self.frame_rate));
+        let schedule = scene.schedule();
+        let end = (self.stop_after).map_or(schedule.total, |t| t.min(schedule.total));
+        let progress = &mut *self.progress;
+        progress.stage(scene.name(), end as f64, Some(schedule.frames()));
+        let mut quiet = NoObserver;
+        let inner: &mut dyn Observer<S> = match &mut recorder {
+            Some(r) => r,
+            None => &mut quiet,
+        };
+        let observer = &mut WithProgress { inner, progress };
+        let run = harness::run_until(&mut scene, observer, self.stop_after)?;
+        let schedule = scene.schedule();
+        let mut text = String::new();
+        if let (true, Some(_)) = (schedule.aggregates(), &recorder) {
+            let plots = schedule.series_text(&scene.windows());
+            text.push_str(&format!("\nplots: {plots}\n"));
+        }
+        if let (Some(gap), Some(_)) = (schedule.gap_text(), &recorder) {
+            text.push_str(&format!("\n{gap}\n"));
+        }
+        Ok(Ran {
+            summary: summary(&scene, &run, true) + &text,
+            fitted: summary(&scene, &run, false) + &text,
+            printed_only: String::new(),
+            diverged: run.diverged(scene.name()),
+            end: SceneEnd {
+                scene: scene.name(),
+                status: ["complete", "interrupted"][run.interrupted as usize],
+                last_tick: run.last_tick,
+                end_time: schedule.time(run.last_tick),
+                text: run.ending(&schedule),
+            },
+        })
     }
-    if let (Some(gap), Some(_)) = (schedule.gap_text(), &recorder) {
-        text.push_str(&format!("\n{gap}\n"));
-    }
-    Ok(Ran {
-        summary: summary(&scene, &run, true) + &text,
-        fitted: summary(&scene, &run, false) + &text,
-        printed_only: String::new(),
-        diverged: run.diverged(scene.name()),
-        end: SceneEnd {
-            scene: scene.name(),
-            status: ["complete", "interrupted"][run.interrupted as usize],
-            last_tick: run.last_tick,
-            end_time: schedule.time(run.last_tick),
-            text: run.ending(&schedule),
-        },
-    })
 }
 
 /// Every method the recording holds, first occurrence kept, in the order the scenes run.

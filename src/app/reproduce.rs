@@ -10,16 +10,14 @@ use super::compared::{
     recorded_command, recorded_timings, tolerance, version_line, version_text, wall_clock,
 };
 use super::progress::{Budget, LARGE_BYTES, LONG_SECONDS, OverBudget};
-use super::scenes::{AllFlags, Bulk, SCENES};
-use super::{Error, Plan, Replay, SceneFile, simulate};
+use super::scenes::{AllFlags, SCENES, parse_scene_file, scene_named, scene_names};
+use super::{Error, Plan, Replay, simulate};
 use crate::cli::{ReproduceArgs, RunArgs};
 use crate::format::{duration as duration_text, size as size_text};
 use crate::output::TempFile;
-use crate::record::hair::BYTES_PER_NODE_FRAME;
 use crate::rrd::compare::{StreamSpec, compare_files};
 use crate::rrd::inspect::RecordingInfo;
 use crate::rrd::read::{Messages, unusable};
-use crate::scene::params::NODE_STEP_SECONDS;
 use crate::shell::escaped;
 
 /// Why the re-run failed, in words true to the cause: a stop request stays an interruption (exit
@@ -159,10 +157,9 @@ fn over_limits(file: &Path, what: &str) -> Error {
 const MAX_SECONDS: f64 = 600.0;
 const MAX_BYTES: f64 = 1e9;
 
-/// What a re-run will take, from its configuration alone, before anything runs: a floor on its
-/// seconds at [`NODE_STEP_SECONDS`] a node-step (blind to adaptive and inner steps and to each
-/// method's cost: the re-run's measured pace judges its time, [`Budget`]), its recording at
-/// hair's [`BYTES_PER_NODE_FRAME`] (the rope wrote 9–10 B), its state's memory.
+/// What a re-run will take, from its configuration alone ([`Bulk`]), before anything runs: a
+/// floor on its seconds (its measured pace judges its time, [`Budget`]), its recording, its
+/// state's memory.
 struct Expected {
     node_steps: f64,
     seconds: f64,
@@ -274,12 +271,12 @@ impl Recorded {
             ));
         }
         let listed: Option<Vec<&'static str>> = (kind.split(',').filter(|s| !s.is_empty()))
-            .map(|s| SCENES.iter().find(|k| k.name == s).map(|k| k.name))
+            .map(|s| scene_named(s).map(|k| k.name))
             .collect();
         let scenes = match listed {
             Some(scenes) if !scenes.is_empty() => scenes,
             _ => {
-                let known: Vec<&str> = SCENES.iter().map(|s| s.name).collect();
+                let known = scene_names();
                 let expected = match known.split_last() {
                     Some((last, rest)) if !rest.is_empty() => {
                         format!("{} and/or {last}", rest.join(", "))
@@ -303,12 +300,10 @@ impl Recorded {
         })
     }
 
-    /// What its re-run will take, from its configuration ([`Bulk`]: steps at
-    /// [`NODE_STEP_SECONDS`], 3D nodes at hair's measured [`BYTES_PER_NODE_FRAME`]); `None` when
-    /// the configuration does not resolve (the re-run then says why).
+    /// What its re-run will take, from its configuration ([`Bulk`]); `None` when the
+    /// configuration does not resolve (the re-run then says why).
     fn expected(&self) -> Option<Expected> {
-        let names: Vec<&str> = SCENES.iter().map(|s| s.name).collect();
-        let file = SceneFile::parse(&self.info.properties["config"], &names).ok()?;
+        let file = parse_scene_file(&self.info.properties["config"]).ok()?;
         let mut out = Expected {
             node_steps: 0.0,
             seconds: 0.0,
@@ -316,16 +311,11 @@ impl Recorded {
             memory: 0.0,
         };
         for kind in SCENES.iter().filter(|s| self.scenes.contains(&s.name)) {
-            let ready = (kind.flags(&AllFlags::default()))
-                .resolve(&file, &RunArgs::default())
-                .ok()?;
-            let Bulk {
-                node_steps,
-                node_frames,
-            } = ready.bulk();
-            out.node_steps += node_steps;
-            out.seconds += node_steps * NODE_STEP_SECONDS;
-            out.bytes += node_frames * BYTES_PER_NODE_FRAME;
+            let ready = kind.as_recorded(&file).ok()?;
+            let bulk = ready.bulk();
+            out.node_steps += bulk.node_steps;
+            out.seconds += bulk.seconds();
+            out.bytes += bulk.bytes();
             out.memory = out.memory.max(ready.memory_bytes());
         }
         Some(out)

@@ -88,7 +88,7 @@ pub fn study(kind: &StudyKind) -> anyhow::Result<()> {
         "estimated from its {work:.1e} node-steps at ~{:.0} ns each, more with implicit methods",
         setup::SECONDS_PER_NODE_STEP * 1e9
     );
-    progress.expect(work * setup::SECONDS_PER_NODE_STEP, &basis);
+    progress.judge(work * setup::SECONDS_PER_NODE_STEP, None, &basis);
     let found = match kind {
         StudyKind::Stability(_) => {
             let at = &mut |m| progress.at(m);
