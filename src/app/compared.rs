@@ -35,8 +35,7 @@ pub(super) fn tolerance(t: Option<f64>) -> Result<f64, Error> {
 }
 
 /// A complete recording made by physlab (`diff` and `reproduce` compare nothing else): one
-/// without its footer was cut off while being written (the process killed, the file
-/// truncated), and its last chunks are lost.
+/// without its footer was cut off while being written, and its last chunks are lost.
 pub(super) fn physlab_made(path: &Path) -> anyhow::Result<RecordingInfo> {
     let info = read_recording(path)?;
     let refused = if !info.has_footer {
@@ -59,10 +58,9 @@ pub(super) fn physlab_made(path: &Path) -> anyhow::Result<RecordingInfo> {
     Err(Error::Usage(format!("{}: {refused}", path.display())).into())
 }
 
-/// The command line a diff or study recording was made with, rebuilt: its words read back
-/// ([`shell_words`]), parsed as a physlab command of the recording's kind and quoted anew, the
-/// program named `physlab`; `None` when it does not parse as one. Never copied as it is: a
-/// recording is a stranger's text.
+/// The command line a diff or study recording was made with, parsed as a physlab command of
+/// the recording's kind and quoted anew; `None` when it does not parse as one. Never copied as
+/// it is: a recording is a stranger's text.
 pub(super) fn recorded_command(info: &RecordingInfo) -> Option<String> {
     use std::os::unix::ffi::{OsStrExt as _, OsStringExt as _};
     let kind = info.properties.get("scenes")?;
@@ -81,9 +79,8 @@ pub(super) fn recorded_command(info: &RecordingInfo) -> Option<String> {
     })
 }
 
-/// The command that runs a scene recording again on its scene file `config`: its scene
-/// subcommand from the registry (`all` for several scenes), with `--timings` if it recorded
-/// them; `None` unless every scene it names is one and its configuration parses.
+/// The command that runs a scene recording again on its scene file `config`; `None` unless
+/// every scene it names is one and its configuration parses.
 pub(super) fn scene_command(info: &RecordingInfo, config: &Path) -> Option<String> {
     let listed: Vec<&'static str> = (info.properties.get("scenes")?.split(','))
         .map(|s| scene_named(s).map(|k| k.name))
@@ -117,7 +114,6 @@ pub(super) fn remake_commands(info: &RecordingInfo, file: &Path, config: &Path) 
     }
 }
 
-/// The build that made a recording, as [`version_text`] says it.
 pub(super) fn version_line(info: &RecordingInfo) -> String {
     let p = |k| info.property(k);
     version_text(
@@ -158,10 +154,9 @@ pub(super) fn print_lines(lines: &[String], to_stderr: bool) {
     }
 }
 
-/// One line per entity of the comparison of its components.
+/// The comparison of one entity's components.
 pub(super) struct EntityReport {
     pub(super) entity: String,
-    /// Components compared, their diffs.
     pub(super) diffs: Vec<(String, SeriesDiff)>,
 }
 
@@ -189,7 +184,7 @@ impl EntityReport {
         self.diffs.iter().map(|d| d.1.rows_a).max().unwrap_or(0)
     }
 
-    /// Rows at times the other side lacks, over its components.
+    /// Rows at times the other side lacks.
     pub(super) fn unpaired(&self) -> usize {
         self.diffs.iter().map(|d| d.1.unpaired).max().unwrap_or(0)
     }
@@ -329,21 +324,18 @@ struct Group {
     earliest: Option<EntityLine>,
 }
 
-/// Group lines shown without `-v`: with the verdict, configuration and times, a report stays
-/// under 15 lines.
+/// Group lines shown without `-v`: a report stays under 15 lines.
 const GROUPS_SHOWN: usize = 6;
 
-/// The lines that say what differs: with `verbose` one per entity (identical ones too), else one
-/// per group of entities ([`entity_group`]), the earliest parting first, at most
-/// [`GROUPS_SHOWN`] groups.
-pub(super) fn difference_lines(
-    entries: &[EntityLine],
+/// The lines that say what differs: with `verbose` one per entity, else one per group of
+/// entities ([`entity_group`]), the earliest parting first.
+pub(super) fn difference_lines<'a>(
+    entries: impl Iterator<Item = &'a EntityLine>,
     methods: &BTreeSet<String>,
     verbose: bool,
 ) -> Vec<String> {
     if verbose {
         return entries
-            .iter()
             .map(|e| format!("  {}: {}", e.entity, e.text))
             .collect();
     }
@@ -388,7 +380,12 @@ pub(super) fn difference_lines(
     lines
 }
 
-/// Groups per-component comparisons by entity.
+/// `identical: N entities (-v lists them)`, unless none is or `verbose` listed them.
+pub(super) fn identical_line(identical: usize, verbose: bool) -> Option<String> {
+    let n = crate::format::plural(identical as u64, "entity");
+    (!verbose && identical > 0).then(|| format!("identical: {n} (-v lists them)"))
+}
+
 pub(super) fn by_entity(diffs: Vec<((String, String), SeriesDiff)>) -> Vec<EntityReport> {
     let mut out: Vec<EntityReport> = Vec::new();
     for ((entity, component), d) in diffs {

@@ -1,9 +1,7 @@
 //! The commands. Every simulating command goes through one pipeline ([`simulate`]): resolve the
-//! scenes' parameters (defaults < preset < scene file < flags) into validated configs, open the
-//! recording, run each scene through the harness with the recorder and the progress bar as its
-//! observers, print the summaries, and finish (exit codes for interruption and divergence). A
-//! single-scene command is `all` with one scene. Only the summaries go to stdout; the progress
-//! bar goes to stderr.
+//! scenes' parameters (defaults < preset < scene file < flags), open the recording, run each
+//! scene with the recorder and the progress bar as its observers, print the summaries, finish.
+//! A single-scene command is `all` with one scene.
 
 mod compared;
 mod diff;
@@ -15,6 +13,7 @@ mod reproduce;
 mod scenes;
 mod study;
 
+use std::collections::{BTreeMap, BTreeSet};
 use std::time::Instant;
 
 use crate::error::Error;
@@ -66,8 +65,7 @@ fn methods(name: Option<&str>) -> anyhow::Result<()> {
 /// The scenes a command runs, each with its flags (not yet layered over file and defaults).
 type Plan = Vec<Box<dyn Flags>>;
 
-/// `physlab all`: every scene; its own --fps, --plot-every and --methods override every
-/// scene's. Each scene takes the listed methods it supports.
+/// `physlab all`: every scene, its own flags over every scene's.
 fn all_plan(c: &AllArgs) -> Result<Plan, Error> {
     let (registry, hair) = c.methods.as_deref().map(split_methods).transpose()?.unzip();
     let all = AllFlags {
@@ -82,7 +80,6 @@ fn all_plan(c: &AllArgs) -> Result<Plan, Error> {
 }
 
 /// `all --methods`: the names the pendulum and rope take (the registry's) and those hair takes.
-/// A name no scene knows, or a list that leaves a scene with none, is refused.
 fn split_methods(
     names: &[String],
 ) -> Result<(Vec<crate::integrate::Method>, Vec<HairMethod>), Error> {
@@ -124,24 +121,11 @@ fn split_methods(
 #[derive(Default)]
 struct Replay {
     /// Scenes that were interrupted, with the last tick they reached.
-    stop_after: Vec<(String, u64)>,
+    stop_after: BTreeMap<&'static str, u64>,
     /// Scenes the recorded run never started.
-    skip: Vec<String>,
-    /// Print no summaries.
+    skip: BTreeSet<&'static str>,
     silent: bool,
-    /// What the re-run may take.
     budget: Option<progress::Budget>,
-}
-
-impl Replay {
-    /// Where `scene` stops, if the recorded run was interrupted in it.
-    fn stop_after(&self, scene: &str) -> Option<u64> {
-        self.stop_after.iter().find(|s| s.0 == scene).map(|s| s.1)
-    }
-
-    fn skips(&self, scene: &str) -> bool {
-        self.skip.iter().any(|s| s == scene)
-    }
 }
 
 /// The plan's scenes, layered and validated, and the scene file that reproduces them.
@@ -186,7 +170,7 @@ pub fn config_from_flags<C: crate::scene::params::SceneConfig>(
     scenes::given(flags, scene, &SceneFile::default())?.resolve()
 }
 
-/// The scene file `--config` names (an empty one without it), its tables among the scenes'.
+/// The scene file `--config` names (an empty one without it).
 fn load_scene_file(path: Option<&std::path::Path>) -> Result<SceneFile, Error> {
     match path {
         Some(path) => SceneFile::load(path, &scenes::scene_names()),
@@ -264,7 +248,7 @@ fn simulate(
     finish(recording, &d, started, summaries, &ran.diverged, run)
 }
 
-/// The recording of the resolved scenes: its layout, its destinations and its provenance.
+/// The recording of the resolved scenes, its provenance sent.
 fn open_recording(
     resolved: &Resolved,
     run: &RunArgs,
@@ -300,8 +284,7 @@ fn open_recording(
     Ok(recording)
 }
 
-/// What the scenes' runs leave: their summaries, the lanes that diverged and where each scene
-/// ended (those not run after an interruption said so).
+/// What the scenes' runs leave (scenes not run after an interruption say so in `ends`).
 struct Ended {
     summaries: Vec<String>,
     diverged: Vec<String>,
@@ -333,10 +316,10 @@ fn run_scenes(
     };
     for (scene, warning) in scenes.into_iter().zip(warnings) {
         let name = scene.kind().name;
-        if crate::interrupt::requested() || replay.skips(name) {
+        if crate::interrupt::requested() || replay.skip.contains(name) {
             continue;
         }
-        ctx.stop_after = replay.stop_after(name);
+        ctx.stop_after = replay.stop_after.get(name).copied();
         let memory = scene.memory_bytes();
         if memory > MEMORY_NOTICE_BYTES && !run.quiet {
             // Allowed (validation refuses what does not fit), but not to be taken silently.
@@ -377,8 +360,7 @@ fn run_scenes(
 }
 
 /// Says before a scene's setup what its size alone makes it take, when long or large: a state of
-/// gigabytes takes seconds to build and its first frames longer, before its pace can be judged
-/// (`Progress`). `reproduce` states its own (`replay.silent`).
+/// gigabytes takes seconds to build, before its pace can be judged (`Progress`).
 fn say_floor(name: &str, bulk: scenes::Bulk, recorded: bool) {
     let (seconds, bytes) = (bulk.seconds(), bulk.bytes() * f64::from(recorded));
     if seconds > progress::LONG_SECONDS || bytes > progress::LARGE_BYTES {
@@ -425,7 +407,6 @@ fn refuse_contradictions(run: &RunArgs) -> Result<(), Error> {
     Ok(())
 }
 
-/// One scene's run: its summary, the lanes that diverged, where it ended.
 struct Ran {
     /// The summary with its full table: recorded, and printed with --wide.
     summary: String,
@@ -505,7 +486,7 @@ fn method_names(r: &Resolved) -> Vec<&'static str> {
 }
 
 /// After a run: finalise the recording, print the summaries, then report an interruption
-/// (exit 130) or, with --fail-on-divergence, a divergence (exit 3).
+/// or, with --fail-on-divergence, a divergence.
 fn finish(
     mut recording: Option<Recording>,
     d: &Destinations,

@@ -6,8 +6,9 @@ use std::path::Path;
 use std::time::Instant;
 
 use super::compared::{
-    EntityLine, by_entity, check_output, difference_lines, lane_names, physlab_made, print_lines,
-    recorded_command, recorded_timings, tolerance, version_line, version_text, wall_clock,
+    EntityLine, by_entity, check_output, difference_lines, identical_line, lane_names,
+    physlab_made, print_lines, recorded_command, recorded_timings, tolerance, version_line,
+    version_text, wall_clock,
 };
 use super::progress::{Budget, LARGE_BYTES, LONG_SECONDS, OverBudget};
 use super::scenes::{AllFlags, SCENES, parse_scene_file, scene_named, scene_names};
@@ -20,9 +21,8 @@ use crate::rrd::inspect::RecordingInfo;
 use crate::rrd::read::{Messages, unusable};
 use crate::shell::escaped;
 
-/// Why the re-run failed, in words true to the cause: a stop request stays an interruption (exit
-/// 130), a configuration this build refuses says so without the temporary file's name, and
-/// anything else (an unwritable `-o`, a full disk) is passed on as it is.
+/// Why the re-run failed, in words true to the cause: a stop stays an interruption, a
+/// configuration this build refuses says so without the temporary file's name.
 fn rerun_failed(e: anyhow::Error, file: &Path, config: &Path) -> anyhow::Error {
     if let Some(OverBudget(estimate)) = e.downcast_ref() {
         return over_limits(file, estimate).into();
@@ -68,8 +68,7 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
         &[&args.file],
     )?;
     let mut replay = recorded.replay(&args.file)?;
-    // The same measured estimate as a scene command's notice: the re-run's own pace over its
-    // first moments; past the limits it is stopped there and refused.
+    // Past the limits by its measured pace, as a scene's notice tells it, the re-run is stopped.
     let limit = |max| if args.allow_long { f64::INFINITY } else { max };
     replay.budget = Some(Budget {
         seconds: limit(MAX_SECONDS),
@@ -86,8 +85,6 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
         return Err(over_limits(&args.file, &e.text()).into());
     }
 
-    // Said before the re-run (which takes the run's time); the report comes after it, verdict
-    // first.
     if !args.quiet {
         eprintln!("re-running {} …", escaped(&args.file.display().to_string()));
         // As a scene command says it of a long or large run ([`LONG_SECONDS`], [`LARGE_BYTES`]).
@@ -157,9 +154,8 @@ fn over_limits(file: &Path, what: &str) -> Error {
 const MAX_SECONDS: f64 = 600.0;
 const MAX_BYTES: f64 = 1e9;
 
-/// What a re-run will take, from its configuration alone ([`Bulk`]), before anything runs: a
-/// floor on its seconds (its measured pace judges its time, [`Budget`]), its recording, its
-/// state's memory.
+/// What a re-run will take, from its configuration alone ([`Bulk`]): a floor on its seconds
+/// (its measured pace judges its time, [`Budget`]), its recording, its state's memory.
 struct Expected {
     node_steps: f64,
     seconds: f64,
@@ -168,8 +164,7 @@ struct Expected {
 }
 
 impl Expected {
-    /// Beyond `seconds` or `bytes`, or a state over what a scene command says so of
-    /// ([`super::MEMORY_NOTICE_BYTES`]).
+    /// Beyond `seconds` or `bytes`, or a state a scene command tells of.
     fn over(&self, seconds: f64, bytes: f64) -> bool {
         self.seconds > seconds || self.bytes > bytes || self.memory > super::MEMORY_NOTICE_BYTES
     }
@@ -197,8 +192,7 @@ fn nothing_to_compare(file: &Path) -> Error {
 }
 
 /// Copies `file` into the temporary folder through one opened handle, after the reader's own
-/// checks (no regular file, empty as `/proc` files are, no Rerun header): the copy is all that
-/// is read after that.
+/// checks: the copy is all that is read after that.
 fn read_once(file: &Path) -> anyhow::Result<TempFile> {
     Messages::open(file)?;
     let mut source =
@@ -230,8 +224,7 @@ fn of_the_file(e: anyhow::Error, copy: &Path, file: &Path) -> anyhow::Error {
     }
 }
 
-/// A scene recording as the re-run needs it: its provenance, its scenes (each the registry's),
-/// whether it recorded wall-clock timings.
+/// A scene recording as the re-run needs it.
 struct Recorded {
     info: RecordingInfo,
     scenes: Vec<&'static str>,
@@ -239,9 +232,7 @@ struct Recorded {
 }
 
 impl Recorded {
-    /// Reads `copy` (of `file`, which messages name) and refuses what `reproduce` cannot re-run:
-    /// a diff or study recording, one without a configuration or with scenes this build lacks,
-    /// one that holds no data.
+    /// Reads `copy` (of `file`, which messages name) and refuses what `reproduce` cannot re-run.
     fn read(copy: &Path, file: &Path) -> anyhow::Result<Recorded> {
         let info = physlab_made(copy)?;
         let p = |k| escaped(info.property(k)).into_owned();
@@ -321,8 +312,7 @@ impl Recorded {
         Some(out)
     }
 
-    /// The recording has no end record (an older physlab, or killed): each series is compared
-    /// as far as it goes.
+    /// No end record (an older physlab, or killed): each series is compared as far as it goes.
     fn killed(&self) -> bool {
         self.info.run.is_empty()
     }
@@ -345,9 +335,9 @@ impl Recorded {
                                 file.display()
                             ))
                         })?;
-                    replay.stop_after.push((scene.to_string(), tick));
+                    replay.stop_after.insert(scene, tick);
                 }
-                Some("not run") => replay.skip.push(scene.to_string()),
+                Some("not run") => _ = replay.skip.insert(scene),
                 _ => {}
             }
         }
@@ -413,12 +403,10 @@ impl Recorded {
     }
 }
 
-/// What the re-run gave against the recording, entity by entity: computed in one place
-/// ([`Recorded::compare`]), then printed ([`Reproduced::lines`]).
+/// What the re-run gave against the recording, entity by entity.
 #[derive(Default)]
 struct Reproduced {
     tolerance: f64,
-    /// Every entity compared (identical ones too), and those the re-run alone has.
     entries: Vec<EntityLine>,
     /// Entities that differ (beyond the tolerance), and those within it but not bit-identical.
     differing: usize,
@@ -453,8 +441,7 @@ impl Reproduced {
         }
     }
 
-    /// The report: the verdict first, the builds, where the scenes ended, then what differs
-    /// (`verbose`: every entity).
+    /// The report: the verdict, the builds, where the scenes ended, then what differs.
     fn lines(
         &self,
         recorded: &Recorded,
@@ -493,22 +480,12 @@ impl Reproduced {
         if let Some(path) = written {
             out.push(format!("wrote the re-run to {}", path.display()));
         }
-        let shown: Vec<_> = (self.entries.iter())
-            .filter(|e| verbose || e.differs || e.text.starts_with("within"))
-            .cloned()
-            .collect();
-        out.extend(difference_lines(
-            &shown,
-            &lane_names(&[&recorded.info]),
-            verbose,
-        ));
+        let shown =
+            (self.entries.iter()).filter(|e| verbose || e.differs || e.text.starts_with("within"));
+        let lanes = lane_names(&[&recorded.info]);
+        out.extend(difference_lines(shown, &lanes, verbose));
         let identical = self.entries.len() - self.differing - self.within;
-        if !verbose && identical > 0 {
-            out.push(format!(
-                "identical: {} (-v lists them)",
-                crate::format::plural(identical as u64, "entity")
-            ));
-        }
+        out.extend(identical_line(identical, verbose));
         if !self.skipped.is_empty() {
             let list: Vec<&str> = self.skipped.iter().map(String::as_str).collect();
             let list = if verbose {
