@@ -267,13 +267,7 @@ impl Recorded {
         let scenes = match listed {
             Some(scenes) if !scenes.is_empty() => scenes,
             _ => {
-                let known = scene_names();
-                let expected = match known.split_last() {
-                    Some((last, rest)) if !rest.is_empty() => {
-                        format!("{} and/or {last}", rest.join(", "))
-                    }
-                    _ => known.join(""),
-                };
+                let expected = super::file::listing(&scene_names(), "and/or");
                 return refuse(format!(
                     "its provenance names the scenes \"{}\"; expected {expected}",
                     escaped(&kind)

@@ -25,8 +25,7 @@ pub struct SceneKind {
     /// The recording's application id when it runs alone (the viewer keys layouts by it).
     pub application_id: &'static str,
     pub views: &'static SceneViews,
-    /// Its flags as `physlab all` sets them (none given: what `reproduce` runs under the
-    /// recorded scene file).
+    /// Its flags as `physlab all` sets them.
     flags: fn(&AllFlags) -> Box<dyn Flags>,
 }
 
@@ -121,14 +120,12 @@ impl AllFlags {
     }
 }
 
-/// A scene's flags resolved: its configuration ready to run, or why it is refused.
 pub type Resolution = Result<Box<dyn ReadyScene>, Error>;
 
 /// A scene's flags as given.
 pub trait Flags {
     fn kind(&self) -> &'static SceneKind;
-    /// These flags over the scene file's table (checked alone first, so that an error there
-    /// names the file, table and key) over the defaults, validated.
+    /// These flags over the scene file's table over the defaults, validated.
     fn resolve(self: Box<Self>, file: &SceneFile, run: &RunArgs) -> Resolution;
 }
 
@@ -137,7 +134,6 @@ pub trait ReadyScene: Send {
     fn kind(&self) -> &'static SceneKind;
     fn staging(&self) -> Staging;
     fn fps(&self) -> f64;
-    /// Its methods' names, in the order they are shown.
     fn methods(&self) -> Vec<&'static str>;
     /// Every effective value, as the scene-file table that runs it again.
     fn table(&self) -> Result<toml::Table, Error>;
@@ -151,8 +147,7 @@ pub trait ReadyScene: Send {
     fn run(self: Box<Self>, ctx: &mut RunContext) -> anyhow::Result<Ran>;
 }
 
-/// What a run does, from its configuration alone (nothing built or stepped): how its time and
-/// recording are told, and a stranger's recording's re-run bounded, before it starts.
+/// What a run does, from its configuration alone (nothing built or stepped).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Bulk {
     /// Steps of one node of one method, over the run (a method's fine-step reference too).
@@ -193,11 +188,10 @@ pub struct RunContext<'a> {
     pub stream: Option<rerun::RecordingStream>,
     /// Also record wall-clock costs.
     pub timings: bool,
-    /// The `frame` timeline's rate: the highest fps of the scenes run.
+    /// The highest fps of the scenes run.
     pub frame_rate: f64,
     pub quiet: bool,
     pub progress: &'a mut Progress,
-    /// The worker threads (--threads) hair spreads its strands over.
     pub pool: &'a rayon::ThreadPool,
     /// A replayed interruption: stop at the first block boundary past this tick.
     pub stop_after: Option<u64>,
@@ -296,8 +290,7 @@ impl MethodFlag<Method> {
     }
 }
 
-/// Refuses a flag given on the command line that none of the methods run would read (it would
-/// change nothing): for every scene and study.
+/// Refuses a flag given on the command line that none of the methods run would read.
 pub(super) fn refuse_unread<M: Copy>(
     flags: &[MethodFlag<M>],
     methods: &[M],
@@ -335,7 +328,6 @@ fn refuse_drawing_flags(run: &RunArgs, flags: &[(&str, bool)]) -> Result<(), Err
 }
 
 impl StepFlags {
-    /// The step flags that set only what is drawn or plotted.
     fn drawing_flags(&self) -> [(&'static str, bool); 3] {
         [
             ("--fps", self.fps.is_some()),

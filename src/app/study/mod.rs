@@ -21,8 +21,8 @@ use hair::hair_study;
 use outputs::{check_outputs, interrupted_error, write_study};
 use setup::Setup;
 
-/// What a study measured: its printed tables, its CSV, its diagrams, and how many runs (or
-/// methods' limits) are complete (after Ctrl-C or SIGTERM only those are shown).
+/// What a study measured, and how many runs (or methods' limits) are complete (after Ctrl-C or
+/// SIGTERM only those are shown).
 #[derive(Default)]
 struct Found {
     out: String,
@@ -69,7 +69,7 @@ pub fn study(kind: &StudyKind) -> anyhow::Result<()> {
             }
         }
     }
-    // The scenes' bar and notice: the study's parts as they complete, its time said up front.
+    // The scenes' bar and notice, its time said up front.
     let mut progress = Progress::new(out.quiet, None);
     let label = format!("study {}", kind.name());
     progress.stage(
@@ -128,10 +128,8 @@ pub fn study(kind: &StudyKind) -> anyhow::Result<()> {
 }
 
 /// `study convergence` and `study work-precision`: the reference once (its error the study's
-/// floor, shown the same everywhere), the sweep (convergence's on each method's own grid),
-/// then work-precision's answer first (per target the cheapest run and the command that makes
-/// it; given targets the reference cannot resolve refused) or convergence's fitted orders, and
-/// every run.
+/// floor), the sweep, then work-precision's answer or convergence's fitted orders, and every
+/// run.
 fn sweep_study(
     kind: &StudyKind,
     (problem, sw, file): (&Problem, &Sweep, &crate::app::SceneFile),

@@ -5,8 +5,8 @@ use super::Error;
 use crate::cli::{StudyKind, StudyOutputs};
 use crate::study::Sweep;
 
-/// Prints a complete study's tables `out` and writes what was asked: the CSV, the diagrams (into
-/// the plots folder) and the recording, whose provenance is the study's scene file and methods.
+/// Prints a complete study's tables `out` and writes what was asked, the recording's
+/// provenance the study's scene file and methods.
 pub(super) fn write_study(
     a: &StudyOutputs,
     outputs: &Outputs,
@@ -64,8 +64,7 @@ fn report_recording(path: &std::path::Path, bytes: Option<u64>, to_stdout: bool)
     crate::output::print_beside(to_stdout, &line);
 }
 
-/// What an interrupted study says: how many of its planned runs (or methods' limits) were
-/// complete, and whether anything was written.
+/// What an interrupted study says.
 pub(super) fn interrupted_error(
     kind: &StudyKind,
     problem: &crate::study::Problem,
@@ -88,8 +87,8 @@ pub(super) fn interrupted_error(
     interrupted_after(done, planned, what, complete)
 }
 
-/// What a stopped study says: `done` of the `planned` `what` complete, and whether the complete
-/// ones were written.
+/// What a stopped study says: `done` of the `planned` `what` complete, and whether they were
+/// written.
 pub(super) fn interrupted_after(
     done: usize,
     planned: usize,
@@ -106,9 +105,8 @@ pub(super) fn interrupted_after(
 
 /// A study's outputs, checked before it runs (`crate::output`): the CSV, the recording, and
 /// the diagrams' folder with the prefix of their names (--plots, else beside the recording or
-/// the CSV and named after it: `-o first.rrd` draws `first-pendulum-convergence.png`, so that
-/// two studies write one figure only when given one --plots), with the files the diagrams
-/// `stems` will be written to; no two of them one file, none the scene file read.
+/// the CSV and named after it, so that two studies write one figure only when given one
+/// --plots).
 pub(super) struct Outputs {
     pub(super) csv: Option<crate::output::Output>,
     pub(super) recording: Option<crate::output::Output>,
@@ -125,7 +123,6 @@ impl Outputs {
             .collect()
     }
 
-    /// The CSV and the recording, those asked for.
     fn files(&self) -> impl Iterator<Item = &crate::output::Output> {
         [&self.csv, &self.recording].into_iter().flatten()
     }
