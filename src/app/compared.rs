@@ -154,7 +154,6 @@ pub(super) fn print_lines(lines: &[String], to_stderr: bool) {
     }
 }
 
-/// The comparison of one entity's components.
 pub(super) struct EntityReport {
     pub(super) entity: String,
     pub(super) diffs: Vec<(String, SeriesDiff)>,
@@ -316,7 +315,6 @@ pub(super) struct EntityLine {
     pub(super) first: i64,
 }
 
-/// The entities of one group and the one of them that parts first.
 #[derive(Default)]
 struct Group {
     entities: usize,

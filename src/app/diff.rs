@@ -152,7 +152,6 @@ impl Differences {
         out
     }
 
-    /// Each entity's line from its series' and its static data's comparison.
     fn add_series(
         &mut self,
         reports: Vec<super::compared::EntityReport>,
@@ -341,7 +340,6 @@ fn outcomes(info: &RecordingInfo, rename: &Option<(String, String)>) -> BTreeMap
     out
 }
 
-/// What changed between the runs' configurations, key by key.
 fn configuration_lines(ia: &RecordingInfo, ib: &RecordingInfo) -> Vec<String> {
     let (ka, kb) = (config_keys(ia), config_keys(ib));
     let keys: BTreeSet<&String> = ka.keys().chain(kb.keys()).collect();
@@ -369,7 +367,6 @@ fn configuration_lines(ia: &RecordingInfo, ib: &RecordingInfo) -> Vec<String> {
     }
 }
 
-/// Each scene's 3D framing as the recording's configuration draws it.
 fn framings(info: &RecordingInfo) -> Vec<(&'static str, Framing)> {
     let Some(Ok(file)) = (info.properties.get("config")).map(|t| parse_scene_file(t)) else {
         return Vec::new();

@@ -13,7 +13,6 @@ pub struct SceneFile {
 }
 
 impl SceneFile {
-    /// Reads and parses `path`, whose tables must be among `scenes`.
     pub fn load(path: &Path, scenes: &[&str]) -> Result<Self, Error> {
         let text = read_capped(path)?;
         let text = String::from_utf8(text).map_err(|_| {
@@ -35,7 +34,6 @@ impl SceneFile {
         Ok(file)
     }
 
-    /// The tables of `text`, each one of `scenes`.
     pub fn parse(text: &str, scenes: &[&str]) -> Result<Self, String> {
         let file: toml::Table =
             toml::from_str(text).map_err(|e| e.to_string().trim_end().replace('\n', "\n  "))?;
@@ -88,7 +86,6 @@ impl SceneFile {
         self.source.as_ref().map(|s| s.0.as_path())
     }
 
-    /// The line where `key` is set inside `[scene]`.
     pub fn line_of(&self, scene: &str, key: &str) -> Option<usize> {
         line_at(&self.source.as_ref()?.1, &[scene, key])
     }

@@ -85,6 +85,7 @@ fn split_methods(
 ) -> Result<(Vec<crate::integrate::Method>, Vec<HairMethod>), Error> {
     use crate::integrate::Method;
     let list = names.join(",");
+    let registry_names: Vec<&str> = Method::names().collect();
     let mut registry = Vec::new();
     let mut hair = Vec::new();
     for name in names {
@@ -93,7 +94,7 @@ fn split_methods(
         if r.is_none() && h.is_none() {
             return Err(Error::Usage(format!(
                 "--methods {list}: no scene has a method '{name}' (pendulum and rope: {}; hair: {})",
-                Method::names().collect::<Vec<_>>().join(", "),
+                registry_names.join(", "),
                 HairMethod::names()
             )));
         }
@@ -101,18 +102,15 @@ fn split_methods(
         hair.extend(h);
     }
     let none = |scene: &str, allowed: String| {
-        Error::Usage(format!(
+        Err(Error::Usage(format!(
             "--methods {list}: leaves {scene} no method (allowed: {allowed})"
-        ))
+        )))
     };
     if registry.is_empty() {
-        return Err(none(
-            "the pendulum and the rope",
-            Method::names().collect::<Vec<_>>().join(", "),
-        ));
+        return none("the pendulum and the rope", registry_names.join(", "));
     }
     if hair.is_empty() {
-        return Err(none("hair", HairMethod::names()));
+        return none("hair", HairMethod::names());
     }
     Ok((registry, hair))
 }
@@ -135,7 +133,6 @@ struct Resolved {
     file: SceneFile,
 }
 
-/// Layers each planned scene's flags over the scene file over its defaults and validates it.
 fn resolve(plan: Plan, run: &RunArgs) -> anyhow::Result<Resolved> {
     let file = load_scene_file(run.config.as_deref())?;
     let single = plan.len() == 1;
@@ -170,7 +167,6 @@ pub fn config_from_flags<C: crate::scene::params::SceneConfig>(
     scenes::given(flags, scene, &SceneFile::default())?.resolve()
 }
 
-/// The scene file `--config` names (an empty one without it).
 fn load_scene_file(path: Option<&std::path::Path>) -> Result<SceneFile, Error> {
     match path {
         Some(path) => SceneFile::load(path, &scenes::scene_names()),
@@ -248,7 +244,6 @@ fn simulate(
     finish(recording, &d, started, summaries, &ran.diverged, run)
 }
 
-/// The recording of the resolved scenes, its provenance sent.
 fn open_recording(
     resolved: &Resolved,
     run: &RunArgs,
@@ -374,7 +369,6 @@ fn say_floor(name: &str, bulk: scenes::Bulk, recorded: bool) {
     }
 }
 
-/// Output options that cannot hold together.
 fn refuse_contradictions(run: &RunArgs) -> Result<(), Error> {
     if run.no_save
         && let Some(path) = &run.output
@@ -420,7 +414,6 @@ struct Ran {
 }
 
 impl Ran {
-    /// Adds `text` under both forms of the summary.
     fn append(&mut self, text: &str) {
         self.summary.push_str(text);
         self.fitted.push_str(text);

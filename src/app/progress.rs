@@ -66,7 +66,6 @@ struct Pace {
     started: Instant,
     /// When its stepping started: its setup (lanes built) is counted once, not extrapolated.
     stepping: Option<Instant>,
-    /// Bytes written when the stage started.
     bytes0: u64,
     /// Progress at the end (ticks; any unit for a stage without frames).
     end: f64,

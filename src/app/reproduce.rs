@@ -137,7 +137,6 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The refusal of a re-run that would take `what`.
 fn over_limits(file: &Path, what: &str) -> Error {
     Error::Usage(format!(
         "{}: {what}; reproduce re-runs at most {} min, a {} recording and {} of memory unless \
@@ -224,7 +223,6 @@ fn of_the_file(e: anyhow::Error, copy: &Path, file: &Path) -> anyhow::Error {
     }
 }
 
-/// A scene recording as the re-run needs it.
 struct Recorded {
     info: RecordingInfo,
     scenes: Vec<&'static str>,
@@ -338,7 +336,6 @@ impl Recorded {
         Ok(replay)
     }
 
-    /// The recording (`copy`) against the re-run's, entity by entity.
     fn compare(&self, copy: &Path, rerun: &Path, tolerance: f64) -> anyhow::Result<Reproduced> {
         let (timings, killed) = (self.timings, self.killed());
         let skip = |entity: &str| wall_clock(entity, timings);
@@ -435,7 +432,6 @@ impl Reproduced {
         }
     }
 
-    /// The report: the verdict, the builds, where the scenes ended, then what differs.
     fn lines(
         &self,
         recorded: &Recorded,

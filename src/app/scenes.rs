@@ -41,7 +41,6 @@ impl SceneKind {
     }
 }
 
-/// The scene named `name`.
 pub fn scene_named(name: &str) -> Option<&'static SceneKind> {
     SCENES.iter().copied().find(|k| k.name == name)
 }
@@ -122,10 +121,8 @@ impl AllFlags {
 
 pub type Resolution = Result<Box<dyn ReadyScene>, Error>;
 
-/// A scene's flags as given.
 pub trait Flags {
     fn kind(&self) -> &'static SceneKind;
-    /// These flags over the scene file's table over the defaults, validated.
     fn resolve(self: Box<Self>, file: &SceneFile, run: &RunArgs) -> Resolution;
 }
 
@@ -183,7 +180,6 @@ fn fixed_step_bulk(
     }
 }
 
-/// What every scene's run shares.
 pub struct RunContext<'a> {
     pub stream: Option<rerun::RecordingStream>,
     /// Also record wall-clock costs.
@@ -336,7 +332,6 @@ impl StepFlags {
         ]
     }
 
-    /// The step flags only some registry methods read.
     fn method_flags(&self) -> Vec<MethodFlag<Method>> {
         vec![
             MethodFlag::new("--verlet-damping", self.verlet_damping.is_some(), |m| {
@@ -352,7 +347,6 @@ impl StepFlags {
 }
 
 impl HairArgs {
-    /// The hair flags only some hair methods read.
     fn method_flags(&self) -> Vec<MethodFlag<HairMethod>> {
         let verlet = |m| m == HairMethod::Verlet;
         vec![

@@ -64,7 +64,6 @@ fn report_recording(path: &std::path::Path, bytes: Option<u64>, to_stdout: bool)
     crate::output::print_beside(to_stdout, &line);
 }
 
-/// What an interrupted study says.
 pub(super) fn interrupted_error(
     kind: &StudyKind,
     problem: &crate::study::Problem,
@@ -114,7 +113,6 @@ pub(super) struct Outputs {
 }
 
 impl Outputs {
-    /// The folders the outputs go to.
     fn folders(&self) -> Vec<std::path::PathBuf> {
         let targets = self.files().filter_map(|o| o.target.as_deref());
         let plots = self.plots.as_ref().map(|p| p.0.clone());

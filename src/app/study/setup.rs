@@ -34,7 +34,6 @@ pub(super) struct Setup {
     pub(super) sweep: Sweep,
     /// The steps each stability trial takes (`study stability`).
     pub(super) steps: u64,
-    /// Its work in node-steps.
     pub(super) work: f64,
     /// The target errors `study work-precision` answers for, and whether they were given
     /// (given ones the reference cannot resolve are refused, default ones left out).
