@@ -173,12 +173,6 @@ impl EntityReport {
             .filter(|d| d.1.first_time().is_some() || !d.1.same())
             .min_by_key(|d| d.1.first_time().flatten().unwrap_or(i64::MAX))
     }
-    pub(super) fn largest(&self) -> Option<(&str, &crate::rrd::compare::Difference, f64)> {
-        self.diffs
-            .iter()
-            .filter_map(|(c, d)| d.largest.as_ref().map(|l| (c.as_str(), l, d.scale)))
-            .max_by(|x, y| x.1.abs().total_cmp(&y.1.abs()))
-    }
     pub(super) fn rows(&self) -> usize {
         self.diffs.iter().map(|d| d.1.rows_a).max().unwrap_or(0)
     }
@@ -205,39 +199,34 @@ impl EntityReport {
     /// `first differs at t = …: A x, B y; largest |Δ| …` with the given names for A and B, the
     /// numbers to the digits that tell them apart.
     pub(super) fn describe(&self, a: &str, b: &str) -> String {
-        let mut out = String::new();
-        if let Some((component, d)) = self.first() {
-            match (&d.first, &d.first_other) {
+        let mut out = match self.first() {
+            None => String::new(),
+            Some((component, d)) => match (&d.first, &d.first_other) {
                 (Some(v), other)
                     if other
                         .as_ref()
                         .is_none_or(|o| o.0.is_none_or(|t| v.time.is_some_and(|vt| vt <= t))) =>
                 {
                     let (x, y) = sig_pair(v.a, v.b);
-                    let _ = write!(
-                        out,
+                    format!(
                         "first differs at {} ({}): {a} {x}, {b} {y}",
                         time_text(v.time),
                         value_name(component, v.index),
-                    );
+                    )
                 }
                 (_, Some((t, what))) => {
-                    let _ = write!(
-                        out,
-                        "first differs at {} ({component}): {what}",
-                        time_text(*t)
-                    );
+                    format!("first differs at {} ({component}): {what}", time_text(*t))
                 }
-                _ => {
-                    let _ = write!(
-                        out,
-                        "{component}: {} rows in {a}, {} in {b}, {} without a partner at the same time",
-                        d.rows_a, d.rows_b, d.unpaired
-                    );
-                }
-            }
-        }
-        if let Some((component, l, scale)) = self.largest()
+                _ => format!(
+                    "{component}: {} rows in {a}, {} in {b}, {} without a partner at the same time",
+                    d.rows_a, d.rows_b, d.unpaired
+                ),
+            },
+        };
+        let largest = (self.diffs.iter())
+            .filter_map(|(c, d)| d.largest.as_ref().map(|l| (c.as_str(), l, d.scale)))
+            .max_by(|x, y| x.1.abs().total_cmp(&y.1.abs()));
+        if let Some((component, l, scale)) = largest
             && l.abs() != 0.0
         {
             // The component named again only when it is another than the first parting's.

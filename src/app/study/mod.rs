@@ -71,19 +71,16 @@ pub fn study(kind: &StudyKind) -> anyhow::Result<()> {
     }
     // The scenes' bar and notice, its time said up front.
     let mut progress = Progress::new(out.quiet, None);
-    let label = format!("study {}", kind.name());
-    progress.stage(
-        &label,
-        match kind {
-            StudyKind::Stability(_) | StudyKind::Drift(_) => sweep.methods.len() as f64,
-            _ => [Some(&problem), damped.as_ref()]
-                .into_iter()
-                .flatten()
-                .map(|p| planned_work(p, &sweep))
-                .sum(),
-        },
-        None,
-    );
+    // Its planned runs, the damped rope's too.
+    let problems: Vec<&Problem> = [Some(&problem), damped.as_ref()]
+        .into_iter()
+        .flatten()
+        .collect();
+    let end = match kind {
+        StudyKind::Stability(_) | StudyKind::Drift(_) => sweep.methods.len() as f64,
+        _ => problems.iter().map(|p| planned_work(p, &sweep)).sum(),
+    };
+    progress.stage(&format!("study {}", kind.name()), end, None);
     let basis = format!(
         "estimated from its {work:.1e} node-steps at ~{:.0} ns each, more with implicit methods",
         setup::SECONDS_PER_NODE_STEP * 1e9
@@ -121,7 +118,7 @@ pub fn study(kind: &StudyKind) -> anyhow::Result<()> {
     }
     if interrupted {
         return Err(interrupted_error(
-            kind, &problem, &sweep, found.done, complete,
+            kind, &problems, &sweep, found.done, complete,
         ));
     }
     Ok(())

@@ -64,24 +64,24 @@ fn report_recording(path: &std::path::Path, bytes: Option<u64>, to_stdout: bool)
     crate::output::print_beside(to_stdout, &line);
 }
 
+/// What a study of `problems` (convergence's damped rope too) says when interrupted.
 pub(super) fn interrupted_error(
     kind: &StudyKind,
-    problem: &crate::study::Problem,
+    problems: &[&crate::study::Problem],
     sw: &Sweep,
     done: usize,
     complete: bool,
 ) -> anyhow::Error {
-    use crate::study::{damped_companion, planned_runs};
     let (planned, what) = match kind {
         StudyKind::Stability(_) => (sw.methods.len(), "methods' limits"),
         StudyKind::Drift(_) => (sw.methods.len(), "runs"),
-        // The undamped rope's convergence runs the damped one after it.
-        StudyKind::Convergence(_) => (
-            planned_runs(problem, sw)
-                + damped_companion(problem).map_or(0, |d| planned_runs(&d, sw)),
+        _ => (
+            problems
+                .iter()
+                .map(|p| crate::study::planned_runs(p, sw))
+                .sum(),
             "runs",
         ),
-        _ => (planned_runs(problem, sw), "runs"),
     };
     interrupted_after(done, planned, what, complete)
 }
