@@ -24,6 +24,11 @@ pub(super) fn recorded_timings(info: &RecordingInfo) -> bool {
     info.entities.iter().any(|e| wall_clock(e, false))
 }
 
+/// `beyond --tolerance T`, when one was given.
+pub(super) fn beyond(tolerance: f64) -> Option<String> {
+    (tolerance > 0.0).then(|| format!("beyond --tolerance {tolerance}"))
+}
+
 pub(super) fn tolerance(t: Option<f64>) -> Result<f64, Error> {
     match t {
         None => Ok(0.0),

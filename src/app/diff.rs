@@ -5,8 +5,8 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use super::Error;
 use super::compared::{
-    EntityLine, by_entity, check_output, config_keys, difference_lines, identical_line, lane_names,
-    physlab_made, print_lines, single_method, tolerance, version_line,
+    EntityLine, beyond, by_entity, check_output, config_keys, difference_lines, identical_line,
+    lane_names, physlab_made, print_lines, single_method, tolerance, version_line,
 };
 use super::scenes::{SCENES, parse_scene_file};
 use crate::cli::DiffArgs;
@@ -237,11 +237,7 @@ impl Differences {
         lanes: &BTreeSet<String>,
     ) -> Vec<String> {
         let differing = self.differing();
-        let beyond = if self.tolerance > 0.0 {
-            format!(" beyond --tolerance {}", self.tolerance)
-        } else {
-            String::new()
-        };
+        let beyond = beyond(self.tolerance).map_or(String::new(), |b| format!(" {b}"));
         let mut out = vec![format!(
             "verdict: {}: {differing} of {} shared entities differ{beyond}; {} only in A, {} only in B",
             if self.same() {

@@ -6,7 +6,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use super::compared::{
-    EntityLine, by_entity, check_output, difference_lines, identical_line, lane_names,
+    EntityLine, beyond, by_entity, check_output, difference_lines, identical_line, lane_names,
     physlab_made, print_lines, recorded_command, recorded_timings, tolerance, version_line,
     version_text, wall_clock,
 };
@@ -410,11 +410,7 @@ impl Reproduced {
     fn verdict(&self) -> String {
         let (n, tol) = (self.entries.len(), self.tolerance);
         if self.differing > 0 {
-            let beyond = if tol > 0.0 {
-                format!(" (beyond --tolerance {tol})")
-            } else {
-                String::new()
-            };
+            let beyond = beyond(tol).map_or(String::new(), |b| format!(" ({b})"));
             format!(
                 "verdict: DIFFERS in {} of {n} entities{beyond}",
                 self.differing
