@@ -6,8 +6,8 @@ use std::ffi::OsString;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use super::scenes::SCENES;
-use super::{Error, SceneFile};
+use super::Error;
+use super::scenes::{parse_scene_file, scene_named};
 use crate::format::{sig, sig_pair};
 use crate::rrd::compare::{SeriesDiff, time_text};
 use crate::rrd::inspect::{RecordingInfo, read_recording};
@@ -24,6 +24,11 @@ pub(super) fn recorded_timings(info: &RecordingInfo) -> bool {
     info.entities.iter().any(|e| wall_clock(e, false))
 }
 
+/// `beyond --tolerance T`, when one was given.
+pub(super) fn beyond(tolerance: f64) -> Option<String> {
+    (tolerance > 0.0).then(|| format!("beyond --tolerance {tolerance}"))
+}
+
 pub(super) fn tolerance(t: Option<f64>) -> Result<f64, Error> {
     match t {
         None => Ok(0.0),
@@ -35,8 +40,7 @@ pub(super) fn tolerance(t: Option<f64>) -> Result<f64, Error> {
 }
 
 /// A complete recording made by physlab (`diff` and `reproduce` compare nothing else): one
-/// without its footer was cut off while being written (the process killed, the file
-/// truncated), and its last chunks are lost.
+/// without its footer was cut off while being written, and its last chunks are lost.
 pub(super) fn physlab_made(path: &Path) -> anyhow::Result<RecordingInfo> {
     let info = read_recording(path)?;
     let refused = if !info.has_footer {
@@ -59,10 +63,9 @@ pub(super) fn physlab_made(path: &Path) -> anyhow::Result<RecordingInfo> {
     Err(Error::Usage(format!("{}: {refused}", path.display())).into())
 }
 
-/// The command line a diff or study recording was made with, rebuilt: its words read back
-/// ([`shell_words`]), parsed as a physlab command of the recording's kind and quoted anew, the
-/// program named `physlab`; `None` when it does not parse as one. Never copied as it is: a
-/// recording is a stranger's text.
+/// The command line a diff or study recording was made with, parsed as a physlab command of
+/// the recording's kind and quoted anew; `None` when it does not parse as one. Never copied as
+/// it is: a recording is a stranger's text.
 pub(super) fn recorded_command(info: &RecordingInfo) -> Option<String> {
     use std::os::unix::ffi::{OsStrExt as _, OsStringExt as _};
     let kind = info.properties.get("scenes")?;
@@ -81,15 +84,13 @@ pub(super) fn recorded_command(info: &RecordingInfo) -> Option<String> {
     })
 }
 
-/// The command that runs a scene recording again on its scene file `config`: its scene
-/// subcommand from the registry (`all` for several scenes), with `--timings` if it recorded
-/// them; `None` unless every scene it names is one and its configuration parses.
+/// The command that runs a scene recording again on its scene file `config`; `None` unless
+/// every scene it names is one and its configuration parses.
 pub(super) fn scene_command(info: &RecordingInfo, config: &Path) -> Option<String> {
     let listed: Vec<&'static str> = (info.properties.get("scenes")?.split(','))
-        .map(|s| SCENES.iter().find(|k| k.name == s).map(|k| k.name))
+        .map(|s| scene_named(s).map(|k| k.name))
         .collect::<Option<_>>()?;
-    let names: Vec<&str> = SCENES.iter().map(|s| s.name).collect();
-    SceneFile::parse(info.properties.get("config")?, &names).ok()?;
+    parse_scene_file(info.properties.get("config")?).ok()?;
     let subcommand = match listed[..] {
         [one] => one,
         _ => "all",
@@ -118,7 +119,6 @@ pub(super) fn remake_commands(info: &RecordingInfo, file: &Path, config: &Path) 
     }
 }
 
-/// The build that made a recording, as [`version_text`] says it.
 pub(super) fn version_line(info: &RecordingInfo) -> String {
     let p = |k| info.property(k);
     version_text(
@@ -159,10 +159,8 @@ pub(super) fn print_lines(lines: &[String], to_stderr: bool) {
     }
 }
 
-/// One line per entity of the comparison of its components.
 pub(super) struct EntityReport {
     pub(super) entity: String,
-    /// Components compared, their diffs.
     pub(super) diffs: Vec<(String, SeriesDiff)>,
 }
 
@@ -180,17 +178,11 @@ impl EntityReport {
             .filter(|d| d.1.first_time().is_some() || !d.1.same())
             .min_by_key(|d| d.1.first_time().flatten().unwrap_or(i64::MAX))
     }
-    pub(super) fn largest(&self) -> Option<(&str, &crate::rrd::compare::Difference, f64)> {
-        self.diffs
-            .iter()
-            .filter_map(|(c, d)| d.largest.as_ref().map(|l| (c.as_str(), l, d.scale)))
-            .max_by(|x, y| x.1.abs().total_cmp(&y.1.abs()))
-    }
     pub(super) fn rows(&self) -> usize {
         self.diffs.iter().map(|d| d.1.rows_a).max().unwrap_or(0)
     }
 
-    /// Rows at times the other side lacks, over its components.
+    /// Rows at times the other side lacks.
     pub(super) fn unpaired(&self) -> usize {
         self.diffs.iter().map(|d| d.1.unpaired).max().unwrap_or(0)
     }
@@ -212,39 +204,34 @@ impl EntityReport {
     /// `first differs at t = …: A x, B y; largest |Δ| …` with the given names for A and B, the
     /// numbers to the digits that tell them apart.
     pub(super) fn describe(&self, a: &str, b: &str) -> String {
-        let mut out = String::new();
-        if let Some((component, d)) = self.first() {
-            match (&d.first, &d.first_other) {
+        let mut out = match self.first() {
+            None => String::new(),
+            Some((component, d)) => match (&d.first, &d.first_other) {
                 (Some(v), other)
                     if other
                         .as_ref()
                         .is_none_or(|o| o.0.is_none_or(|t| v.time.is_some_and(|vt| vt <= t))) =>
                 {
                     let (x, y) = sig_pair(v.a, v.b);
-                    let _ = write!(
-                        out,
+                    format!(
                         "first differs at {} ({}): {a} {x}, {b} {y}",
                         time_text(v.time),
                         value_name(component, v.index),
-                    );
+                    )
                 }
                 (_, Some((t, what))) => {
-                    let _ = write!(
-                        out,
-                        "first differs at {} ({component}): {what}",
-                        time_text(*t)
-                    );
+                    format!("first differs at {} ({component}): {what}", time_text(*t))
                 }
-                _ => {
-                    let _ = write!(
-                        out,
-                        "{component}: {} rows in {a}, {} in {b}, {} without a partner at the same time",
-                        d.rows_a, d.rows_b, d.unpaired
-                    );
-                }
-            }
-        }
-        if let Some((component, l, scale)) = self.largest()
+                _ => format!(
+                    "{component}: {} rows in {a}, {} in {b}, {} without a partner at the same time",
+                    d.rows_a, d.rows_b, d.unpaired
+                ),
+            },
+        };
+        let largest = (self.diffs.iter())
+            .filter_map(|(c, d)| d.largest.as_ref().map(|l| (c.as_str(), l, d.scale)))
+            .max_by(|x, y| x.1.abs().total_cmp(&y.1.abs()));
+        if let Some((component, l, scale)) = largest
             && l.abs() != 0.0
         {
             // The component named again only when it is another than the first parting's.
@@ -322,7 +309,6 @@ pub(super) struct EntityLine {
     pub(super) first: i64,
 }
 
-/// The entities of one group and the one of them that parts first.
 #[derive(Default)]
 struct Group {
     entities: usize,
@@ -330,21 +316,18 @@ struct Group {
     earliest: Option<EntityLine>,
 }
 
-/// Group lines shown without `-v`: with the verdict, configuration and times, a report stays
-/// under 15 lines.
+/// Group lines shown without `-v`: a report stays under 15 lines.
 const GROUPS_SHOWN: usize = 6;
 
-/// The lines that say what differs: with `verbose` one per entity (identical ones too), else one
-/// per group of entities ([`entity_group`]), the earliest parting first, at most
-/// [`GROUPS_SHOWN`] groups.
-pub(super) fn difference_lines(
-    entries: &[EntityLine],
+/// The lines that say what differs: with `verbose` one per entity, else one per group of
+/// entities ([`entity_group`]), the earliest parting first.
+pub(super) fn difference_lines<'a>(
+    entries: impl Iterator<Item = &'a EntityLine>,
     methods: &BTreeSet<String>,
     verbose: bool,
 ) -> Vec<String> {
     if verbose {
         return entries
-            .iter()
             .map(|e| format!("  {}: {}", e.entity, e.text))
             .collect();
     }
@@ -389,7 +372,12 @@ pub(super) fn difference_lines(
     lines
 }
 
-/// Groups per-component comparisons by entity.
+/// `identical: N entities (-v lists them)`, unless none is or `verbose` listed them.
+pub(super) fn identical_line(identical: usize, verbose: bool) -> Option<String> {
+    let n = crate::format::plural(identical as u64, "entity");
+    (!verbose && identical > 0).then(|| format!("identical: {n} (-v lists them)"))
+}
+
 pub(super) fn by_entity(diffs: Vec<((String, String), SeriesDiff)>) -> Vec<EntityReport> {
     let mut out: Vec<EntityReport> = Vec::new();
     for ((entity, component), d) in diffs {

@@ -1,19 +1,15 @@
 //! `physlab diff A.rrd B.rrd`: compares two recordings, configuration first, then every series.
-//! The report says the verdict first, then only what differs: the configuration keys that
-//! changed, the rows one run has at times the other lacks (a changed step) as one line, and one
-//! line per group of entities (a quantity or a drawing over its methods) from the earliest
-//! parting on; `-v` lists every entity.
+//! The report says the verdict first, then only what differs (`-v`: every entity).
 
 use std::collections::{BTreeMap, BTreeSet};
 
 use super::Error;
-use super::SceneFile;
 use super::compared::{
-    EntityLine, by_entity, check_output, config_keys, difference_lines, lane_names, physlab_made,
-    print_lines, single_method, tolerance, version_line,
+    EntityLine, beyond, by_entity, check_output, config_keys, difference_lines, identical_line,
+    lane_names, physlab_made, print_lines, single_method, tolerance, version_line,
 };
-use super::scenes::{AllFlags, SCENES};
-use crate::cli::{DiffArgs, RunArgs};
+use super::scenes::{SCENES, parse_scene_file};
+use crate::cli::DiffArgs;
 use crate::output::Dash;
 use crate::record::Framing;
 use crate::record::diff::{DiffPlan, DiffWriter};
@@ -99,14 +95,11 @@ struct Differences {
     tolerance: f64,
     /// Per shared entity: whether it differs, what is said of it, when it first parts.
     entries: Vec<EntityLine>,
-    /// Entities that one recording holds and the other does not.
     only_a: BTreeSet<String>,
     only_b: BTreeSet<String>,
-    /// Entities both hold.
     shared: usize,
     /// Entities whose rows are at times the other lacks and that differ by nothing else, those
-    /// that also differ otherwise, and the one whose row counts differ most (`name: A n, B m
-    /// rows`).
+    /// that also differ otherwise, and the one whose row counts differ most.
     only_times: usize,
     with_times: usize,
     times_example: Option<(usize, String)>,
@@ -114,10 +107,9 @@ struct Differences {
 
 impl Differences {
     fn new(streamed: &Streamed, tol: f64) -> Self {
-        // Series over time, and static data (summaries, styles, static 3D, study tables)
-        // compared as it is: a component that differs or that only one of them holds makes its
-        // entity differ (paired lanes' names and colours too: they are what the runs were told
-        // to be).
+        // Static data (summaries, styles, static 3D, study tables) that differs or that only
+        // one of them holds makes its entity differ (paired lanes' names and colours too: they
+        // are what the runs were told to be).
         let (xa, xb) = (&streamed.index_a, &streamed.index_b);
         let entities = |x: &BTreeMap<Key, SeriesIndex>| -> BTreeSet<String> {
             x.keys().map(|k| k.0.clone()).collect()
@@ -160,8 +152,6 @@ impl Differences {
         out
     }
 
-    /// Each entity's line from its series' comparison and its static data's, then the entities
-    /// whose static data alone differs.
     fn add_series(
         &mut self,
         reports: Vec<super::compared::EntityReport>,
@@ -215,8 +205,7 @@ impl Differences {
         }
         for (entity, components) in static_differs {
             if !reports.iter().any(|r| &r.entity == entity) {
-                // After the series' partings: static data (summaries, about texts) follows from
-                // them.
+                // After the series' partings: static data follows from them.
                 self.entries.push(EntityLine {
                     entity: entity.clone(),
                     differs: true,
@@ -231,7 +220,6 @@ impl Differences {
         self.entries.iter().filter(|e| e.differs).count()
     }
 
-    /// Neither recording holds any data: there is nothing to say the same.
     fn is_empty(&self) -> bool {
         self.shared == 0 && self.only_a.is_empty() && self.only_b.is_empty()
     }
@@ -240,8 +228,7 @@ impl Differences {
         self.differing() == 0 && self.only_a.is_empty() && self.only_b.is_empty()
     }
 
-    /// The report: the verdict first, then what changed between the runs (configuration,
-    /// builds, ends, times), then what differs (`-v`: every entity).
+    /// The report: the verdict, what changed between the runs, then what differs.
     fn lines(
         &self,
         args: &DiffArgs,
@@ -250,11 +237,7 @@ impl Differences {
         lanes: &BTreeSet<String>,
     ) -> Vec<String> {
         let differing = self.differing();
-        let beyond = if self.tolerance > 0.0 {
-            format!(" beyond --tolerance {}", self.tolerance)
-        } else {
-            String::new()
-        };
+        let beyond = beyond(self.tolerance).map_or(String::new(), |b| format!(" {b}"));
         let mut out = vec![format!(
             "verdict: {}: {differing} of {} shared entities differ{beyond}; {} only in A, {} only in B",
             if self.same() {
@@ -299,20 +282,11 @@ impl Differences {
                 self.only_times + self.with_times,
             ));
         }
-        let shown: Vec<EntityLine> = (self.entries.iter())
-            .filter(|e| args.verbose || e.differs)
-            .cloned()
-            .collect();
-        out.extend(difference_lines(&shown, lanes, args.verbose));
+        let shown = (self.entries.iter()).filter(|e| args.verbose || e.differs);
+        out.extend(difference_lines(shown, lanes, args.verbose));
         out.extend(self.only_a.iter().map(|e| format!("  only in A: {e}")));
         out.extend(self.only_b.iter().map(|e| format!("  only in B: {e}")));
-        let identical = self.shared - differing;
-        if !args.verbose && identical > 0 {
-            out.push(format!(
-                "identical: {} (-v lists them)",
-                crate::format::plural(identical as u64, "entity")
-            ));
-        }
+        out.extend(identical_line(self.shared - differing, args.verbose));
         out
     }
 }
@@ -334,9 +308,7 @@ fn outcome_lines(
 }
 
 /// How each lane of each scene ended (`scene lane` → `diverged at t = 7.444 s`, `stopped at t =
-/// 3 s` in a run interrupted, `completed`), from the run properties: `<scene>_ended` names the
-/// lanes that diverged and when, `<scene>_status` and `_end_time` where the scene stopped. B's
-/// lanes are named as paired with A's.
+/// 3 s`, `completed`), from the run properties. B's lanes are named as paired with A's.
 fn outcomes(info: &RecordingInfo, rename: &Option<(String, String)>) -> BTreeMap<String, String> {
     let methods = info.properties.get("methods").map_or("", String::as_str);
     let mut out = BTreeMap::new();
@@ -364,7 +336,6 @@ fn outcomes(info: &RecordingInfo, rename: &Option<(String, String)>) -> BTreeMap
     out
 }
 
-/// What changed between the runs' configurations, key by key.
 fn configuration_lines(ia: &RecordingInfo, ib: &RecordingInfo) -> Vec<String> {
     let (ka, kb) = (config_keys(ia), config_keys(ib));
     let keys: BTreeSet<&String> = ka.keys().chain(kb.keys()).collect();
@@ -392,22 +363,15 @@ fn configuration_lines(ia: &RecordingInfo, ib: &RecordingInfo) -> Vec<String> {
     }
 }
 
-/// Each scene's 3D framing as the recording's configuration draws it (none when it holds no
-/// configuration this build runs).
 fn framings(info: &RecordingInfo) -> Vec<(&'static str, Framing)> {
-    let Some(text) = info.properties.get("config") else {
-        return Vec::new();
-    };
-    let names: Vec<&str> = SCENES.iter().map(|s| s.name).collect();
-    let Ok(file) = SceneFile::parse(text, &names) else {
+    let Some(Ok(file)) = (info.properties.get("config")).map(|t| parse_scene_file(t)) else {
         return Vec::new();
     };
     SCENES
         .iter()
         .filter(|s| file.table(s.name).is_some())
         .filter_map(|s| {
-            let ready = s.flags(&AllFlags::default());
-            let ready = ready.resolve(&file, &RunArgs::default()).ok()?;
+            let ready = s.as_recorded(&file).ok()?;
             // One overlay view per scene: the box around every lane's slot.
             let framing = ready
                 .staging()

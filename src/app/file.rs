@@ -1,5 +1,4 @@
-//! Scene files (TOML): one table per scene, whose keys are the scene configuration's own
-//! (`app::layers` reads a table into its configuration).
+//! Scene files (TOML): one table per scene, whose keys are the scene configuration's own.
 
 use std::path::{Path, PathBuf};
 
@@ -14,8 +13,6 @@ pub struct SceneFile {
 }
 
 impl SceneFile {
-    /// Reads and parses `path`, whose tables must be among `scenes`. Errors name the file, and
-    /// the line and key at fault.
     pub fn load(path: &Path, scenes: &[&str]) -> Result<Self, Error> {
         let text = read_capped(path)?;
         let text = String::from_utf8(text).map_err(|_| {
@@ -37,7 +34,6 @@ impl SceneFile {
         Ok(file)
     }
 
-    /// The tables of `text`, each one of `scenes`.
     pub fn parse(text: &str, scenes: &[&str]) -> Result<Self, String> {
         let file: toml::Table =
             toml::from_str(text).map_err(|e| e.to_string().trim_end().replace('\n', "\n  "))?;
@@ -64,7 +60,6 @@ impl SceneFile {
         })
     }
 
-    /// Its table for `scene`, if it has one.
     pub fn table(&self, scene: &str) -> Option<&toml::Table> {
         self.tables.iter().find(|t| t.0 == scene).map(|t| &t.1)
     }
@@ -87,17 +82,14 @@ impl SceneFile {
         }
     }
 
-    /// The file it was read from.
     pub fn path(&self) -> Option<&Path> {
         self.source.as_ref().map(|s| s.0.as_path())
     }
 
-    /// The 1-based line where `key` is set inside `[scene]`, if it can be found.
     pub fn line_of(&self, scene: &str, key: &str) -> Option<usize> {
         line_at(&self.source.as_ref()?.1, &[scene, key])
     }
 
-    /// As TOML, its tables in order.
     pub fn to_toml(&self) -> anyhow::Result<String> {
         let mut text = String::new();
         for (name, table) in &self.tables {
@@ -114,9 +106,16 @@ impl SceneFile {
 /// `[pendulum], [rope] or [hair]`.
 fn listed(scenes: &[&str]) -> String {
     let named: Vec<String> = scenes.iter().map(|s| format!("[{s}]")).collect();
-    match named.split_last() {
-        Some((last, rest)) if !rest.is_empty() => format!("{} or {last}", rest.join(", ")),
-        _ => named.join(""),
+    listing(&named, "or")
+}
+
+/// `a, b {last} c`.
+pub(super) fn listing<S: std::borrow::Borrow<str>>(items: &[S], last: &str) -> String {
+    match items.split_last() {
+        Some((end, rest)) if !rest.is_empty() => {
+            format!("{} {last} {}", rest.join(", "), end.borrow())
+        }
+        _ => items.join(""),
     }
 }
 
@@ -124,9 +123,8 @@ fn listed(scenes: &[&str]) -> String {
 /// stream must not fill the memory).
 pub const MAX_SCENE_FILE_BYTES: u64 = 1 << 20;
 
-/// The bytes of a regular file of at most [`MAX_SCENE_FILE_BYTES`]. It is opened without
-/// blocking and its type read from the open file, so that a FIFO with no writer or a device is
-/// refused at once rather than waited on or read forever.
+/// The bytes of a regular file of at most [`MAX_SCENE_FILE_BYTES`], opened without blocking so
+/// that a FIFO with no writer or a device is refused at once rather than waited on.
 fn read_capped(path: &Path) -> Result<Vec<u8>, Error> {
     use std::io::Read as _;
     use std::os::unix::fs::{FileTypeExt as _, OpenOptionsExt as _};
@@ -180,8 +178,7 @@ fn check_method_lists(text: &str, tables: &[(String, toml::Table)]) -> Result<()
     Ok(())
 }
 
-/// The 1-based line of the key at `path` (a table's name, then a key inside it), from the TOML
-/// parser's spans.
+/// The 1-based line of the key at `path` (a table's name, then a key inside it).
 fn line_at(text: &str, path: &[&str]) -> Option<usize> {
     let file = toml::de::DeTable::parse(text).ok()?;
     let (mut table, mut start) = (Some(file.get_ref()), 0);

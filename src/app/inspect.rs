@@ -50,7 +50,6 @@ pub fn inspect_command(args: &InspectArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// What `inspect` says of a recording, line by line (printed escaped: it is a stranger's text).
 fn described(info: &RecordingInfo, file: &Path, scene_file: &Path) -> Vec<String> {
     let p = |k| info.property(k);
     let mut out = vec![format!("recording: {}", crate::shell::shown(file))];

@@ -1,8 +1,7 @@
 //! A scene's configuration from its layers: its defaults (or the preset it names) < values
 //! that replace defaults for one command (the study's rope) < the scene file's table < the flags
-//! given. Each layer is a TOML table whose keys are the configuration's own, because the
-//! configuration is the scene file's schema: layering merges tables, and no list of fields is
-//! written here or anywhere else.
+//! given. Each layer is a TOML table whose keys are the configuration's own, so that no list of
+//! fields is written anywhere.
 
 use serde::Serialize;
 
@@ -16,16 +15,14 @@ pub struct Given<'a> {
     /// Values that replace the scene's defaults for this command, below the file.
     pub defaults: toml::Table,
     pub file: &'a SceneFile,
-    /// The flags given, as their table.
     pub flags: toml::Table,
     /// Every key the scene takes, for the message that refuses one it does not.
     pub keys: Vec<String>,
 }
 
 impl Given<'_> {
-    /// The configuration these values give, settled and validated. The file's table is read
-    /// and checked alone first, so that a value it refuses is named as its key there, not as a
-    /// flag the user never typed.
+    /// The configuration these values give, settled and validated. The file's table is checked
+    /// alone first, so that a value it refuses is named as its key there.
     pub fn resolve<C: SceneConfig>(&self) -> Result<C, Error> {
         let from_file = self.file.table(self.scene).cloned().unwrap_or_default();
         if let Some(path) = self.file.path() {
@@ -89,8 +86,7 @@ fn refusal<C: SceneConfig>(key: &str, value: &toml::Value, error: &toml::de::Err
     format!("a TOML date-time is not a value of {key}{why}")
 }
 
-/// The layers' configuration: over its defaults, or over the preset the layers name, with what
-/// follows from the given values settled.
+/// The layers' configuration over its defaults, or over the preset the layers name, settled.
 fn settled<C: SceneConfig>(layers: &[&toml::Table]) -> Result<C, Error> {
     let given = merged::<C>(layers);
     let read = |below: &C| -> Result<C, Error> {
@@ -122,8 +118,7 @@ fn merged<C: SceneConfig>(layers: &[&toml::Table]) -> toml::Table {
     out
 }
 
-/// `value` as a table: a configuration as its scene-file table, flags as the table of those
-/// given.
+/// `value` as a table: a configuration as its scene-file table, flags as those given.
 pub fn table_of(value: &impl Serialize) -> Result<toml::Table, Error> {
     toml::Table::try_from(value).map_err(|e| Error::Runtime(e.into()))
 }

@@ -1,9 +1,7 @@
 //! The commands. Every simulating command goes through one pipeline ([`simulate`]): resolve the
-//! scenes' parameters (defaults < preset < scene file < flags) into validated configs, open the
-//! recording, run each scene through the harness with the recorder and the progress bar as its
-//! observers, print the summaries, and finish (exit codes for interruption and divergence). A
-//! single-scene command is `all` with one scene. Only the summaries go to stdout; the progress
-//! bar goes to stderr.
+//! scenes' parameters (defaults < preset < scene file < flags), open the recording, run each
+//! scene with the recorder and the progress bar as its observers, print the summaries, finish.
+//! A single-scene command is `all` with one scene.
 
 mod compared;
 mod diff;
@@ -15,6 +13,7 @@ mod reproduce;
 mod scenes;
 mod study;
 
+use std::collections::{BTreeMap, BTreeSet};
 use std::time::Instant;
 
 use crate::error::Error;
@@ -66,8 +65,7 @@ fn methods(name: Option<&str>) -> anyhow::Result<()> {
 /// The scenes a command runs, each with its flags (not yet layered over file and defaults).
 type Plan = Vec<Box<dyn Flags>>;
 
-/// `physlab all`: every scene; its own --fps, --plot-every and --methods override every
-/// scene's. Each scene takes the listed methods it supports.
+/// `physlab all`: every scene, its own flags over every scene's.
 fn all_plan(c: &AllArgs) -> Result<Plan, Error> {
     let (registry, hair) = c.methods.as_deref().map(split_methods).transpose()?.unzip();
     let all = AllFlags {
@@ -82,12 +80,12 @@ fn all_plan(c: &AllArgs) -> Result<Plan, Error> {
 }
 
 /// `all --methods`: the names the pendulum and rope take (the registry's) and those hair takes.
-/// A name no scene knows, or a list that leaves a scene with none, is refused.
 fn split_methods(
     names: &[String],
 ) -> Result<(Vec<crate::integrate::Method>, Vec<HairMethod>), Error> {
     use crate::integrate::Method;
     let list = names.join(",");
+    let registry_names: Vec<&str> = Method::names().collect();
     let mut registry = Vec::new();
     let mut hair = Vec::new();
     for name in names {
@@ -96,7 +94,7 @@ fn split_methods(
         if r.is_none() && h.is_none() {
             return Err(Error::Usage(format!(
                 "--methods {list}: no scene has a method '{name}' (pendulum and rope: {}; hair: {})",
-                Method::names().collect::<Vec<_>>().join(", "),
+                registry_names.join(", "),
                 HairMethod::names()
             )));
         }
@@ -104,18 +102,15 @@ fn split_methods(
         hair.extend(h);
     }
     let none = |scene: &str, allowed: String| {
-        Error::Usage(format!(
+        Err(Error::Usage(format!(
             "--methods {list}: leaves {scene} no method (allowed: {allowed})"
-        ))
+        )))
     };
     if registry.is_empty() {
-        return Err(none(
-            "the pendulum and the rope",
-            Method::names().collect::<Vec<_>>().join(", "),
-        ));
+        return none("the pendulum and the rope", registry_names.join(", "));
     }
     if hair.is_empty() {
-        return Err(none("hair", HairMethod::names()));
+        return none("hair", HairMethod::names());
     }
     Ok((registry, hair))
 }
@@ -124,24 +119,11 @@ fn split_methods(
 #[derive(Default)]
 struct Replay {
     /// Scenes that were interrupted, with the last tick they reached.
-    stop_after: Vec<(String, u64)>,
+    stop_after: BTreeMap<&'static str, u64>,
     /// Scenes the recorded run never started.
-    skip: Vec<String>,
-    /// Print no summaries.
+    skip: BTreeSet<&'static str>,
     silent: bool,
-    /// What the re-run may take.
     budget: Option<progress::Budget>,
-}
-
-impl Replay {
-    /// Where `scene` stops, if the recorded run was interrupted in it.
-    fn stop_after(&self, scene: &str) -> Option<u64> {
-        self.stop_after.iter().find(|s| s.0 == scene).map(|s| s.1)
-    }
-
-    fn skips(&self, scene: &str) -> bool {
-        self.skip.iter().any(|s| s == scene)
-    }
 }
 
 /// The plan's scenes, layered and validated, and the scene file that reproduces them.
@@ -151,7 +133,6 @@ struct Resolved {
     file: SceneFile,
 }
 
-/// Layers each planned scene's flags over the scene file over its defaults and validates it.
 fn resolve(plan: Plan, run: &RunArgs) -> anyhow::Result<Resolved> {
     let file = load_scene_file(run.config.as_deref())?;
     let single = plan.len() == 1;
@@ -186,13 +167,9 @@ pub fn config_from_flags<C: crate::scene::params::SceneConfig>(
     scenes::given(flags, scene, &SceneFile::default())?.resolve()
 }
 
-/// The scene file `--config` names (an empty one without it), its tables among the scenes'.
 fn load_scene_file(path: Option<&std::path::Path>) -> Result<SceneFile, Error> {
     match path {
-        Some(path) => {
-            let names: Vec<&str> = SCENES.iter().map(|s| s.name).collect();
-            SceneFile::load(path, &names)
-        }
+        Some(path) => SceneFile::load(path, &scenes::scene_names()),
         None => Ok(SceneFile::default()),
     }
 }
@@ -267,7 +244,6 @@ fn simulate(
     finish(recording, &d, started, summaries, &ran.diverged, run)
 }
 
-/// The recording of the resolved scenes: its layout, its destinations and its provenance.
 fn open_recording(
     resolved: &Resolved,
     run: &RunArgs,
@@ -303,8 +279,7 @@ fn open_recording(
     Ok(recording)
 }
 
-/// What the scenes' runs leave: their summaries, the lanes that diverged and where each scene
-/// ended (those not run after an interruption said so).
+/// What the scenes' runs leave (scenes not run after an interruption say so in `ends`).
 struct Ended {
     summaries: Vec<String>,
     diverged: Vec<String>,
@@ -336,10 +311,10 @@ fn run_scenes(
     };
     for (scene, warning) in scenes.into_iter().zip(warnings) {
         let name = scene.kind().name;
-        if crate::interrupt::requested() || replay.skips(name) {
+        if crate::interrupt::requested() || replay.skip.contains(name) {
             continue;
         }
-        ctx.stop_after = replay.stop_after(name);
+        ctx.stop_after = replay.stop_after.get(name).copied();
         let memory = scene.memory_bytes();
         if memory > MEMORY_NOTICE_BYTES && !run.quiet {
             // Allowed (validation refuses what does not fit), but not to be taken silently.
@@ -380,11 +355,9 @@ fn run_scenes(
 }
 
 /// Says before a scene's setup what its size alone makes it take, when long or large: a state of
-/// gigabytes takes seconds to build and its first frames longer, before its pace can be judged
-/// (`Progress`). `reproduce` states its own (`replay.silent`).
+/// gigabytes takes seconds to build, before its pace can be judged (`Progress`).
 fn say_floor(name: &str, bulk: scenes::Bulk, recorded: bool) {
-    let seconds = bulk.node_steps * crate::scene::params::NODE_STEP_SECONDS;
-    let bytes = bulk.node_frames * record::hair::BYTES_PER_NODE_FRAME * f64::from(recorded);
+    let (seconds, bytes) = (bulk.seconds(), bulk.bytes() * f64::from(recorded));
     if seconds > progress::LONG_SECONDS || bytes > progress::LARGE_BYTES {
         let (time, size) = (crate::format::duration(seconds), crate::format::size(bytes));
         let notice = format!(
@@ -396,7 +369,6 @@ fn say_floor(name: &str, bulk: scenes::Bulk, recorded: bool) {
     }
 }
 
-/// Output options that cannot hold together.
 fn refuse_contradictions(run: &RunArgs) -> Result<(), Error> {
     if run.no_save
         && let Some(path) = &run.output
@@ -429,7 +401,6 @@ fn refuse_contradictions(run: &RunArgs) -> Result<(), Error> {
     Ok(())
 }
 
-/// One scene's run: its summary, the lanes that diverged, where it ended.
 struct Ran {
     /// The summary with its full table: recorded, and printed with --wide.
     summary: String,
@@ -443,57 +414,57 @@ struct Ran {
 }
 
 impl Ran {
-    /// Adds `text` under both forms of the summary.
     fn append(&mut self, text: &str) {
         self.summary.push_str(text);
         self.fitted.push_str(text);
     }
 }
 
-/// Runs one scene through the harness (recording it when a recorder is given) and returns its
-/// summary, the lanes that diverged and where it ended.
-fn run_scene<S: Scene, D: Draw<S>>(
-    mut scene: S,
-    mut recorder: Option<SceneRecorder<D>>,
-    summary: fn(&S, &Run<S::Lane>, bool) -> String,
-    progress: &mut Progress,
-    stop_after: Option<u64>,
-) -> anyhow::Result<Ran> {
-    let schedule = scene.schedule();
-    let end = stop_after.map_or(schedule.total, |t| t.min(schedule.total));
-    progress.stage(scene.name(), end as f64, Some(schedule.frames()));
-    let mut quiet = NoObserver;
-    let inner: &mut dyn Observer<S> = match &mut recorder {
-        Some(r) => r,
-        None => &mut quiet,
-    };
-    let run = harness::run_until(
-        &mut scene,
-        &mut WithProgress { inner, progress },
-        stop_after,
-    )?;
-    let schedule = scene.schedule();
-    let mut text = String::new();
-    if let (true, Some(_)) = (schedule.aggregates(), &recorder) {
-        let plots = schedule.series_text(&scene.windows());
-        text.push_str(&format!("\nplots: {plots}\n"));
+impl RunContext<'_> {
+    /// Runs `scene` through the harness, recorded (when a recording is made) by `recorder`, and
+    /// summarised by `summary`.
+    fn run<S: Scene, D: Draw<S>>(
+        &mut self,
+        mut scene: S,
+        recorder: impl FnOnce(rerun::RecordingStream, bool) -> SceneRecorder<D>,
+        summary: fn(&S, &Run<S::Lane>, bool) -> String,
+    ) -> anyhow::Result<Ran> {
+        let mut recorder = (self.stream.clone())
+            .map(|s| recorder(s, self.timings).with_frame_rate(self.frame_rate));
+        let schedule = scene.schedule();
+        let end = (self.stop_after).map_or(schedule.total, |t| t.min(schedule.total));
+        let progress = &mut *self.progress;
+        progress.stage(scene.name(), end as f64, Some(schedule.frames()));
+        let mut quiet = NoObserver;
+        let inner: &mut dyn Observer<S> = match &mut recorder {
+            Some(r) => r,
+            None => &mut quiet,
+        };
+        let observer = &mut WithProgress { inner, progress };
+        let run = harness::run_until(&mut scene, observer, self.stop_after)?;
+        let schedule = scene.schedule();
+        let mut text = String::new();
+        if let (true, Some(_)) = (schedule.aggregates(), &recorder) {
+            let plots = schedule.series_text(&scene.windows());
+            text.push_str(&format!("\nplots: {plots}\n"));
+        }
+        if let (Some(gap), Some(_)) = (schedule.gap_text(), &recorder) {
+            text.push_str(&format!("\n{gap}\n"));
+        }
+        Ok(Ran {
+            summary: summary(&scene, &run, true) + &text,
+            fitted: summary(&scene, &run, false) + &text,
+            printed_only: String::new(),
+            diverged: run.diverged(scene.name()),
+            end: SceneEnd {
+                scene: scene.name(),
+                status: ["complete", "interrupted"][run.interrupted as usize],
+                last_tick: run.last_tick,
+                end_time: schedule.time(run.last_tick),
+                text: run.ending(&schedule),
+            },
+        })
     }
-    if let (Some(gap), Some(_)) = (schedule.gap_text(), &recorder) {
-        text.push_str(&format!("\n{gap}\n"));
-    }
-    Ok(Ran {
-        summary: summary(&scene, &run, true) + &text,
-        fitted: summary(&scene, &run, false) + &text,
-        printed_only: String::new(),
-        diverged: run.diverged(scene.name()),
-        end: SceneEnd {
-            scene: scene.name(),
-            status: ["complete", "interrupted"][run.interrupted as usize],
-            last_tick: run.last_tick,
-            end_time: schedule.time(run.last_tick),
-            text: run.ending(&schedule),
-        },
-    })
 }
 
 /// Every method the recording holds, first occurrence kept, in the order the scenes run.
@@ -508,7 +479,7 @@ fn method_names(r: &Resolved) -> Vec<&'static str> {
 }
 
 /// After a run: finalise the recording, print the summaries, then report an interruption
-/// (exit 130) or, with --fail-on-divergence, a divergence (exit 3).
+/// or, with --fail-on-divergence, a divergence.
 fn finish(
     mut recording: Option<Recording>,
     d: &Destinations,

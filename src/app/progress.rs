@@ -1,6 +1,5 @@
-//! A progress bar on stderr for runs longer than a second, when stderr is a terminal and the
-//! user did not ask for quiet, and a notice when a scene will take long or write much.
-//! [`WithProgress`] wraps any scene's observer and reports the simulated time of each 3D frame.
+//! A progress bar on stderr for runs longer than a second (a terminal, not quiet), and a notice
+//! when a run will take long or write much. [`WithProgress`] wraps any scene's observer.
 
 use std::io::IsTerminal as _;
 use std::sync::Arc;
@@ -10,7 +9,6 @@ use std::time::{Duration, Instant};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::format;
-
 use crate::scene::harness::{Event, Frame, Observer, Run, Scene, SeriesBatch, WantedRows};
 
 /// Shows after one second; silent when quiet or when stderr is not a terminal.
@@ -27,7 +25,7 @@ pub struct Progress {
     /// Whether the current stage's estimate was said already.
     noticed: bool,
     pace: Pace,
-    /// What a stage may take (`reproduce`), judged by the same estimate as the notice.
+    /// What a stage may take (`reproduce`).
     pub budget: Option<Budget>,
     /// Wall time of the stages before this one [s].
     before: f64,
@@ -36,8 +34,8 @@ pub struct Progress {
 }
 
 /// What a run may take before it is stopped and refused (`reproduce` without `--allow-long`),
-/// judged by the estimate a scene command's notice states: the run's own pace over its first
-/// [`PROBE_AFTER`], so that adaptive steps, inner steps and each method's cost are all in it.
+/// judged by the notice's estimate: the run's own pace, so that adaptive steps, inner steps and
+/// each method's cost are all in it.
 #[derive(Clone, Copy)]
 pub struct Budget {
     /// The whole run's wall time [s], earlier stages included.
@@ -60,21 +58,17 @@ impl std::fmt::Display for OverBudget {
 
 impl std::error::Error for OverBudget {}
 
-/// How a stage's wall time and recording grow: its ticks cost the same throughout, and so do the
-/// 3D frames it draws, which a long run draws at its two ends only
-/// ([`crate::scene::harness::Schedule::gap`]), so that a run whose first 3D window is the long
-/// part is told as early as one whose steps are. The cost of a frame is the recorder's time on
-/// it, the rest is the ticks'; the recording grows by frame (its plots are bounded, or come
-/// with the frames).
+/// How a stage's wall time and recording grow: ticks and 3D frames each cost the same
+/// throughout, counted apart because a long run draws frames at its two ends only
+/// ([`crate::scene::harness::Schedule::gap`]). The recording grows by frame (its plots are
+/// bounded, or come with the frames).
 struct Pace {
     started: Instant,
     /// When its stepping started: its setup (lanes built) is counted once, not extrapolated.
     stepping: Option<Instant>,
-    /// Bytes written when the stage started.
     bytes0: u64,
     /// Progress at the end (ticks; any unit for a stage without frames).
     end: f64,
-    /// 3D frames the stage draws, if it draws any.
     frames: Option<u64>,
     /// Frames drawn so far, and the recorder's time on them.
     drawn: u64,
@@ -196,9 +190,9 @@ impl Progress {
         }
     }
 
-    /// The stage's estimate: beyond the budget it stops the run;
-    /// said once, when long or large or when the budget asks.
-    fn judge(&mut self, seconds: f64, bytes: Option<f64>, basis: &str) {
+    /// The stage's estimate of `seconds` (and `bytes`) from `basis`: beyond the budget it stops
+    /// the run; said once, when long or large or when the budget asks.
+    pub fn judge(&mut self, seconds: f64, bytes: Option<f64>, basis: &str) {
         let text = estimate_text(&self.label, seconds, bytes, basis);
         let say = match self.budget {
             Some(b) => {
@@ -227,12 +221,6 @@ impl Progress {
         }
     }
 
-    /// Says before the stage starts that it will take about `seconds` (estimated from `basis`),
-    /// when that is long: the notice a scene gives from its pace, given up front.
-    pub fn expect(&mut self, seconds: f64, basis: &str) {
-        self.judge(seconds, None, basis);
-    }
-
     pub fn finish(&mut self) {
         if let Some(bar) = self.bar.take() {
             bar.finish_and_clear();
@@ -240,9 +228,8 @@ impl Progress {
     }
 }
 
-/// How long a scene runs before its pace is extrapolated to the whole run: its first blocks
-/// are short (a block is at most as many ticks as came before it), so that the pace is measured
-/// by then whatever a tick costs.
+/// How long a scene runs before its pace is extrapolated: its first blocks are short (a block
+/// is at most as many ticks as came before it), so its pace is measured by then.
 pub const PROBE_AFTER: Duration = Duration::from_millis(500);
 
 /// A scene said to take long: its extrapolated wall time beyond this [s]...
@@ -250,8 +237,6 @@ pub const LONG_SECONDS: f64 = 10.0;
 /// ...or its recording beyond this many bytes.
 pub const LARGE_BYTES: f64 = 100e6;
 
-/// The estimate of a scene that will take `seconds` in all (as
-/// `basis` estimates it) and write `bytes`, in words.
 fn estimate_text(label: &str, seconds: f64, bytes: Option<f64>, basis: &str) -> String {
     let size = bytes.map_or(String::new(), |b| {
         format!(" and writes about {} to its recording", format::size(b))
@@ -270,7 +255,6 @@ pub struct WithProgress<'a, O: ?Sized> {
 
 impl<S: Scene, O: Observer<S> + ?Sized> Observer<S> for WithProgress<'_, O> {
     fn start(&mut self, scene: &S, lanes: &[(&'static str, &S::Lane)]) -> anyhow::Result<()> {
-        // Its stepping starts: the stage's setup is done.
         self.progress.pace.stepping = Some(Instant::now());
         self.inner.start(scene, lanes)
     }

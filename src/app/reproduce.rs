@@ -6,25 +6,23 @@ use std::path::Path;
 use std::time::Instant;
 
 use super::compared::{
-    EntityLine, by_entity, check_output, difference_lines, lane_names, physlab_made, print_lines,
-    recorded_command, recorded_timings, tolerance, version_line, version_text, wall_clock,
+    EntityLine, beyond, by_entity, check_output, difference_lines, identical_line, lane_names,
+    physlab_made, print_lines, recorded_command, recorded_timings, tolerance, version_line,
+    version_text, wall_clock,
 };
 use super::progress::{Budget, LARGE_BYTES, LONG_SECONDS, OverBudget};
-use super::scenes::{AllFlags, Bulk, SCENES};
-use super::{Error, Plan, Replay, SceneFile, simulate};
+use super::scenes::{AllFlags, SCENES, parse_scene_file, scene_named, scene_names};
+use super::{Error, Plan, Replay, simulate};
 use crate::cli::{ReproduceArgs, RunArgs};
 use crate::format::{duration as duration_text, size as size_text};
 use crate::output::TempFile;
-use crate::record::hair::BYTES_PER_NODE_FRAME;
 use crate::rrd::compare::{StreamSpec, compare_files};
 use crate::rrd::inspect::RecordingInfo;
 use crate::rrd::read::{Messages, unusable};
-use crate::scene::params::NODE_STEP_SECONDS;
 use crate::shell::escaped;
 
-/// Why the re-run failed, in words true to the cause: a stop request stays an interruption (exit
-/// 130), a configuration this build refuses says so without the temporary file's name, and
-/// anything else (an unwritable `-o`, a full disk) is passed on as it is.
+/// Why the re-run failed, in words true to the cause: a stop stays an interruption, a
+/// configuration this build refuses says so without the temporary file's name.
 fn rerun_failed(e: anyhow::Error, file: &Path, config: &Path) -> anyhow::Error {
     if let Some(OverBudget(estimate)) = e.downcast_ref() {
         return over_limits(file, estimate).into();
@@ -70,8 +68,7 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
         &[&args.file],
     )?;
     let mut replay = recorded.replay(&args.file)?;
-    // The same measured estimate as a scene command's notice: the re-run's own pace over its
-    // first moments; past the limits it is stopped there and refused.
+    // Past the limits by its measured pace, as a scene's notice tells it, the re-run is stopped.
     let limit = |max| if args.allow_long { f64::INFINITY } else { max };
     replay.budget = Some(Budget {
         seconds: limit(MAX_SECONDS),
@@ -88,8 +85,6 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
         return Err(over_limits(&args.file, &e.text()).into());
     }
 
-    // Said before the re-run (which takes the run's time); the report comes after it, verdict
-    // first.
     if !args.quiet {
         eprintln!("re-running {} …", escaped(&args.file.display().to_string()));
         // As a scene command says it of a long or large run ([`LONG_SECONDS`], [`LARGE_BYTES`]).
@@ -142,7 +137,6 @@ pub fn reproduce_command(args: &ReproduceArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The refusal of a re-run that would take `what`.
 fn over_limits(file: &Path, what: &str) -> Error {
     Error::Usage(format!(
         "{}: {what}; reproduce re-runs at most {} min, a {} recording and {} of memory unless \
@@ -159,10 +153,8 @@ fn over_limits(file: &Path, what: &str) -> Error {
 const MAX_SECONDS: f64 = 600.0;
 const MAX_BYTES: f64 = 1e9;
 
-/// What a re-run will take, from its configuration alone, before anything runs: a floor on its
-/// seconds at [`NODE_STEP_SECONDS`] a node-step (blind to adaptive and inner steps and to each
-/// method's cost: the re-run's measured pace judges its time, [`Budget`]), its recording at
-/// hair's [`BYTES_PER_NODE_FRAME`] (the rope wrote 9–10 B), its state's memory.
+/// What a re-run will take, from its configuration alone ([`Bulk`]): a floor on its seconds
+/// (its measured pace judges its time, [`Budget`]), its recording, its state's memory.
 struct Expected {
     node_steps: f64,
     seconds: f64,
@@ -171,8 +163,7 @@ struct Expected {
 }
 
 impl Expected {
-    /// Beyond `seconds` or `bytes`, or a state over what a scene command says so of
-    /// ([`super::MEMORY_NOTICE_BYTES`]).
+    /// Beyond `seconds` or `bytes`, or a state a scene command tells of.
     fn over(&self, seconds: f64, bytes: f64) -> bool {
         self.seconds > seconds || self.bytes > bytes || self.memory > super::MEMORY_NOTICE_BYTES
     }
@@ -200,8 +191,7 @@ fn nothing_to_compare(file: &Path) -> Error {
 }
 
 /// Copies `file` into the temporary folder through one opened handle, after the reader's own
-/// checks (no regular file, empty as `/proc` files are, no Rerun header): the copy is all that
-/// is read after that.
+/// checks: the copy is all that is read after that.
 fn read_once(file: &Path) -> anyhow::Result<TempFile> {
     Messages::open(file)?;
     let mut source =
@@ -233,8 +223,6 @@ fn of_the_file(e: anyhow::Error, copy: &Path, file: &Path) -> anyhow::Error {
     }
 }
 
-/// A scene recording as the re-run needs it: its provenance, its scenes (each the registry's),
-/// whether it recorded wall-clock timings.
 struct Recorded {
     info: RecordingInfo,
     scenes: Vec<&'static str>,
@@ -242,9 +230,7 @@ struct Recorded {
 }
 
 impl Recorded {
-    /// Reads `copy` (of `file`, which messages name) and refuses what `reproduce` cannot re-run:
-    /// a diff or study recording, one without a configuration or with scenes this build lacks,
-    /// one that holds no data.
+    /// Reads `copy` (of `file`, which messages name) and refuses what `reproduce` cannot re-run.
     fn read(copy: &Path, file: &Path) -> anyhow::Result<Recorded> {
         let info = physlab_made(copy)?;
         let p = |k| escaped(info.property(k)).into_owned();
@@ -274,18 +260,12 @@ impl Recorded {
             ));
         }
         let listed: Option<Vec<&'static str>> = (kind.split(',').filter(|s| !s.is_empty()))
-            .map(|s| SCENES.iter().find(|k| k.name == s).map(|k| k.name))
+            .map(|s| scene_named(s).map(|k| k.name))
             .collect();
         let scenes = match listed {
             Some(scenes) if !scenes.is_empty() => scenes,
             _ => {
-                let known: Vec<&str> = SCENES.iter().map(|s| s.name).collect();
-                let expected = match known.split_last() {
-                    Some((last, rest)) if !rest.is_empty() => {
-                        format!("{} and/or {last}", rest.join(", "))
-                    }
-                    _ => known.join(""),
-                };
+                let expected = super::file::listing(&scene_names(), "and/or");
                 return refuse(format!(
                     "its provenance names the scenes \"{}\"; expected {expected}",
                     escaped(&kind)
@@ -303,12 +283,10 @@ impl Recorded {
         })
     }
 
-    /// What its re-run will take, from its configuration ([`Bulk`]: steps at
-    /// [`NODE_STEP_SECONDS`], 3D nodes at hair's measured [`BYTES_PER_NODE_FRAME`]); `None` when
-    /// the configuration does not resolve (the re-run then says why).
+    /// What its re-run will take, from its configuration ([`Bulk`]); `None` when the
+    /// configuration does not resolve (the re-run then says why).
     fn expected(&self) -> Option<Expected> {
-        let names: Vec<&str> = SCENES.iter().map(|s| s.name).collect();
-        let file = SceneFile::parse(&self.info.properties["config"], &names).ok()?;
+        let file = parse_scene_file(&self.info.properties["config"]).ok()?;
         let mut out = Expected {
             node_steps: 0.0,
             seconds: 0.0,
@@ -316,23 +294,17 @@ impl Recorded {
             memory: 0.0,
         };
         for kind in SCENES.iter().filter(|s| self.scenes.contains(&s.name)) {
-            let ready = (kind.flags(&AllFlags::default()))
-                .resolve(&file, &RunArgs::default())
-                .ok()?;
-            let Bulk {
-                node_steps,
-                node_frames,
-            } = ready.bulk();
-            out.node_steps += node_steps;
-            out.seconds += node_steps * NODE_STEP_SECONDS;
-            out.bytes += node_frames * BYTES_PER_NODE_FRAME;
+            let ready = kind.as_recorded(&file).ok()?;
+            let bulk = ready.bulk();
+            out.node_steps += bulk.node_steps;
+            out.seconds += bulk.seconds();
+            out.bytes += bulk.bytes();
             out.memory = out.memory.max(ready.memory_bytes());
         }
         Some(out)
     }
 
-    /// The recording has no end record (an older physlab, or killed): each series is compared
-    /// as far as it goes.
+    /// No end record (an older physlab, or killed): each series is compared as far as it goes.
     fn killed(&self) -> bool {
         self.info.run.is_empty()
     }
@@ -355,16 +327,15 @@ impl Recorded {
                                 file.display()
                             ))
                         })?;
-                    replay.stop_after.push((scene.to_string(), tick));
+                    replay.stop_after.insert(scene, tick);
                 }
-                Some("not run") => replay.skip.push(scene.to_string()),
+                Some("not run") => _ = replay.skip.insert(scene),
                 _ => {}
             }
         }
         Ok(replay)
     }
 
-    /// The recording (`copy`) against the re-run's, entity by entity.
     fn compare(&self, copy: &Path, rerun: &Path, tolerance: f64) -> anyhow::Result<Reproduced> {
         let (timings, killed) = (self.timings, self.killed());
         let skip = |entity: &str| wall_clock(entity, timings);
@@ -423,12 +394,10 @@ impl Recorded {
     }
 }
 
-/// What the re-run gave against the recording, entity by entity: computed in one place
-/// ([`Recorded::compare`]), then printed ([`Reproduced::lines`]).
+/// What the re-run gave against the recording, entity by entity.
 #[derive(Default)]
 struct Reproduced {
     tolerance: f64,
-    /// Every entity compared (identical ones too), and those the re-run alone has.
     entries: Vec<EntityLine>,
     /// Entities that differ (beyond the tolerance), and those within it but not bit-identical.
     differing: usize,
@@ -441,11 +410,7 @@ impl Reproduced {
     fn verdict(&self) -> String {
         let (n, tol) = (self.entries.len(), self.tolerance);
         if self.differing > 0 {
-            let beyond = if tol > 0.0 {
-                format!(" (beyond --tolerance {tol})")
-            } else {
-                String::new()
-            };
+            let beyond = beyond(tol).map_or(String::new(), |b| format!(" ({b})"));
             format!(
                 "verdict: DIFFERS in {} of {n} entities{beyond}",
                 self.differing
@@ -463,8 +428,6 @@ impl Reproduced {
         }
     }
 
-    /// The report: the verdict first, the builds, where the scenes ended, then what differs
-    /// (`verbose`: every entity).
     fn lines(
         &self,
         recorded: &Recorded,
@@ -503,22 +466,12 @@ impl Reproduced {
         if let Some(path) = written {
             out.push(format!("wrote the re-run to {}", path.display()));
         }
-        let shown: Vec<_> = (self.entries.iter())
-            .filter(|e| verbose || e.differs || e.text.starts_with("within"))
-            .cloned()
-            .collect();
-        out.extend(difference_lines(
-            &shown,
-            &lane_names(&[&recorded.info]),
-            verbose,
-        ));
+        let shown =
+            (self.entries.iter()).filter(|e| verbose || e.differs || e.text.starts_with("within"));
+        let lanes = lane_names(&[&recorded.info]);
+        out.extend(difference_lines(shown, &lanes, verbose));
         let identical = self.entries.len() - self.differing - self.within;
-        if !verbose && identical > 0 {
-            out.push(format!(
-                "identical: {} (-v lists them)",
-                crate::format::plural(identical as u64, "entity")
-            ));
-        }
+        out.extend(identical_line(identical, verbose));
         if !self.skipped.is_empty() {
             let list: Vec<&str> = self.skipped.iter().map(String::as_str).collect();
             let list = if verbose {

@@ -1,20 +1,17 @@
-//! Each scene once, as the commands see it: its name, its table in a scene file, how its flags,
-//! that table and its defaults resolve into a validated configuration, how its 3D view is framed
-//! and laid out, and how it runs and reports. Everything that lists scenes iterates over
-//! [`SCENES`]; a new scene is one entry here.
+//! Each scene once, as the commands see it: its name, how its flags, scene-file table and
+//! defaults resolve into a validated configuration, its 3D layout, how it runs and reports.
+//! Everything that lists scenes iterates over [`SCENES`]; a new scene is one entry here.
 
 use super::layers::{Given, table_of};
 use super::progress::Progress;
-use super::{Ran, SceneFile, run_scene};
+use super::{Ran, SceneFile};
 use crate::cli::{HairArgs, PendulumArgs, RopeArgs, RunArgs, StepFlags};
 use crate::error::Error;
 use crate::integrate::{Method, composition_weights};
-use crate::record::scene::{Draw, SceneRecorder};
 use crate::record::{self, SceneViews, Staging};
 use crate::report;
 use crate::scene::hair::HairMethod;
 use crate::scene::hair::run::{HairConfig, HairScene};
-use crate::scene::harness::{Run, Scene};
 use crate::scene::params::SceneConfig;
 use crate::scene::pendulum::run::{PendulumConfig, PendulumScene};
 use crate::scene::rope::run::{RopeConfig, RopeScene};
@@ -28,8 +25,7 @@ pub struct SceneKind {
     /// The recording's application id when it runs alone (the viewer keys layouts by it).
     pub application_id: &'static str,
     pub views: &'static SceneViews,
-    /// Its flags as `physlab all` sets them (none given: what `reproduce` runs under the
-    /// recorded scene file).
+    /// Its flags as `physlab all` sets them.
     flags: fn(&AllFlags) -> Box<dyn Flags>,
 }
 
@@ -37,6 +33,26 @@ impl SceneKind {
     pub fn flags(&self, all: &AllFlags) -> Box<dyn Flags> {
         (self.flags)(all)
     }
+
+    /// Its configuration as `file` (a recording's) sets it, no flag given.
+    pub fn as_recorded(&self, file: &SceneFile) -> Resolution {
+        self.flags(&AllFlags::default())
+            .resolve(file, &RunArgs::default())
+    }
+}
+
+pub fn scene_named(name: &str) -> Option<&'static SceneKind> {
+    SCENES.iter().copied().find(|k| k.name == name)
+}
+
+/// Every scene's name: the tables a scene file may hold.
+pub fn scene_names() -> Vec<&'static str> {
+    SCENES.iter().map(|s| s.name).collect()
+}
+
+/// A recording's configuration as a scene file.
+pub fn parse_scene_file(text: &str) -> Result<SceneFile, String> {
+    SceneFile::parse(text, &scene_names())
 }
 
 static PENDULUM: SceneKind = SceneKind {
@@ -78,8 +94,7 @@ static HAIR: SceneKind = SceneKind {
     },
 };
 
-/// `physlab all`'s own flags, which override every scene's (each scene takes the methods it
-/// supports).
+/// `physlab all`'s own flags, which override every scene's.
 #[derive(Default)]
 pub struct AllFlags {
     pub dt: Option<f64>,
@@ -104,28 +119,20 @@ impl AllFlags {
     }
 }
 
-/// A scene's flags resolved: its configuration ready to run, or why it is refused.
 pub type Resolution = Result<Box<dyn ReadyScene>, Error>;
 
-/// A scene's flags as given.
 pub trait Flags {
     fn kind(&self) -> &'static SceneKind;
-    /// These flags over the scene file's table (checked alone first, so that an error there
-    /// names the file, table and key) over the defaults, validated.
     fn resolve(self: Box<Self>, file: &SceneFile, run: &RunArgs) -> Resolution;
 }
 
-/// A scene's validated configuration, ready to run: what the commands need of it besides its
-/// layering.
+/// A scene's validated configuration, ready to run.
 pub trait ReadyScene: Send {
     fn kind(&self) -> &'static SceneKind;
-    /// What its layout needs: its 3D views' slots, its plots and its end.
     fn staging(&self) -> Staging;
-    /// Its 3D frames per simulated second.
     fn fps(&self) -> f64;
-    /// Its methods' names, in the order they are shown.
     fn methods(&self) -> Vec<&'static str>;
-    /// Every effective value, as its table in the scene file that runs it again.
+    /// Every effective value, as the scene-file table that runs it again.
     fn table(&self) -> Result<toml::Table, Error>;
     /// The memory its state takes [B] (0 when small by construction).
     fn memory_bytes(&self) -> f64 {
@@ -133,19 +140,29 @@ pub trait ReadyScene: Send {
     }
     /// Why its step is too large for its shortest time scale, if it is.
     fn step_warning(&self) -> Option<String>;
-    /// What it does, from its configuration alone.
     fn bulk(&self) -> Bulk;
     fn run(self: Box<Self>, ctx: &mut RunContext) -> anyhow::Result<Ran>;
 }
 
-/// What a run does, from its configuration alone (nothing built or stepped): how `reproduce`
-/// bounds a stranger's recording's size, and floors its time, before its re-run starts.
+/// What a run does, from its configuration alone (nothing built or stepped).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Bulk {
     /// Steps of one node of one method, over the run (a method's fine-step reference too).
     pub node_steps: f64,
     /// Nodes drawn in 3D over every frame drawn and every method.
     pub node_frames: f64,
+}
+
+impl Bulk {
+    /// A floor on its wall time: blind to adaptive and inner steps and to each method's cost.
+    pub fn seconds(&self) -> f64 {
+        self.node_steps * crate::scene::params::NODE_STEP_SECONDS
+    }
+
+    /// Its recording, at hair's measured bytes per node drawn (the rope wrote 9–10 B).
+    pub fn bytes(&self) -> f64 {
+        self.node_frames * record::hair::BYTES_PER_NODE_FRAME
+    }
 }
 
 /// A fixed-step scene's bulk: `nodes` nodes drawn and stepped by each of `methods`.
@@ -163,17 +180,14 @@ fn fixed_step_bulk(
     }
 }
 
-/// What every scene's run shares.
 pub struct RunContext<'a> {
-    /// The recording, if one is written or streamed.
     pub stream: Option<rerun::RecordingStream>,
     /// Also record wall-clock costs.
     pub timings: bool,
-    /// The `frame` timeline's rate: the highest fps of the scenes run.
+    /// The highest fps of the scenes run.
     pub frame_rate: f64,
     pub quiet: bool,
     pub progress: &'a mut Progress,
-    /// The worker threads (--threads) hair spreads its strands over.
     pub pool: &'a rayon::ThreadPool,
     /// A replayed interruption: stop at the first block boundary past this tick.
     pub stop_after: Option<u64>,
@@ -256,7 +270,6 @@ pub(super) struct MethodFlag<M> {
     /// Given on the command line. A scene file's key is not refused: a file written by
     /// `--config-out` or a recording states every parameter, whichever methods it names.
     given: bool,
-    /// The methods that read it, as the message names them.
     reads: fn(M) -> bool,
 }
 
@@ -273,9 +286,7 @@ impl MethodFlag<Method> {
     }
 }
 
-/// Refuses a flag given on the command line that none of the methods run would read (it would
-/// change nothing), naming the flag, the methods that read it and those that run: for every
-/// scene and study.
+/// Refuses a flag given on the command line that none of the methods run would read.
 pub(super) fn refuse_unread<M: Copy>(
     flags: &[MethodFlag<M>],
     methods: &[M],
@@ -313,7 +324,6 @@ fn refuse_drawing_flags(run: &RunArgs, flags: &[(&str, bool)]) -> Result<(), Err
 }
 
 impl StepFlags {
-    /// The step flags that set only what is drawn or plotted.
     fn drawing_flags(&self) -> [(&'static str, bool); 3] {
         [
             ("--fps", self.fps.is_some()),
@@ -322,7 +332,6 @@ impl StepFlags {
         ]
     }
 
-    /// The step flags only some registry methods read.
     fn method_flags(&self) -> Vec<MethodFlag<Method>> {
         vec![
             MethodFlag::new("--verlet-damping", self.verlet_damping.is_some(), |m| {
@@ -338,7 +347,6 @@ impl StepFlags {
 }
 
 impl HairArgs {
-    /// The hair flags only some hair methods read.
     fn method_flags(&self) -> Vec<MethodFlag<HairMethod>> {
         let verlet = |m| m == HairMethod::Verlet;
         vec![
@@ -358,23 +366,7 @@ impl HairArgs {
     }
 }
 
-impl RunContext<'_> {
-    /// Runs `scene`, recorded (when a recording is made) by what `recorder` makes of the stream,
-    /// and summarised by `summary`.
-    fn run<S: Scene, D: Draw<S>>(
-        &mut self,
-        scene: S,
-        recorder: impl FnOnce(rerun::RecordingStream, bool) -> SceneRecorder<D>,
-        summary: fn(&S, &Run<S::Lane>, bool) -> String,
-    ) -> anyhow::Result<Ran> {
-        let recorder = (self.stream.clone())
-            .map(|s| recorder(s, self.timings).with_frame_rate(self.frame_rate));
-        run_scene(scene, recorder, summary, self.progress, self.stop_after)
-    }
-}
-
-/// What every scene's configuration says alike: its kind, its table, its step warning, its
-/// staging (from `record::$record`), its fps and its methods' names.
+/// What every scene's configuration says alike, its staging from `record::$record`.
 macro_rules! said_alike {
     ($kind:ident, $record:ident) => {
         fn kind(&self) -> &'static SceneKind {
@@ -457,7 +449,6 @@ impl ReadyScene for HairConfig {
         }
     }
     fn run(self: Box<Self>, ctx: &mut RunContext) -> anyhow::Result<Ran> {
-        // Said before anything is written: how many strands are drawn, and the expected size.
         let plan = record::hair::strand_plan(&self, self.log_strands);
         let recording = ctx.stream.is_some();
         if recording && !ctx.quiet {

@@ -50,9 +50,8 @@ pub(super) fn scene_flags(
         .collect())
 }
 
-/// The lines that answer the targets the reference resolves (given ones it cannot were
-/// refused before the sweep; default ones are left out, said so), each command's words quoted
-/// for a shell ([`shell_word`]).
+/// The lines that answer the targets the reference resolves (default ones it cannot are left
+/// out, said so), each command quoted for a shell.
 pub(super) fn answer(
     problem: &Problem,
     file: &SceneFile,
@@ -71,8 +70,7 @@ pub(super) fn answer(
     Ok(report::answer(problem, sw, floor, &found, &unresolved))
 }
 
-/// Per run, the scene command that makes it, quoted for a shell: what its point in the study's
-/// recording says on hover.
+/// Per run, the scene command that makes it, quoted for a shell (its point's hover text).
 pub(super) fn commands(
     problem: &Problem,
     file: &SceneFile,
@@ -85,7 +83,6 @@ pub(super) fn commands(
     Ok(rows.iter().map(|r| quoted(&command(r)).join(" ")).collect())
 }
 
-/// Each of `words` quoted for a shell ([`shell_word`]).
 fn quoted(words: &[String]) -> Vec<String> {
     (words.iter()).map(|w| shell_word(w.as_bytes())).collect()
 }

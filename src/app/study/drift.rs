@@ -9,8 +9,7 @@ use crate::report::{drift as report, rope};
 use crate::study::drift::{Drift, pendulum_drift, rope_drift};
 use crate::study::{Problem, Sweep};
 
-/// The study's printed text, CSV, diagram and how many methods' runs are complete (a run cut
-/// short by Ctrl-C is left out).
+/// The study's findings; a run cut short by Ctrl-C is left out.
 pub(super) fn drift_study(
     progress: &mut Progress,
     out: &StudyOutputs,

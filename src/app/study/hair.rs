@@ -7,8 +7,7 @@ use crate::study::hair;
 use super::outputs::{check_outputs, interrupted_after, write_study};
 use crate::cli::HairStudyArgs;
 
-/// `physlab study hair`: the hair scene's configurations (`study::hair::configurations`) at its
-/// defaults (200 strands, tour), over `--duration` (default 4 s).
+/// `physlab study hair`: the hair scene's configurations at its defaults, over `--duration`.
 pub(super) fn hair_study(a: &HairStudyArgs) -> anyhow::Result<()> {
     use crate::scene::hair::run::HairConfig;
     let duration = a.duration.unwrap_or(hair::DEFAULT_DURATION);
@@ -54,8 +53,7 @@ pub(super) fn hair_study(a: &HairStudyArgs) -> anyhow::Result<()> {
     let csv = report::trade_csv(&rows);
     let note = format!("wall times measured on {threads} threads; machine-dependent.");
     let diagram = crate::diagram::hair_trade(&rows, &note);
-    // Provenance: the study's base scene (every configuration varies the solver settings of this
-    // one).
+    // Provenance: the base scene, whose solver settings every configuration varies.
     let scene_file = format!("[hair]\nduration = {duration:?}\n");
     let methods = crate::scene::hair::HairMethod::ALL.map(|m| m.name());
     let texts = (out.as_str(), csv.as_str());

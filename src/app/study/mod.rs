@@ -21,8 +21,8 @@ use hair::hair_study;
 use outputs::{check_outputs, interrupted_error, write_study};
 use setup::Setup;
 
-/// What a study measured: its printed tables, its CSV, its diagrams, and how many runs (or
-/// methods' limits) are complete (after Ctrl-C or SIGTERM only those are shown).
+/// What a study measured, and how many runs (or methods' limits) are complete (after Ctrl-C or
+/// SIGTERM only those are shown).
 #[derive(Default)]
 struct Found {
     out: String,
@@ -69,26 +69,23 @@ pub fn study(kind: &StudyKind) -> anyhow::Result<()> {
             }
         }
     }
-    // The scenes' bar and notice: the study's parts as they complete, its time said up front.
+    // The scenes' bar and notice, its time said up front.
     let mut progress = Progress::new(out.quiet, None);
-    let label = format!("study {}", kind.name());
-    progress.stage(
-        &label,
-        match kind {
-            StudyKind::Stability(_) | StudyKind::Drift(_) => sweep.methods.len() as f64,
-            _ => [Some(&problem), damped.as_ref()]
-                .into_iter()
-                .flatten()
-                .map(|p| planned_work(p, &sweep))
-                .sum(),
-        },
-        None,
-    );
+    // Its planned runs, the damped rope's too.
+    let problems: Vec<&Problem> = [Some(&problem), damped.as_ref()]
+        .into_iter()
+        .flatten()
+        .collect();
+    let end = match kind {
+        StudyKind::Stability(_) | StudyKind::Drift(_) => sweep.methods.len() as f64,
+        _ => problems.iter().map(|p| planned_work(p, &sweep)).sum(),
+    };
+    progress.stage(&format!("study {}", kind.name()), end, None);
     let basis = format!(
         "estimated from its {work:.1e} node-steps at ~{:.0} ns each, more with implicit methods",
         setup::SECONDS_PER_NODE_STEP * 1e9
     );
-    progress.expect(work * setup::SECONDS_PER_NODE_STEP, &basis);
+    progress.judge(work * setup::SECONDS_PER_NODE_STEP, None, &basis);
     let found = match kind {
         StudyKind::Stability(_) => {
             let at = &mut |m| progress.at(m);
@@ -121,17 +118,15 @@ pub fn study(kind: &StudyKind) -> anyhow::Result<()> {
     }
     if interrupted {
         return Err(interrupted_error(
-            kind, &problem, &sweep, found.done, complete,
+            kind, &problems, &sweep, found.done, complete,
         ));
     }
     Ok(())
 }
 
 /// `study convergence` and `study work-precision`: the reference once (its error the study's
-/// floor, shown the same everywhere), the sweep (convergence's on each method's own grid),
-/// then work-precision's answer first (per target the cheapest run and the command that makes
-/// it; given targets the reference cannot resolve refused) or convergence's fitted orders, and
-/// every run.
+/// floor), the sweep, then work-precision's answer or convergence's fitted orders, and every
+/// run.
 fn sweep_study(
     kind: &StudyKind,
     (problem, sw, file): (&Problem, &Sweep, &crate::app::SceneFile),

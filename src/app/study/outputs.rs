@@ -5,8 +5,8 @@ use super::Error;
 use crate::cli::{StudyKind, StudyOutputs};
 use crate::study::Sweep;
 
-/// Prints a complete study's tables `out` and writes what was asked: the CSV, the diagrams (into
-/// the plots folder) and the recording, whose provenance is the study's scene file and methods.
+/// Prints a complete study's tables `out` and writes what was asked, the recording's
+/// provenance the study's scene file and methods.
 pub(super) fn write_study(
     a: &StudyOutputs,
     outputs: &Outputs,
@@ -64,32 +64,30 @@ fn report_recording(path: &std::path::Path, bytes: Option<u64>, to_stdout: bool)
     crate::output::print_beside(to_stdout, &line);
 }
 
-/// What an interrupted study says: how many of its planned runs (or methods' limits) were
-/// complete, and whether anything was written.
+/// What a study of `problems` (convergence's damped rope too) says when interrupted.
 pub(super) fn interrupted_error(
     kind: &StudyKind,
-    problem: &crate::study::Problem,
+    problems: &[&crate::study::Problem],
     sw: &Sweep,
     done: usize,
     complete: bool,
 ) -> anyhow::Error {
-    use crate::study::{damped_companion, planned_runs};
     let (planned, what) = match kind {
         StudyKind::Stability(_) => (sw.methods.len(), "methods' limits"),
         StudyKind::Drift(_) => (sw.methods.len(), "runs"),
-        // The undamped rope's convergence runs the damped one after it.
-        StudyKind::Convergence(_) => (
-            planned_runs(problem, sw)
-                + damped_companion(problem).map_or(0, |d| planned_runs(&d, sw)),
+        _ => (
+            problems
+                .iter()
+                .map(|p| crate::study::planned_runs(p, sw))
+                .sum(),
             "runs",
         ),
-        _ => (planned_runs(problem, sw), "runs"),
     };
     interrupted_after(done, planned, what, complete)
 }
 
-/// What a stopped study says: `done` of the `planned` `what` complete, and whether the complete
-/// ones were written.
+/// What a stopped study says: `done` of the `planned` `what` complete, and whether they were
+/// written.
 pub(super) fn interrupted_after(
     done: usize,
     planned: usize,
@@ -106,9 +104,8 @@ pub(super) fn interrupted_after(
 
 /// A study's outputs, checked before it runs (`crate::output`): the CSV, the recording, and
 /// the diagrams' folder with the prefix of their names (--plots, else beside the recording or
-/// the CSV and named after it: `-o first.rrd` draws `first-pendulum-convergence.png`, so that
-/// two studies write one figure only when given one --plots), with the files the diagrams
-/// `stems` will be written to; no two of them one file, none the scene file read.
+/// the CSV and named after it, so that two studies write one figure only when given one
+/// --plots).
 pub(super) struct Outputs {
     pub(super) csv: Option<crate::output::Output>,
     pub(super) recording: Option<crate::output::Output>,
@@ -116,7 +113,6 @@ pub(super) struct Outputs {
 }
 
 impl Outputs {
-    /// The folders the outputs go to.
     fn folders(&self) -> Vec<std::path::PathBuf> {
         let targets = self.files().filter_map(|o| o.target.as_deref());
         let plots = self.plots.as_ref().map(|p| p.0.clone());
@@ -125,7 +121,6 @@ impl Outputs {
             .collect()
     }
 
-    /// The CSV and the recording, those asked for.
     fn files(&self) -> impl Iterator<Item = &crate::output::Output> {
         [&self.csv, &self.recording].into_iter().flatten()
     }

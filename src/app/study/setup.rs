@@ -1,6 +1,5 @@
 //! A measuring study's problem resolved from its flags and scene file, its sweep within the
-//! work and memory limits, and a warning when it will run long. Each kind's flags are its own
-//! (clap refuses the others).
+//! work and memory limits.
 
 use toml::Table;
 
@@ -24,19 +23,17 @@ use crate::study::{self, Problem, Sweep, drift};
 /// times what one scene's method may, about as long as a scene running ten methods.
 pub(super) const STUDY_MAX_STEPS: f64 = 10.0 * MAX_STEPS;
 
-/// Wall time of one node-step (one coordinate triple stepped once) in the estimate a long study
-/// is warned with [s]: RK4 on the rope, the common case, measured at 10,000–100,000 nodes on a
-/// 2-core x86-64 machine, rounded up; implicit methods cost more, the pendulum less.
+/// Wall time of one node-step in the estimate a long study is warned with [s]: RK4 on the rope,
+/// the common case, rounded up; implicit methods cost more, the pendulum less.
 pub(super) const SECONDS_PER_NODE_STEP: f64 = 60e-9;
 
-/// A measuring study's problem and sweep, and its scene as a scene file (its problem, dt,
-/// duration and methods): the provenance of its recording.
+/// A measuring study's problem and sweep, and its scene as a scene file: the provenance of its
+/// recording.
 pub(super) struct Setup {
     pub(super) problem: Problem,
     pub(super) sweep: Sweep,
     /// The steps each stability trial takes (`study stability`).
     pub(super) steps: u64,
-    /// Its work in node-steps, which says up front how long it will take.
     pub(super) work: f64,
     /// The target errors `study work-precision` answers for, and whether they were given
     /// (given ones the reference cannot resolve are refused, default ones left out).
@@ -44,9 +41,8 @@ pub(super) struct Setup {
     pub(super) file: SceneFile,
 }
 
-/// `study convergence` and `study work-precision` (`wp`, its targets, horizon and sampling):
-/// the sweep over halved steps (and the adaptive methods over tolerances), its work and the
-/// reference's memory within the limits.
+/// `study convergence` and `study work-precision` (`wp`): the sweep over halved steps (and the
+/// adaptive methods over tolerances), within the limits.
 pub(super) fn sweep_setup(a: &SweepArgs, wp: Option<&WorkPrecisionArgs>) -> Result<Setup, Error> {
     let scene = Scene::resolve(&a.scene, table_of(&a.start)?, table_of(&a.losses)?, false)?;
     let methods = scene.methods(&a.scene, a.rtol.is_some(), Problem::methods)?;
@@ -64,9 +60,8 @@ pub(super) fn sweep_setup(a: &SweepArgs, wp: Option<&WorkPrecisionArgs>) -> Resu
     })
 }
 
-/// Work-precision's horizon in periods (`--periods`, the pendulum's exact period) and its
-/// sample interval (`--sample-every`, by default the study's default for the scene whatever
-/// --dt).
+/// Work-precision's horizon in periods and its sample interval (by default the study's default
+/// for the scene whatever --dt).
 fn horizon(wp: &WorkPrecisionArgs, problem: &Problem, sweep: &mut Sweep) -> Result<(), Error> {
     if let Some(n) = wp.periods {
         params::positive("--periods", n, "periods")?;
@@ -83,8 +78,7 @@ fn horizon(wp: &WorkPrecisionArgs, problem: &Problem, sweep: &mut Sweep) -> Resu
     Ok(())
 }
 
-/// `study stability`: the methods' bisections of `--steps` steps each, within the limits. Its
-/// sweep holds the methods and the schedule its provenance states.
+/// `study stability`: the methods' bisections of `--steps` steps each, within the limits.
 pub(super) fn stability_setup(a: &StabilityArgs) -> Result<Setup, Error> {
     let steps = a.steps.unwrap_or(study::DEFAULT_STABILITY_STEPS);
     study::validate_stability_steps(steps)?;
@@ -109,9 +103,7 @@ pub(super) fn stability_setup(a: &StabilityArgs) -> Result<Setup, Error> {
 }
 
 /// `study drift`: the pendulum released from rest (the closed form gives the exact crossings)
-/// or the rope (whose energy balance E + W − E0 is kept or not), one tolerance for the adaptive
-/// methods,
-/// and its steps within the study's limits.
+/// or the rope, one tolerance for the adaptive methods, its steps within the study's limits.
 pub(super) fn drift_setup(a: &DriftArgs) -> Result<Setup, Error> {
     let theta0 = a.theta0.map(|t| ("theta0".to_string(), t.into()));
     let losses = table_of(&a.losses)?;
@@ -184,8 +176,7 @@ fn drift_defaults(problem: &Problem) -> Result<(f64, f64, f64), Error> {
     }
 }
 
-/// The study's scene before its schedule: its problem, its configuration as a scene file's
-/// table, and the schedule and methods the scene file sets.
+/// The study's scene before its schedule, and the schedule and methods the scene file sets.
 struct Scene {
     problem: Problem,
     table: Table,
@@ -195,11 +186,9 @@ struct Scene {
 }
 
 impl Scene {
-    /// The study's flags (`pendulum`'s start, the rope's body and `losses`) over the scene
-    /// file over the scene's defaults, the rope's replaced by the study's own: undamped, so that
-    /// the theory's orders apply, and but for `stability` softer, so that explicit methods
-    /// converge. A flag of the other scene is refused (it would be ignored), and so is a scene
-    /// file without a table for the scene (nothing in it would apply).
+    /// The study's flags over the scene file over the scene's defaults, the rope's replaced by
+    /// the study's own: undamped, so that the theory's orders apply, and but for `stability`
+    /// softer, so that explicit methods converge. A flag of the other scene is refused.
     fn resolve(
         s: &StudySceneArgs,
         pendulum: Table,
@@ -257,9 +246,8 @@ impl Scene {
         })
     }
 
-    /// The methods given (the flag over the scene file), those the rope's forces refuse
-    /// refused, else the study's `default`; `--rtol` given (`rtol`) refused without an
-    /// adaptive method among them, as the scenes refuse it.
+    /// The methods given (the flag over the scene file), else the study's `default`; `--rtol`
+    /// given (`rtol`) refused without an adaptive method among them.
     fn methods(
         &self,
         s: &StudySceneArgs,
@@ -288,8 +276,7 @@ impl Scene {
         )
     }
 
-    /// The sweep of `a` (and of work-precision's `wp`) over the scene file over the study's
-    /// defaults, validated.
+    /// The sweep of `a` (and `wp`) over the scene file over the study's defaults, validated.
     fn sweep(
         &self,
         a: &SweepArgs,
@@ -321,9 +308,8 @@ impl Scene {
         Ok(sweep)
     }
 
-    /// `--periods n` (giving `sweep`'s duration) beyond the study's limits on steps, work and
-    /// the reference's memory refused by its own name, with the most periods those allow (found
-    /// by bisection over the same checks).
+    /// `--periods n` beyond the study's limits refused by its own name, with the most periods
+    /// those allow (found by bisection over the same checks).
     fn refuse_periods(&self, n: f64, sweep: &Sweep) -> Result<(), Error> {
         let period = sweep.duration / n;
         let fits = |n: f64| {
@@ -359,8 +345,7 @@ impl Scene {
         ))
     }
 
-    /// The study set up: its problem, `sweep`, and its scene as a scene file, the scene's table
-    /// with the schedule and methods the sweep starts from.
+    /// The study set up, its scene's table with the schedule and methods the sweep starts from.
     fn with(self, sweep: Sweep) -> Result<Setup, Error> {
         let mut table = self.table;
         table.insert("dt".into(), sweep.dt0.into());
@@ -393,10 +378,8 @@ fn size(problem: &Problem) -> (f64, f64, String) {
     }
 }
 
-/// A sweep's work in node-steps and its reference's memory, refused beyond the limits: the
-/// reference (fine and coarse runs, for its error estimate) and every run the sweep plans, each
-/// `repeats` times ([`study::planned_steps`]; the damped rope's second sweep of `study
-/// convergence` doubles it).
+/// A sweep's work in node-steps, the reference's (fine and coarse) and every planned run's,
+/// and its reference's memory, refused beyond the limits.
 fn sweep_work(problem: &Problem, sweep: &Sweep, convergence: bool) -> Result<f64, Error> {
     let (repeats, schedule) = (sweep.repeats, sweep.schedule());
     let (work_per_step, dim, nodes) = size(problem);
