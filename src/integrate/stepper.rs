@@ -166,9 +166,6 @@ impl Integrator {
         }
     }
 
-    pub fn dt(&self) -> f64 {
-        self.dt
-    }
     pub fn position(&self) -> &[f64] {
         &self.x
     }

@@ -35,6 +35,8 @@ pub fn deterministic() -> Vec<Figure> {
     };
     let results = |name, markdown| fig(name, "docs/results.md", markdown);
     let (pendulum, rope) = (pendulum(), Problem::Rope);
+    let undamped = rope(study_rope(false));
+    let damped = study::damped_companion(&undamped).expect("the study rope is undamped");
     vec![
         results("methods", methods_reference()),
         fig("pendulum-default", "README.md", pendulum_default()),
@@ -42,14 +44,8 @@ pub fn deterministic() -> Vec<Figure> {
         fig("hair-default", "README.md", hair_default()),
         results("drift-pendulum", drift_pendulum()),
         results("convergence-pendulum", convergence(&pendulum)),
-        results(
-            "convergence-rope-undamped",
-            convergence(&rope(study_rope(false))),
-        ),
-        results(
-            "convergence-rope-damped",
-            convergence(&rope(damped_study_rope())),
-        ),
+        results("convergence-rope-undamped", convergence(&undamped)),
+        results("convergence-rope-damped", convergence(&damped)),
         results("stability-pendulum", stability(&pendulum)),
         results("stability-rope", stability(&rope(study_rope(true)))),
     ]
@@ -88,16 +84,6 @@ fn work_precision_pendulum_sweep(repeats: u32) -> Sweep {
         duration: 20.0,
         repeats,
         ..Sweep::work_precision(&pendulum())
-    }
-}
-
-/// The study rope with the scene's default spring damping and air drag.
-pub fn damped_study_rope() -> crate::scene::rope::RopeParams {
-    let scene = crate::scene::rope::RopeParams::default();
-    crate::scene::rope::RopeParams {
-        spring_damping: scene.spring_damping,
-        air_drag: scene.air_drag,
-        ..study_rope(false)
     }
 }
 

@@ -133,33 +133,19 @@ pub fn summary_text(scene: &RopeScene, run: &Run<RopeLane>, wide: bool) -> Strin
         sig(scene.energy_scale, 5),
         scene.strain_bound,
     );
-    let mut table = Table::new([
-        "method",
-        "cost per step",
-        "steps",
-        "force evals",
-        "wall [ms]",
-        "ns/step",
-        "final E [J]",
-        "E - E0 [J]",
-        "W [J]",
-        "E + W - E0 [J]",
-        "max strain",
-        "diverged",
-    ])
-    .short([
-        "method",
-        "",
-        "steps",
-        "evals",
-        "",
-        "ns/step",
-        "",
-        "E-E0 [J]",
-        "",
-        "E+W-E0 [J]",
-        "max strain",
-        "diverged",
+    let mut table = Table::with_short([
+        ("method", "method"),
+        ("cost per step", ""),
+        ("steps", "steps"),
+        ("force evals", "evals"),
+        ("wall [ms]", ""),
+        ("ns/step", "ns/step"),
+        ("final E [J]", ""),
+        ("E - E0 [J]", "E-E0 [J]"),
+        ("W [J]", ""),
+        ("E + W - E0 [J]", "E+W-E0 [J]"),
+        ("max strain", "max strain"),
+        ("diverged", "diverged"),
     ]);
     // Digits: four in full, two fitted.
     let e = if wide { 3 } else { 1 };

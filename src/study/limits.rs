@@ -100,14 +100,10 @@ fn bounded(
     }
     match problem {
         Problem::Pendulum(p) => run(&Pendulum::new(p), start, &[0.0], method, dt, steps),
-        Problem::Rope(p) => run(
-            &Rope::new(p.clone()),
-            start,
-            &p.initial_positions(),
-            method,
-            dt,
-            steps,
-        ),
+        Problem::Rope(p) => {
+            let rest = p.initial_positions();
+            run(&Rope::new(p.clone()), start, &rest, method, dt, steps)
+        }
     }
 }
 
@@ -132,86 +128,92 @@ pub fn stability_with(
         if stop() {
             break;
         }
-        let limit = {
-            let theory = match m.info().stability {
-                Stability::Below(h) => Some(h / w),
-                Stability::Always => Some(f64::INFINITY),
-                Stability::Never | Stability::Adaptive => None,
-            };
-            let mut note = String::new();
-            let measured = match m.info().stability {
-                Stability::Adaptive => {
-                    note.push_str("adaptive: error control chooses the substeps");
-                    None
-                }
-                Stability::Always => {
-                    let tried = 1000.0 * 2.0 / w;
-                    if bounded(&lin, &start, m, tried, steps) {
-                        note.push_str("stable at 1000 × 2/ω, the largest tried");
-                        Some(tried)
-                    } else {
-                        note.push_str("unstable at 1000 × 2/ω");
-                        None
-                    }
-                }
-                _ => {
-                    // Bisection needs its upper end in the first unstable stretch: past theory's
-                    // limit the high-order compositions are stable again (gaps). The end is the
-                    // first of 1e-4, 1e-3, 1e-2 past theory's limit that a run finds unbounded
-                    // (none found: no limit measured), or 10 × 2/ω for the methods with none.
-                    let just_past = theory.map(|limit| {
-                        [1e-4, 1e-3, 1e-2]
-                            .into_iter()
-                            .map(|r| limit * (1.0 + r))
-                            .find(|&dt| !bounded(&lin, &start, m, dt, steps))
-                    });
-                    let (mut lo, hi) = (1e-4 * 2.0 / w, just_past.unwrap_or(Some(10.0 * 2.0 / w)));
-                    if let Some(None) = just_past {
-                        note.push_str(&format!(
-                            "instability past theory's limit too slow for {steps} steps: more --steps"
-                        ));
-                        None
-                    } else if !bounded(&lin, &start, m, lo, steps) {
-                        note.push_str("unstable even at 1e-4 × 2/ω");
-                        None
-                    } else {
-                        let mut hi = hi.expect("an upper end");
-                        for k in 0..40 {
-                            if stop() {
-                                break;
-                            }
-                            done(i as f64 + f64::from(k) / 40.0);
-                            let mid = (lo * hi).sqrt();
-                            if bounded(&lin, &start, m, mid, steps) {
-                                lo = mid;
-                            } else {
-                                hi = mid;
-                            }
-                        }
-                        if m.info().stability == Stability::Never {
-                            note.push_str(&format!(
-                                "no true limit: growth is slow below this, and the value shrinks as the run ({steps} steps) lengthens"
-                            ));
-                        }
-                        Some(lo)
-                    }
-                }
-            };
-            Limit {
+        let theory = match m.info().stability {
+            Stability::Below(h) => Some(h / w),
+            Stability::Always => Some(f64::INFINITY),
+            Stability::Never | Stability::Adaptive => None,
+        };
+        let bounded = |dt| bounded(&lin, &start, m, dt, steps);
+        let at = &mut |k| done(i as f64 + k);
+        let (measured, note) = measure(m, (w, theory), steps, bounded, at);
+        // A bisection cut short by a stop has no limit to show.
+        if !stop() {
+            limits.push(Limit {
                 scene: problem.name(),
                 method: m,
                 measured_dt: measured,
                 theory_dt: theory,
                 note,
-            }
-        };
-        // A bisection cut short by a stop has no limit to show.
-        if !stop() {
-            limits.push(limit);
+            });
             done((i + 1) as f64);
         }
     }
     limits
+}
+
+/// `m`'s largest stable dt on a problem of rate `w` whose runs `bounded` tells apart, and its
+/// note, telling `done` how far its bisection is (in fractions of one).
+fn measure(
+    m: Method,
+    (w, theory): (f64, Option<f64>),
+    steps: u64,
+    bounded: impl Fn(f64) -> bool,
+    done: &mut dyn FnMut(f64),
+) -> (Option<f64>, String) {
+    match m.info().stability {
+        Stability::Adaptive => {
+            return (None, "adaptive: error control chooses the substeps".into());
+        }
+        Stability::Always => {
+            let tried = 1000.0 * 2.0 / w;
+            return match bounded(tried) {
+                true => (
+                    Some(tried),
+                    "stable at 1000 × 2/ω, the largest tried".into(),
+                ),
+                false => (None, "unstable at 1000 × 2/ω".into()),
+            };
+        }
+        Stability::Never | Stability::Below(_) => {}
+    }
+    // Bisection needs its upper end in the first unstable stretch: past theory's limit the
+    // high-order compositions are stable again (gaps). The end is the first of 1e-4, 1e-3, 1e-2
+    // past theory's limit that a run finds unbounded (none found: no limit measured), or
+    // 10 × 2/ω for the methods with none.
+    let just_past = theory.map(|limit| {
+        [1e-4, 1e-3, 1e-2]
+            .into_iter()
+            .map(|r| limit * (1.0 + r))
+            .find(|&dt| !bounded(dt))
+    });
+    let (mut lo, hi) = (1e-4 * 2.0 / w, just_past.unwrap_or(Some(10.0 * 2.0 / w)));
+    let Some(mut hi) = hi else {
+        let why =
+            format!("instability past theory's limit too slow for {steps} steps: more --steps");
+        return (None, why);
+    };
+    if !bounded(lo) {
+        return (None, "unstable even at 1e-4 × 2/ω".into());
+    }
+    for k in 0..40 {
+        if stop() {
+            break;
+        }
+        done(f64::from(k) / 40.0);
+        let mid = (lo * hi).sqrt();
+        if bounded(mid) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let note = match m.info().stability {
+        Stability::Never => format!(
+            "no true limit: growth is slow below this, and the value shrinks as the run ({steps} steps) lengthens"
+        ),
+        _ => String::new(),
+    };
+    (Some(lo), note)
 }
 
 /// Yoshida's stability limit on the oscillator from theory: the h at which the trace of the

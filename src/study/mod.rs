@@ -66,12 +66,16 @@ impl Problem {
         }
     }
 
-    /// The methods that accept its forces: all, or without a velocity-dependent force those that
-    /// need forces of position alone (the Nyström methods) left out.
+    /// Whether `m` accepts its forces: on velocity-dependent ones (a damped rope) not the methods
+    /// that need forces of position alone (the Nyström methods), which the scene refuses.
+    pub fn accepts(&self, m: Method) -> bool {
+        !self.velocity_dependent() || m.info().accepts_velocity_dependent()
+    }
+
+    /// The methods that accept its forces.
     pub fn methods(&self) -> Vec<Method> {
-        let v = self.velocity_dependent();
         (Method::ALL.into_iter())
-            .filter(|m| !v || m.info().accepts_velocity_dependent())
+            .filter(|&m| self.accepts(m))
             .collect()
     }
 

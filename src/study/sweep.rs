@@ -19,34 +19,6 @@ use crate::scene::pendulum::exact::ExactPendulum;
 use crate::scene::pendulum::reference::FineStepReference;
 use crate::scene::rope::Rope;
 
-impl Sweep {
-    /// The study's default sweep of `problem`: every method it accepts, its default schedule.
-    pub fn defaults(problem: &Problem) -> Self {
-        let (dt0, duration) = default_schedule(problem);
-        Sweep {
-            dt0,
-            sample_dt: SAMPLE_EVERY as f64 * dt0,
-            all_settings: false,
-            levels: DEFAULT_LEVELS,
-            duration,
-            methods: problem.methods(),
-            options: MethodOptions::default(),
-            repeats: DEFAULT_REPEATS,
-            rtols: default_rtols(),
-        }
-    }
-
-    /// `study work-precision`'s default sweep of `problem`: every setting physlab has
-    /// ([`Sweep::all_settings`]) and the half-decade tolerances.
-    pub fn work_precision(problem: &Problem) -> Self {
-        Sweep {
-            all_settings: true,
-            rtols: super::work_precision_rtols(),
-            ..Self::defaults(problem)
-        }
-    }
-}
-
 /// One measured run.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Row {
@@ -199,6 +171,32 @@ pub struct Sweep {
 }
 
 impl Sweep {
+    /// The study's default sweep of `problem`: every method it accepts, its default schedule.
+    pub fn defaults(problem: &Problem) -> Self {
+        let (dt0, duration) = default_schedule(problem);
+        Sweep {
+            dt0,
+            sample_dt: SAMPLE_EVERY as f64 * dt0,
+            all_settings: false,
+            levels: DEFAULT_LEVELS,
+            duration,
+            methods: problem.methods(),
+            options: MethodOptions::default(),
+            repeats: DEFAULT_REPEATS,
+            rtols: default_rtols(),
+        }
+    }
+
+    /// `study work-precision`'s default sweep of `problem`: every setting physlab has
+    /// ([`Sweep::all_settings`]) and the half-decade tolerances.
+    pub fn work_precision(problem: &Problem) -> Self {
+        Sweep {
+            all_settings: true,
+            rtols: super::work_precision_rtols(),
+            ..Self::defaults(problem)
+        }
+    }
+
     /// The sweep's own numbers within their ranges, each named by the flag that sets it, and its
     /// reference within the step limit.
     pub fn validate(&self) -> Result<(), Invalid> {
@@ -302,13 +300,6 @@ impl Sweep {
             format::shown(self.duration)
         )
     }
-}
-
-/// The methods of `s` that `problem` accepts: on velocity-dependent forces (a damped rope) not
-/// those that need forces of position alone, which the scene refuses.
-fn accepted<'a>(problem: &Problem, s: &'a Sweep) -> impl Iterator<Item = Method> + 'a {
-    let v = problem.velocity_dependent();
-    (s.methods.iter().copied()).filter(move |m| !v || m.info().accepts_velocity_dependent())
 }
 
 /// The runs [`sweep`] makes of `problem`: each accepted method over the levels, or the
@@ -451,7 +442,7 @@ enum Part {
 fn plan(problem: &Problem, s: &Sweep) -> Vec<(Part, f64, f64)> {
     let samples = s.duration / s.sample_dt;
     let mut parts = Vec::new();
-    for m in accepted(problem, s) {
+    for m in s.methods.iter().copied().filter(|&m| problem.accepts(m)) {
         let (order, evals) = (f64::from(m.info().order), m.info().evals_per_step);
         let per_step = match evals {
             EvalsPerStep::Adaptive(e) => {
