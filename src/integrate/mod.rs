@@ -32,9 +32,7 @@ pub use composition::{
 };
 pub use implicit::scalar_backward_euler;
 pub(crate) use registry::serde_as_text;
-pub use registry::{
-    AdaptiveEvals, EvalsPerStep, Family, Method, MethodInfo, Stability, UnknownMethod,
-};
+pub use registry::{AdaptiveEvals, EvalsPerStep, Method, MethodInfo, Stability, UnknownMethod};
 pub use stepper::{Integrator, whole_steps};
 
 /// What one implicit solve did.

@@ -304,9 +304,8 @@ pub fn rows_table(rows: &[Row], wide: bool) -> String {
     t.render_at(wide)
 }
 
-/// Work-precision's runs as its table shows them by default: per method its cheapest run
-/// (median wall time) reaching each target, and how many runs that leaves out and where they
-/// are.
+/// Work-precision's runs as its table shows them by default: per method its cheapest run (median
+/// wall time) reaching each target, and how many runs that leaves out and where they are.
 pub fn cheapest_table(rows: &[Row], targets: &[f64]) -> String {
     let mut picked: Vec<&Row> = Vec::new();
     for m in crate::study::methods_of(rows, |_| true) {

@@ -26,9 +26,8 @@ pub struct Limit {
 /// The linearised problem stability theory speaks of: the pendulum at 1e-12 rad (so that even
 /// 10⁴-fold growth stays below 2.6e-8 rad, where sin θ rounds to θ: a larger swing detunes the
 /// resonance and saturates the growth, which hid the instability of yoshida6 up to 1.2e-5 past
-/// its limit at 1e-8 rad), the
-/// rope straight, weightless and undamped, displaced along itself by ±1e-6 of its rest length so
-/// that every mode, the highest included, is excited.
+/// its limit at 1e-8 rad), the rope straight, weightless and undamped, displaced along itself by
+/// ±1e-6 of its rest length so that every mode, the highest included, is excited.
 fn linearised(problem: &Problem) -> (Problem, (Vec<f64>, Vec<f64>)) {
     match problem {
         Problem::Pendulum(p) => {
@@ -378,15 +377,14 @@ mod tests {
         (column(1.0, 0.0).0 + column(0.0, 1.0).1).abs()
     }
 
-    /// The higher-order compositions' stability limits (the first instability from h = 0; past
-    /// it the trace comes back below 2, see `tests/data/composition_stability.py`): the
-    /// registry's constants are the mpmath roots, and two f64 roots agree with them: bisection
-    /// on the closed-form matrix product here and `composition_limit` on the stepper's
-    /// drift/kick sequence, to 1e-11 relative (measured 2e-16 to 3e-15 for yoshida6 and
-    /// kahan-li8, 1.7e-13 for sofroniou10, whose trace crosses 2 slowly, at slope about 7e-4,
-    /// so that its round-off moves the root further). The
-    /// stepper's own one-step matrix is stable on a grid of 10⁴ steps up to the limit and at
-    /// 1 - 10⁻ᵏ of it (k = 3..6), unstable at 1 + 10⁻⁶ of it.
+    /// The higher-order compositions' stability limits (the first instability from h = 0; past it
+    /// the trace comes back below 2, see `tests/data/composition_stability.py`): the registry's
+    /// constants are the mpmath roots, and two f64 roots agree with them: bisection on the
+    /// closed-form matrix product here and `composition_limit` on the stepper's drift/kick
+    /// sequence, to 1e-11 relative (measured 2e-16 to 3e-15 for yoshida6 and kahan-li8, 1.7e-13 for
+    /// sofroniou10, whose trace crosses 2 slowly, at slope about 7e-4, so that its round-off moves
+    /// the root further). The stepper's own one-step matrix is stable on a grid of 10⁴ steps up to
+    /// the limit and at 1 - 10⁻ᵏ of it (k = 3..6), unstable at 1 + 10⁻⁶ of it.
     #[test]
     fn composition_limits_match_independent_roots_and_the_stepper_is_stable_below() {
         use crate::integrate::{Stability, composition_weights};

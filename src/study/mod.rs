@@ -8,9 +8,8 @@
 //!
 //! A stop request ([`crate::interrupt::requested`], Ctrl-C or SIGTERM) is looked at after every
 //! [`STOP_CHECK_STEPS`] coordinates stepped in every run, the reference's and every bisection
-//! trial's included: [`sweep`] and
-//! [`stability`] then return the rows and limits complete so far (a run cut short is dropped,
-//! never shown), and the caller says the study was interrupted.
+//! trial's included: [`sweep`] and [`stability`] then return the rows and limits complete so far
+//! (a run cut short is dropped, never shown), and the caller says the study was interrupted.
 
 mod answer;
 pub mod drift;

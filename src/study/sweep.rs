@@ -262,11 +262,10 @@ impl Sweep {
         reference(problem, self.sample_dt, self.samples(), self.finest())
     }
 
-    /// The steps above dt0 that `m` also runs at when [`Sweep::all_settings`] and its order is
-    /// at least 4 (a lower order needs steps below dt0 for any error worth a target): 4 ×
-    /// sample_dt × 2^(-j/8) for j = 0, 1, ... (eight a halving, as in the peer benchmark), to
-    /// three digits, each stepping across the samples or, where it divides sample_dt, ending
-    /// at them.
+    /// The steps above dt0 that `m` also runs at when [`Sweep::all_settings`] and its order is at
+    /// least 4 (a lower order needs steps below dt0 for any error worth a target): 4 × sample_dt ×
+    /// 2^(-j/8) for j = 0, 1, ... (eight a halving, as in the peer benchmark), to three digits,
+    /// each stepping across the samples or, where it divides sample_dt, ending at them.
     pub fn steps_above(&self, m: Method) -> Vec<f64> {
         let top = 4.0 * self.sample_dt;
         let wanted = self.all_settings && !m.info().adaptive() && m.info().order >= 4;
@@ -325,10 +324,9 @@ pub fn damped_companion(problem: &Problem) -> Option<Problem> {
 }
 
 /// Every (method, dt) of the sweep: fixed-step methods over the halved steps, the adaptive
-/// methods (family `Adaptive`: dopri5, dop853, vern9) over their tolerances. Returns the rows and
-/// the reference's accuracy (the exact pendulum's [`theta_accuracy`] over the run, or the fine run's
-/// Richardson estimate); after a stop request, the rows complete so far (none if the reference
-/// was not).
+/// methods over their tolerances. Returns the rows and the reference's accuracy (the exact
+/// pendulum's [`theta_accuracy`] over the run, or the fine run's Richardson estimate); after a
+/// stop request, the rows complete so far (none if the reference was not).
 ///
 /// [`theta_accuracy`]: crate::scene::pendulum::exact::ExactPendulum::theta_accuracy
 pub fn sweep(problem: &Problem, s: &Sweep) -> (Vec<Row>, f64) {
