@@ -1,6 +1,6 @@
 //! The rope run's summary table, as printed on stdout.
 
-use crate::format::{sig, trim_number};
+use crate::format::{plural, sig, trim_number};
 use crate::integrate::{EvalsPerStep, Method};
 use crate::report::table::{OWN_STEPS_NOTE, Table, diverged_cell, figure, steps_cell};
 use crate::scene::harness::{Run, Scene as _};
@@ -9,7 +9,7 @@ use crate::scene::rope::run::{ENERGY_GAIN_BOUND, RopeLane, RopeScene};
 /// What one step of `method` costs on an N-node rope, in words.
 pub fn cost_per_step(method: Method, newton_iterations: u32) -> String {
     match method.info().evals_per_step {
-        EvalsPerStep::Fixed(k) => format!("{k} force eval{} O(N)", if k == 1 { "" } else { "s" }),
+        EvalsPerStep::Fixed(k) => format!("{} O(N)", plural(k, "force eval")),
         EvalsPerStep::NewtonIterations => {
             format!("≤{newton_iterations} × (force + Jacobian + block-tridiagonal solve) O(N)")
         }

@@ -86,20 +86,16 @@ pub fn answer(
     }
     // The rope scene has no reference lane: its summary cannot show the error the study
     // measured, so the answer says where the error comes from and how to check it.
-    if let Problem::Rope(_) = problem {
-        out.push('\n');
-        out.push_str(&fit_lines(
-            "note: the rope scene has no reference, so its summary does not show these errors: \
+    out.push_str(&match problem {
+        Problem::Pendulum(_) => {
+            "\nthe command that makes each run as a scene (it measures the same error):\n".into()
+        }
+        Problem::Rope(_) => fit_lines(
+            "\nnote: the rope scene has no reference, so its summary does not show these errors: \
              they were measured against this study's reference (RK4 at dt/8 of the finest step). \
              To check one, run this study again with --methods and that run's method: the same \
-             reference measures each of its runs.\n",
-        ));
-    }
-    out.push_str(match problem {
-        Problem::Pendulum(_) => {
-            "\nthe command that makes each run as a scene (it measures the same error):\n"
-        }
-        Problem::Rope(_) => "\nthe command that makes each run as a scene:\n",
+             reference measures each of its runs.\n\nthe command that makes each run as a scene:\n",
+        ),
     });
     for (target, _, words) in found.iter().filter(|a| a.1.is_some()) {
         out.push_str(&wrapped(&format!("{target:.0e}:"), words, 100));

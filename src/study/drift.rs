@@ -229,7 +229,6 @@ pub fn rope_drift(
             lost_at = Some(n as f64 * dt);
             break;
         }
-        let x = it.position();
         for i in 0..p.nodes - 1 {
             let d = crate::scene::rope::node(x, i + 1) - crate::scene::rope::node(x, i);
             shortest = shortest.min(d.length() / rope.rest());

@@ -1,11 +1,12 @@
 //! Stability limits: each method's largest stable step on the linearised problem, found by
 //! bisection and set against theory.
 
-use super::{Problem, largest_difference, stop, stop_stride};
+use super::{Problem, largest_difference, stop_stride};
 use crate::integrate::{
     Integrator, Method, MethodOptions, SecondOrderSystem, Stability, composition_drift,
     yoshida_weights,
 };
+use crate::interrupt::requested as stop;
 use crate::scene::params::{self, Invalid};
 use crate::scene::pendulum::{Pendulum, PendulumParams};
 use crate::scene::rope::{Rope, RopeParams};

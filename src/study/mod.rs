@@ -160,11 +160,6 @@ fn stop_stride(coordinates: usize) -> u64 {
     (STOP_CHECK_STEPS / coordinates.max(1) as u64).max(1)
 }
 
-/// Whether a stop was asked for.
-fn stop() -> bool {
-    crate::interrupt::requested()
-}
-
 /// The largest |a − b| over two states' coordinates (`f64::max` passes over a NaN).
 fn largest_difference(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).fold(0.0, |m, (x, y)| m.max((x - y).abs()))
@@ -180,7 +175,7 @@ fn steps<S: SecondOrderSystem>(it: &mut Integrator, sys: &S, n: u64) -> bool {
             it.step(sys);
         }
         left -= chunk;
-        if stop() {
+        if crate::interrupt::requested() {
             return false;
         }
     }

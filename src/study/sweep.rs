@@ -6,7 +6,7 @@ use std::time::Instant;
 use super::grid;
 use super::{
     DEFAULT_LEVELS, DEFAULT_REPEATS, Problem, default_rtols, default_schedule, largest_difference,
-    steps, stop,
+    steps,
 };
 use crate::format;
 use crate::integrate::{
@@ -401,7 +401,7 @@ pub fn sweep_against(
     let floor = super::error_floor(reference_error);
     let mut grid = Vec::new();
     for (part, steps, evals) in plan(problem, s) {
-        if stop() {
+        if crate::interrupt::requested() {
             break;
         }
         match part {
