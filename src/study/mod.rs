@@ -24,9 +24,7 @@ pub use answer::{
     Answer, DEFAULT_TARGETS, RESOLVES, answers, floor_text, refuse_unresolved, scene_command,
     settings, validate_targets,
 };
-pub use limits::{
-    Limit, composition_limit, stability, stability_with, validate_stability_steps, yoshida4_limit,
-};
+pub use limits::{Limit, stability, stability_with, validate_stability_steps};
 use orders::fit;
 pub use orders::{
     Order, Proportionality, STALL_BELOW, cheapest, error_floor, methods_of, orders,
