@@ -88,8 +88,13 @@ fn table_pads_columns() {
 /// and a constant dash left out; the full table keeps all.
 #[test]
 fn the_fitted_table_says_a_constant_column_once() {
-    let mut t = Table::new(["method", "steps taken", "wall", "diverged", "note"])
-        .short(["method", "steps", "", "diverged", "note"]);
+    let mut t = Table::with_short([
+        ("method", "method"),
+        ("steps taken", "steps"),
+        ("wall", ""),
+        ("diverged", "diverged"),
+        ("note", "note"),
+    ]);
     t.row(["a", "10", "1", "no", "—"]);
     t.row(["b", "20", "2", "no", "—"]);
     let fitted = [

@@ -5,13 +5,13 @@
 use super::{Method, SecondOrderSystem, State};
 
 /// Yoshida's fourth-order composition stays stable on the oscillator for h < 1.5734019...,
-/// where the trace of its one-step matrix reaches ±2 (see `study::yoshida4_limit`).
+/// where the trace of its one-step matrix reaches ±2 (`tests/integrators.rs` finds it again).
 pub const YOSHIDA4_STABILITY_LIMIT: f64 = 1.573_401_947_434_54;
 
 /// The first h > 0 at which |trace| of the one-step matrix on x'' = -x exceeds 2, for the
 /// higher-order compositions (2.26905799639765941786574525903, 3.09643868000073217261468949411
 /// and 3.14108186289662319003496785934 by `tests/data/composition_stability.py`, mpmath at 40
-/// digits; `study::composition_limit` finds them again from the weights in f64). Past each the
+/// digits; `tests/integrators.rs` finds them again from the weights in f64). Past each the
 /// trace comes back: unstable on 2.2691–2.3278, 3.0964–3.1402 and 3.14108–3.14184 only, then
 /// stable again for a while (gaps of the stability interval).
 pub const YOSHIDA6_STABILITY_LIMIT: f64 = 2.269_057_996_397_659_6;

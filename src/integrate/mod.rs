@@ -32,9 +32,7 @@ pub use composition::{
 };
 pub use implicit::scalar_backward_euler;
 pub(crate) use registry::serde_as_text;
-pub use registry::{
-    AdaptiveEvals, EvalsPerStep, Family, Method, MethodInfo, Stability, UnknownMethod,
-};
+pub use registry::{AdaptiveEvals, EvalsPerStep, Method, MethodInfo, Stability, UnknownMethod};
 pub use stepper::{Integrator, whole_steps};
 
 /// What one implicit solve did.
@@ -127,34 +125,4 @@ pub(crate) struct State<'a> {
     pub x: &'a mut [f64],
     pub v: &'a mut [f64],
     pub counts: &'a mut Counts,
-}
-
-#[cfg(test)]
-pub(crate) mod tests {
-    use super::*;
-
-    /// The damped oscillator x'' = -x - c x' (c < 2), with a closed-form implicit step (the
-    /// exact solution and the tests on it: tests/integrators.rs, `oscillator`).
-    pub struct DampedOscillator {
-        pub c: f64,
-    }
-    impl SecondOrderSystem for DampedOscillator {
-        fn dim(&self) -> usize {
-            1
-        }
-        fn acceleration(&self, x: &[f64], v: &[f64], a: &mut [f64]) {
-            a[0] = -x[0] - self.c * v[0];
-        }
-        fn implicit_euler_step(&self, x: &mut [f64], v: &mut [f64], dt: f64) -> ImplicitSolve {
-            let v1 = (v[0] - dt * x[0]) / (1.0 + dt * self.c + dt * dt);
-            x[0] += dt * v1;
-            v[0] = v1;
-            ImplicitSolve {
-                evals: 1,
-                jacobian_evals: 1,
-                converged: true,
-                last_update: 0.0,
-            }
-        }
-    }
 }

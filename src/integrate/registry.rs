@@ -107,25 +107,10 @@ pub enum Stability {
     Adaptive,
 }
 
-/// The family a method belongs to; each family is one module of `integrate`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Family {
-    Explicit,
-    SemiImplicit,
-    Implicit,
-    Verlet,
-    RungeKutta,
-    Composition,
-    Adaptive,
-    /// Runge–Kutta–Nyström: stages of a(x) only; forces of position alone.
-    Nystrom,
-}
-
 /// What a method is, as numbers a user can check against theory.
 #[derive(Clone, Copy, Debug)]
 pub struct MethodInfo {
     pub name: &'static str,
-    pub family: Family,
     /// Global order of accuracy for forces of position only, a(x).
     pub order: u32,
     /// Global order of accuracy when the force depends on the velocity too, a(x, v) (damping,
@@ -162,12 +147,11 @@ impl MethodInfo {
     /// Why its order drops where the force depends on the velocity, if it does: the
     /// compositions' kicks take the mid-kick velocity predicted from the last acceleration, exact
     /// only for forces of position alone (an exact one would make each kick implicit).
+    /// Invariant: the compositions are the only methods that accept such forces at a lower order.
     pub const fn order_drop(&self) -> Option<&'static str> {
-        match self.family {
-            Family::Composition if self.order_velocity_dependent < self.order => {
-                Some("its kicks take a predicted mid-kick velocity")
-            }
-            _ => None,
+        match self.accepts_velocity_dependent() && self.order_velocity_dependent < self.order {
+            true => Some("its kicks take a predicted mid-kick velocity"),
+            false => None,
         }
     }
 
@@ -180,7 +164,7 @@ impl MethodInfo {
 impl Method {
     /// The methods the scenes run when --methods is not given, in registry order: those marked
     /// `default` in their row.
-    pub const DEFAULT: &'static [Method] = &DEFAULTS;
+    pub const DEFAULT: &'static [Method] = DEFAULTS.0.split_at(DEFAULTS.1).0;
 
     pub const fn name(self) -> &'static str {
         self.info().name
@@ -191,29 +175,18 @@ impl Method {
     }
 }
 
-const DEFAULT_COUNT: usize = {
-    let mut n = 0;
-    let mut i = 0;
+/// Every method marked `default`, in registry order, and how many there are.
+static DEFAULTS: ([Method; Method::ALL.len()], usize) = {
+    let mut out = [Method::ALL[0]; Method::ALL.len()];
+    let (mut i, mut n) = (0, 0);
     while i < Method::ALL.len() {
         if Method::ALL[i].info().default {
+            out[n] = Method::ALL[i];
             n += 1;
         }
         i += 1;
     }
-    n
-};
-
-const DEFAULTS: [Method; DEFAULT_COUNT] = {
-    let mut out = [Method::ALL[0]; DEFAULT_COUNT];
-    let (mut i, mut j) = (0, 0);
-    while i < Method::ALL.len() {
-        if Method::ALL[i].info().default {
-            out[j] = Method::ALL[i];
-            j += 1;
-        }
-        i += 1;
-    }
-    out
+    (out, n)
 };
 
 impl fmt::Display for Method {

@@ -89,8 +89,7 @@ pub const RKN4_STABILITY_LIMIT: f64 = 2.586518894519562;
 pub(crate) trait RknTableau {
     /// Stages of a step (stage 0 is a(x) at the step's start).
     const STAGES: usize;
-    /// Whether the last stage is a(x1) (c = 1, ā = b̄), so the trial evaluates it (DPRKN6,
-    /// DPRKN8).
+    /// Whether the last stage is a(x1) (c = 1, ā = b̄), so the trial evaluates it (DPRKN6, DPRKN8).
     const FSAL: bool;
     /// Stages the dense output adds: a(x1) when the step has not evaluated it, then its own.
     const DENSE_STAGES: usize;

@@ -88,17 +88,9 @@ impl Integrator {
     /// The vectors `options` add to [`Integrator::vectors`]: a composition method with
     /// compensated summation keeps the rounding errors of x and v.
     pub fn option_vectors(method: Method, options: &MethodOptions) -> usize {
-        let compensation = if options.compensated && composition::weights(method).is_some() {
-            2
-        } else {
-            0
-        };
-        let across = if Self::steps_across(method, options).is_some() {
-            across::Across::VECTORS
-        } else {
-            0
-        };
-        compensation + across
+        let compensated = options.compensated && composition::weights(method).is_some();
+        let across = Self::steps_across(method, options).is_some();
+        2 * usize::from(compensated) + across::Across::VECTORS * usize::from(across)
     }
 
     /// The fixed-step method's own step when it steps across the sample times.
@@ -166,9 +158,6 @@ impl Integrator {
         }
     }
 
-    pub fn dt(&self) -> f64 {
-        self.dt
-    }
     pub fn position(&self) -> &[f64] {
         &self.x
     }

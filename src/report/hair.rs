@@ -5,6 +5,7 @@ use crate::report::table::{Table, diverged_cell, figure};
 use crate::scene::hair::run::{HairConfig, HairLane, HairScene};
 use crate::scene::hair::{HairMethod, SPRING_STRETCH_BOUND, SPRING_WAVE_SPEEDS, Solver};
 use crate::scene::harness::Run;
+use crate::study::hair::{HairRow, cheapest_within};
 
 /// The summary: the strands, head, wind and solver, the invariants, and one row per lane, its
 /// table in full (`wide`) or fitted to 100 columns (the frames, said above, and the rates that
@@ -79,7 +80,7 @@ pub fn summary_text(scene: &HairScene, run: &Run<HairLane>, wide: bool) -> Strin
 }
 
 /// The hair trade study's rows: configuration, largest stretch, cost per frame.
-pub fn trade_table(rows: &[crate::study::hair::HairRow]) -> String {
+pub fn trade_table(rows: &[HairRow]) -> String {
     let mut t = Table::new([
         "method",
         "solver",
@@ -106,12 +107,7 @@ pub fn trade_table(rows: &[crate::study::hair::HairRow]) -> String {
 /// The cheapest configuration (by wall time per frame) within each stretch target: over all
 /// rows, then for each method (and verlet's solver); fitted, a configuration by the flags its
 /// `among` does not already say.
-pub fn trade_cheapest_table(
-    rows: &[crate::study::hair::HairRow],
-    targets: &[f64],
-    wide: bool,
-) -> String {
-    use crate::study::hair::cheapest_within;
+pub fn trade_cheapest_table(rows: &[HairRow], targets: &[f64], wide: bool) -> String {
     let mut kinds: Vec<(HairMethod, Option<Solver>)> = Vec::new();
     for r in rows {
         if !kinds.contains(&(r.method, r.solver)) {
@@ -130,26 +126,18 @@ pub fn trade_cheapest_table(
         None => m.name().to_string(),
     };
     for &target in targets {
-        let mut line = |among: String, r: Option<&crate::study::hair::HairRow>| match r {
-            Some(r) => t.row([
-                format!("{target:.0e}"),
-                among.clone(),
-                match (wide, among == "all", r.settings()) {
-                    (true, _, _) => r.flags(),
-                    (false, true, settings) => format!("{} {settings}", kind(r.method, r.solver)),
-                    (false, false, settings) if settings.is_empty() => "defaults".into(),
-                    (false, false, settings) => settings,
-                },
-                r.stretch.map_or(String::new(), |s| format!("{s:.2e}")),
-                trim_number(r.ms_per_frame, 3),
-            ]),
-            None => t.row([
-                format!("{target:.0e}"),
-                among,
-                "none measured".into(),
-                "—".into(),
-                "—".into(),
-            ]),
+        let mut line = |among: String, r: Option<&HairRow>| {
+            let cheapest = |r: &HairRow| match (wide, among == "all") {
+                (true, _) => r.flags(),
+                (false, true) => format!("{} {}", kind(r.method, r.solver), r.settings()),
+                (false, false) if r.settings().is_empty() => "defaults".into(),
+                (false, false) => r.settings(),
+            };
+            let cells = r.map_or(["none measured".into(), "—".into(), "—".into()], |r| {
+                let stretch = r.stretch.map_or(String::new(), |s| format!("{s:.2e}"));
+                [cheapest(r), stretch, trim_number(r.ms_per_frame, 3)]
+            });
+            t.row([format!("{target:.0e}"), among].into_iter().chain(cells));
         };
         line("all".into(), cheapest_within(rows, target));
         for &(m, s) in &kinds {
@@ -166,7 +154,7 @@ pub fn trade_cheapest_table(
 }
 
 /// One CSV row per configuration of the hair trade study.
-pub fn trade_csv(rows: &[crate::study::hair::HairRow]) -> String {
+pub fn trade_csv(rows: &[HairRow]) -> String {
     use std::fmt::Write as _;
     let mut csv =
         String::from("method,solver,iterations,substeps,stiffness,max_stretch,ms_per_frame\n");

@@ -29,9 +29,8 @@ pub fn methods_table() -> String {
             if i.implicit { "implicit" } else { "explicit" }.to_string(),
             if i.symplectic { "yes" } else { "no" }.to_string(),
             match i.evals_per_step {
-                EvalsPerStep::Fixed(n) => n.to_string(),
-                EvalsPerStep::NewtonIterations => "Newton".into(),
                 EvalsPerStep::Adaptive(e) => format!("{} adaptive", e.accepted),
+                fixed_or_newton => fixed_or_newton.to_string(),
             },
             match i.stability {
                 Stability::Never => "never".to_string(),

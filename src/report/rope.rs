@@ -1,6 +1,6 @@
 //! The rope run's summary table, as printed on stdout.
 
-use crate::format::{sig, trim_number};
+use crate::format::{plural, sig, trim_number};
 use crate::integrate::{EvalsPerStep, Method};
 use crate::report::table::{OWN_STEPS_NOTE, Table, diverged_cell, figure, steps_cell};
 use crate::scene::harness::{Run, Scene as _};
@@ -9,7 +9,7 @@ use crate::scene::rope::run::{ENERGY_GAIN_BOUND, RopeLane, RopeScene};
 /// What one step of `method` costs on an N-node rope, in words.
 pub fn cost_per_step(method: Method, newton_iterations: u32) -> String {
     match method.info().evals_per_step {
-        EvalsPerStep::Fixed(k) => format!("{k} force eval{} O(N)", if k == 1 { "" } else { "s" }),
+        EvalsPerStep::Fixed(k) => format!("{} O(N)", plural(k, "force eval")),
         EvalsPerStep::NewtonIterations => {
             format!("≤{newton_iterations} × (force + Jacobian + block-tridiagonal solve) O(N)")
         }
@@ -133,33 +133,19 @@ pub fn summary_text(scene: &RopeScene, run: &Run<RopeLane>, wide: bool) -> Strin
         sig(scene.energy_scale, 5),
         scene.strain_bound,
     );
-    let mut table = Table::new([
-        "method",
-        "cost per step",
-        "steps",
-        "force evals",
-        "wall [ms]",
-        "ns/step",
-        "final E [J]",
-        "E - E0 [J]",
-        "W [J]",
-        "E + W - E0 [J]",
-        "max strain",
-        "diverged",
-    ])
-    .short([
-        "method",
-        "",
-        "steps",
-        "evals",
-        "",
-        "ns/step",
-        "",
-        "E-E0 [J]",
-        "",
-        "E+W-E0 [J]",
-        "max strain",
-        "diverged",
+    let mut table = Table::with_short([
+        ("method", "method"),
+        ("cost per step", ""),
+        ("steps", "steps"),
+        ("force evals", "evals"),
+        ("wall [ms]", ""),
+        ("ns/step", "ns/step"),
+        ("final E [J]", ""),
+        ("E - E0 [J]", "E-E0 [J]"),
+        ("W [J]", ""),
+        ("E + W - E0 [J]", "E+W-E0 [J]"),
+        ("max strain", "max strain"),
+        ("diverged", "diverged"),
     ]);
     // Digits: four in full, two fitted.
     let e = if wide { 3 } else { 1 };

@@ -38,14 +38,6 @@ pub fn sweep_header(problem: &Problem, kind: &str, sweep: &Sweep, reference_erro
     )
 }
 
-/// What the answer's error is, per scene.
-fn error_words(problem: &Problem) -> &'static str {
-    match problem {
-        Problem::Pendulum(_) => "max |θ − θref| [rad]",
-        Problem::Rope(_) => "max |x − xref| over the nodes [m]",
-    }
-}
-
 /// Work-precision's first lines: per target the cheapest run (its method and settings, error,
 /// median wall time and evaluations), the targets left out below the floor, and the scene
 /// command (shell words) that makes each run.
@@ -56,11 +48,14 @@ pub fn answer(
     found: &[Answer],
     unresolved: &[f64],
 ) -> String {
-    let periods = match problem {
-        Problem::Pendulum(p) => ExactPendulum::new(p).map_or(String::new(), |e| {
-            format!(" ({} periods)", trim_number(sw.duration / e.period(), 3))
-        }),
-        Problem::Rope(_) => String::new(),
+    let (periods, error) = match problem {
+        Problem::Pendulum(p) => (
+            ExactPendulum::new(p).map_or(String::new(), |e| {
+                format!(" ({} periods)", trim_number(sw.duration / e.period(), 3))
+            }),
+            "max |θ − θref| [rad]",
+        ),
+        Problem::Rope(_) => (String::new(), "max |x − xref| over the nodes [m]"),
     };
     let mut out = format!(
         "{} work-precision: the cheapest run (median wall time) per target error\n\
@@ -68,7 +63,7 @@ pub fn answer(
          the reference's error (the floor) is {}:\n\n",
         problem.name(),
         trim_number(sw.duration, 6),
-        error_words(problem),
+        error,
         shown(sw.sample_dt),
         floor_text(reference_error),
     );
@@ -91,20 +86,16 @@ pub fn answer(
     }
     // The rope scene has no reference lane: its summary cannot show the error the study
     // measured, so the answer says where the error comes from and how to check it.
-    if let Problem::Rope(_) = problem {
-        out.push('\n');
-        out.push_str(&fit_lines(
-            "note: the rope scene has no reference, so its summary does not show these errors: \
+    out.push_str(&match problem {
+        Problem::Pendulum(_) => {
+            "\nthe command that makes each run as a scene (it measures the same error):\n".into()
+        }
+        Problem::Rope(_) => fit_lines(
+            "\nnote: the rope scene has no reference, so its summary does not show these errors: \
              they were measured against this study's reference (RK4 at dt/8 of the finest step). \
              To check one, run this study again with --methods and that run's method: the same \
-             reference measures each of its runs.\n",
-        ));
-    }
-    out.push_str(match problem {
-        Problem::Pendulum(_) => {
-            "\nthe command that makes each run as a scene (it measures the same error):\n"
-        }
-        Problem::Rope(_) => "\nthe command that makes each run as a scene:\n",
+             reference measures each of its runs.\n\nthe command that makes each run as a scene:\n",
+        ),
     });
     for (target, _, words) in found.iter().filter(|a| a.1.is_some()) {
         out.push_str(&wrapped(&format!("{target:.0e}:"), words, 100));
@@ -256,15 +247,6 @@ pub fn proportionality_table(rows: &[Row], floor: f64) -> String {
     t.render()
 }
 
-/// A run's step: its dt, or "adaptive" for a method that chooses its own (its `dt` is only the
-/// interval it is sampled at; its own steps are counted under "steps accepted").
-fn step_text(r: &Row) -> String {
-    match r.rtol {
-        Some(_) => "adaptive".into(),
-        None => sci(r.dt),
-    }
-}
-
 /// What one run is, as a point of a diagram shows it on hover in the viewer: the method and
 /// its settings, then what it measured (the one place that text is made, for every study
 /// diagram of sweep rows).
@@ -299,7 +281,8 @@ pub fn rows_table(rows: &[Row], wide: bool) -> String {
     for r in rows {
         t.row([
             r.method.name().to_string(),
-            step_text(r),
+            // An adaptive run's dt is only the interval it is sampled at.
+            r.rtol.map_or_else(|| sci(r.dt), |_| "adaptive".into()),
             r.rtol.map_or("—".into(), |t| match wide {
                 true => sci(t),
                 false => format!("{t:.0e}"),
@@ -317,9 +300,8 @@ pub fn rows_table(rows: &[Row], wide: bool) -> String {
     t.render_at(wide)
 }
 
-/// Work-precision's runs as its table shows them by default: per method its cheapest run
-/// (median wall time) reaching each target, and how many runs that leaves out and where they
-/// are.
+/// Work-precision's runs as its table shows them by default: per method its cheapest run (median
+/// wall time) reaching each target, and how many runs that leaves out and where they are.
 pub fn cheapest_table(rows: &[Row], targets: &[f64]) -> String {
     let mut picked: Vec<&Row> = Vec::new();
     for m in crate::study::methods_of(rows, |_| true) {
@@ -428,11 +410,8 @@ pub fn limits_csv(limits: &[Limit]) -> String {
             l.scene,
             l.method,
             l.measured_dt.map_or(String::new(), |d| format!("{d:e}")),
-            l.theory_dt.map_or("none".into(), |d| if d.is_infinite() {
-                "inf".into()
-            } else {
-                format!("{d:e}")
-            })
+            // An unconditional limit, infinite, is written "inf".
+            l.theory_dt.map_or("none".into(), |d| format!("{d:e}"))
         );
     }
     csv

@@ -10,7 +10,7 @@ pub const WIDTH: usize = 100;
 /// A table under construction: a header row and data rows of the same width.
 pub struct Table {
     header: Vec<String>,
-    /// Each column's header in the fitted table ([`Table::short`]); empty: left out there.
+    /// Each column's header in the fitted table ([`Table::with_short`]); empty: left out there.
     short: Vec<String>,
     rows: Vec<Vec<String>>,
 }
@@ -29,21 +29,15 @@ impl Table {
         }
     }
 
-    /// A table of columns each with its full header and its fitted one ([`Table::short`]).
+    /// A table of columns each with its full header and its header in the fitted table: short,
+    /// units kept; an empty one leaves its column out there (what the others or the lines above
+    /// already say).
     pub fn with_short<const N: usize>(columns: [(&str, &str); N]) -> Self {
-        Table::new(columns.map(|c| c.0)).short(columns.map(|c| c.1))
-    }
-
-    /// The headers of the fitted table, one per column: short, units kept; an empty one leaves
-    /// its column out there (what the others or the lines above already say).
-    pub fn short<'a>(mut self, short: impl IntoIterator<Item = &'a str>) -> Self {
-        self.short = short.into_iter().map(String::from).collect();
-        debug_assert_eq!(
-            self.short.len(),
-            self.header.len(),
-            "one short header per column"
-        );
-        self
+        Table {
+            header: columns.map(|c| c.0.to_string()).into(),
+            short: columns.map(|c| c.1.to_string()).into(),
+            rows: Vec::new(),
+        }
     }
 
     pub fn row<I, S>(&mut self, cells: I)

@@ -81,13 +81,12 @@ pub struct Drift {
 /// bounded (exponent 0): its local errors shrink with the motion, which decays to rest, after
 /// which nothing is added to it.
 pub fn theory(method: Method, damped: bool) -> (Option<f64>, Option<f64>) {
-    let info = method.info();
     match method {
         _ if damped => (Some(0.0), None),
         // Explicit Euler's energy grows geometrically, implicit Euler's decays to rest: no
         // power law.
         Method::ExplicitEuler | Method::ImplicitEuler => (None, None),
-        _ if info.symplectic => (Some(0.0), Some(1.0)),
+        _ if method.info().symplectic => (Some(0.0), Some(1.0)),
         _ => (Some(1.0), Some(2.0)),
     }
 }
@@ -230,7 +229,6 @@ pub fn rope_drift(
             lost_at = Some(n as f64 * dt);
             break;
         }
-        let x = it.position();
         for i in 0..p.nodes - 1 {
             let d = crate::scene::rope::node(x, i + 1) - crate::scene::rope::node(x, i);
             shortest = shortest.min(d.length() / rope.rest());

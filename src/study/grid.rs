@@ -54,15 +54,14 @@ const USABLE: f64 = 3.0;
 /// The largest step tried, as a fraction of the method's stability limit.
 const STABLE_FRACTION: f64 = 0.9;
 
-/// The levels of `method` in a convergence sweep of `problem` whose error floor is `floor`;
-/// `error` measures one level (`None`: diverged or stopped). The default grid is kept when its
-/// coarsest error leaves [`USABLE`] levels above ten times the floor (each halving divides the
-/// error by 2^p at order p). Otherwise the step is doubled from dt0 (within the stability
-/// limit) until the error stands that far above the floor; from there e(h) = e·(h/dt)^p places
-/// the coarsest level where it predicts [`ASYMPTOTIC_BELOW`] and the finest where it predicts
-/// ten times the floor, the levels between evenly spaced in log h. Steps are whole fractions of
-/// a common interval of `every` samples, compared at its ends, so that every level of a method
-/// is measured at the same times.
+/// The levels of `method` in a convergence sweep of `problem` whose error floor is `floor`; `error`
+/// measures one level (`None`: diverged or stopped). The default grid is kept when its coarsest
+/// error leaves [`USABLE`] levels above ten times the floor (each halving divides the error by 2^p
+/// at order p). Otherwise the step is doubled from dt0 (within the stability limit) until the error
+/// stands that far above the floor; from there e(h) = e·(h/dt)^p places the coarsest level where it
+/// predicts [`ASYMPTOTIC_BELOW`] and the finest where it predicts ten times the floor, the levels
+/// between evenly spaced in log h. Steps are whole fractions of a common interval of `every`
+/// samples, compared at its ends, so that every level of a method is measured at the same times.
 pub fn by_order(
     method: Method,
     problem: &Problem,

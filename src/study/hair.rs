@@ -31,15 +31,12 @@ pub struct HairRow {
 impl HairRow {
     /// The configuration as `physlab hair` flags.
     pub fn flags(&self) -> String {
-        let mut f = format!("--methods {}", self.method.name());
-        if let Some(s) = self.solver {
-            f += &format!(" --solver {}", s.name());
-        }
-        let settings = self.settings();
-        if !settings.is_empty() {
-            f += &format!(" {settings}");
-        }
-        f
+        let method = format!("--methods {}", self.method.name());
+        let solver = (self.solver).map_or(String::new(), |s| format!("--solver {}", s.name()));
+        let words: Vec<String> = ([method, solver, self.settings()].into_iter())
+            .filter(|w| !w.is_empty())
+            .collect();
+        words.join(" ")
     }
 
     /// The flags beyond the method and verlet's solver: "--iterations 2 --substeps 4".

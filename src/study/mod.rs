@@ -8,9 +8,8 @@
 //!
 //! A stop request ([`crate::interrupt::requested`], Ctrl-C or SIGTERM) is looked at after every
 //! [`STOP_CHECK_STEPS`] coordinates stepped in every run, the reference's and every bisection
-//! trial's included: [`sweep`] and
-//! [`stability`] then return the rows and limits complete so far (a run cut short is dropped,
-//! never shown), and the caller says the study was interrupted.
+//! trial's included: [`sweep`] and [`stability`] then return the rows and limits complete so far
+//! (a run cut short is dropped, never shown), and the caller says the study was interrupted.
 
 mod answer;
 pub mod drift;
@@ -25,9 +24,7 @@ pub use answer::{
     Answer, DEFAULT_TARGETS, RESOLVES, answers, floor_text, refuse_unresolved, scene_command,
     settings, validate_targets,
 };
-pub use limits::{
-    Limit, composition_limit, stability, stability_with, validate_stability_steps, yoshida4_limit,
-};
+pub use limits::{Limit, stability, stability_with, validate_stability_steps};
 use orders::fit;
 pub use orders::{
     Order, Proportionality, STALL_BELOW, cheapest, error_floor, methods_of, orders,
@@ -66,12 +63,16 @@ impl Problem {
         }
     }
 
-    /// The methods that accept its forces: all, or without a velocity-dependent force those that
-    /// need forces of position alone (the Nyström methods) left out.
+    /// Whether `m` accepts its forces: on velocity-dependent ones (a damped rope) not the methods
+    /// that need forces of position alone (the Nyström methods), which the scene refuses.
+    pub fn accepts(&self, m: Method) -> bool {
+        !self.velocity_dependent() || m.info().accepts_velocity_dependent()
+    }
+
+    /// The methods that accept its forces.
     pub fn methods(&self) -> Vec<Method> {
-        let v = self.velocity_dependent();
         (Method::ALL.into_iter())
-            .filter(|m| !v || m.info().accepts_velocity_dependent())
+            .filter(|&m| self.accepts(m))
             .collect()
     }
 
@@ -157,11 +158,6 @@ fn stop_stride(coordinates: usize) -> u64 {
     (STOP_CHECK_STEPS / coordinates.max(1) as u64).max(1)
 }
 
-/// Whether a stop was asked for.
-fn stop() -> bool {
-    crate::interrupt::requested()
-}
-
 /// The largest |a − b| over two states' coordinates (`f64::max` passes over a NaN).
 fn largest_difference(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).fold(0.0, |m, (x, y)| m.max((x - y).abs()))
@@ -177,7 +173,7 @@ fn steps<S: SecondOrderSystem>(it: &mut Integrator, sys: &S, n: u64) -> bool {
             it.step(sys);
         }
         left -= chunk;
-        if stop() {
+        if crate::interrupt::requested() {
             return false;
         }
     }

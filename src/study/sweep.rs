@@ -6,7 +6,7 @@ use std::time::Instant;
 use super::grid;
 use super::{
     DEFAULT_LEVELS, DEFAULT_REPEATS, Problem, default_rtols, default_schedule, largest_difference,
-    steps, stop,
+    steps,
 };
 use crate::format;
 use crate::integrate::{
@@ -18,34 +18,6 @@ use crate::scene::pendulum::Pendulum;
 use crate::scene::pendulum::exact::ExactPendulum;
 use crate::scene::pendulum::reference::FineStepReference;
 use crate::scene::rope::Rope;
-
-impl Sweep {
-    /// The study's default sweep of `problem`: every method it accepts, its default schedule.
-    pub fn defaults(problem: &Problem) -> Self {
-        let (dt0, duration) = default_schedule(problem);
-        Sweep {
-            dt0,
-            sample_dt: SAMPLE_EVERY as f64 * dt0,
-            all_settings: false,
-            levels: DEFAULT_LEVELS,
-            duration,
-            methods: problem.methods(),
-            options: MethodOptions::default(),
-            repeats: DEFAULT_REPEATS,
-            rtols: default_rtols(),
-        }
-    }
-
-    /// `study work-precision`'s default sweep of `problem`: every setting physlab has
-    /// ([`Sweep::all_settings`]) and the half-decade tolerances.
-    pub fn work_precision(problem: &Problem) -> Self {
-        Sweep {
-            all_settings: true,
-            rtols: super::work_precision_rtols(),
-            ..Self::defaults(problem)
-        }
-    }
-}
 
 /// One measured run.
 #[derive(Clone, Debug, PartialEq)]
@@ -199,6 +171,32 @@ pub struct Sweep {
 }
 
 impl Sweep {
+    /// The study's default sweep of `problem`: every method it accepts, its default schedule.
+    pub fn defaults(problem: &Problem) -> Self {
+        let (dt0, duration) = default_schedule(problem);
+        Sweep {
+            dt0,
+            sample_dt: SAMPLE_EVERY as f64 * dt0,
+            all_settings: false,
+            levels: DEFAULT_LEVELS,
+            duration,
+            methods: problem.methods(),
+            options: MethodOptions::default(),
+            repeats: DEFAULT_REPEATS,
+            rtols: default_rtols(),
+        }
+    }
+
+    /// `study work-precision`'s default sweep of `problem`: every setting physlab has
+    /// ([`Sweep::all_settings`]) and the half-decade tolerances.
+    pub fn work_precision(problem: &Problem) -> Self {
+        Sweep {
+            all_settings: true,
+            rtols: super::work_precision_rtols(),
+            ..Self::defaults(problem)
+        }
+    }
+
     /// The sweep's own numbers within their ranges, each named by the flag that sets it, and its
     /// reference within the step limit.
     pub fn validate(&self) -> Result<(), Invalid> {
@@ -264,11 +262,10 @@ impl Sweep {
         reference(problem, self.sample_dt, self.samples(), self.finest())
     }
 
-    /// The steps above dt0 that `m` also runs at when [`Sweep::all_settings`] and its order is
-    /// at least 4 (a lower order needs steps below dt0 for any error worth a target): 4 ×
-    /// sample_dt × 2^(-j/8) for j = 0, 1, ... (eight a halving, as in the peer benchmark), to
-    /// three digits, each stepping across the samples or, where it divides sample_dt, ending
-    /// at them.
+    /// The steps above dt0 that `m` also runs at when [`Sweep::all_settings`] and its order is at
+    /// least 4 (a lower order needs steps below dt0 for any error worth a target): 4 × sample_dt ×
+    /// 2^(-j/8) for j = 0, 1, ... (eight a halving, as in the peer benchmark), to three digits,
+    /// each stepping across the samples or, where it divides sample_dt, ending at them.
     pub fn steps_above(&self, m: Method) -> Vec<f64> {
         let top = 4.0 * self.sample_dt;
         let wanted = self.all_settings && !m.info().adaptive() && m.info().order >= 4;
@@ -304,13 +301,6 @@ impl Sweep {
     }
 }
 
-/// The methods of `s` that `problem` accepts: on velocity-dependent forces (a damped rope) not
-/// those that need forces of position alone, which the scene refuses.
-fn accepted<'a>(problem: &Problem, s: &'a Sweep) -> impl Iterator<Item = Method> + 'a {
-    let v = problem.velocity_dependent();
-    (s.methods.iter().copied()).filter(move |m| !v || m.info().accepts_velocity_dependent())
-}
-
 /// The runs [`sweep`] makes of `problem`: each accepted method over the levels, or the
 /// adaptive ones over the tolerances.
 pub fn planned_runs(problem: &Problem, s: &Sweep) -> usize {
@@ -334,10 +324,9 @@ pub fn damped_companion(problem: &Problem) -> Option<Problem> {
 }
 
 /// Every (method, dt) of the sweep: fixed-step methods over the halved steps, the adaptive
-/// methods (family `Adaptive`: dopri5, dop853, vern9) over their tolerances. Returns the rows and
-/// the reference's accuracy (the exact pendulum's [`theta_accuracy`] over the run, or the fine run's
-/// Richardson estimate); after a stop request, the rows complete so far (none if the reference
-/// was not).
+/// methods over their tolerances. Returns the rows and the reference's accuracy (the exact
+/// pendulum's [`theta_accuracy`] over the run, or the fine run's Richardson estimate); after a
+/// stop request, the rows complete so far (none if the reference was not).
 ///
 /// [`theta_accuracy`]: crate::scene::pendulum::exact::ExactPendulum::theta_accuracy
 pub fn sweep(problem: &Problem, s: &Sweep) -> (Vec<Row>, f64) {
@@ -412,7 +401,7 @@ pub fn sweep_against(
     let floor = super::error_floor(reference_error);
     let mut grid = Vec::new();
     for (part, steps, evals) in plan(problem, s) {
-        if stop() {
+        if crate::interrupt::requested() {
             break;
         }
         match part {
@@ -451,7 +440,7 @@ enum Part {
 fn plan(problem: &Problem, s: &Sweep) -> Vec<(Part, f64, f64)> {
     let samples = s.duration / s.sample_dt;
     let mut parts = Vec::new();
-    for m in accepted(problem, s) {
+    for m in s.methods.iter().copied().filter(|&m| problem.accepts(m)) {
         let (order, evals) = (f64::from(m.info().order), m.info().evals_per_step);
         let per_step = match evals {
             EvalsPerStep::Adaptive(e) => {

@@ -1,7 +1,7 @@
 //! The registry's rows: one per method, in the order of tables and layouts, with what a user
 //! choosing it should know.
 
-use super::{AdaptiveEvals, EvalsPerStep, Family, MethodInfo, Stability};
+use super::{AdaptiveEvals, EvalsPerStep, MethodInfo, Stability};
 use crate::integrate::composition::{
     KAHAN_LI8_STABILITY_LIMIT, SOFRONIOU10_STABILITY_LIMIT, YOSHIDA4_STABILITY_LIMIT,
     YOSHIDA6_STABILITY_LIMIT,
@@ -15,7 +15,6 @@ use crate::integrate::{adaptive, dop853, verner};
 registry! {
     ExplicitEuler => MethodInfo {
         name: "explicit-euler",
-        family: Family::Explicit,
         order: 1,
         order_velocity_dependent: 1,
         implicit: false,
@@ -28,7 +27,6 @@ registry! {
     },
     SemiImplicitEuler => MethodInfo {
         name: "semi-implicit-euler",
-        family: Family::SemiImplicit,
         order: 1,
         order_velocity_dependent: 1,
         implicit: false,
@@ -41,7 +39,6 @@ registry! {
     },
     ImplicitEuler => MethodInfo {
         name: "implicit-euler",
-        family: Family::Implicit,
         order: 1,
         order_velocity_dependent: 1,
         implicit: true,
@@ -63,7 +60,6 @@ registry! {
     },
     Midpoint => MethodInfo {
         name: "midpoint",
-        family: Family::Explicit,
         order: 2,
         order_velocity_dependent: 2,
         implicit: false,
@@ -76,7 +72,6 @@ registry! {
     },
     Trapezoid => MethodInfo {
         name: "trapezoid",
-        family: Family::Explicit,
         order: 2,
         order_velocity_dependent: 2,
         implicit: false,
@@ -90,7 +85,6 @@ registry! {
     },
     Rk4 => MethodInfo {
         name: "rk4",
-        family: Family::RungeKutta,
         order: 4,
         order_velocity_dependent: 4,
         implicit: false,
@@ -103,7 +97,6 @@ registry! {
     },
     Verlet => MethodInfo {
         name: "verlet",
-        family: Family::Verlet,
         order: 2,
         order_velocity_dependent: 2,
         implicit: false,
@@ -123,7 +116,6 @@ registry! {
     /// second order when the force depends on the velocity.
     Yoshida4 => MethodInfo {
         name: "yoshida4",
-        family: Family::Composition,
         order: 4,
         order_velocity_dependent: 2,
         implicit: false,
@@ -160,8 +152,7 @@ registry! {
          h = 0.05 s; over 10⁴ periods, with --compensated, the only method that reaches 1e-10 \
          (docs/results.md)."),
     ),
-    /// Tenth-order symplectic composition of 35 position-Verlet steps (Sofroniou & Spaletta
-    /// 2005).
+    /// Tenth-order symplectic composition of 35 position-Verlet steps (Sofroniou & Spaletta 2005).
     Sofroniou10 => composition_row(
         "sofroniou10",
         10,
@@ -175,7 +166,6 @@ registry! {
     /// Dormand–Prince 5(4), adaptive, error-controlled by `MethodOptions::rtol`.
     Dopri5 => pair_row(
         "dopri5",
-        Family::Adaptive,
         (5, 5),
         AdaptiveEvals::of::<adaptive::Dopri5>(),
         "Dormand-Prince 5(4) steps of its own size, error per step <= rtol (abs(y) + 1); \
@@ -187,7 +177,6 @@ registry! {
     /// error-controlled by `MethodOptions::rtol`.
     Dop853 => pair_row(
         "dop853",
-        Family::Adaptive,
         (8, 8),
         AdaptiveEvals::of::<dop853::Dop853>(),
         "Dormand-Prince 8(5,3) (Hairer's DOP853) steps of its own size, error per step \
@@ -199,7 +188,6 @@ registry! {
     /// error-controlled by `MethodOptions::rtol`.
     Vern9 => pair_row(
         "vern9",
-        Family::Adaptive,
         (9, 9),
         AdaptiveEvals::of::<verner::Vern9>(),
         "Verner's 9(8) pair (RKV98.IIa efficient, 16 stages) steps of its own size, error \
@@ -212,7 +200,6 @@ registry! {
     /// The classical fourth-order Nyström method for x'' = a(x).
     Rkn4 => MethodInfo {
         name: "rkn4",
-        family: Family::Nystrom,
         order: 4,
         order_velocity_dependent: 0,
         implicit: false,
@@ -233,7 +220,6 @@ registry! {
     /// Dormand–El-Mikkawy–Prince RKN6(4)6FD, adaptive, for x'' = a(x).
     Dprkn6 => pair_row(
         "dprkn6",
-        Family::Nystrom,
         (6, 0),
         AdaptiveEvals::of::<Nystrom<Dprkn6>>(),
         "Dormand-Prince RKN6(4)6FD steps of its own size, error per step of x and v <= \
@@ -246,7 +232,6 @@ registry! {
     /// Dormand–El-Mikkawy–Prince RKN8(6)9FM, adaptive, for x'' = a(x).
     Dprkn8 => pair_row(
         "dprkn8",
-        Family::Nystrom,
         (8, 0),
         AdaptiveEvals::of::<Nystrom<Dprkn8>>(),
         "Dormand-El-Mikkawy-Prince RKN8(6)9FM steps of its own size, error per step of x \
@@ -262,7 +247,6 @@ registry! {
     /// Dormand–El-Mikkawy–Prince RKN12(10)17M, adaptive, for x'' = a(x).
     Dprkn12 => pair_row(
         "dprkn12",
-        Family::Nystrom,
         (12, 0),
         AdaptiveEvals::of::<Nystrom<Dprkn12>>(),
         "Dormand-El-Mikkawy-Prince RKN12(10)17M steps of its own size, error per step of x \
@@ -295,7 +279,6 @@ use composition_notes;
 /// `orders` for a(x) and a(x, v).
 const fn pair_row(
     name: &'static str,
-    family: Family,
     orders: (u32, u32),
     evals: AdaptiveEvals,
     update: &'static str,
@@ -303,7 +286,6 @@ const fn pair_row(
 ) -> MethodInfo {
     MethodInfo {
         name,
-        family,
         order: orders.0,
         order_velocity_dependent: orders.1,
         implicit: false,
@@ -326,7 +308,6 @@ const fn composition_row(
 ) -> MethodInfo {
     MethodInfo {
         name,
-        family: Family::Composition,
         order,
         order_velocity_dependent: 2,
         implicit: false,
