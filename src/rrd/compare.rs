@@ -7,8 +7,9 @@ use std::path::Path;
 use std::rc::Rc;
 
 use super::read::Messages;
+pub use super::rows::RowView;
 pub use super::rows::{Contents, Key, LoggedRow, SeriesIndex, index_series, read_contents};
-use super::rows::{Held, MAX_WAITING_BYTES, RowView, SeriesRows, message_series, too_much_waiting};
+use super::rows::{Held, MAX_WAITING_BYTES, SeriesRows, message_series, too_much_waiting};
 
 /// How two recordings are read against each other by [`compare_files`].
 pub struct StreamSpec<'a> {
@@ -265,34 +266,9 @@ struct Pairing {
 }
 
 /// What is done with each pair of rows at the same time.
-pub type Pairs<'a> = dyn FnMut(&dyn PairedRow, &dyn PairedRow) -> anyhow::Result<()> + 'a;
+pub type Pairs<'a> = dyn FnMut(&RowView, &RowView) -> anyhow::Result<()> + 'a;
 /// The same, told the series.
-pub type KeyedPairs<'a> =
-    dyn FnMut(&Key, &dyn PairedRow, &dyn PairedRow) -> anyhow::Result<()> + 'a;
-
-/// A row being paired: its time, its numbers in order, its texts.
-pub trait PairedRow {
-    fn time(&self) -> Option<i64>;
-    /// How many numbers it holds.
-    fn count(&self) -> usize;
-    fn nums(&self) -> Box<dyn Iterator<Item = f64> + '_>;
-    fn texts(&self) -> &[String];
-}
-
-impl PairedRow for RowView {
-    fn time(&self) -> Option<i64> {
-        self.time
-    }
-    fn count(&self) -> usize {
-        RowView::len(self)
-    }
-    fn nums(&self) -> Box<dyn Iterator<Item = f64> + '_> {
-        Box::new(RowView::nums(self))
-    }
-    fn texts(&self) -> &[String] {
-        &self.texts
-    }
-}
+pub type KeyedPairs<'a> = dyn FnMut(&Key, &RowView, &RowView) -> anyhow::Result<()> + 'a;
 
 /// Moves a queue (blocks of a chunk's rows, in time order) past its next row.
 fn advance(queue: &mut VecDeque<SeriesRows>) {
@@ -346,7 +322,7 @@ impl Pairing {
         Ok(())
     }
 
-    fn pair(&mut self, ra: &dyn PairedRow, rb: &dyn PairedRow) {
+    fn pair(&mut self, ra: &RowView, rb: &RowView) {
         let out = &mut self.out;
         out.paired += 1;
         let (na, nb) = (ra.count(), rb.count());
@@ -448,11 +424,9 @@ impl SeriesDiff {
     /// The first time where anything differs (values beyond tolerance, texts or shape).
     pub fn first_time(&self) -> Option<Option<i64>> {
         let a = self.first.as_ref().map(|d| d.time);
-        let b = self.first_other.as_ref().map(|d| d.0);
-        match (a, b) {
-            (Some(a), Some(b)) => Some(a.min(b)),
-            (a, b) => a.or(b),
-        }
+        a.into_iter()
+            .chain(self.first_other.as_ref().map(|d| d.0))
+            .min()
     }
 }
 

@@ -247,10 +247,10 @@ pub fn index_series(path: &Path) -> anyhow::Result<BTreeMap<Key, SeriesIndex>> {
 /// One row's numbers as the arrays that hold them, read in place depth first (lists element by
 /// element, structs column by column; floats widened to f64 exactly, integers converted, a null
 /// read as NaN, a boolean as 0 or 1, a byte string byte by byte), and its texts.
-pub(super) struct RowView {
-    pub time: Option<i64>,
+pub struct RowView {
+    time: Option<i64>,
     leaves: Vec<ArrayRef>,
-    pub texts: Vec<String>,
+    texts: Vec<String>,
 }
 
 impl RowView {
@@ -264,23 +264,22 @@ impl RowView {
         view
     }
 
+    pub fn time(&self) -> Option<i64> {
+        self.time
+    }
+
     /// How many numbers the row holds.
-    pub(super) fn len(&self) -> usize {
-        self.leaves
-            .iter()
-            .map(|a| match a.data_type() {
-                DataType::Binary => {
-                    let b = a.as_binary::<i32>();
-                    (0..b.len()).map(|i| b.value(i).len()).sum()
-                }
-                _ => a.len(),
-            })
-            .sum()
+    pub fn count(&self) -> usize {
+        self.nums().count()
     }
 
     /// The row's numbers in order.
-    pub(super) fn nums(&self) -> impl Iterator<Item = f64> + '_ {
+    pub fn nums(&self) -> impl Iterator<Item = f64> + '_ {
         self.leaves.iter().flat_map(|a| leaf_values(a.as_ref()))
+    }
+
+    pub fn texts(&self) -> &[String] {
+        &self.texts
     }
 
     /// Adds `a`'s numeric arrays as leaves (a list or fixed-size list without nulls as its
