@@ -3,7 +3,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 
-use super::read::{ChunkMessage, each_chunk};
+use super::read::each_chunk;
 
 /// A warning or info line of a scene's event log.
 #[derive(Clone, Debug, PartialEq)]
@@ -102,13 +102,76 @@ pub fn read_recording(path: &Path) -> anyhow::Result<RecordingInfo> {
 
 /// [`read_recording`], refusing a file whose description holds more than `cap` bytes of text.
 pub(super) fn read_recording_within(path: &Path, cap: usize) -> anyhow::Result<RecordingInfo> {
-    let mut reading = Reading {
-        info: RecordingInfo::default(),
-        text: Text { held: 0, cap },
-    };
+    let mut info = RecordingInfo::default();
+    let mut held = 0usize;
     // `each_chunk` names the file.
-    let end = each_chunk(path, |msg| reading.chunk(msg))?;
-    let mut info = reading.info;
+    let mut hold = |bytes: usize, freed: usize| -> Result<(), String> {
+        held = (held + bytes).saturating_sub(freed);
+        if held > cap {
+            return Err(format!(
+                "its properties, event texts and entity names hold more than {} MiB (physlab's \
+                 own take kilobytes)",
+                cap >> 20
+            ));
+        }
+        Ok(())
+    };
+    let sim_time = rerun::TimelineName::from("sim_time");
+    let text = rerun::TextLog::descriptor_text().component;
+    let end = each_chunk(path, |msg| {
+        if !msg.recording {
+            return Ok(()); // the blueprint
+        }
+        if info.application_id.is_empty() {
+            info.application_id = msg.application_id;
+        }
+        let chunk = msg.chunk;
+        info.chunks += 1;
+        let entity = chunk.entity_path().to_string();
+        if entity.starts_with("/__properties") {
+            let target = if entity.ends_with("/physlab") {
+                Some(&mut info.properties)
+            } else if entity.ends_with("/physlab_run") {
+                Some(&mut info.run)
+            } else {
+                None
+            };
+            if let Some(target) = target {
+                if !target.is_empty() {
+                    // physlab sends each once a run: two are two runs under one recording id.
+                    return Err(format!(
+                        "it holds two runs' provenance ({entity} twice) in one recording, and \
+                         physlab reads one run a file"
+                    ));
+                }
+                for (key, v) in properties(&chunk) {
+                    let freed = target.get(&key).map_or(0, |old| key.len() + old.len());
+                    hold(key.len() + v.len(), freed)?;
+                    target.insert(key, v);
+                }
+            }
+            return Ok(());
+        }
+        if !info.entities.contains(&entity) {
+            hold(entity.len(), 0)?;
+            info.entities.insert(entity.clone());
+        }
+        if let Some(column) = chunk.timelines().get(&sim_time) {
+            let range = column.time_range();
+            let (lo, hi) = (
+                range.min().as_i64() as f64 * 1e-9,
+                range.max().as_i64() as f64 * 1e-9,
+            );
+            info.time_range = Some(match info.time_range {
+                None => (lo, hi),
+                Some((a, b)) => (a.min(lo), b.max(hi)),
+            });
+        }
+        if chunk.components().contains_component(text) && !chunk.is_static() {
+            events(&mut info.events, &entity, &chunk, &mut hold)?;
+        }
+        Ok(())
+    })?;
     info.has_footer = end.has_footer;
     if !end.has_footer {
         info.why_no_footer = end.missing_footer();
@@ -127,111 +190,30 @@ pub(super) fn read_recording_within(path: &Path, cap: usize) -> anyhow::Result<R
     Ok(info)
 }
 
-/// The text a description holds, refused past `cap` bytes.
-struct Text {
-    held: usize,
-    cap: usize,
-}
-
-impl Text {
-    fn hold(&mut self, bytes: usize, freed: usize) -> Result<(), String> {
-        self.held = (self.held + bytes).saturating_sub(freed);
-        if self.held > self.cap {
-            return Err(format!(
-                "its properties, event texts and entity names hold more than {} MiB (physlab's \
-                 own take kilobytes)",
-                self.cap >> 20
-            ));
-        }
-        Ok(())
-    }
-}
-
-/// A recording's description, read chunk by chunk.
-struct Reading {
-    info: RecordingInfo,
-    text: Text,
-}
-
-impl Reading {
-    fn chunk(&mut self, msg: ChunkMessage) -> Result<(), String> {
-        if !msg.recording {
-            return Ok(()); // the blueprint
-        }
-        let info = &mut self.info;
-        if info.application_id.is_empty() {
-            info.application_id = msg.application_id;
-        }
-        let chunk = msg.chunk;
-        info.chunks += 1;
-        let entity = chunk.entity_path().to_string();
-        if entity.starts_with("/__properties") {
-            return self.properties(&entity, &chunk);
-        }
-        if !info.entities.contains(&entity) {
-            self.text.hold(entity.len(), 0)?;
-            info.entities.insert(entity.clone());
-        }
-        let sim_time = rerun::TimelineName::from("sim_time");
-        if let Some(column) = chunk.timelines().get(&sim_time) {
-            let range = column.time_range();
-            let (lo, hi) = (
-                range.min().as_i64() as f64 * 1e-9,
-                range.max().as_i64() as f64 * 1e-9,
-            );
-            info.time_range = Some(match info.time_range {
-                None => (lo, hi),
-                Some((a, b)) => (a.min(lo), b.max(hi)),
+/// A text log's events, each of its texts counted by `hold` (which refuses past the cap).
+fn events(
+    events: &mut Vec<LoggedEvent>,
+    entity: &str,
+    chunk: &rerun::log::Chunk,
+    hold: &mut impl FnMut(usize, usize) -> Result<(), String>,
+) -> Result<(), String> {
+    let text = rerun::TextLog::descriptor_text().component;
+    let level = rerun::TextLog::descriptor_level().component;
+    let levels: Vec<Option<String>> = chunk
+        .iter_slices::<String>(level)
+        .map(|l| l.first().map(|s| s.as_str().to_string()))
+        .collect();
+    let times = chunk.iter_indices(&rerun::TimelineName::from("sim_time"));
+    for (k, ((t, _), texts)) in times.zip(chunk.iter_slices::<String>(text)).enumerate() {
+        for s in texts {
+            hold(entity.len() + s.as_str().len(), 0)?;
+            events.push(LoggedEvent {
+                entity: entity.to_string(),
+                time: t.as_i64() as f64 * 1e-9,
+                level: levels.get(k).cloned().flatten().unwrap_or_default(),
+                text: s.as_str().to_string(),
             });
         }
-        let text = rerun::TextLog::descriptor_text().component;
-        if !chunk.components().contains_component(text) || chunk.is_static() {
-            return Ok(());
-        }
-        let level = rerun::TextLog::descriptor_level().component;
-        let levels: Vec<Option<String>> = chunk
-            .iter_slices::<String>(level)
-            .map(|l| l.first().map(|s| s.as_str().to_string()))
-            .collect();
-        for (k, ((t, _), texts)) in chunk
-            .iter_indices(&sim_time)
-            .zip(chunk.iter_slices::<String>(text))
-            .enumerate()
-        {
-            for s in texts {
-                self.text.hold(entity.len() + s.as_str().len(), 0)?;
-                info.events.push(LoggedEvent {
-                    entity: entity.clone(),
-                    time: t.as_i64() as f64 * 1e-9,
-                    level: levels.get(k).cloned().flatten().unwrap_or_default(),
-                    text: s.as_str().to_string(),
-                });
-            }
-        }
-        Ok(())
     }
-
-    /// A properties chunk: physlab's provenance or its run's end, each once a run.
-    fn properties(&mut self, entity: &str, chunk: &rerun::log::Chunk) -> Result<(), String> {
-        let target = if entity.ends_with("/physlab") {
-            &mut self.info.properties
-        } else if entity.ends_with("/physlab_run") {
-            &mut self.info.run
-        } else {
-            return Ok(());
-        };
-        if !target.is_empty() {
-            // physlab sends each once a run: two are two runs under one recording id.
-            return Err(format!(
-                "it holds two runs' provenance ({entity} twice) in one recording, and physlab \
-                 reads one run a file"
-            ));
-        }
-        for (key, v) in properties(chunk) {
-            let freed = target.get(&key).map_or(0, |old| key.len() + old.len());
-            self.text.hold(key.len() + v.len(), freed)?;
-            target.insert(key, v);
-        }
-        Ok(())
-    }
+    Ok(())
 }
