@@ -1,21 +1,8 @@
-//! Every file physlab writes goes through here, so that each is written the same way:
-//!
-//! - only to a regular file or a new one: a symlink is written through (its target is replaced,
-//!   the link kept) when it leads to a recording or to nothing yet; a folder, FIFO, device or socket is refused (`-` is standard output);
-//! - checked before any work ([`check`]): the folder can be created and written in, the name
-//!   fits, and no two outputs of a command, nor an output and an input, are one file
-//!   ([`distinct`]);
-//! - atomically ([`Partial`]): into a hidden `.NAME.PID.partial` beside the target, created
-//!   exclusively (never through a symlink), locked (`flock`) for its life, given the old file's
-//!   mode, flushed and fsynced, renamed over the target, the folder fsynced; any failure removes
-//!   the hidden file and leaves the old target untouched, and the error names the file and the
-//!   cause; an old file its user may not write is refused, not replaced; one replaced is said on
-//!   stderr, with where it came from on the next line (`(from … at …)`);
-//! - a second SIGINT/SIGTERM/SIGHUP removes the hidden file (`crate::interrupt`), and hidden
-//!   files nobody holds locked (their writer is gone, whatever its PID) are removed when their
-//!   target is written again;
-//! - scratch files ([`TempFile`]) in one private folder per process (mode 0700, a random name),
-//!   removed with it on every exit ([`remove_private_temp_dir`]).
+//! Every file physlab writes goes through here, so that each is written the same way: checked
+//! before any work ([`check`], [`distinct`]); only to a regular file or a new one (a symlink is
+//! written through only onto a recording or a new file; `-` is standard output); whole or not at
+//! all, through a hidden partial file renamed over the target ([`Partial`]), so that a failure
+//! leaves the old file untouched; scratch files in one private folder per process ([`TempFile`]).
 
 use std::io::Write as _;
 use std::os::unix::ffi::OsStrExt as _;

@@ -1,18 +1,11 @@
 //! Reading a recording that may be anything a user names: every reader (`inspect`, `diff`,
 //! `reproduce`) goes through [`Messages`]. What can be checked before Arrow sees the bytes is
-//! checked (a regular, non-empty file that starts with Rerun's header, its frames' lengths
-//! within the file: `framing.rs`; its Arrow sizes: `arrow_message.rs`); the decoding and what
-//! reads its chunks run under `catch_unwind`, because a corrupt Arrow buffer can make them panic
-//! rather than fail, and every message first looks at the stop flag, so that a long read ends
-//! within a message of Ctrl-C.
-//!
-//! Memory is bounded whatever the file: a message over [`MAX_MESSAGE_BYTES`], as stored or once
-//! decompressed, is refused with its size, so reading holds at most one message's bytes and its
-//! decompressed stream at once, besides the chunks a reader keeps. Each chunk is decoded without
-//! copying its arrays: they are slices of the one decompressed buffer of its message.
-//!
-//! A file holding several recordings (`rerun rrd merge` of two) is refused with their list: its
-//! data would otherwise be read as one recording's.
+//! checked (`framing.rs`, `arrow_message.rs`); the decoding and what reads its chunks run under
+//! `catch_unwind`, because a corrupt Arrow buffer can make them panic rather than fail; every
+//! message first looks at the stop flag. A message over [`MAX_MESSAGE_BYTES`], as stored or once
+//! decompressed, is refused, so reading holds at most one message's bytes and its decompressed
+//! stream at once, besides the chunks a reader keeps. A file holding several recordings (`rerun
+//! rrd merge` of two) is refused: its data would otherwise be read as one recording's.
 
 use std::cell::Cell;
 use std::fs::File;
@@ -212,8 +205,8 @@ impl Messages {
     /// What the read found at the end (call after `next_chunk` returned `None`).
     pub fn end(&self) -> ReadEnd {
         ReadEnd {
-            has_footer: self.framed.has_footer(),
-            cut: self.framed.cut(),
+            has_footer: self.framed.footer.is_some(),
+            cut: self.framed.cut,
             footer_followed: self.framed.footer_followed,
             headless: self.headless,
         }
