@@ -33,11 +33,14 @@ pub struct Streamed {
 }
 
 /// One kind of rows of one series (timed or static) being compared: the rows waiting for their
-/// partner on the other side, as blocks of the chunks they came in.
+/// partner on the other side, as blocks of the chunks they came in, and the comparison so far,
+/// each value judged against the tolerance × the series' scale (with tolerance 0: its bits).
 struct Queues {
     qa: VecDeque<SeriesRows>,
     qb: VecDeque<SeriesRows>,
-    pairing: Pairing,
+    out: SeriesDiff,
+    tolerance: f64,
+    bound: f64,
     /// Whether both files have such rows: if not, every row is unpaired and none waits.
     shared: bool,
 }
@@ -47,7 +50,12 @@ impl Queues {
         Queues {
             qa: VecDeque::new(),
             qb: VecDeque::new(),
-            pairing: Pairing::new(tolerance, scale),
+            out: SeriesDiff {
+                scale,
+                ..SeriesDiff::default()
+            },
+            tolerance,
+            bound: tolerance * scale,
             shared: rows_a > 0 && rows_b > 0,
         }
     }
@@ -62,21 +70,20 @@ impl Queues {
         on_pair: &mut Pairs,
     ) -> anyhow::Result<(isize, isize)> {
         let n = rows.len();
-        let out = &mut self.pairing.out;
         if from_a {
-            out.rows_a += n;
+            self.out.rows_a += n;
         } else {
-            out.rows_b += n;
+            self.out.rows_b += n;
         }
         if !self.shared {
-            out.unpaired += n;
+            self.out.unpaired += n;
             return Ok((0, 0));
         }
         let before = (queued_rows(&self.qa), queued_rows(&self.qb));
         if n > 0 {
             if from_a { &mut self.qa } else { &mut self.qb }.push_back(rows);
         }
-        self.pairing.merge(&mut self.qa, &mut self.qb, on_pair)?;
+        self.merge(on_pair)?;
         // A drained queue gives its room back: hundreds of series each keeping a queue's room
         // would hold more than the rows ever waiting at once.
         for queue in [&mut self.qa, &mut self.qb] {
@@ -92,8 +99,70 @@ impl Queues {
 
     /// The comparison, with the rows still waiting counted as unpaired.
     fn finish(mut self) -> SeriesDiff {
-        self.pairing.out.unpaired += queued_rows(&self.qa) + queued_rows(&self.qb);
-        self.pairing.out
+        self.out.unpaired += queued_rows(&self.qa) + queued_rows(&self.qb);
+        self.out
+    }
+
+    /// Pairs the two sides' rows by time from the front, as far as both go: a row whose time
+    /// the other side has passed has no partner. Rows are in time order on each side. Each row
+    /// is read in place.
+    fn merge(&mut self, on_pair: &mut Pairs) -> anyhow::Result<()> {
+        while let (Some(ra), Some(rb)) = (self.qa.front(), self.qb.front()) {
+            let (ta, tb) = (ra.time(), rb.time());
+            if ta == tb {
+                let (ra, rb) = (ra.view(), rb.view());
+                self.pair(&ra, &rb);
+                on_pair(&ra, &rb)?;
+                advance(&mut self.qa);
+                advance(&mut self.qb);
+            } else {
+                self.out.unpaired += 1;
+                advance(if ta < tb { &mut self.qa } else { &mut self.qb });
+            }
+        }
+        Ok(())
+    }
+
+    fn pair(&mut self, ra: &RowView, rb: &RowView) {
+        let out = &mut self.out;
+        out.paired += 1;
+        let (na, nb) = (ra.count(), rb.count());
+        if (ra.texts() != rb.texts() || na != nb) && out.first_other.is_none() {
+            let what = if ra.texts() != rb.texts() {
+                format!(
+                    "text {:?} vs {:?}",
+                    ra.texts().join(" "),
+                    rb.texts().join(" ")
+                )
+            } else {
+                format!("{na} values vs {nb}")
+            };
+            out.first_other = Some((ra.time(), what));
+        }
+        for (index, (x, y)) in ra.nums().zip(rb.nums()).enumerate() {
+            let d = Difference {
+                time: ra.time(),
+                index,
+                a: x,
+                b: y,
+            };
+            let size = d.abs();
+            let beyond = if self.tolerance == 0.0 {
+                x.to_bits() != y.to_bits()
+            } else {
+                size.is_nan() || size > self.bound // NaN against a number is beyond any bound
+            };
+            if beyond && out.first.is_none() {
+                out.first = Some(d.clone());
+            }
+            let bigger = match &out.largest {
+                None => true,
+                Some(l) => size > l.abs() || (size.is_nan() && !l.abs().is_nan()),
+            };
+            if bigger {
+                out.largest = Some(d);
+            }
+        }
     }
 }
 
@@ -257,14 +326,6 @@ fn streamed(
     out
 }
 
-/// The comparison of one series built row by row: rows paired by time, each value judged
-/// against the tolerance × the series' scale (with tolerance 0: its bits).
-struct Pairing {
-    out: SeriesDiff,
-    tolerance: f64,
-    bound: f64,
-}
-
 /// What is done with each pair of rows at the same time.
 pub type Pairs<'a> = dyn FnMut(&RowView, &RowView) -> anyhow::Result<()> + 'a;
 /// The same, told the series.
@@ -283,86 +344,6 @@ fn advance(queue: &mut VecDeque<SeriesRows>) {
 /// The rows waiting in a queue.
 fn queued_rows(queue: &VecDeque<SeriesRows>) -> usize {
     queue.iter().map(SeriesRows::len).sum()
-}
-
-impl Pairing {
-    fn new(tolerance: f64, scale: f64) -> Self {
-        Pairing {
-            out: SeriesDiff {
-                scale,
-                ..SeriesDiff::default()
-            },
-            tolerance,
-            bound: tolerance * scale,
-        }
-    }
-
-    /// Pairs the two sides' rows by time from the front, as far as both go: a row whose time
-    /// the other side has passed has no partner. Rows are in time order on each side. Each row
-    /// is read in place.
-    fn merge(
-        &mut self,
-        qa: &mut VecDeque<SeriesRows>,
-        qb: &mut VecDeque<SeriesRows>,
-        on_pair: &mut Pairs,
-    ) -> anyhow::Result<()> {
-        while let (Some(ra), Some(rb)) = (qa.front(), qb.front()) {
-            let (ta, tb) = (ra.time(), rb.time());
-            if ta == tb {
-                let (ra, rb) = (ra.view(), rb.view());
-                self.pair(&ra, &rb);
-                on_pair(&ra, &rb)?;
-                advance(qa);
-                advance(qb);
-            } else {
-                self.out.unpaired += 1;
-                advance(if ta < tb { qa } else { qb });
-            }
-        }
-        Ok(())
-    }
-
-    fn pair(&mut self, ra: &RowView, rb: &RowView) {
-        let out = &mut self.out;
-        out.paired += 1;
-        let (na, nb) = (ra.count(), rb.count());
-        if (ra.texts() != rb.texts() || na != nb) && out.first_other.is_none() {
-            let what = if ra.texts() != rb.texts() {
-                format!(
-                    "text {:?} vs {:?}",
-                    ra.texts().join(" "),
-                    rb.texts().join(" ")
-                )
-            } else {
-                format!("{na} values vs {nb}")
-            };
-            out.first_other = Some((ra.time(), what));
-        }
-        for (index, (x, y)) in ra.nums().zip(rb.nums()).enumerate() {
-            let d = Difference {
-                time: ra.time(),
-                index,
-                a: x,
-                b: y,
-            };
-            let size = d.abs();
-            let beyond = if self.tolerance == 0.0 {
-                x.to_bits() != y.to_bits()
-            } else {
-                size.is_nan() || size > self.bound // NaN against a number is beyond any bound
-            };
-            if beyond && out.first.is_none() {
-                out.first = Some(d.clone());
-            }
-            let bigger = match &out.largest {
-                None => true,
-                Some(l) => size > l.abs() || (size.is_nan() && !l.abs().is_nan()),
-            };
-            if bigger {
-                out.largest = Some(d);
-            }
-        }
-    }
 }
 
 /// How two series of the same entity and component compare.
