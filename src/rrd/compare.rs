@@ -6,10 +6,15 @@ use std::collections::{BTreeMap, VecDeque};
 use std::path::Path;
 use std::rc::Rc;
 
-use super::read::Messages;
+use super::read::{Messages, unusable};
 pub use super::rows::RowView;
 pub use super::rows::{Contents, Key, LoggedRow, SeriesIndex, index_series, read_contents};
-use super::rows::{Held, MAX_WAITING_BYTES, SeriesRows, message_series, too_much_waiting};
+use super::rows::{Held, SeriesRows, message_series};
+
+/// The most bytes of chunks `compare_files` holds while their rows wait for partners (1 GiB):
+/// two recordings of the same run hold about a chunk per series; two whose series come in
+/// different orders would hold up to both files, and are refused past this.
+const MAX_WAITING_BYTES: usize = 1 << 30;
 
 /// How two recordings are read against each other by [`compare_files`].
 pub struct StreamSpec<'a> {
@@ -257,7 +262,12 @@ pub(super) fn compare_within(
         drop(held);
         if waiting.get() > max_waiting {
             let (this, other) = if from_a { (a, b) } else { (b, a) };
-            return Err(too_much_waiting(this, other, max_waiting));
+            let why = format!(
+                "read against {}, its series come in so different an order that comparing them \
+                 would hold more than {max_waiting} bytes of chunks waiting for their partners",
+                other.display()
+            );
+            return Err(unusable(this, why));
         }
     }
     Ok(streamed(index_a, index_b, lanes))

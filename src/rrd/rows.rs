@@ -7,14 +7,16 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use std::rc::Rc;
 
-use rerun::external::arrow::array::{Array, ArrayRef, AsArray as _, ListArray};
+use rerun::external::arrow::array::{
+    Array, ArrayRef, AsArray as _, GenericListArray, ListArray, OffsetSizeTrait,
+};
 use rerun::external::arrow::buffer::ScalarBuffer;
 use rerun::external::arrow::datatypes::{
     DataType, Float32Type, Float64Type, Int8Type, Int16Type, Int32Type, Int64Type, UInt8Type,
     UInt16Type, UInt32Type, UInt64Type,
 };
 
-use super::read::{ChunkMessage, each_chunk, unusable};
+use super::read::{ChunkMessage, each_chunk};
 
 /// One logged row of one component: its `sim_time` in ns (`None` for static data), every number
 /// it holds (floats widened to f64 exactly, integers converted), and every text.
@@ -25,11 +27,11 @@ pub struct LoggedRow {
     pub texts: Vec<String>,
 }
 
-/// (entity path, component) → rows, in time order (rows at the same time in logging order).
-pub type Contents = BTreeMap<(String, String), Vec<LoggedRow>>;
-
 /// An (entity path, component) pair: one series.
 pub type Key = (String, String);
+
+/// Each series' rows, in time order (rows at the same time in logging order).
+pub type Contents = BTreeMap<Key, Vec<LoggedRow>>;
 
 /// One component's rows in one chunk, as the chunk holds them: its list array and `sim_time`
 /// column are shared with the decoded chunk, not copied, and a row is read in place
@@ -65,23 +67,6 @@ impl Drop for Held {
     fn drop(&mut self) {
         self.total.set(self.total.get() - self.bytes);
     }
-}
-
-/// The most bytes of chunks `compare_files` holds while their rows wait for partners (1 GiB):
-/// two recordings of the same run hold about a chunk per series; two whose series come in
-/// different orders would hold up to both files, and are refused past this.
-pub(super) const MAX_WAITING_BYTES: usize = 1 << 30;
-
-/// The refusal of two files whose waiting rows hold more than `max` bytes.
-pub(super) fn too_much_waiting(this: &Path, other: &Path, max: usize) -> anyhow::Error {
-    unusable(
-        this,
-        format!(
-            "read against {}, its series come in so different an order that comparing them \
-             would hold more than {max} bytes of chunks waiting for their partners",
-            other.display()
-        ),
-    )
 }
 
 impl SeriesRows {
@@ -158,8 +143,7 @@ impl SeriesRows {
 }
 
 /// One message's series in logging order: every component of every entity of a recording
-/// chunk (not the properties, not the blueprint), sharing the chunk's arrays. `Err` says what is
-/// wrong.
+/// chunk (not the properties, not the blueprint), sharing the chunk's arrays.
 pub(super) fn message_series(msg: ChunkMessage) -> Vec<(Key, SeriesRows)> {
     if !msg.recording {
         return Vec::new();
@@ -309,24 +293,8 @@ impl RowView {
                 self.texts
                     .extend((0..s.len()).map(|i| s.value(i).to_string()));
             }
-            DataType::List(_) => {
-                let l = a.as_list::<i32>();
-                if l.null_count() == 0 {
-                    let o = l.value_offsets();
-                    let (start, end) = (o[0] as usize, o[l.len()] as usize);
-                    self.add(&l.values().slice(start, end - start));
-                } else {
-                    for i in (0..l.len()).filter(|&i| !l.is_null(i)) {
-                        self.add(&l.value(i));
-                    }
-                }
-            }
-            DataType::LargeList(_) => {
-                let l = a.as_list::<i64>();
-                for i in (0..l.len()).filter(|&i| !l.is_null(i)) {
-                    self.add(&l.value(i));
-                }
-            }
+            DataType::List(_) => self.add_list(a.as_list::<i32>()),
+            DataType::LargeList(_) => self.add_list(a.as_list::<i64>()),
             DataType::FixedSizeList(..) => {
                 let l = a.as_fixed_size_list();
                 if l.null_count() == 0 {
@@ -344,6 +312,19 @@ impl RowView {
                 }
             }
             _ => self.texts.push(format!("{a:?}")),
+        }
+    }
+
+    /// A list's elements: without nulls, its values array, which holds them in order.
+    fn add_list<O: OffsetSizeTrait>(&mut self, l: &GenericListArray<O>) {
+        if l.null_count() == 0 {
+            let o = l.value_offsets();
+            let (start, end) = (o[0].as_usize(), o[l.len()].as_usize());
+            self.add(&l.values().slice(start, end - start));
+        } else {
+            for i in (0..l.len()).filter(|&i| !l.is_null(i)) {
+                self.add(&l.value(i));
+            }
         }
     }
 }
