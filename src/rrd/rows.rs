@@ -83,9 +83,13 @@ impl SeriesRows {
     }
 
     pub(super) fn skip_nulls(&mut self) {
-        while self.next < self.end && self.list.is_null(self.next) {
-            self.next += 1;
-        }
+        let next = self.left().next();
+        self.next = next.unwrap_or(self.end);
+    }
+
+    /// The indices of the rows left (null rows skipped).
+    fn left(&self) -> impl Iterator<Item = usize> + '_ {
+        (self.next..self.end).filter(|&i| !self.list.is_null(i))
     }
 
     pub(super) fn is_empty(&self) -> bool {
@@ -94,22 +98,13 @@ impl SeriesRows {
 
     /// The rows left.
     pub(super) fn len(&self) -> usize {
-        (self.next..self.end)
-            .filter(|&i| !self.list.is_null(i))
-            .count()
+        self.left().count()
     }
 
     /// Keeps at most `n` of the rows left.
     pub(super) fn truncate(&mut self, n: usize) {
-        let mut kept = 0;
-        let mut i = self.next;
-        while i < self.end && kept < n {
-            if !self.list.is_null(i) {
-                kept += 1;
-            }
-            i += 1;
-        }
-        self.end = i;
+        let end = self.left().nth(n);
+        self.end = end.unwrap_or(self.end);
     }
 
     pub(super) fn time(&self) -> Option<i64> {
