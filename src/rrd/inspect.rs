@@ -172,8 +172,8 @@ pub(super) fn read_recording_within(path: &Path, cap: usize) -> anyhow::Result<R
         }
         Ok(())
     })?;
-    info.has_footer = end.has_footer;
-    if !end.has_footer {
+    info.has_footer = end.has_footer();
+    if !info.has_footer {
         info.why_no_footer = end.missing_footer();
     }
     info.headless = end.headless.map(|at| {
