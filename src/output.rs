@@ -99,16 +99,14 @@ pub fn check_recording(path: &Path, dash: Dash) -> anyhow::Result<Output> {
 fn holds_other_data(path: &Path) -> bool {
     use std::io::Read as _;
     let mut head = [0u8; 4];
-    if !std::fs::metadata(path).is_ok_and(|m| m.is_file()) {
-        return false; // a FIFO would block the open; `check` refuses what is not a file
-    }
-    match std::fs::File::open(path) {
-        Ok(mut f) => f.read_exact(&mut head).is_ok() && &head != b"RRF2",
-        Err(_) => false,
-    }
+    // A FIFO would block the open; `check` refuses what is not a file.
+    std::fs::metadata(path).is_ok_and(|m| m.is_file())
+        && std::fs::File::open(path)
+            .is_ok_and(|mut f| f.read_exact(&mut head).is_ok() && &head != b"RRF2")
 }
 
-/// Checks an output before any work: see the module documentation. Creates its folder.
+/// Checks an output before any work: a regular file this user may replace or a new one (symlinks
+/// followed), a name that fits, a folder that can be created and written in (created here).
 /// A path that cannot be written is a runtime failure (exit 1); `-` where it makes no sense is
 /// a usage error (exit 2).
 pub fn check(flag: &str, path: &Path, dash: Dash) -> anyhow::Result<Output> {

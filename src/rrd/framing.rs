@@ -13,10 +13,10 @@ use std::io::{self, Read};
 
 use re_protos::external::prost::{self, bytes::Bytes};
 use rerun::external::re_log_encoding::{
-    Decodable as _, MessageHeader, MessageKind, RRD_FOURCC, StreamHeader,
+    Decodable as _, MessageHeader, MessageKind, RRD_FOURCC, StreamFooter, StreamHeader,
 };
 
-const STREAM_FOOTER_BYTES: u64 = 32;
+const STREAM_FOOTER_BYTES: u64 = StreamFooter::ENCODED_SIZE_BYTES as u64;
 /// What is kept of an end message's payload: a protobuf key and a length.
 const FOOTER_HEAD_BYTES: u64 = 16;
 
