@@ -51,7 +51,7 @@ struct Queues {
 }
 
 impl Queues {
-    fn new(tolerance: f64, scale: f64, rows_a: usize, rows_b: usize) -> Self {
+    fn new(tolerance: f64, scale: f64, shared: bool) -> Self {
         Queues {
             qa: VecDeque::new(),
             qb: VecDeque::new(),
@@ -61,7 +61,7 @@ impl Queues {
             },
             tolerance,
             bound: tolerance * scale,
-            shared: rows_a > 0 && rows_b > 0,
+            shared,
         }
     }
 
@@ -285,26 +285,20 @@ fn compared_series(
             continue;
         }
         let (ia, ib) = (index_a.get(key), index_b.get(key));
-        let scale = |of: fn(&SeriesIndex) -> f64| match ia.map_or(0.0, of) {
-            0.0 => ib.map_or(0.0, of),
-            s => s,
+        // One kind of rows: its scale (A's, or B's where A's is 0) and whether both have any.
+        let queues = |rows: fn(&SeriesIndex) -> usize, scale: fn(&SeriesIndex) -> f64| {
+            let scale = match ia.map_or(0.0, scale) {
+                0.0 => ib.map_or(0.0, scale),
+                s => s,
+            };
+            let shared = ia.map_or(0, rows) > 0 && ib.map_or(0, rows) > 0;
+            Queues::new(spec.tolerance, scale, shared)
         };
-        let rows = |i: Option<&SeriesIndex>, of: fn(&SeriesIndex) -> usize| i.map_or(0, of);
         lanes.insert(
             key.clone(),
             ComparedSeries {
-                timed: Queues::new(
-                    spec.tolerance,
-                    scale(|i| i.scale),
-                    rows(ia, |i| i.timed),
-                    rows(ib, |i| i.timed),
-                ),
-                statics: Queues::new(
-                    spec.tolerance,
-                    scale(|i| i.static_scale),
-                    rows(ia, |i| i.statics),
-                    rows(ib, |i| i.statics),
-                ),
+                timed: queues(|i| i.timed, |i| i.scale),
+                statics: queues(|i| i.statics, |i| i.static_scale),
                 taken_b: 0,
                 cap_b: spec.cap_b.then(|| ia.map_or(0, |i| i.timed)),
             },
