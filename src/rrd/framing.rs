@@ -252,14 +252,8 @@ mod tests {
 
     fn read_all(bytes: &[u8]) -> (io::Result<Read>, Option<Cut>) {
         let mut framed = Framed::new(bytes, bytes.len() as u64, u64::MAX);
-        let mut out = Vec::new();
-        let result = loop {
-            match framed.next_message() {
-                Ok(Some(m)) => out.push((m.kind, m.at)),
-                Ok(None) => break Ok(out),
-                Err(e) => break Err(e),
-            }
-        };
+        let messages = std::iter::from_fn(|| framed.next_message().transpose());
+        let result = messages.map(|m| m.map(|m| (m.kind, m.at))).collect();
         (result, framed.cut)
     }
 

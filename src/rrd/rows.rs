@@ -261,8 +261,7 @@ impl RowView {
         &self.texts
     }
 
-    /// Adds `a`'s numeric arrays as leaves (a list or fixed-size list without nulls as its
-    /// values array, which holds its elements in order), its texts as texts.
+    /// Adds `a`'s numeric arrays as leaves, its texts as texts.
     fn add(&mut self, a: &ArrayRef) {
         match a.data_type() {
             DataType::Null => {}
@@ -310,7 +309,8 @@ impl RowView {
         }
     }
 
-    /// A list's elements: without nulls, its values array, which holds them in order.
+    /// A list's elements: without nulls, its values array, which holds them in order (as for a
+    /// fixed-size list).
     fn add_list<O: OffsetSizeTrait>(&mut self, l: &GenericListArray<O>) {
         if l.null_count() == 0 {
             let o = l.value_offsets();
