@@ -419,11 +419,8 @@ impl SeriesDiff {
 pub fn time_text(t: Option<i64>) -> String {
     match t {
         Some(ns) => {
-            let (sign, ns) = if ns < 0 {
-                ("-", ns.unsigned_abs())
-            } else {
-                ("", ns as u64)
-            };
+            let sign = if ns < 0 { "-" } else { "" };
+            let ns = ns.unsigned_abs();
             let fraction = format!("{:09}", ns % 1_000_000_000);
             let fraction = fraction.trim_end_matches('0');
             let dot = if fraction.is_empty() { "" } else { "." };

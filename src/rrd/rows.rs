@@ -153,18 +153,12 @@ pub(super) fn message_series(msg: ChunkMessage) -> Vec<(Key, SeriesRows)> {
         .timelines()
         .get(&sim_time)
         .map(|c| c.times_buffer().clone());
-    let mut out = Vec::new();
-    for descriptor in chunk.component_descriptors() {
-        let Some(list) = chunk.components().get_array(descriptor.component) else {
-            continue;
-        };
+    let rows = |d: &rerun::ComponentDescriptor| {
+        let list = chunk.components().get_array(d.component)?;
         let rows = SeriesRows::new(list.clone(), times.clone(), chunk.num_rows());
-        out.push((
-            (entity.clone(), descriptor.component.as_str().to_string()),
-            rows,
-        ));
-    }
-    out
+        Some(((entity.clone(), d.component.as_str().to_string()), rows))
+    };
+    chunk.component_descriptors().filter_map(rows).collect()
 }
 
 /// Reads every component of every entity (not the properties, not the blueprint), the whole
@@ -265,18 +259,11 @@ impl RowView {
     fn add(&mut self, a: &ArrayRef) {
         match a.data_type() {
             DataType::Null => {}
-            DataType::Float64
-            | DataType::Float32
-            | DataType::Int8
-            | DataType::Int16
-            | DataType::Int32
-            | DataType::Int64
-            | DataType::UInt8
-            | DataType::UInt16
-            | DataType::UInt32
-            | DataType::UInt64
-            | DataType::Boolean
-            | DataType::Binary => self.leaves.push(a.clone()),
+            // What `leaf_values` reads.
+            t if t.is_integer() || matches!(t, DataType::Float32 | DataType::Float64) => {
+                self.leaves.push(a.clone())
+            }
+            DataType::Boolean | DataType::Binary => self.leaves.push(a.clone()),
             DataType::Utf8 => {
                 let s = a.as_string::<i32>();
                 self.texts
