@@ -129,26 +129,22 @@ pub(super) fn read_recording_within(path: &Path, cap: usize) -> anyhow::Result<R
         info.chunks += 1;
         let entity = chunk.entity_path().to_string();
         if entity.starts_with("/__properties") {
-            let target = if entity.ends_with("/physlab") {
-                Some(&mut info.properties)
-            } else if entity.ends_with("/physlab_run") {
-                Some(&mut info.run)
-            } else {
-                None
+            let target = match entity.rsplit('/').next() {
+                Some("physlab") => &mut info.properties,
+                Some("physlab_run") => &mut info.run,
+                _ => return Ok(()),
             };
-            if let Some(target) = target {
-                if !target.is_empty() {
-                    // physlab sends each once a run: two are two runs under one recording id.
-                    return Err(format!(
-                        "it holds two runs' provenance ({entity} twice) in one recording, and \
-                         physlab reads one run a file"
-                    ));
-                }
-                for (key, v) in properties(&chunk) {
-                    let freed = target.get(&key).map_or(0, |old| key.len() + old.len());
-                    hold(key.len() + v.len(), freed)?;
-                    target.insert(key, v);
-                }
+            if !target.is_empty() {
+                // physlab sends each once a run: two are two runs under one recording id.
+                return Err(format!(
+                    "it holds two runs' provenance ({entity} twice) in one recording, and \
+                     physlab reads one run a file"
+                ));
+            }
+            for (key, v) in properties(&chunk) {
+                let freed = target.get(&key).map_or(0, |old| key.len() + old.len());
+                hold(key.len() + v.len(), freed)?;
+                target.insert(key, v);
             }
             return Ok(());
         }
