@@ -42,6 +42,42 @@ impl Error {
         }
     }
 
+    /// A parameter refused as its flag names it.
+    pub fn param(option: &str, value: impl fmt::Display, rule: impl Into<String>) -> Self {
+        Error::Param {
+            option: option.into(),
+            value: value.to_string(),
+            rule: rule.into(),
+        }
+    }
+
+    /// This error of a value read from table `[table]` of scene file `file`: a parameter is
+    /// named by its key there (`[rope] nodes = 1`, with the key's line when `line` finds it),
+    /// anything else is said as it is, after the file and table.
+    pub fn in_file(
+        self,
+        file: &std::path::Path,
+        table: &str,
+        line: impl Fn(&str) -> Option<usize>,
+    ) -> Self {
+        let file = file.display();
+        match self {
+            Error::Param {
+                option,
+                value,
+                rule,
+            } => {
+                let key = option.trim_start_matches("--").replace('-', "_");
+                let at = line(&key).map_or(String::new(), |l| format!("line {l}: "));
+                Error::Usage(format!(
+                    "--config {file}: {at}[{table}] {key} = {value}: {rule}"
+                ))
+            }
+            Error::Usage(message) => Error::Usage(format!("--config {file}: [{table}]: {message}")),
+            other => other,
+        }
+    }
+
     pub fn exit_code(&self) -> u8 {
         match self {
             Error::Usage(_) | Error::Param { .. } => 2,
@@ -78,44 +114,6 @@ impl fmt::Display for Error {
 }
 
 impl std::error::Error for Error {}
-
-impl Error {
-    /// A parameter refused as its flag names it.
-    pub fn param(option: &str, value: impl fmt::Display, rule: impl Into<String>) -> Self {
-        Error::Param {
-            option: option.into(),
-            value: value.to_string(),
-            rule: rule.into(),
-        }
-    }
-
-    /// This error of a value read from table `[table]` of scene file `file`: a parameter is
-    /// named by its key there (`[rope] nodes = 1`, with the key's line when `line` finds it),
-    /// anything else is said as it is, after the file and table.
-    pub fn in_file(
-        self,
-        file: &std::path::Path,
-        table: &str,
-        line: impl Fn(&str) -> Option<usize>,
-    ) -> Self {
-        let file = file.display();
-        match self {
-            Error::Param {
-                option,
-                value,
-                rule,
-            } => {
-                let key = option.trim_start_matches("--").replace('-', "_");
-                let at = line(&key).map_or(String::new(), |l| format!("line {l}: "));
-                Error::Usage(format!(
-                    "--config {file}: {at}[{table}] {key} = {value}: {rule}"
-                ))
-            }
-            Error::Usage(message) => Error::Usage(format!("--config {file}: [{table}]: {message}")),
-            other => other,
-        }
-    }
-}
 
 /// Any failure as physlab's error: one of its own as it is, anything else a runtime failure.
 impl From<anyhow::Error> for Error {

@@ -119,22 +119,16 @@ pub fn add_partial_file(path: &std::path::Path) -> usize {
         return usize::MAX;
     };
     let new = c.into_raw();
-    for (i, slot) in PARTIAL.iter().enumerate() {
-        if slot
-            .compare_exchange(
-                std::ptr::null_mut(),
-                new,
-                Ordering::SeqCst,
-                Ordering::SeqCst,
-            )
+    let null = std::ptr::null_mut();
+    let take = |slot: &AtomicPtr<_>| {
+        slot.compare_exchange(null, new, Ordering::SeqCst, Ordering::SeqCst)
             .is_ok()
-        {
-            return i;
-        }
-    }
-    // SAFETY: `new` came from `CString::into_raw` just above and was stored nowhere.
-    drop(unsafe { CString::from_raw(new) });
-    usize::MAX
+    };
+    PARTIAL.iter().position(take).unwrap_or_else(|| {
+        // SAFETY: `new` came from `CString::into_raw` just above and was stored nowhere.
+        drop(unsafe { CString::from_raw(new) });
+        usize::MAX
+    })
 }
 
 /// The file in `slot` is complete or gone: a second signal leaves it alone.

@@ -1,21 +1,8 @@
-//! Every file physlab writes goes through here, so that each is written the same way:
-//!
-//! - only to a regular file or a new one: a symlink is written through (its target is replaced,
-//!   the link kept) when it leads to a recording or to nothing yet; a folder, FIFO, device or socket is refused (`-` is standard output);
-//! - checked before any work ([`check`]): the folder can be created and written in, the name
-//!   fits, and no two outputs of a command, nor an output and an input, are one file
-//!   ([`distinct`]);
-//! - atomically ([`Partial`]): into a hidden `.NAME.PID.partial` beside the target, created
-//!   exclusively (never through a symlink), locked (`flock`) for its life, given the old file's
-//!   mode, flushed and fsynced, renamed over the target, the folder fsynced; any failure removes
-//!   the hidden file and leaves the old target untouched, and the error names the file and the
-//!   cause; an old file its user may not write is refused, not replaced; one replaced is said on
-//!   stderr, with where it came from on the next line (`(from … at …)`);
-//! - a second SIGINT/SIGTERM/SIGHUP removes the hidden file (`crate::interrupt`), and hidden
-//!   files nobody holds locked (their writer is gone, whatever its PID) are removed when their
-//!   target is written again;
-//! - scratch files ([`TempFile`]) in one private folder per process (mode 0700, a random name),
-//!   removed with it on every exit ([`remove_private_temp_dir`]).
+//! Every file physlab writes goes through here, so that each is written the same way: checked
+//! before any work ([`check`], [`distinct`]); only to a regular file or a new one (a symlink is
+//! written through only onto a recording or a new file; `-` is standard output); whole or not at
+//! all, through a hidden partial file renamed over the target ([`Partial`]), so that a failure
+//! leaves the old file untouched; scratch files in one private folder per process ([`TempFile`]).
 
 use std::io::Write as _;
 use std::os::unix::ffi::OsStrExt as _;
@@ -112,16 +99,14 @@ pub fn check_recording(path: &Path, dash: Dash) -> anyhow::Result<Output> {
 fn holds_other_data(path: &Path) -> bool {
     use std::io::Read as _;
     let mut head = [0u8; 4];
-    if !std::fs::metadata(path).is_ok_and(|m| m.is_file()) {
-        return false; // a FIFO would block the open; `check` refuses what is not a file
-    }
-    match std::fs::File::open(path) {
-        Ok(mut f) => f.read_exact(&mut head).is_ok() && &head != b"RRF2",
-        Err(_) => false,
-    }
+    // A FIFO would block the open; `check` refuses what is not a file.
+    std::fs::metadata(path).is_ok_and(|m| m.is_file())
+        && std::fs::File::open(path)
+            .is_ok_and(|mut f| f.read_exact(&mut head).is_ok() && &head != b"RRF2")
 }
 
-/// Checks an output before any work: see the module documentation. Creates its folder.
+/// Checks an output before any work: a regular file this user may replace or a new one (symlinks
+/// followed), a name that fits, a folder that can be created and written in (created here).
 /// A path that cannot be written is a runtime failure (exit 1); `-` where it makes no sense is
 /// a usage error (exit 2).
 pub fn check(flag: &str, path: &Path, dash: Dash) -> anyhow::Result<Output> {

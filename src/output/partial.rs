@@ -208,8 +208,8 @@ impl Partial {
         }
         // The rename is durable once the folder is.
         if let Ok(dir) = std::fs::File::open(parent_dir(&target)) {
-            dir.sync_all()
-                .map_err(|e| anyhow::anyhow!("{}: cannot write it: {}", self.named, cause(&e)))?;
+            // `done` is taken: no word of the previous file, which is replaced.
+            dir.sync_all().map_err(|e| self.failed(&e))?;
         }
         Ok(())
     }

@@ -15,7 +15,7 @@ use rerun::blueprint::{
 };
 
 use super::{Destinations, Framing, Recording, SceneViews, ViewProperties, method_color};
-use crate::rrd::compare::{Key, PairedRow};
+use crate::rrd::compare::{Key, RowView};
 
 /// Rows held per series before they are sent: the writer's memory does not grow with the file.
 const BATCH: usize = 4096;
@@ -225,7 +225,7 @@ impl DiffWriter {
     }
 
     /// One pair of rows at the same time.
-    pub fn pair(&mut self, key: &Key, a: &dyn PairedRow, b: &dyn PairedRow) -> anyhow::Result<()> {
+    pub fn pair(&mut self, key: &Key, a: &RowView, b: &RowView) -> anyhow::Result<()> {
         let Some(time) = a.time() else {
             return Ok(());
         };
@@ -274,7 +274,7 @@ impl DiffWriter {
         if !key.1.ends_with("positions") || !n.is_multiple_of(3) {
             return Ok(());
         }
-        let points = |row: &dyn PairedRow| -> Vec<[f32; 3]> {
+        let points = |row: &RowView| -> Vec<[f32; 3]> {
             let v: Vec<f64> = row.nums().collect();
             v.chunks_exact(3)
                 .map(|p| [p[0] as f32, p[1] as f32, p[2] as f32])
@@ -351,13 +351,7 @@ impl DiffWriter {
 
     /// Both runs' pendulum rods at `time`, each from its pivot (a point) to the bob, A grey and
     /// B orange (B's drawn thinner, so A's shows around it where they coincide).
-    fn rods(
-        &mut self,
-        entity: &str,
-        time: i64,
-        a: &dyn PairedRow,
-        b: &dyn PairedRow,
-    ) -> anyhow::Result<()> {
+    fn rods(&mut self, entity: &str, time: i64, a: &RowView, b: &RowView) -> anyhow::Result<()> {
         let rec = self.stream_at(time);
         for (run, row, color, width) in [("A", a, A_COLOR, 3.0), ("B", b, B_COLOR, 1.5)] {
             let v: Vec<f32> = row.nums().map(|x| x as f32).collect();

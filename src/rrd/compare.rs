@@ -6,9 +6,15 @@ use std::collections::{BTreeMap, VecDeque};
 use std::path::Path;
 use std::rc::Rc;
 
-use super::read::Messages;
+use super::read::{Messages, unusable};
+pub use super::rows::RowView;
 pub use super::rows::{Contents, Key, LoggedRow, SeriesIndex, index_series, read_contents};
-use super::rows::{Held, MAX_WAITING_BYTES, RowView, SeriesRows, message_series, too_much_waiting};
+use super::rows::{Held, SeriesRows, message_series};
+
+/// The most bytes of chunks `compare_files` holds while their rows wait for partners (1 GiB):
+/// two recordings of the same run hold about a chunk per series; two whose series come in
+/// different orders would hold up to both files, and are refused past this.
+const MAX_WAITING_BYTES: usize = 1 << 30;
 
 /// How two recordings are read against each other by [`compare_files`].
 pub struct StreamSpec<'a> {
@@ -32,22 +38,30 @@ pub struct Streamed {
 }
 
 /// One kind of rows of one series (timed or static) being compared: the rows waiting for their
-/// partner on the other side, as blocks of the chunks they came in.
+/// partner on the other side, as blocks of the chunks they came in, and the comparison so far,
+/// each value judged against the tolerance × the series' scale (with tolerance 0: its bits).
 struct Queues {
     qa: VecDeque<SeriesRows>,
     qb: VecDeque<SeriesRows>,
-    pairing: Pairing,
+    out: SeriesDiff,
+    tolerance: f64,
+    bound: f64,
     /// Whether both files have such rows: if not, every row is unpaired and none waits.
     shared: bool,
 }
 
 impl Queues {
-    fn new(tolerance: f64, scale: f64, rows_a: usize, rows_b: usize) -> Self {
+    fn new(tolerance: f64, scale: f64, shared: bool) -> Self {
         Queues {
             qa: VecDeque::new(),
             qb: VecDeque::new(),
-            pairing: Pairing::new(tolerance, scale),
-            shared: rows_a > 0 && rows_b > 0,
+            out: SeriesDiff {
+                scale,
+                ..SeriesDiff::default()
+            },
+            tolerance,
+            bound: tolerance * scale,
+            shared,
         }
     }
 
@@ -61,21 +75,20 @@ impl Queues {
         on_pair: &mut Pairs,
     ) -> anyhow::Result<(isize, isize)> {
         let n = rows.len();
-        let out = &mut self.pairing.out;
         if from_a {
-            out.rows_a += n;
+            self.out.rows_a += n;
         } else {
-            out.rows_b += n;
+            self.out.rows_b += n;
         }
         if !self.shared {
-            out.unpaired += n;
+            self.out.unpaired += n;
             return Ok((0, 0));
         }
         let before = (queued_rows(&self.qa), queued_rows(&self.qb));
         if n > 0 {
             if from_a { &mut self.qa } else { &mut self.qb }.push_back(rows);
         }
-        self.pairing.merge(&mut self.qa, &mut self.qb, on_pair)?;
+        self.merge(on_pair)?;
         // A drained queue gives its room back: hundreds of series each keeping a queue's room
         // would hold more than the rows ever waiting at once.
         for queue in [&mut self.qa, &mut self.qb] {
@@ -91,8 +104,70 @@ impl Queues {
 
     /// The comparison, with the rows still waiting counted as unpaired.
     fn finish(mut self) -> SeriesDiff {
-        self.pairing.out.unpaired += queued_rows(&self.qa) + queued_rows(&self.qb);
-        self.pairing.out
+        self.out.unpaired += queued_rows(&self.qa) + queued_rows(&self.qb);
+        self.out
+    }
+
+    /// Pairs the two sides' rows by time from the front, as far as both go: a row whose time
+    /// the other side has passed has no partner. Rows are in time order on each side. Each row
+    /// is read in place.
+    fn merge(&mut self, on_pair: &mut Pairs) -> anyhow::Result<()> {
+        while let (Some(ra), Some(rb)) = (self.qa.front(), self.qb.front()) {
+            let (ta, tb) = (ra.time(), rb.time());
+            if ta == tb {
+                let (ra, rb) = (ra.view(), rb.view());
+                self.pair(&ra, &rb);
+                on_pair(&ra, &rb)?;
+                advance(&mut self.qa);
+                advance(&mut self.qb);
+            } else {
+                self.out.unpaired += 1;
+                advance(if ta < tb { &mut self.qa } else { &mut self.qb });
+            }
+        }
+        Ok(())
+    }
+
+    fn pair(&mut self, ra: &RowView, rb: &RowView) {
+        let out = &mut self.out;
+        out.paired += 1;
+        let (na, nb) = (ra.count(), rb.count());
+        if (ra.texts() != rb.texts() || na != nb) && out.first_other.is_none() {
+            let what = if ra.texts() != rb.texts() {
+                format!(
+                    "text {:?} vs {:?}",
+                    ra.texts().join(" "),
+                    rb.texts().join(" ")
+                )
+            } else {
+                format!("{na} values vs {nb}")
+            };
+            out.first_other = Some((ra.time(), what));
+        }
+        for (index, (x, y)) in ra.nums().zip(rb.nums()).enumerate() {
+            let d = Difference {
+                time: ra.time(),
+                index,
+                a: x,
+                b: y,
+            };
+            let size = d.abs();
+            let beyond = if self.tolerance == 0.0 {
+                x.to_bits() != y.to_bits()
+            } else {
+                size.is_nan() || size > self.bound // NaN against a number is beyond any bound
+            };
+            if beyond && out.first.is_none() {
+                out.first = Some(d.clone());
+            }
+            let bigger = match &out.largest {
+                None => true,
+                Some(l) => size > l.abs() || (size.is_nan() && !l.abs().is_nan()),
+            };
+            if bigger {
+                out.largest = Some(d);
+            }
+        }
     }
 }
 
@@ -187,7 +262,12 @@ pub(super) fn compare_within(
         drop(held);
         if waiting.get() > max_waiting {
             let (this, other) = if from_a { (a, b) } else { (b, a) };
-            return Err(too_much_waiting(this, other, max_waiting));
+            let why = format!(
+                "read against {}, its series come in so different an order that comparing them \
+                 would hold more than {max_waiting} bytes of chunks waiting for their partners",
+                other.display()
+            );
+            return Err(unusable(this, why));
         }
     }
     Ok(streamed(index_a, index_b, lanes))
@@ -205,26 +285,20 @@ fn compared_series(
             continue;
         }
         let (ia, ib) = (index_a.get(key), index_b.get(key));
-        let scale = |of: fn(&SeriesIndex) -> f64| match ia.map_or(0.0, of) {
-            0.0 => ib.map_or(0.0, of),
-            s => s,
+        // One kind of rows: its scale (A's, or B's where A's is 0) and whether both have any.
+        let queues = |rows: fn(&SeriesIndex) -> usize, scale: fn(&SeriesIndex) -> f64| {
+            let scale = match ia.map_or(0.0, scale) {
+                0.0 => ib.map_or(0.0, scale),
+                s => s,
+            };
+            let shared = ia.map_or(0, rows) > 0 && ib.map_or(0, rows) > 0;
+            Queues::new(spec.tolerance, scale, shared)
         };
-        let rows = |i: Option<&SeriesIndex>, of: fn(&SeriesIndex) -> usize| i.map_or(0, of);
         lanes.insert(
             key.clone(),
             ComparedSeries {
-                timed: Queues::new(
-                    spec.tolerance,
-                    scale(|i| i.scale),
-                    rows(ia, |i| i.timed),
-                    rows(ib, |i| i.timed),
-                ),
-                statics: Queues::new(
-                    spec.tolerance,
-                    scale(|i| i.static_scale),
-                    rows(ia, |i| i.statics),
-                    rows(ib, |i| i.statics),
-                ),
+                timed: queues(|i| i.timed, |i| i.scale),
+                statics: queues(|i| i.statics, |i| i.static_scale),
                 taken_b: 0,
                 cap_b: spec.cap_b.then(|| ia.map_or(0, |i| i.timed)),
             },
@@ -256,43 +330,10 @@ fn streamed(
     out
 }
 
-/// The comparison of one series built row by row: rows paired by time, each value judged
-/// against the tolerance × the series' scale (with tolerance 0: its bits).
-struct Pairing {
-    out: SeriesDiff,
-    tolerance: f64,
-    bound: f64,
-}
-
 /// What is done with each pair of rows at the same time.
-pub type Pairs<'a> = dyn FnMut(&dyn PairedRow, &dyn PairedRow) -> anyhow::Result<()> + 'a;
+pub type Pairs<'a> = dyn FnMut(&RowView, &RowView) -> anyhow::Result<()> + 'a;
 /// The same, told the series.
-pub type KeyedPairs<'a> =
-    dyn FnMut(&Key, &dyn PairedRow, &dyn PairedRow) -> anyhow::Result<()> + 'a;
-
-/// A row being paired: its time, its numbers in order, its texts.
-pub trait PairedRow {
-    fn time(&self) -> Option<i64>;
-    /// How many numbers it holds.
-    fn count(&self) -> usize;
-    fn nums(&self) -> Box<dyn Iterator<Item = f64> + '_>;
-    fn texts(&self) -> &[String];
-}
-
-impl PairedRow for RowView {
-    fn time(&self) -> Option<i64> {
-        self.time
-    }
-    fn count(&self) -> usize {
-        RowView::len(self)
-    }
-    fn nums(&self) -> Box<dyn Iterator<Item = f64> + '_> {
-        Box::new(RowView::nums(self))
-    }
-    fn texts(&self) -> &[String] {
-        &self.texts
-    }
-}
+pub type KeyedPairs<'a> = dyn FnMut(&Key, &RowView, &RowView) -> anyhow::Result<()> + 'a;
 
 /// Moves a queue (blocks of a chunk's rows, in time order) past its next row.
 fn advance(queue: &mut VecDeque<SeriesRows>) {
@@ -307,86 +348,6 @@ fn advance(queue: &mut VecDeque<SeriesRows>) {
 /// The rows waiting in a queue.
 fn queued_rows(queue: &VecDeque<SeriesRows>) -> usize {
     queue.iter().map(SeriesRows::len).sum()
-}
-
-impl Pairing {
-    fn new(tolerance: f64, scale: f64) -> Self {
-        Pairing {
-            out: SeriesDiff {
-                scale,
-                ..SeriesDiff::default()
-            },
-            tolerance,
-            bound: tolerance * scale,
-        }
-    }
-
-    /// Pairs the two sides' rows by time from the front, as far as both go: a row whose time
-    /// the other side has passed has no partner. Rows are in time order on each side. Each row
-    /// is read in place.
-    fn merge(
-        &mut self,
-        qa: &mut VecDeque<SeriesRows>,
-        qb: &mut VecDeque<SeriesRows>,
-        on_pair: &mut Pairs,
-    ) -> anyhow::Result<()> {
-        while let (Some(ra), Some(rb)) = (qa.front(), qb.front()) {
-            let (ta, tb) = (ra.time(), rb.time());
-            if ta == tb {
-                let (ra, rb) = (ra.view(), rb.view());
-                self.pair(&ra, &rb);
-                on_pair(&ra, &rb)?;
-                advance(qa);
-                advance(qb);
-            } else {
-                self.out.unpaired += 1;
-                advance(if ta < tb { qa } else { qb });
-            }
-        }
-        Ok(())
-    }
-
-    fn pair(&mut self, ra: &dyn PairedRow, rb: &dyn PairedRow) {
-        let out = &mut self.out;
-        out.paired += 1;
-        let (na, nb) = (ra.count(), rb.count());
-        if (ra.texts() != rb.texts() || na != nb) && out.first_other.is_none() {
-            let what = if ra.texts() != rb.texts() {
-                format!(
-                    "text {:?} vs {:?}",
-                    ra.texts().join(" "),
-                    rb.texts().join(" ")
-                )
-            } else {
-                format!("{na} values vs {nb}")
-            };
-            out.first_other = Some((ra.time(), what));
-        }
-        for (index, (x, y)) in ra.nums().zip(rb.nums()).enumerate() {
-            let d = Difference {
-                time: ra.time(),
-                index,
-                a: x,
-                b: y,
-            };
-            let size = d.abs();
-            let beyond = if self.tolerance == 0.0 {
-                x.to_bits() != y.to_bits()
-            } else {
-                size.is_nan() || size > self.bound // NaN against a number is beyond any bound
-            };
-            if beyond && out.first.is_none() {
-                out.first = Some(d.clone());
-            }
-            let bigger = match &out.largest {
-                None => true,
-                Some(l) => size > l.abs() || (size.is_nan() && !l.abs().is_nan()),
-            };
-            if bigger {
-                out.largest = Some(d);
-            }
-        }
-    }
 }
 
 /// How two series of the same entity and component compare.
@@ -448,11 +409,9 @@ impl SeriesDiff {
     /// The first time where anything differs (values beyond tolerance, texts or shape).
     pub fn first_time(&self) -> Option<Option<i64>> {
         let a = self.first.as_ref().map(|d| d.time);
-        let b = self.first_other.as_ref().map(|d| d.0);
-        match (a, b) {
-            (Some(a), Some(b)) => Some(a.min(b)),
-            (a, b) => a.or(b),
-        }
+        a.into_iter()
+            .chain(self.first_other.as_ref().map(|d| d.0))
+            .min()
     }
 }
 
@@ -460,11 +419,8 @@ impl SeriesDiff {
 pub fn time_text(t: Option<i64>) -> String {
     match t {
         Some(ns) => {
-            let (sign, ns) = if ns < 0 {
-                ("-", ns.unsigned_abs())
-            } else {
-                ("", ns as u64)
-            };
+            let sign = if ns < 0 { "-" } else { "" };
+            let ns = ns.unsigned_abs();
             let fraction = format!("{:09}", ns % 1_000_000_000);
             let fraction = fraction.trim_end_matches('0');
             let dot = if fraction.is_empty() { "" } else { "." };

@@ -1,24 +1,22 @@
 //! Rerun's file framing, read message by message with `re_log_encoding`'s `StreamHeader` and
 //! `MessageHeader`. Every length a file declares is checked before anything is sized by it: one
 //! corrupted length would otherwise ask for up to 2⁶⁴ bytes and the process would abort (an
-//! allocation failure is not a panic that `catch_unwind` could turn into an error). [`Framed`]
-//! hands out whole messages only: a message longer than what is left of the file ends the read
-//! there (it is where a file cut short ends too). Only an Arrow message's payload is held, and
-//! only up to the size the reader allows; the rest (the store's info, the blueprint's activation,
-//! the footer, which grows with the file) is skipped.
+//! allocation failure is not a panic that `catch_unwind` could turn into an error). A message
+//! longer than what is left of the file ends the read there, as a file cut short does. Only an
+//! Arrow message's payload is held, up to the size the reader allows.
 //!
-//! The layout: a 12-byte stream header, then messages (a 16-byte header: kind and length; the
-//! payload); after the end message a 32-byte stream footer; then possibly another stream, with or
+//! The layout: a 12-byte stream header, messages (a 16-byte header: kind and length; the
+//! payload), after the end message a 32-byte stream footer; then possibly another stream, with or
 //! without the end of the one before (`cat a.rrd b.rrd`).
 
 use std::io::{self, Read};
 
 use re_protos::external::prost::{self, bytes::Bytes};
 use rerun::external::re_log_encoding::{
-    Decodable as _, MessageHeader, MessageKind, RRD_FOURCC, StreamHeader,
+    Decodable as _, MessageHeader, MessageKind, RRD_FOURCC, StreamFooter, StreamHeader,
 };
 
-const STREAM_FOOTER_BYTES: u64 = 32;
+const STREAM_FOOTER_BYTES: u64 = StreamFooter::ENCODED_SIZE_BYTES as u64;
 /// What is kept of an end message's payload: a protobuf key and a length.
 const FOOTER_HEAD_BYTES: u64 = 16;
 
@@ -35,9 +33,10 @@ pub struct Framed<R> {
     footer_next: bool,
     done: bool,
     /// Where the read ended early: a message declaring more bytes than the file has left.
-    cut: Option<Cut>,
-    /// The offset of the last footer (an end message holding a manifest) no message followed.
-    footer: Option<u64>,
+    pub(super) cut: Option<Cut>,
+    /// The offset of the last footer (an end message holding a manifest) no message followed:
+    /// the file was finalised, not cut short.
+    pub(super) footer: Option<u64>,
     /// The offset of a footer that more messages followed: a part's footer, not the file's.
     pub(super) footer_followed: Option<u64>,
     /// A store's info was read (Rerun writes it before the store's first chunk).
@@ -77,17 +76,6 @@ impl<R: Read> Framed<R> {
             footer_followed: None,
             store_info_seen: false,
         }
-    }
-
-    /// Where the read stopped short of the file's end, if a length ran past it.
-    pub fn cut(&self) -> Option<Cut> {
-        self.cut
-    }
-
-    /// Whether an end message with a footer holding a manifest was read: the file was
-    /// finalised, not cut short.
-    pub fn has_footer(&self) -> bool {
-        self.footer.is_some()
     }
 
     /// The next message, `None` at the end of the file (or where a length ran past it, or a
@@ -264,15 +252,9 @@ mod tests {
 
     fn read_all(bytes: &[u8]) -> (io::Result<Read>, Option<Cut>) {
         let mut framed = Framed::new(bytes, bytes.len() as u64, u64::MAX);
-        let mut out = Vec::new();
-        let result = loop {
-            match framed.next_message() {
-                Ok(Some(m)) => out.push((m.kind, m.at)),
-                Ok(None) => break Ok(out),
-                Err(e) => break Err(e),
-            }
-        };
-        (result, framed.cut())
+        let messages = std::iter::from_fn(|| framed.next_message().transpose());
+        let result = messages.map(|m| m.map(|m| (m.kind, m.at))).collect();
+        (result, framed.cut)
     }
 
     #[test]

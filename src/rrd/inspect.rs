@@ -118,7 +118,6 @@ pub(super) fn read_recording_within(path: &Path, cap: usize) -> anyhow::Result<R
     };
     let sim_time = rerun::TimelineName::from("sim_time");
     let text = rerun::TextLog::descriptor_text().component;
-    let level = rerun::TextLog::descriptor_level().component;
     let end = each_chunk(path, |msg| {
         if !msg.recording {
             return Ok(()); // the blueprint
@@ -130,26 +129,22 @@ pub(super) fn read_recording_within(path: &Path, cap: usize) -> anyhow::Result<R
         info.chunks += 1;
         let entity = chunk.entity_path().to_string();
         if entity.starts_with("/__properties") {
-            let target = if entity.ends_with("/physlab") {
-                Some(&mut info.properties)
-            } else if entity.ends_with("/physlab_run") {
-                Some(&mut info.run)
-            } else {
-                None
+            let target = match entity.rsplit('/').next() {
+                Some("physlab") => &mut info.properties,
+                Some("physlab_run") => &mut info.run,
+                _ => return Ok(()),
             };
-            if let Some(target) = target {
-                if !target.is_empty() {
-                    // physlab sends each once a run: two are two runs under one recording id.
-                    return Err(format!(
-                        "it holds two runs' provenance ({entity} twice) in one recording, and \
-                         physlab reads one run a file"
-                    ));
-                }
-                for (key, v) in properties(&chunk) {
-                    let freed = target.get(&key).map_or(0, |old| key.len() + old.len());
-                    hold(key.len() + v.len(), freed)?;
-                    target.insert(key, v);
-                }
+            if !target.is_empty() {
+                // physlab sends each once a run: two are two runs under one recording id.
+                return Err(format!(
+                    "it holds two runs' provenance ({entity} twice) in one recording, and \
+                     physlab reads one run a file"
+                ));
+            }
+            for (key, v) in properties(&chunk) {
+                let freed = target.get(&key).map_or(0, |old| key.len() + old.len());
+                hold(key.len() + v.len(), freed)?;
+                target.insert(key, v);
             }
             return Ok(());
         }
@@ -169,30 +164,12 @@ pub(super) fn read_recording_within(path: &Path, cap: usize) -> anyhow::Result<R
             });
         }
         if chunk.components().contains_component(text) && !chunk.is_static() {
-            let levels: Vec<Option<String>> = chunk
-                .iter_slices::<String>(level)
-                .map(|l| l.first().map(|s| s.as_str().to_string()))
-                .collect();
-            for (k, ((t, _), texts)) in chunk
-                .iter_indices(&sim_time)
-                .zip(chunk.iter_slices::<String>(text))
-                .enumerate()
-            {
-                for s in texts {
-                    hold(entity.len() + s.as_str().len(), 0)?;
-                    info.events.push(LoggedEvent {
-                        entity: entity.clone(),
-                        time: t.as_i64() as f64 * 1e-9,
-                        level: levels.get(k).cloned().flatten().unwrap_or_default(),
-                        text: s.as_str().to_string(),
-                    });
-                }
-            }
+            events(&mut info.events, &entity, &chunk, &mut hold)?;
         }
         Ok(())
     })?;
-    info.has_footer = end.has_footer;
-    if !end.has_footer {
+    info.has_footer = end.has_footer();
+    if !info.has_footer {
         info.why_no_footer = end.missing_footer();
     }
     info.headless = end.headless.map(|at| {
@@ -207,4 +184,32 @@ pub(super) fn read_recording_within(path: &Path, cap: usize) -> anyhow::Result<R
             .then_with(|| a.entity.cmp(&b.entity))
     });
     Ok(info)
+}
+
+/// A text log's events, each of its texts counted by `hold` (which refuses past the cap).
+fn events(
+    events: &mut Vec<LoggedEvent>,
+    entity: &str,
+    chunk: &rerun::log::Chunk,
+    hold: &mut impl FnMut(usize, usize) -> Result<(), String>,
+) -> Result<(), String> {
+    let text = rerun::TextLog::descriptor_text().component;
+    let level = rerun::TextLog::descriptor_level().component;
+    let levels: Vec<Option<String>> = chunk
+        .iter_slices::<String>(level)
+        .map(|l| l.first().map(|s| s.as_str().to_string()))
+        .collect();
+    let times = chunk.iter_indices(&rerun::TimelineName::from("sim_time"));
+    for (k, ((t, _), texts)) in times.zip(chunk.iter_slices::<String>(text)).enumerate() {
+        for s in texts {
+            hold(entity.len() + s.as_str().len(), 0)?;
+            events.push(LoggedEvent {
+                entity: entity.to_string(),
+                time: t.as_i64() as f64 * 1e-9,
+                level: levels.get(k).cloned().flatten().unwrap_or_default(),
+                text: s.as_str().to_string(),
+            });
+        }
+    }
+    Ok(())
 }

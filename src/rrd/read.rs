@@ -1,18 +1,11 @@
 //! Reading a recording that may be anything a user names: every reader (`inspect`, `diff`,
 //! `reproduce`) goes through [`Messages`]. What can be checked before Arrow sees the bytes is
-//! checked (a regular, non-empty file that starts with Rerun's header, its frames' lengths
-//! within the file: `framing.rs`; its Arrow sizes: `arrow_message.rs`); the decoding and what
-//! reads its chunks run under `catch_unwind`, because a corrupt Arrow buffer can make them panic
-//! rather than fail, and every message first looks at the stop flag, so that a long read ends
-//! within a message of Ctrl-C.
-//!
-//! Memory is bounded whatever the file: a message over [`MAX_MESSAGE_BYTES`], as stored or once
-//! decompressed, is refused with its size, so reading holds at most one message's bytes and its
-//! decompressed stream at once, besides the chunks a reader keeps. Each chunk is decoded without
-//! copying its arrays: they are slices of the one decompressed buffer of its message.
-//!
-//! A file holding several recordings (`rerun rrd merge` of two) is refused with their list: its
-//! data would otherwise be read as one recording's.
+//! checked (`framing.rs`, `arrow_message.rs`); the decoding and what reads its chunks run under
+//! `catch_unwind`, because a corrupt Arrow buffer can make them panic rather than fail; every
+//! message first looks at the stop flag. A message over [`MAX_MESSAGE_BYTES`], as stored or once
+//! decompressed, is refused, so reading holds at most one message's bytes and its decompressed
+//! stream at once, besides the chunks a reader keeps. A file holding several recordings (`rerun
+//! rrd merge` of two) is refused: its data would otherwise be read as one recording's.
 
 use std::cell::Cell;
 use std::fs::File;
@@ -34,42 +27,6 @@ use crate::error::Error;
 /// bounds what reading any file holds. physlab's own largest message, a 3D frame of a rope of the
 /// most nodes it allows (10⁷), takes about 120 MB.
 pub const MAX_MESSAGE_BYTES: u64 = 256 << 20;
-
-/// What a complete read found besides the messages.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct ReadEnd {
-    /// The file ends with Rerun's footer (a manifest): it was finalised, not cut short.
-    pub has_footer: bool,
-    /// The read stopped at a message declaring more bytes than the file has left.
-    pub cut: Option<Cut>,
-    /// Where a footer was read with more of the file after it (see `missing_footer`).
-    pub footer_followed: Option<u64>,
-    /// Where the recording's first chunk was read with no store info before it: the file is
-    /// not a whole recording (Rerun writes a store's info before its data).
-    pub headless: Option<u64>,
-}
-
-impl ReadEnd {
-    /// Why a file without its footer has none, in words.
-    pub fn missing_footer(&self) -> String {
-        match self.cut {
-            Some(Cut { at, declared, left }) => format!(
-                "the file ends inside the message at byte {at}, which declares {declared} bytes \
-                 where {left} are left (the writing process was killed or the file cut short, or \
-                 the file is corrupt there)"
-            ),
-            None => match self.footer_followed {
-                Some(at) => format!(
-                    "the footer at byte {at} is followed by more messages and the file ends \
-                     without another (a finished file and a cut one joined, or an edited file)"
-                ),
-                None => "the file ends without its footer (the writing process was killed or \
-                         the file cut short)"
-                    .into(),
-            },
-        }
-    }
-}
 
 /// The refusal of a message over [`MAX_MESSAGE_BYTES`], naming its size.
 fn too_large(path: &Path, at: u64, size: u64, how: &str) -> anyhow::Error {
@@ -107,7 +64,9 @@ pub struct Messages {
     /// The ids of the chunks read: a chunk met again is skipped, as Rerun's store does (`cat
     /// a.rrd a.rrd` holds each twice). 16 B a chunk, a chunk taking hundreds as stored.
     chunk_ids: std::collections::HashSet<rerun::log::ChunkId>,
-    headless: Option<u64>,
+    /// Where the recording's first chunk was read with no store info before it: the file is
+    /// not a whole recording (Rerun writes a store's info before its data).
+    pub headless: Option<u64>,
 }
 
 impl Messages {
@@ -209,13 +168,27 @@ impl Messages {
         }
     }
 
-    /// What the read found at the end (call after `next_chunk` returned `None`).
-    pub fn end(&self) -> ReadEnd {
-        ReadEnd {
-            has_footer: self.framed.has_footer(),
-            cut: self.framed.cut(),
-            footer_followed: self.framed.footer_followed,
-            headless: self.headless,
+    /// Whether the file ends with Rerun's footer (a manifest): it was finalised, not cut short
+    /// (call after `next_chunk` returned `None`, as for what follows).
+    pub fn has_footer(&self) -> bool {
+        self.framed.footer.is_some()
+    }
+
+    /// Why a file without its footer has none, in words.
+    pub fn missing_footer(&self) -> String {
+        match (self.framed.cut, self.framed.footer_followed) {
+            (Some(Cut { at, declared, left }), _) => format!(
+                "the file ends inside the message at byte {at}, which declares {declared} bytes \
+                 where {left} are left (the writing process was killed or the file cut short, or \
+                 the file is corrupt there)"
+            ),
+            (None, Some(at)) => format!(
+                "the footer at byte {at} is followed by more messages and the file ends without \
+                 another (a finished file and a cut one joined, or an edited file)"
+            ),
+            (None, None) => "the file ends without its footer (the writing process was killed or \
+                             the file cut short)"
+                .into(),
         }
     }
 
@@ -268,17 +241,18 @@ fn one_recording(
 /// Decodes `path` chunk by chunk and hands each to `each` (whose `Err` is what is wrong with
 /// the file, in words). A missing, empty, non-regular, non-rrd, corrupt or truncated file is a
 /// usage error naming the file; a stop request an `Error::Interrupted`. Never panics on any bytes.
+/// Returns the file read to its end.
 pub fn each_chunk(
     path: &Path,
     mut each: impl FnMut(ChunkMessage) -> Result<(), String>,
-) -> anyhow::Result<ReadEnd> {
+) -> anyhow::Result<Messages> {
     let mut messages = Messages::open(path)?;
     while let Some(chunk) = messages.next_chunk()? {
         messages
             .guarded(|| each(chunk))?
             .map_err(|e| unusable(path, e))?;
     }
-    Ok(messages.end())
+    Ok(messages)
 }
 
 /// A chunk from its Arrow IPC stream, its arrays slices of `ipc` (Arrow copies one only where

@@ -7,14 +7,16 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use std::rc::Rc;
 
-use rerun::external::arrow::array::{Array, ArrayRef, AsArray as _, ListArray};
+use rerun::external::arrow::array::{
+    Array, ArrayRef, AsArray as _, GenericListArray, ListArray, OffsetSizeTrait,
+};
 use rerun::external::arrow::buffer::ScalarBuffer;
 use rerun::external::arrow::datatypes::{
     DataType, Float32Type, Float64Type, Int8Type, Int16Type, Int32Type, Int64Type, UInt8Type,
     UInt16Type, UInt32Type, UInt64Type,
 };
 
-use super::read::{ChunkMessage, each_chunk, unusable};
+use super::read::{ChunkMessage, each_chunk};
 
 /// One logged row of one component: its `sim_time` in ns (`None` for static data), every number
 /// it holds (floats widened to f64 exactly, integers converted), and every text.
@@ -25,11 +27,11 @@ pub struct LoggedRow {
     pub texts: Vec<String>,
 }
 
-/// (entity path, component) → rows, in time order (rows at the same time in logging order).
-pub type Contents = BTreeMap<(String, String), Vec<LoggedRow>>;
-
 /// An (entity path, component) pair: one series.
 pub type Key = (String, String);
+
+/// Each series' rows, in time order (rows at the same time in logging order).
+pub type Contents = BTreeMap<Key, Vec<LoggedRow>>;
 
 /// One component's rows in one chunk, as the chunk holds them: its list array and `sim_time`
 /// column are shared with the decoded chunk, not copied, and a row is read in place
@@ -67,23 +69,6 @@ impl Drop for Held {
     }
 }
 
-/// The most bytes of chunks `compare_files` holds while their rows wait for partners (1 GiB):
-/// two recordings of the same run hold about a chunk per series; two whose series come in
-/// different orders would hold up to both files, and are refused past this.
-pub(super) const MAX_WAITING_BYTES: usize = 1 << 30;
-
-/// The refusal of two files whose waiting rows hold more than `max` bytes.
-pub(super) fn too_much_waiting(this: &Path, other: &Path, max: usize) -> anyhow::Error {
-    unusable(
-        this,
-        format!(
-            "read against {}, its series come in so different an order that comparing them \
-             would hold more than {max} bytes of chunks waiting for their partners",
-            other.display()
-        ),
-    )
-}
-
 impl SeriesRows {
     pub(super) fn new(list: ListArray, times: Option<ScalarBuffer<i64>>, end: usize) -> Self {
         let mut rows = SeriesRows {
@@ -98,9 +83,13 @@ impl SeriesRows {
     }
 
     pub(super) fn skip_nulls(&mut self) {
-        while self.next < self.end && self.list.is_null(self.next) {
-            self.next += 1;
-        }
+        let next = self.left().next();
+        self.next = next.unwrap_or(self.end);
+    }
+
+    /// The indices of the rows left (null rows skipped).
+    fn left(&self) -> impl Iterator<Item = usize> + '_ {
+        (self.next..self.end).filter(|&i| !self.list.is_null(i))
     }
 
     pub(super) fn is_empty(&self) -> bool {
@@ -109,22 +98,13 @@ impl SeriesRows {
 
     /// The rows left.
     pub(super) fn len(&self) -> usize {
-        (self.next..self.end)
-            .filter(|&i| !self.list.is_null(i))
-            .count()
+        self.left().count()
     }
 
     /// Keeps at most `n` of the rows left.
     pub(super) fn truncate(&mut self, n: usize) {
-        let mut kept = 0;
-        let mut i = self.next;
-        while i < self.end && kept < n {
-            if !self.list.is_null(i) {
-                kept += 1;
-            }
-            i += 1;
-        }
-        self.end = i;
+        let end = self.left().nth(n);
+        self.end = end.unwrap_or(self.end);
     }
 
     pub(super) fn time(&self) -> Option<i64> {
@@ -158,8 +138,7 @@ impl SeriesRows {
 }
 
 /// One message's series in logging order: every component of every entity of a recording
-/// chunk (not the properties, not the blueprint), sharing the chunk's arrays. `Err` says what is
-/// wrong.
+/// chunk (not the properties, not the blueprint), sharing the chunk's arrays.
 pub(super) fn message_series(msg: ChunkMessage) -> Vec<(Key, SeriesRows)> {
     if !msg.recording {
         return Vec::new();
@@ -174,18 +153,12 @@ pub(super) fn message_series(msg: ChunkMessage) -> Vec<(Key, SeriesRows)> {
         .timelines()
         .get(&sim_time)
         .map(|c| c.times_buffer().clone());
-    let mut out = Vec::new();
-    for descriptor in chunk.component_descriptors() {
-        let Some(list) = chunk.components().get_array(descriptor.component) else {
-            continue;
-        };
+    let rows = |d: &rerun::ComponentDescriptor| {
+        let list = chunk.components().get_array(d.component)?;
         let rows = SeriesRows::new(list.clone(), times.clone(), chunk.num_rows());
-        out.push((
-            (entity.clone(), descriptor.component.as_str().to_string()),
-            rows,
-        ));
-    }
-    out
+        Some(((entity.clone(), d.component.as_str().to_string()), rows))
+    };
+    chunk.component_descriptors().filter_map(rows).collect()
 }
 
 /// Reads every component of every entity (not the properties, not the blueprint), the whole
@@ -247,10 +220,10 @@ pub fn index_series(path: &Path) -> anyhow::Result<BTreeMap<Key, SeriesIndex>> {
 /// One row's numbers as the arrays that hold them, read in place depth first (lists element by
 /// element, structs column by column; floats widened to f64 exactly, integers converted, a null
 /// read as NaN, a boolean as 0 or 1, a byte string byte by byte), and its texts.
-pub(super) struct RowView {
-    pub time: Option<i64>,
+pub struct RowView {
+    time: Option<i64>,
     leaves: Vec<ArrayRef>,
-    pub texts: Vec<String>,
+    texts: Vec<String>,
 }
 
 impl RowView {
@@ -264,42 +237,33 @@ impl RowView {
         view
     }
 
+    pub fn time(&self) -> Option<i64> {
+        self.time
+    }
+
     /// How many numbers the row holds.
-    pub(super) fn len(&self) -> usize {
-        self.leaves
-            .iter()
-            .map(|a| match a.data_type() {
-                DataType::Binary => {
-                    let b = a.as_binary::<i32>();
-                    (0..b.len()).map(|i| b.value(i).len()).sum()
-                }
-                _ => a.len(),
-            })
-            .sum()
+    pub fn count(&self) -> usize {
+        self.nums().count()
     }
 
     /// The row's numbers in order.
-    pub(super) fn nums(&self) -> impl Iterator<Item = f64> + '_ {
+    pub fn nums(&self) -> impl Iterator<Item = f64> + '_ {
         self.leaves.iter().flat_map(|a| leaf_values(a.as_ref()))
     }
 
-    /// Adds `a`'s numeric arrays as leaves (a list or fixed-size list without nulls as its
-    /// values array, which holds its elements in order), its texts as texts.
+    pub fn texts(&self) -> &[String] {
+        &self.texts
+    }
+
+    /// Adds `a`'s numeric arrays as leaves, its texts as texts.
     fn add(&mut self, a: &ArrayRef) {
         match a.data_type() {
             DataType::Null => {}
-            DataType::Float64
-            | DataType::Float32
-            | DataType::Int8
-            | DataType::Int16
-            | DataType::Int32
-            | DataType::Int64
-            | DataType::UInt8
-            | DataType::UInt16
-            | DataType::UInt32
-            | DataType::UInt64
-            | DataType::Boolean
-            | DataType::Binary => self.leaves.push(a.clone()),
+            // What `leaf_values` reads.
+            t if t.is_integer() || matches!(t, DataType::Float32 | DataType::Float64) => {
+                self.leaves.push(a.clone())
+            }
+            DataType::Boolean | DataType::Binary => self.leaves.push(a.clone()),
             DataType::Utf8 => {
                 let s = a.as_string::<i32>();
                 self.texts
@@ -310,24 +274,8 @@ impl RowView {
                 self.texts
                     .extend((0..s.len()).map(|i| s.value(i).to_string()));
             }
-            DataType::List(_) => {
-                let l = a.as_list::<i32>();
-                if l.null_count() == 0 {
-                    let o = l.value_offsets();
-                    let (start, end) = (o[0] as usize, o[l.len()] as usize);
-                    self.add(&l.values().slice(start, end - start));
-                } else {
-                    for i in (0..l.len()).filter(|&i| !l.is_null(i)) {
-                        self.add(&l.value(i));
-                    }
-                }
-            }
-            DataType::LargeList(_) => {
-                let l = a.as_list::<i64>();
-                for i in (0..l.len()).filter(|&i| !l.is_null(i)) {
-                    self.add(&l.value(i));
-                }
-            }
+            DataType::List(_) => self.add_list(a.as_list::<i32>()),
+            DataType::LargeList(_) => self.add_list(a.as_list::<i64>()),
             DataType::FixedSizeList(..) => {
                 let l = a.as_fixed_size_list();
                 if l.null_count() == 0 {
@@ -345,6 +293,20 @@ impl RowView {
                 }
             }
             _ => self.texts.push(format!("{a:?}")),
+        }
+    }
+
+    /// A list's elements: without nulls, its values array, which holds them in order (as for a
+    /// fixed-size list).
+    fn add_list<O: OffsetSizeTrait>(&mut self, l: &GenericListArray<O>) {
+        if l.null_count() == 0 {
+            let o = l.value_offsets();
+            let (start, end) = (o[0].as_usize(), o[l.len()].as_usize());
+            self.add(&l.values().slice(start, end - start));
+        } else {
+            for i in (0..l.len()).filter(|&i| !l.is_null(i)) {
+                self.add(&l.value(i));
+            }
         }
     }
 }
