@@ -3,6 +3,7 @@
 
 use super::{Diagram, Key, LEGEND_WIDTH, Panel, Plot, Series, decade_label, decades};
 use plotters::prelude::*;
+use std::collections::BTreeMap;
 
 use crate::format::sci;
 use crate::study::hair::HairRow;
@@ -21,31 +22,26 @@ pub(super) fn error_desc(scene: &str) -> &'static str {
 /// (and, given one per row, the command that makes it): a series and a legend key each.
 fn series(rows: &[Row], x: fn(&Row) -> f64, commands: &[String], dt0: f64) -> Vec<Series> {
     let across = |r: &Row| r.rtol.is_none() && r.dt > dt0 * (1.0 + 1e-9);
-    let mut all: Vec<Series> = Vec::new();
+    let mut all: BTreeMap<String, Series> = BTreeMap::new();
     for (i, r) in rows.iter().enumerate() {
         if !r.error.is_some_and(|e| e > 0.0) {
             continue;
         }
         let key = Key::variant(r.method, across(r), r.compensated);
-        let at = match all.iter().position(|s| s.key.name == key.name) {
-            Some(at) => at,
-            None => {
-                all.push(Series {
-                    key,
-                    points: Vec::new(),
-                    about: Vec::new(),
-                });
-                all.len() - 1
-            }
-        };
+        let series = all.entry(key.name.clone()).or_insert_with(|| Series {
+            key,
+            points: Vec::new(),
+            about: Vec::new(),
+        });
         let mut about = crate::report::study::run_about(r);
         if let Some(command) = commands.get(i) {
             about = format!("{about}\nmade by: {command}");
         }
-        all[at].points.push((x(r), r.error.unwrap_or(0.0)));
-        all[at].about.push(about);
+        series.points.push((x(r), r.error.unwrap_or(0.0)));
+        series.about.push(about);
     }
     // In the registry's order, each method's variants after it.
+    let mut all: Vec<Series> = all.into_values().collect();
     all.sort_by_key(|s| (s.key.shape, s.key.name.len()));
     all
 }
@@ -205,7 +201,7 @@ fn convergence_plot(
         let end = bottom.max(dt_min);
         guides.push((
             vec![(top, anchor), (end, anchor * (end / top).powi(p as i32))],
-            format!("∝ dt{}", superscript(p)),
+            format!("∝ dt{}", decade_label(p as i32).trim_start_matches("10")),
         ));
     }
     let damped = match velocity_dependent {
@@ -233,10 +229,6 @@ fn convergence_plot(
         ],
         legend_px: LEGEND_WIDTH,
     }
-}
-
-pub(super) fn superscript(p: u32) -> String {
-    decade_label(p as i32).trim_start_matches("10").to_string()
 }
 
 /// Stability: per method, the measured largest stable dt (the method's marker) against theory

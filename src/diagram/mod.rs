@@ -1,15 +1,8 @@
-//! The studies' diagrams as pictures: log-log work-precision (error against wall time and
-//! against force evaluations), convergence (error against dt with reference slopes) and
-//! stability (measured limit against theory), and the hair trade (stretch against cost per
-//! frame), drawn with `plotters` into SVG and PNG.
-//!
-//! Axes are in decades (ticks at every power of ten, faint lines at 2…9 × 10ᵏ), every axis has
-//! its unit, each method has its colour from [`crate::palette`] (the recordings' colours), and the
-//! legend stands in its own column to the right of the plots, so it never covers data. The
-//! background is the Rerun viewer's dark grey, which the palette was chosen for. Text uses the
-//! DejaVu Sans shipped under `assets/fonts/` (Bitstream Vera licence, see the LICENSE file
-//! there), registered from bytes, so no system font or C library is needed.
-//!
+//! The studies' diagrams (work-precision, convergence, stability, drift, the hair trade) drawn
+//! with `plotters` into SVG and PNG: axes in decades, each method in its recordings' colour
+//! ([`crate::palette`], chosen for the viewer's dark grey, the background here too), the legend
+//! in a column of its own so that it never covers data. Text in the DejaVu Sans of
+//! `assets/fonts/` (Bitstream Vera licence), registered from bytes: no system font is needed.
 //! Behind the `diagrams` cargo feature (on with `rerun`): the core builds without plotters.
 
 use std::path::{Path, PathBuf};

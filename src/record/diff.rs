@@ -10,11 +10,11 @@ use std::path::Path;
 
 use rerun::TimeColumn;
 use rerun::blueprint::{
-    Blueprint, ContainerLike, Grid, Horizontal, Spatial3DView, Tabs, TextDocumentView, TimePanel,
+    Blueprint, ContainerLike, Grid, Horizontal, Spatial3DView, Tabs, TextDocumentView,
     TimeSeriesView, Vertical,
 };
 
-use super::{Destinations, Framing, Recording, SceneViews, ViewProperties, method_color};
+use super::{Destinations, Framing, Recording, SceneViews, ViewProperties, log_series_style};
 use crate::rrd::compare::{Key, RowView};
 
 /// Rows held per series before they are sent: the writer's memory does not grow with the file.
@@ -149,11 +149,9 @@ impl DiffPlan<'_> {
             );
         }
         let top = Horizontal::new(top);
-        let blueprint = super::views::panels_collapsed(
-            Blueprint::new(Vertical::new([top.into(), plots]).with_row_shares([1.0, 2.0]))
-                .with_auto_views(false),
-            TimePanel::new().with_timeline("sim_time"),
-        );
+        let blueprint = super::views::only_these_views(Blueprint::new(
+            Vertical::new([top.into(), plots]).with_row_shares([1.0, 2.0]),
+        ));
         props.layout(blueprint)
     }
 }
@@ -178,12 +176,7 @@ pub struct DiffWriter {
 /// adaptive method's steps vary).
 fn constant(quantity: &str, lane: &str) -> bool {
     quantity == "step_size"
-        && !lane.parse::<crate::integrate::Method>().is_ok_and(|m| {
-            matches!(
-                m.info().evals_per_step,
-                crate::integrate::EvalsPerStep::Adaptive(_)
-            )
-        })
+        && !(lane.parse::<crate::integrate::Method>()).is_ok_and(|m| m.info().adaptive())
 }
 
 /// A closed ring of 24 segments around the origin, facing `toward_eye`, of radius `r`.
@@ -258,13 +251,7 @@ impl DiffWriter {
                     }
                     _ => (lane.to_string(), lane),
                 };
-                self.recording.stream().log_static(
-                    series.clone(),
-                    &rerun::SeriesLines::new()
-                        .with_names([name.as_str()])
-                        .with_colors([method_color(colored)])
-                        .with_widths([1.5]),
-                )?;
+                log_series_style(self.recording.stream(), series.clone(), &name, colored)?;
             }
             return self.push(series, time, value);
         }

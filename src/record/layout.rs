@@ -1,17 +1,12 @@
 //! The viewer layout a recording opens with, and the view properties the Rust SDK's view builders
-//! do not take in Rerun 0.36.3: a time series' legend (`PlotLegend`) and axes (`TimeAxis`,
-//! `ScalarAxis`), a 3D view's eye (`EyeControls3D`) and background (`Background`).
+//! do not take in Rerun 0.36.3: a time series' legend and axes, a 3D view's eye and background.
 //!
-//! Both are plain blueprint archetypes, stored in the blueprint store at
-//! `view/<view id>/<archetype>` (where `View::log_to_stream` puts the properties it does take,
-//! and where the Python SDK puts these). The SDK gives no handle to add them (`View::add_property`
-//! and `Blueprint::to_log_msgs` are `pub(crate)`), but a view's path is public
-//! (`ContainerLike::View(v).blueprint_path()`), and so is everything needed to write into the
-//! same store: [`Layout::send`] lets the SDK write the blueprint into a memory sink, appends the
-//! properties to that blueprint store (a stream built with the same store id), and sends the
-//! whole batch, activation last, through `RecordingStream::send_blueprint`. Verified by viewer
-//! screenshots (legends moved or hidden, 3D views opened on the eye) and by
-//! `tests/recording.rs`, which reads the properties back from a written recording.
+//! They are plain blueprint archetypes at `view/<view id>/<archetype>` in the blueprint store
+//! (where the Python SDK puts them). The Rust SDK has no handle to add them (`View::add_property`
+//! is `pub(crate)`), but a view's path is public: [`Layout::send`] lets the SDK write the
+//! blueprint into a memory sink, appends the properties to the same store, and sends the whole
+//! batch, activation last, through `RecordingStream::send_blueprint` (`tests/recording.rs` reads
+//! them back).
 
 use rerun::blueprint::components::{BackgroundKind, Corner2D};
 use rerun::blueprint::{Blueprint, BlueprintActivation, ContainerLike};
@@ -86,21 +81,14 @@ pub const LEGEND_ROW_PX: f32 = 22.5;
 const LEGEND_CHAR_PX: f32 = 5.6;
 const LEGEND_FRAME_PX: f32 = 40.0;
 
-/// How far a plot's time axis reaches, as a multiple of the run's end, so that a legend naming
-/// `series` fits to the right of the curves in a plot `width` px wide (its value axis labels
-/// included).
-pub fn legend_band(series: &[&str], width: f32) -> f32 {
+/// The end of a plot's time axis [s]: past the run's end (`end_time`) by the band of a legend
+/// naming `series` right of the curves in a plot `width` px wide, further where three tick
+/// labels need it; and whether the band's end is enough.
+pub fn time_axis_end(series: &[&str], end_time: f64, width: f32) -> (f64, bool) {
     let longest = series.iter().map(|s| s.chars().count()).max().unwrap_or(0);
     let legend = LEGEND_FRAME_PX + LEGEND_CHAR_PX * longest as f32;
     let curves = (width - PLOT_AXIS_PX - legend).max(0.25 * width);
-    (curves + legend) / curves
-}
-
-/// The end of a plot's time axis [s]: past the run's end (`end_time`) by the band of a legend
-/// naming `series` in a plot `width` px wide, further where three tick labels need it; and
-/// whether the band's end is enough.
-pub fn time_axis_end(series: &[&str], end_time: f64, width: f32) -> (f64, bool) {
-    let band = end_time * f64::from(legend_band(series, width));
+    let band = end_time * f64::from((curves + legend) / curves);
     let end = time_end(band, width);
     (end, end == band)
 }
@@ -113,12 +101,6 @@ pub struct Layout {
     blueprint: Blueprint,
     properties: Vec<(String, Vec<SerializedComponentBatch>)>,
     axes: Vec<ValueAxis>,
-}
-
-impl From<Blueprint> for Layout {
-    fn from(blueprint: Blueprint) -> Self {
-        ViewProperties::default().layout(blueprint)
-    }
 }
 
 /// View properties gathered while a layout is built: (entity path in the blueprint store, the
@@ -252,9 +234,8 @@ impl ViewProperties {
 }
 
 impl Layout {
-    /// Sends the layout to `rec` as its active and default blueprint (what
-    /// `RecordingStreamBuilder::with_blueprint` does), with the view properties in the same
-    /// blueprint store, before the activation. Returns the value axes to set at the end.
+    /// Sends the layout to `rec` as its active and default blueprint, with the view properties
+    /// before the activation. Returns the value axes to set at the end.
     pub fn send(
         self,
         rec: &rerun::RecordingStream,

@@ -1,14 +1,8 @@
-//! The live stream to a viewer (`--connect`, `--spawn`), a side channel of the recording: the
-//! file never waits for it. The recording stream hands every message to [`LiveSink`], which
-//! queues it for a thread of its own; that thread connects (or starts the viewer and waits for
-//! it to listen) and feeds Rerun's gRPC sink, whose own waits (a connection that never answers
-//! blocks it for ever) are its alone. Any failure — nothing listening, a broken or refused
-//! connection, a viewer that takes no data for [`STALL`] while data waits, one that exits or
-//! never listens — ends the stream with one warning; the run, its summary and its file go on.
-//! The run's thread waits for the viewer only while the backlog is full and the viewer takes
-//! data, and at the end for what is queued, polling the stop flag. A viewer physlab started is
-//! never waited for: one that does not listen yet when the run ends is ended, and a viewer that
-//! opens the run's file itself is started in its place (detached, not waited for).
+//! The live stream to a viewer (`--connect`, `--spawn`), a side channel the file never waits
+//! for: [`LiveSink`] queues every message for a thread of its own, which connects (or starts the
+//! viewer) and feeds Rerun's gRPC sink, so that sink's waits (for ever, on a connection that
+//! never answers) are that thread's alone. Any failure ends the stream with one warning; the
+//! run, its summary and its file go on.
 
 use std::collections::VecDeque;
 use std::path::PathBuf;
@@ -117,15 +111,13 @@ impl Shared {
     }
 }
 
-/// The stream's handle for the run: [`Live::finish`] waits for the viewer to take what is
-/// queued, within the stall rule; dropping it leaves the viewer thread to itself.
+/// The stream's handle for the run; dropping it leaves the viewer thread to itself.
 pub struct Live(Arc<Shared>);
 
 /// The sink the recording stream is given: it queues messages for the viewer thread.
 pub struct LiveSink(Arc<Shared>);
 
-/// Starts the stream's thread (nothing waits on the caller's thread) and returns the handle and
-/// the sink for the recording stream.
+/// Starts the stream's thread and returns the handle and the sink for the recording stream.
 pub fn start(option: String, target: Target) -> (Live, LiveSink) {
     let starting = matches!(target, Target::Spawn(..)).then(|| Instant::now() + SPAWN_WAIT);
     let hand_off = match &target {
@@ -240,8 +232,8 @@ fn size(msg: &LogMsg) -> usize {
     }
 }
 
-/// The viewer thread: reaches the viewer, then hands it the queued messages until the run is
-/// over and they are all taken, or the stream is dropped.
+/// The viewer thread: reaches the viewer, then hands it the queued messages until all are taken
+/// or the stream is dropped.
 fn feed(shared: &Shared, target: Target) {
     let uri = match target {
         Target::Connect(uri) => Ok(uri),

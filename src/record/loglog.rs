@@ -9,7 +9,7 @@
 use rerun::components::{DrawOrder, Radius};
 use rerun::{LineStrips2D, Points2D, RecordingStream, Transform3D};
 
-use crate::diagram::{Panel, Plot, decade_label, log_axis};
+use crate::diagram::{Panel, Plot, Series, decade_label, log_axis};
 use crate::report::table::wrap;
 
 /// The canvas a plot is drawn on: the study tab's view at 1600×1000 [view units ≈ logical px].
@@ -139,41 +139,51 @@ fn log_panel(rec: &RecordingStream, path: &str, p: &Panel, area: [f32; 4]) -> an
     rec.log_static(format!("{path}/names"), &labels(at, text, INK))?;
     log_guides(rec, path, p, [sx, sy])?;
     for s in &p.series {
-        let (at, about): (Vec<[f32; 2]>, Vec<String>) = (s.points.iter().zip(&s.about))
-            .filter(|((x, y), _)| *x > 0.0 && *y > 0.0)
-            .map(|((x, y), about)| ([x.log10() as f32, y.log10() as f32], about.clone()))
-            .unzip();
-        let color = s.key.rgb();
-        // One path part whatever the name holds (a hair family's "k/m", say).
-        let name = rerun::EntityPath::new(vec![s.key.name.as_str().into()]);
-        let entity = rerun::EntityPath::from(format!("{path}/runs")).join(&name);
-        // A series stepping across the samples dashed, a compensated one's points hollow: a
-        // dot of the view's background inside each.
-        let strips = match s.key.dashed {
-            true => (at.windows(2))
-                .flat_map(|w| dashed(w[0], w[1], [sx, sy]))
-                .collect(),
-            false => vec![at.clone()],
-        };
-        rec.log_static(entity.join(&"line".into()), &lines(strips, color, 2.0, 3.0))?;
-        if s.key.hollow {
-            let holes = Points2D::new(at.clone())
-                .with_colors([HOLE])
-                .with_radii([Radius::new_ui_points(2.0)])
-                .with_draw_order(DrawOrder(4.5.into()));
-            rec.log_static(entity.join(&"holes".into()), &holes)?;
-        }
-        rec.log_static(
-            entity,
-            &Points2D::new(at)
-                .with_colors([color])
-                .with_radii([Radius::new_ui_points(4.5)])
-                .with_labels(about)
-                .with_show_labels(false)
-                .with_draw_order(DrawOrder(4.0.into())),
-        )?;
+        log_series(rec, path, s, [sx, sy])?;
     }
     Ok(())
+}
+
+/// One series: its points (each saying on hover which run it is) and the line through them,
+/// dashed for a series stepping across the samples; a compensated one's points hollow (a dot of
+/// the view's background inside each).
+fn log_series(rec: &RecordingStream, path: &str, s: &Series, px: [f32; 2]) -> anyhow::Result<()> {
+    let (at, about): (Vec<[f32; 2]>, Vec<String>) = (s.points.iter().zip(&s.about))
+        .filter(|((x, y), _)| *x > 0.0 && *y > 0.0)
+        .map(|((x, y), about)| ([x.log10() as f32, y.log10() as f32], about.clone()))
+        .unzip();
+    let color = s.key.rgb();
+    // One path part whatever the name holds (a hair family's "k/m", say).
+    let name = rerun::EntityPath::new(vec![s.key.name.as_str().into()]);
+    let entity = rerun::EntityPath::from(format!("{path}/runs")).join(&name);
+    let strips = match s.key.dashed {
+        true => (at.windows(2))
+            .flat_map(|w| dashed(w[0], w[1], px))
+            .collect(),
+        false => vec![at.clone()],
+    };
+    rec.log_static(entity.join(&"line".into()), &lines(strips, color, 2.0, 3.0))?;
+    if s.key.hollow {
+        rec.log_static(entity.join(&"holes".into()), &holes(at.clone(), 4.5))?;
+    }
+    rec.log_static(
+        entity,
+        &Points2D::new(at)
+            .with_colors([color])
+            .with_radii([Radius::new_ui_points(4.5)])
+            .with_labels(about)
+            .with_show_labels(false)
+            .with_draw_order(DrawOrder(4.0.into())),
+    )?;
+    Ok(())
+}
+
+/// The insides of hollow markers at `at`: dots of the view's background, drawn at `order`.
+fn holes(at: Vec<[f32; 2]>, order: f32) -> Points2D {
+    Points2D::new(at)
+        .with_colors([HOLE])
+        .with_radii([Radius::new_ui_points(2.0)])
+        .with_draw_order(DrawOrder(order.into()))
 }
 
 /// The guides (the reference floor, the slopes) as dashed grey lines, each named above its
@@ -292,17 +302,11 @@ fn log_legend(rec: &RecordingStream, path: &str, plot: &Plot, left: f32) -> anyh
             .with_colors(mark_colors)
             .with_radii([Radius::new_ui_points(4.5)]),
     )?;
-    let holes: Vec<[f32; 2]> = (marks.iter().zip(&plot.keys))
+    let hollow: Vec<[f32; 2]> = (marks.iter().zip(&plot.keys))
         .filter(|(_, k)| k.hollow)
         .map(|(m, _)| *m)
         .collect();
-    rec.log_static(
-        format!("{path}/swatches/holes"),
-        &Points2D::new(holes)
-            .with_colors([HOLE])
-            .with_radii([Radius::new_ui_points(2.0)])
-            .with_draw_order(DrawOrder(31.0.into())),
-    )?;
+    rec.log_static(format!("{path}/swatches/holes"), &holes(hollow, 31.0))?;
     let (at, text) = names.into_iter().unzip();
     rec.log_static(format!("{path}/names"), &labels(at, text, INK))?;
     let chars = ((plot.legend_px as f32 - 24.0) / CHAR_PX) as usize;

@@ -35,17 +35,19 @@ pub use views::{
 /// One colour per method (the palette is shared with the diagrams: `crate::palette`).
 pub use crate::palette::method_color;
 
-/// The legend name and colour of one method's series in a plot (static, logged once).
+/// The legend name of a series in a plot and the colour of the method `colored` (static, logged
+/// once).
 pub fn log_series_style(
     rec: &rerun::RecordingStream,
     entity: String,
     name: &str,
+    colored: &str,
 ) -> anyhow::Result<()> {
     rec.log_static(
         entity,
         &rerun::SeriesLines::new()
             .with_names([name])
-            .with_colors([method_color(name)])
+            .with_colors([method_color(colored)])
             .with_widths([1.5]),
     )?;
     Ok(())

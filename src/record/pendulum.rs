@@ -19,7 +19,6 @@ use super::{
     Framing, PLOTS_SHARE, Staging, ViewProperties, WINDOW, about_and_events, method_color,
     plot_column, scene_blueprint, slot_cells, slot_grid,
 };
-use crate::integrate::EvalsPerStep;
 use crate::scene::harness::{Event, Frame, Run, Scene as _, SeriesBatch, WHOLE};
 use crate::scene::pendulum::exact::ExactPendulum;
 use crate::scene::pendulum::run::{PendulumConfig, PendulumLane, PendulumScene, QUANTITIES};
@@ -121,10 +120,7 @@ pub fn staging(c: &PendulumConfig) -> Staging {
     }));
     let mut slots = slots;
     slots[0].title = format!("{reference} = grey rings");
-    let adaptive = c
-        .methods
-        .iter()
-        .any(|m| matches!(m.info().evals_per_step, EvalsPerStep::Adaptive(_)));
+    let adaptive = c.methods.iter().any(|m| m.info().adaptive());
     let plots = Staging::plots(&PLOTS, |name| {
         let q = QUANTITIES
             .iter()
@@ -224,10 +220,6 @@ impl PendulumDraw {
         let [px, py, pz] = self.pivots[lane];
         [px + x as f32, py, pz + z as f32]
     }
-
-    fn pivot(&self, lane: usize) -> [f32; 3] {
-        self.pivots[lane]
-    }
 }
 
 impl Draw<PendulumScene> for PendulumDraw {
@@ -259,7 +251,7 @@ impl Draw<PendulumScene> for PendulumDraw {
             // a divergence says why the lane stopped.
             rec.log_static(
                 format!("pendulum/{name}/pivot"),
-                &rerun::Points3D::new([self.pivot(i)])
+                &rerun::Points3D::new([self.pivots[i]])
                     .with_radii([0.3 * bob_radius])
                     .with_colors([[128, 128, 128]])
                     .with_show_labels(true),
@@ -361,7 +353,7 @@ impl Draw<PendulumScene> for PendulumDraw {
             )?;
             rec.log(
                 format!("pendulum/{name}/rod"),
-                &rerun::LineStrips3D::update_fields().with_strips([[self.pivot(i), bob]]),
+                &rerun::LineStrips3D::update_fields().with_strips([[self.pivots[i], bob]]),
             )?;
             if i > 0
                 && let Some((theta_ref, _)) = reference
@@ -393,7 +385,7 @@ impl Draw<PendulumScene> for PendulumDraw {
         // The bob rests on the pivot, whose label now says why.
         rec.log(
             format!("pendulum/{name}/bob"),
-            &rerun::Points3D::new([self.pivot(event.lane)]).with_colors([method_color(name)]),
+            &rerun::Points3D::new([self.pivots[event.lane]]).with_colors([method_color(name)]),
         )?;
         rec.log(
             format!("pendulum/{name}/pivot"),

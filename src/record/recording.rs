@@ -74,17 +74,12 @@ pub fn find_on_path(name: &str) -> Option<PathBuf> {
         })
 }
 
-/// How rows logged one at a time become chunks: per entity, a chunk every 1024 rows (or
-/// [`CHUNK_BYTES`], see below), never on a clock, so the chunks depend only on what was logged
-/// (Rerun's default 200 ms clock cuts identical runs differently). The rows still pending when a
-/// run ends are turned into chunks then, on Rerun's batcher thread, one row at a time: 1024 rows
-/// per entity keeps that under a few tenths of a second, so a Ctrl-C is answered within 1 s
-/// (4096, the size `rerun rrd optimize` compacts to, took over a second for the pendulum).
-///
-/// Rerun's byte count of pending rows varies between identical runs (two `physlab all` runs cut
-/// hair's strands after 11 and after 10 rows), so the batcher counts rows only, and the scene
-/// recorder flushes after every [`CHUNK_BYTES`] of its largest 3D entity (hair strands, rope
-/// nodes), counted by itself.
+/// Chunks cut per entity every 1024 rows, never on a clock, so they depend only on what was
+/// logged (Rerun's 200 ms clock cuts identical runs differently). The rows pending at the end are
+/// chunked then, one row at a time: 1024 keeps that within a few tenths of a second, so a Ctrl-C
+/// is answered within 1 s (4096 took over a second). Rerun's byte count varies between identical
+/// runs, so it is off: the scene recorder flushes every [`CHUNK_BYTES`] of its largest 3D entity,
+/// counted by itself.
 pub const BATCHING: rerun::log::ChunkBatcherConfig = rerun::log::ChunkBatcherConfig {
     flush_tick: std::time::Duration::MAX,
     flush_num_bytes: u64::MAX,
@@ -95,11 +90,10 @@ pub const BATCHING: rerun::log::ChunkBatcherConfig = rerun::log::ChunkBatcherCon
 /// The chunk size `rerun rrd optimize` compacts to (`ChunkStoreConfig::DEFAULT`: 384 KiB).
 pub const CHUNK_BYTES: usize = 12 * 8 * 4096;
 
-/// A recording being written. A file goes through `crate::output` (a hidden file beside its
-/// target, renamed into place when complete); [`Recording::commit`] finalises it (footer
-/// written, fsynced) and renames it into place, and dropping it uncommitted removes the hidden
-/// file, so a failed run never leaves a partial file or touches an earlier recording. A write
-/// error (a full disk) stops the run at its next check, as a signal would, and `commit` reports it.
+/// A recording being written. Its file is a hidden one beside the target (`crate::output`):
+/// [`Recording::commit`] finalises it and renames it into place, dropping it uncommitted removes
+/// it, so a failed run never leaves a partial file or touches an earlier recording. A write error
+/// stops the run at its next check, as a signal would, and `commit` reports it.
 pub struct Recording {
     rec: Option<rerun::RecordingStream>,
     file: Option<std::sync::Arc<sink::Shared>>,
@@ -114,22 +108,16 @@ pub struct Recording {
 }
 
 impl Recording {
-    /// Starts a recording with `blueprint` as its active layout, under its own application id
-    /// (`physlab-pendulum`, `physlab-all`, `physlab-study`...: the viewer keys blueprints by
-    /// application id, so one scene's layout never applies to another's recording).
-    ///
-    /// No wall-clock data: the `log_time` timeline and the start-time property are off, and
-    /// chunks are cut by [`BATCHING`] (rows and bytes per entity), not by the batcher's 200 ms
-    /// clock, so two runs of the same inputs write the same chunks (row ids, recording id and
-    /// chunk ids, which Rerun draws from the clock and at random, aside). Streaming to a viewer
-    /// (--connect, --spawn) keeps Rerun's clock-driven batching, so the viewer sees data live.
+    /// Starts a recording with `layout` active, under its own application id (the viewer keys
+    /// blueprints by it, so one scene's layout never applies to another's recording). No
+    /// wall-clock data: no `log_time` timeline, no start-time property, chunks cut by
+    /// [`BATCHING`] except when a viewer streams live.
     pub fn create(
         d: &Destinations,
         application_id: &'static str,
         recording_name: &str,
-        layout: impl Into<Layout>,
+        layout: Layout,
     ) -> anyhow::Result<Self> {
-        let layout = layout.into();
         check_destinations(d)?;
         let mut sinks: Vec<Box<dyn rerun::sink::LogSink>> = Vec::new();
         let mut file = None;

@@ -133,7 +133,7 @@ impl<S: Scene, D: Draw<S>> Observer<S> for SceneRecorder<D> {
             let plots = scene.quantities(lane).iter().map(|&q| plotted(q));
             for plot in plots.chain(timed.then_some(FRAME_COST.0)) {
                 let entity = format!("{}/plots/{plot}/{name}", scene.name());
-                log_series_style(&self.rec, entity, name)?;
+                log_series_style(&self.rec, entity, name, name)?;
             }
         }
         // The static styles in a flush of their own (see `event`).

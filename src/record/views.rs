@@ -434,7 +434,7 @@ pub fn scene_blueprint(left: Vertical, plots: Vertical) -> Blueprint {
 }
 
 /// No views but the given ones, the panels collapsed, `sim_time` selected.
-fn only_these_views(blueprint: Blueprint) -> Blueprint {
+pub(super) fn only_these_views(blueprint: Blueprint) -> Blueprint {
     panels_collapsed(blueprint, TimePanel::new().with_timeline("sim_time"))
 }
 
