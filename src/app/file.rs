@@ -44,8 +44,7 @@ impl SceneFile {
                     tables.push((name, table))
                 }
                 _ => {
-                    let line =
-                        line_at(text, &[&name]).map_or(String::new(), |l| format!("line {l}: "));
+                    let line = at_line(line_at(text, &[&name]));
                     return Err(format!(
                         "{line}`{name}` is not a scene table; expected {}",
                         listed(scenes)
@@ -167,8 +166,7 @@ fn check_method_lists(text: &str, tables: &[(String, toml::Table)]) -> Result<()
         if let Some(toml::Value::Array(list)) = table.get("methods")
             && list.is_empty()
         {
-            let line =
-                line_at(text, &[scene, "methods"]).map_or(String::new(), |l| format!("line {l}: "));
+            let line = at_line(line_at(text, &[scene, "methods"]));
             return Err(format!(
                 "{line}[{scene}] methods = []: lists no method; name at least one, or leave the key \
                  out for the defaults (`physlab methods` lists them)"
@@ -176,6 +174,11 @@ fn check_method_lists(text: &str, tables: &[(String, toml::Table)]) -> Result<()
         }
     }
     Ok(())
+}
+
+/// `line N: `, that a message starts with when it knows the line.
+pub(super) fn at_line(line: Option<usize>) -> String {
+    line.map_or(String::new(), |l| format!("line {l}: "))
 }
 
 /// The 1-based line of the key at `path` (a table's name, then a key inside it).

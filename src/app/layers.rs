@@ -6,6 +6,7 @@
 use serde::Serialize;
 
 use super::SceneFile;
+use super::file::at_line;
 use crate::error::Error;
 use crate::scene::params::SceneConfig;
 
@@ -41,11 +42,7 @@ impl Given<'_> {
     /// be ignored), and a value its key does not take, at its line.
     fn check_keys<C: SceneConfig>(&self, table: &toml::Table) -> Result<(), Error> {
         let path = (self.file.path()).map_or(String::new(), |p| p.display().to_string());
-        let at = |key: &str| {
-            self.file
-                .line_of(self.scene, key)
-                .map_or(String::new(), |l| format!("line {l}: "))
-        };
+        let at = |key: &str| at_line(self.file.line_of(self.scene, key));
         let scene = self.scene;
         for (key, value) in table {
             let alone = toml::Table::from_iter([(key.clone(), value.clone())]);
