@@ -116,7 +116,7 @@ pub fn drift(w: &[f64], k: usize) -> f64 {
 
 /// x += c dx, or with compensation the same sum carried with its rounding error (Kahan): `err`
 /// holds what the last additions lost, which the next one adds back, so that an update loses
-/// about eps |c dx| instead of eps |x| (`study::energy_error_rms` measures the effect).
+/// about eps |c dx| instead of eps |x| (`tests/study.rs` measures the effect).
 #[inline]
 fn accumulate(x: &mut [f64], err: Option<&mut [f64]>, c: f64, dx: &[f64]) {
     match err {

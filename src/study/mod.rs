@@ -17,7 +17,6 @@ mod grid;
 pub mod hair;
 mod limits;
 mod orders;
-mod roundoff;
 mod sweep;
 
 pub use answer::{
@@ -25,12 +24,10 @@ pub use answer::{
     settings, validate_targets,
 };
 pub use limits::{Limit, stability, stability_with, validate_stability_steps};
-use orders::fit;
 pub use orders::{
     Order, Proportionality, STALL_BELOW, cheapest, error_floor, methods_of, orders,
     proportionality, stalled,
 };
-pub use roundoff::{energy_error_rms, growth_exponent};
 pub use sweep::{
     Row, SAMPLE_EVERY, Sweep, damped_companion, planned_runs, planned_steps, planned_work,
     reference, sweep, sweep_against, sweep_with,
