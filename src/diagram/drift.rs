@@ -14,14 +14,10 @@ pub fn drift(scene: &str, (runs, commands): (&[Drift], Vec<String>), note: &str)
         size: (1600, 820),
         plot: drift_plot(scene, (runs, &commands), note),
         data: (runs.iter())
-            .flat_map(|r| {
-                r.checkpoints.iter().map(|c| {
-                    let m = r.method.name();
-                    format!(
-                        "{m} dt={:e} t={:e} energy={:e} phase={:?}\n",
-                        r.dt, c.t, c.energy, c.phase
-                    )
-                })
+            .flat_map(|r| r.checkpoints.iter().map(move |c| (r, c)))
+            .map(|(r, c)| {
+                let (m, dt, t, e) = (r.method.name(), r.dt, c.t, c.energy);
+                format!("{m} dt={dt:e} t={t:e} energy={e:e} phase={:?}\n", c.phase)
             })
             .collect(),
     }

@@ -46,10 +46,9 @@ fn series(rows: &[Row], x: fn(&Row) -> f64, commands: &[String], dt0: f64) -> Ve
     all
 }
 
-/// Work-precision: error against median wall time (left) and against force evaluations
-/// (right); `floor` is the reference's error (the study's floor), drawn as a dashed line;
-/// `commands`, one per row or none, what each point says makes its run; `dt0` the sweep's
-/// coarsest level (larger steps step across the samples: series of their own).
+/// Work-precision: error against median wall time and against force evaluations, the
+/// reference's error `floor` dashed; `commands`, one per row or none, what each point says makes
+/// its run; `dt0` the sweep's coarsest level (larger steps are series of their own).
 pub fn work_precision(
     scene: &str,
     (rows, dt0): (&[Row], f64),
@@ -132,9 +131,8 @@ fn work_precision_plot(
     }
 }
 
-/// Convergence: error against dt for the fixed-step methods, with dashed reference slopes for
-/// each theoretical order present; `floor` is the reference's error floor; `commands`, one per
-/// row or none, what each point says makes its run.
+/// Convergence: error against dt for the fixed-step methods, dashed slopes for each theoretical
+/// order and the reference's error `floor`; `commands` as for [`work_precision`].
 pub fn convergence(
     scene: &str,
     (rows, commands): (&[Row], &[String]),
@@ -231,8 +229,9 @@ fn convergence_plot(
     }
 }
 
-/// Stability: per method, the measured largest stable dt (the method's marker) against theory
-/// (a cross), on a log dt axis; unconditional and absent limits said in words.
+/// Stability: per method a row, its measured largest stable dt a point in its colour (which
+/// says on hover the method and both limits) and theory's a grey tick across the row, on a log
+/// dt axis; the rows without a finite theory said in the notes.
 pub fn stability(scene: &str, limits: &[Limit], omega: f64) -> Diagram {
     let height = 180 + 44 * limits.len() as u32;
     let data: String = (limits.iter())
@@ -269,9 +268,6 @@ fn limit_about(l: &Limit) -> String {
     )
 }
 
-/// Stability: per method a row, its measured largest stable dt a point in its colour (which
-/// says on hover the method and both limits) and theory's a grey tick across the row, on a log
-/// dt axis; the rows without a finite theory said in the notes.
 fn stability_plot(scene: &str, limits: &[Limit], omega: f64) -> Plot {
     let n = limits.len();
     // Row i at log10 y = n-1-i: the first method on top.
@@ -342,9 +338,8 @@ fn stability_plot(scene: &str, limits: &[Limit], omega: f64) -> Plot {
     }
 }
 
-/// The hair trade: largest stretch over the run against wall time per frame, one series per
-/// family of configurations (a solver at fixed substeps over its iterations, a spring method
-/// over its stiffness or substeps), each point a configuration of the table.
+/// The hair trade: largest stretch over the run against wall time per frame, a series per family
+/// of configurations ([`hair_family`]), each point a configuration of the table.
 pub fn hair_trade(rows: &[HairRow], note: &str) -> Diagram {
     Diagram {
         stem: "hair-trade".to_string(),

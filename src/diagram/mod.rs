@@ -183,8 +183,7 @@ impl Key {
     }
 }
 
-/// The hole of a hollow marker ([`Key::hollow`]): the panel's colour inside [`marker`], or
-/// nothing.
+/// The hole of a hollow marker ([`Key::hollow`]) in the panel's colour, or nothing.
 fn hole(key: &Key, size: f64) -> Polygon<(i32, i32)> {
     let inner = Key {
         color: if key.hollow { PANEL } else { key.color },

@@ -1,7 +1,9 @@
 //! A log-log plot as data (its panels, legend and notes: what both the pictures and the
 //! recordings draw), and one panel and the legend drawn with `plotters`.
 
-use super::{BACKGROUND, FAINT, FONT, GRID, INK, Key, PANEL, Res, Ticks, hole, label_of, marker};
+use super::{
+    BACKGROUND, FAINT, FONT, GRID, INK, Key, PANEL, Res, Ticks, hole, label_of, log_axis, marker,
+};
 use std::ops::Range;
 
 use plotters::coord::Shift;
@@ -62,12 +64,18 @@ where
     DB::ErrorType: 'static,
 {
     area.fill(&PANEL)?;
+    let (bold, light) = p.y_ticks();
+    let y_ticks = Ticks {
+        range: p.y.clone(),
+        bold,
+        light,
+    };
     let mut chart = ChartBuilder::on(area)
         .caption(&p.title, (FONT, 24).into_font().color(&INK))
         .margin(14)
         .x_label_area_size(56)
         .y_label_area_size(if p.y_names.is_empty() { 78 } else { 190 })
-        .build_cartesian_2d(Ticks::decades(p.x.clone()), y_ticks(p))?;
+        .build_cartesian_2d(Ticks::decades(p.x.clone()), y_ticks)?;
     // A rows axis (stability's methods) names its rows.
     let y_label = |v: &f64| (p.y_names.get(v.round() as usize).cloned()).unwrap_or(label_of(v));
     chart
@@ -118,15 +126,16 @@ where
     Ok(())
 }
 
-/// The y axis: decades, or a row per name.
-fn y_ticks(p: &Panel) -> Ticks {
-    match p.y_names.is_empty() {
-        true => Ticks::decades(p.y.clone()),
-        false => Ticks {
-            range: p.y.clone(),
-            bold: (0..p.y_names.len()).map(|k| k as f64).collect(),
-            light: Vec::new(),
-        },
+impl Panel {
+    /// The y axis' ticks, bold and light: decades, or a row per name.
+    pub fn y_ticks(&self) -> (Vec<f64>, Vec<f64>) {
+        match self.y_names.is_empty() {
+            true => log_axis(self.y.clone()),
+            false => (
+                (0..self.y_names.len()).map(|k| k as f64).collect(),
+                Vec::new(),
+            ),
+        }
     }
 }
 

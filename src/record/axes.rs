@@ -2,11 +2,9 @@
 //! its time series labels the time axis at whole 10ⁿ s (then 1, 10 min, ...), the coarsest of
 //! them that leaves 150 px between grid lines, and a finer one only when its spacing is over
 //! 60 px (fading in up to 80); the value axis at multiples of 10ⁿ alone, drawn when over 20 px
-//! apart (fading in up to 30). So a 10 s run in a plot 500 px wide shows "0" and "+10s", and
-//! 16 decades 230 px tall "0" and "-10". The time axis' end is chosen with the layout; the
-//! value axis' range only once the data are known: [`Extents`] sees every scalar the recording
-//! writes, and [`LateAxes`] sends each plot's range when it ends (a blueprint update, made
-//! active again), always around all of its data.
+//! apart (fading in up to 30). The time axis' end is chosen with the layout; the value axis'
+//! range when the data are known: [`Extents`] sees every scalar written, and [`LateAxes`] sends
+//! each plot's range around all of its data when the recording ends.
 
 use std::collections::BTreeMap;
 use std::sync::{Arc, Mutex};

@@ -1,9 +1,7 @@
-//! `physlab diff --output D.rrd`: a recording that shows where two runs part at a glance. Per
-//! plotted quantity one plot of B − A of the values (of 10^B − 10^A where a log10 is plotted)
-//! with a line per method, a fixed step's size (a constant) left out; both runs' 3D points
-//! overlaid (A as grey rings, B as orange points, a pendulum's rods and pivots in the same
-//! colours), the largest distance between their points over time, and the printed report (the
-//! configuration change and the first parting) as text.
+//! `physlab diff --output D.rrd`: a recording that shows where two runs part at a glance: per
+//! plotted quantity B − A of the values (10^B − 10^A where a log10 is plotted), a line per
+//! method; both runs' 3D points overlaid (A grey, B orange) and their largest distance over
+//! time; and the printed report.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
@@ -63,15 +61,6 @@ impl DiffPlan<'_> {
         out
     }
 
-    fn title(&self, scene: &str, quantity: &str) -> String {
-        self.scenes
-            .iter()
-            .filter(|v| v.name == scene)
-            .flat_map(|v| v.plots.iter())
-            .find(|(name, _)| *name == quantity)
-            .map_or(quantity.to_string(), |(_, title)| title.to_string())
-    }
-
     /// The report beside the 3D overlay, above the plots of B − A (a tab per scene, and one of the
     /// 3D distances); `names` the files A and B.
     fn layout(&self, names: [&str; 2]) -> super::Layout {
@@ -84,8 +73,11 @@ impl DiffPlan<'_> {
             (2.0 / 3.0 * super::WINDOW[1] - 24.0) / n.div_ceil(3) as f32
         };
         for ((scene, quantity), lanes) in &quantities {
+            let plots = self.scenes.iter().filter(|v| v.name == scene);
+            let title = (plots.flat_map(|v| v.plots.iter()))
+                .find(|(name, _)| name == quantity)
+                .map_or(quantity.as_str(), |(_, title)| title);
             // A log10 plot's values, not their logarithms: its title's quantity without "log10".
-            let title = self.title(scene, quantity);
             let title = match title.strip_prefix("log10 ") {
                 Some(q) => format!(
                     "B − A: {} (values, not their log10)",
@@ -156,10 +148,9 @@ impl DiffPlan<'_> {
     }
 }
 
-/// Writes, as the comparison pairs the rows of both recordings at the same times: b − a of every
-/// plotted series under `diff/<scene>/plots/<quantity>/<lane>`, each 3D entity's points of both
-/// runs under `diff/3d/A|B/<entity>` (A's as rings) and the largest distance between them under
-/// `diff/distance/<entity>`; and at the end the printed report as `diff/report`.
+/// Writes, as the comparison pairs the rows of both recordings: B − A of every plotted series
+/// under `diff/<scene>/plots/<quantity>/<lane>`, both runs' 3D points under `diff/3d/A|B/<entity>`
+/// and their largest distance under `diff/distance/<entity>`; at the end `diff/report`.
 pub struct DiffWriter {
     recording: Recording,
     pending: BTreeMap<String, (Vec<i64>, Vec<f64>)>,
@@ -167,8 +158,7 @@ pub struct DiffWriter {
     styled: BTreeSet<String>,
     lanes: BTreeSet<String>,
     paired: Option<(String, String)>,
-    /// Per scene, the offsets of a ring around a point, facing the scene's eye, 2 % of its
-    /// framed box across.
+    /// Per scene, the offsets of a ring around a point ([`ring`]).
     rings: BTreeMap<&'static str, Vec<[f32; 3]>>,
 }
 
@@ -179,7 +169,8 @@ fn constant(quantity: &str, lane: &str) -> bool {
         && !(lane.parse::<crate::integrate::Method>()).is_ok_and(|m| m.info().adaptive())
 }
 
-/// A closed ring of 24 segments around the origin, facing `toward_eye`, of radius `r`.
+/// A closed ring of 24 segments around the origin, facing the eye of `framing`, 2 % of its box
+/// across.
 fn ring(framing: &Framing) -> Vec<[f32; 3]> {
     let v = glam::Vec3::from_array;
     let r = 0.02 * (v(framing.max) - v(framing.min)).length();
@@ -268,13 +259,9 @@ impl DiffWriter {
                 .collect()
         };
         let (pa, pb) = (points(a), points(b));
-        let distance = pa
-            .iter()
-            .zip(&pb)
-            .map(|(p, q)| {
-                let d: f64 = (0..3).map(|i| (q[i] as f64 - p[i] as f64).powi(2)).sum();
-                d.sqrt()
-            })
+        let v = |p: &[f32; 3]| glam::Vec3::from_array(*p).as_dvec3();
+        let distance = (pa.iter().zip(&pb))
+            .map(|(p, q)| v(q).distance(v(p)))
             .fold(0.0, f64::max);
         let series = format!("diff/distance/{entity}");
         if self.styled.insert(series.clone()) {
@@ -381,12 +368,10 @@ impl DiffWriter {
     }
 
     fn send(&mut self, series: &str) -> anyhow::Result<()> {
-        let Some((times, values)) = self.pending.get_mut(series) else {
+        let pending = self.pending.get_mut(series).filter(|(t, _)| !t.is_empty());
+        let Some((times, values)) = pending else {
             return Ok(());
         };
-        if times.is_empty() {
-            return Ok(());
-        }
         self.recording.stream().send_columns(
             series,
             [TimeColumn::new_duration_nanos(

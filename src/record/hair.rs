@@ -1,8 +1,6 @@
-//! Recording a hair run.
-//!
-//! Layout: `hair/<method>/{head,strands,roots}` per method, each on its own copy of the head
-//! (slots side by side along x); all strands of a frame are one line-strip entity, with colour and
-//! radius logged once and only positions per frame. Plots `hair/plots/<quantity>/<method>`.
+//! Recording a hair run: `hair/<method>/{head,strands,roots}` per method, each on its own copy of
+//! the head (slots side by side along x), all strands of a frame one line-strip entity. Plots
+//! `hair/plots/<quantity>/<method>`.
 
 use rerun::RecordingStream;
 
@@ -42,16 +40,12 @@ fn reach_and_spacing(c: &HairConfig) -> (f64, f64) {
     (reach, 2.6 * reach + 2.0 * 2.0 * p.head_radius) // room for the sway
 }
 
-/// What the layout needs of a run: a 3D view per method framing its head with the strands
-/// hanging down or swinging within their reach of it (a nod throws them towards the eye; the
-/// sway and the wind carry them towards +x, so the box reaches further that way), from
-/// the front, a little to the side and above, so the head's depth shows; the
-/// plots whose values sit at round-off open on axes that show it as a floor: stretch from 1e-17
-/// (below f64's resolution of a length ratio) to 10 (divergence), penetration from 0 to the
-/// collision margin's thickness. They stand in tabs behind a statement of their largest values
-/// where every method keeps them at round-off: penetration always (every method projects its
-/// nodes out of the head), stretch where no method is a spring and Verlet solves its
-/// constraints directly (Gauss–Seidel sweeps leave a stretch of ~1).
+/// What the layout needs of a run: a 3D view per method framing its head and the strands' reach
+/// (further towards +x, where sway and wind carry them), seen from the front, side and above so
+/// that the head's depth shows; the round-off plots on axes with a floor (stretch from 1e-17,
+/// below f64's resolution of a length ratio, to 10; penetration from 0 to the margin), in tabs
+/// behind the statement of their largest values where every method keeps them at round-off
+/// (penetration always; stretch unless a spring or Gauss–Seidel sweeps, which leave ~1, run).
 pub fn staging(c: &HairConfig) -> Staging {
     let p = &c.params;
     let (reach, spacing) = reach_and_spacing(c);
@@ -122,8 +116,7 @@ pub fn strand_plan(c: &HairConfig, requested: Option<usize>) -> StrandPlan {
     }
 }
 
-/// `drawn` strand indices spread evenly over `0..strands` (the roots follow a golden-angle
-/// spiral over the cap, so an even spread of indices is an even spread over the head).
+/// `drawn` strand indices spread evenly over `0..strands`, so over the head (golden-angle roots).
 pub fn spread(drawn: usize, strands: usize) -> Vec<usize> {
     let n = drawn.min(strands).max(1);
     (0..n).map(|k| k * strands / n).collect()
@@ -160,10 +153,7 @@ impl HairDraw {
     fn log_state(&self, rec: &RecordingStream, lane: usize, hair: &Hair) -> anyhow::Result<()> {
         let name = self.names[lane];
         let o = self.offsets[lane];
-        let f = |p: glam::DVec3| {
-            let q = p + o;
-            [q.x as f32, q.y as f32, q.z as f32]
-        };
+        let f = |p: glam::DVec3| (p + o).as_vec3().to_array();
         let strand = |k: usize| hair.strand(k).map(f).collect();
         let strips: Vec<Vec<[f32; 3]>> = self.shown.iter().map(|&k| strand(k)).collect();
         rec.log(

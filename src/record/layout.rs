@@ -167,14 +167,12 @@ impl ViewProperties {
     ) -> ContainerLike {
         let mut view = view.into();
         if let ContainerLike::View(v) = &view {
-            let view = v.blueprint_path().to_string();
-            let axis = ValueAxis {
-                view,
+            self.1.push(ValueAxis {
+                view: v.blueprint_path().to_string(),
                 origin,
                 height,
                 floor,
-            };
-            self.1.push(axis);
+            });
         }
         if let Some((lo, hi)) = floor {
             let range = rerun::components::Range1D::new(lo, hi);

@@ -161,16 +161,12 @@ impl Live {
         s.closed = true;
         self.0.changed.notify_all();
         if s.starting.is_some() && !s.ended {
-            let why = match &self.0.hand_off {
-                Some((exe, file)) => {
-                    self.0.drop_stream(&mut s, None);
-                    return open_later(exe, file);
-                }
-                None => {
-                    "the viewer started was not listening when the run ended, and no file \
-                         was written for it to open"
-                }
-            };
+            if let Some((exe, file)) = &self.0.hand_off {
+                self.0.drop_stream(&mut s, None);
+                return open_later(exe, file);
+            }
+            let why = "the viewer started was not listening when the run ended, and no file was \
+                       written for it to open";
             return self.0.drop_stream(&mut s, Some(why));
         }
         while !s.ended {
@@ -319,14 +315,8 @@ pub fn answers(uri: &ProxyUri) -> bool {
 /// data waits on it.
 fn handshake(uri: &ProxyUri) -> Result<(), String> {
     use std::io::{Read as _, Write as _};
-    use std::net::ToSocketAddrs as _;
     let limit = Duration::from_secs(1);
-    let origin = &uri.origin;
-    let addr = (origin.host.to_string(), origin.port)
-        .to_socket_addrs()
-        .ok()
-        .and_then(|mut a| a.next())
-        .ok_or("the viewer's address does not resolve")?;
+    let addr = *(addresses(uri).first()).ok_or("the viewer's address does not resolve")?;
     let mut head = [0u8; 9];
     let connected = std::net::TcpStream::connect_timeout(&addr, limit);
     let Ok(mut c) = connected else {
@@ -338,7 +328,10 @@ fn handshake(uri: &ProxyUri) -> Result<(), String> {
         c.write_all(b"PRI * HTTP/2.0\r\n\r\nSM\r\n\r\n\0\0\0\x04\0\0\0\0\0")?;
         c.read_exact(&mut head)
     })();
-    let tls = matches!(origin.scheme, rerun::external::re_uri::Scheme::RerunHttps);
+    let tls = matches!(
+        uri.origin.scheme,
+        rerun::external::re_uri::Scheme::RerunHttps
+    );
     match answer {
         Err(e)
             if matches!(
@@ -361,14 +354,16 @@ fn handshake(uri: &ProxyUri) -> Result<(), String> {
 
 /// Whether something accepts connections at the viewer's address within `limit`.
 fn listens(uri: &ProxyUri, limit: Duration) -> bool {
+    (addresses(uri).iter()).any(|a| std::net::TcpStream::connect_timeout(a, limit).is_ok())
+}
+
+/// The viewer's addresses (none where its host does not resolve).
+fn addresses(uri: &ProxyUri) -> Vec<std::net::SocketAddr> {
     use std::net::ToSocketAddrs as _;
-    let origin = &uri.origin;
-    let Ok(addrs) = (origin.host.to_string(), origin.port).to_socket_addrs() else {
-        return false;
-    };
-    addrs
-        .into_iter()
-        .any(|a| std::net::TcpStream::connect_timeout(&a, limit).is_ok())
+    let (host, port) = (uri.origin.host.to_string(), uri.origin.port);
+    (host, port)
+        .to_socket_addrs()
+        .map_or(Vec::new(), Iterator::collect)
 }
 
 /// Starts `exe FILE`, a viewer that opens the run's complete file itself, detached as

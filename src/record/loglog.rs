@@ -1,10 +1,8 @@
-//! A log-log plot ([`crate::diagram::Plot`], what a study's picture is drawn from) as Rerun 2D
-//! primitives, since Rerun has no log axes: each panel an entity whose children hold log10
-//! coordinates (a run's point at (log10 cost, log10 error)) and whose transform places the
-//! decades on a canvas of about the view's pixels; decade grid lines, axes and guides as line
-//! strips; tick labels, titles and the legend as labelled points (the viewer draws a label
-//! centred below its point). Each run is a point whose hidden label says what run it is: the
-//! viewer shows it on hover.
+//! A log-log plot ([`crate::diagram::Plot`]) as Rerun 2D primitives, since Rerun has no log
+//! axes: each panel an entity whose children hold log10 coordinates and whose transform places
+//! the decades on a canvas of about the view's pixels; lines as line strips, text as labelled
+//! points (the viewer draws a label centred below its point); each run a point whose hidden
+//! label, shown on hover, says what run it is.
 
 use rerun::components::{DrawOrder, Radius};
 use rerun::{LineStrips2D, Points2D, RecordingStream, Transform3D};
@@ -83,11 +81,7 @@ fn log_panel(rec: &RecordingStream, path: &str, p: &Panel, area: [f32; 4]) -> an
     )?;
     let (x0, x1, y0, y1) = (x0 as f32, x1 as f32, y0 as f32, y1 as f32);
     let (bold_x, light_x) = log_axis(p.x.clone());
-    // A rows axis (stability's methods): a line and a name per row, no decades.
-    let (bold_y, light_y) = match p.y_names.is_empty() {
-        true => log_axis(p.y.clone()),
-        false => ((0..p.y_names.len()).map(|k| k as f64).collect(), Vec::new()),
-    };
+    let (bold_y, light_y) = p.y_ticks();
     let vertical = |x: &f64| vec![[*x as f32, y0], [*x as f32, y1]];
     let horizontal = |y: &f64| vec![[x0, *y as f32], [x1, *y as f32]];
     let strips = |xs: &[f64], ys: &[f64]| -> Vec<Vec<[f32; 2]>> {

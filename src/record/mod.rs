@@ -1,7 +1,6 @@
-//! The writing side of Rerun (reading is `crate::rrd`): where a recording goes and how it is
-//! written (`recording`), what it says about itself (`provenance`), the viewer's layouts
-//! (`views`), each scene's drawing, and the difference recording (`diff`). This module keeps the
-//! series styles and the slots scenes stand in.
+//! The writing side of Rerun (reading is `crate::rrd`): where a recording goes (`recording`),
+//! what it says about itself (`provenance`), the viewer's layouts (`views`), each scene's drawing
+//! and the difference recording (`diff`); here, the series styles and the slots of the scenes.
 
 pub mod diff;
 pub mod hair;
@@ -21,15 +20,11 @@ mod views;
 pub use layout::{Framing, Layout, ViewProperties};
 pub use provenance::{
     GIT_COMMIT, RERUN_SDK_VERSION, SceneEnd, log_summary, send_provenance, send_run_status,
-    summary_markdown,
 };
-pub use recording::{
-    BATCHING, CHUNK_BYTES, Destinations, Recording, check_destinations, find_on_path,
-};
+pub use recording::{CHUNK_BYTES, Destinations, Recording};
 pub use views::{
-    PLOTS_SHARE, Plot, SceneViews, Slot, Staging, WINDOW, about_and_events, all_layout,
-    grid_columns, plot_column, scene_blueprint, scene_layout, slot_grid, summary_view,
-    view_above_text,
+    PLOTS_SHARE, SceneViews, Slot, Staging, WINDOW, about_and_events, all_layout, scene_blueprint,
+    scene_layout, slot_grid, view_above_text,
 };
 
 /// One colour per method (the palette is shared with the diagrams: `crate::palette`).
@@ -53,12 +48,10 @@ pub fn log_series_style(
     Ok(())
 }
 
-/// Grid cells (column, row counted from the bottom) for `n` side-by-side lanes, in rows of at
-/// most four in reading order from the top left. A compact block rather than one long row, so
-/// a 3D view frames every lane large.
+/// Grid cells (column, row counted from the bottom) for `n` lanes in reading order: a near-square
+/// block (8 lanes: 3 × 3 less one), so that a 3D view frames every lane large and neighbouring
+/// labels do not overlap in `all`'s narrow views.
 pub fn slot_cells(n: usize) -> Vec<(usize, usize)> {
-    // Near-square (8 lanes: 3 × 3 less one), so that the labels of neighbouring slots do not
-    // overlap in `all`'s narrow views.
     let columns = (1..=4).find(|c| c * c >= n).unwrap_or(4);
     let rows = n.div_ceil(columns);
     (0..n)

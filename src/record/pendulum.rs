@@ -1,15 +1,9 @@
-//! Recording a pendulum run: entity paths, styles and the blueprint.
-//!
-//! Layout (`<lane>` is `exact`/`reference` or a method name):
-//! - `pendulum/<lane>/{pivot,rod,bob}`: the lanes side by side along x, one slot each, labelled
-//!   on the (static) pivot, which a divergence relabels;
-//!   `pendulum/<method>/<reference lane>_ghost` (`exact_ghost`, or `reference_ghost` when the
-//!   reference is a fine-step RK4 run): the reference bob as a grey disc behind each method's
-//!   bob (a ring around it while the method keeps to the reference).
-//! - `pendulum/plots/<quantity>/<lane>`: one plot per quantity with every lane's series.
-//! - `pendulum/phase/<lane>/{path,state}`: the phase portrait, one curve per lane.
-//! - `pendulum/events`: divergence and solver warnings at the moment they happened.
-//! - `pendulum/about`: what was run and what the reference is.
+//! Recording a pendulum run (`<lane>` is `exact`/`reference` or a method name):
+//! `pendulum/<lane>/{pivot,rod,bob}` in slots side by side, the pivot labelled when the lane
+//! diverges; `pendulum/<method>/<reference lane>_ghost`, the reference bob as a grey disc behind
+//! each method's bob (a ring around it while the method keeps to it); the phase portrait
+//! `pendulum/phase/<lane>/{path,state}`; `pendulum/plots/<quantity>/<lane>`, `pendulum/events`
+//! and `pendulum/about`.
 
 use rerun::RecordingStream;
 use rerun::blueprint::{Blueprint, Horizontal, Spatial2DView, Vertical};
@@ -17,7 +11,7 @@ use rerun::blueprint::{Blueprint, Horizontal, Spatial2DView, Vertical};
 use super::scene::{Draw, SceneRecorder, clear_diverged, plotted};
 use super::{
     Framing, PLOTS_SHARE, Staging, ViewProperties, WINDOW, about_and_events, method_color,
-    plot_column, scene_blueprint, slot_cells, slot_grid,
+    scene_blueprint, slot_cells, slot_grid,
 };
 use crate::scene::harness::{Event, Frame, Run, Scene as _, SeriesBatch, WHOLE};
 use crate::scene::pendulum::exact::ExactPendulum;
@@ -60,7 +54,7 @@ pub fn blueprint(
     methods: &[&'static str],
     props: &mut ViewProperties,
 ) -> Blueprint {
-    let [left, right] = [1.0 - PLOTS_SHARE, PLOTS_SHARE].map(|s| s * WINDOW[0]);
+    let left = (1.0 - PLOTS_SHARE) * WINDOW[0];
     let left = Vertical::new([
         slot_grid("pendulum", &staging.slots, [left, 0.6 * WINDOW[1]], props),
         Horizontal::new([
@@ -73,47 +67,32 @@ pub fn blueprint(
         .into(),
     ])
     .with_row_shares([3.0, 2.0]);
-    scene_blueprint(
-        left,
-        plot_column(
-            "pendulum",
-            staging,
-            timings,
-            methods,
-            [right, WINDOW[1]],
-            props,
-        ),
-    )
-}
-
-/// The reference lane's name: `exact` where the closed form applies, else `reference`.
-fn reference_name(c: &PendulumConfig) -> &'static str {
-    if ExactPendulum::new(&c.params).is_some() {
-        "exact"
-    } else {
-        "reference"
-    }
+    scene_blueprint(left, "pendulum", staging, (timings, methods), props)
 }
 
 /// What the layout needs of a run: a 3D view per lane, each framing its slot's swing, and the
 /// plots with their series (the step-size plot only when an adaptive method runs: a fixed step
 /// draws a flat line).
 pub fn staging(c: &PendulumConfig) -> Staging {
-    let reference = reference_name(c);
+    // `exact` where the closed form applies.
+    let reference = match ExactPendulum::new(&c.params) {
+        Some(_) => "exact",
+        None => "reference",
+    };
     let methods: Vec<&'static str> = c.methods.iter().map(|m| m.name()).collect();
     let lanes: Vec<&'static str> = std::iter::once(reference)
         .chain(methods.iter().copied())
         .collect();
     let l = c.params.length as f32;
     let pivots = slot_pivots(lanes.len(), l);
-    let reach = swing(c);
+    let (width, top) = swing(c);
     let slots = Staging::per_lane(lanes.iter().zip(&pivots).map(|(&lane, p)| {
         (
             lane,
             Framing {
                 // Depth: the bob, and the ghost set back behind it.
-                min: [p[0] - reach.width, -0.12 * l, p[2] - 1.15 * l],
-                max: [p[0] + reach.width, 0.3 * l, p[2] + reach.top],
+                min: [p[0] - width, -0.12 * l, p[2] - 1.15 * l],
+                max: [p[0] + width, 0.3 * l, p[2] + top],
                 toward_eye: TOWARD_EYE,
             },
         )
@@ -144,15 +123,10 @@ pub fn staging(c: &PendulumConfig) -> Staging {
 /// plane).
 const TOWARD_EYE: [f32; 3] = [0.0, -1.0, 0.25];
 
-/// How far a swing reaches from its pivot [m]: sideways, and above it.
-struct Reach {
-    width: f32,
-    top: f32,
-}
-
-/// The reference's swing from its energy: its amplitude θm (cos θm = 1 − E0/(gL)), over the top
-/// when E0 ≥ 2gL; with room for the bob and a ring around it.
-fn swing(c: &PendulumConfig) -> Reach {
+/// How far the reference's swing reaches from its pivot [m], sideways and above it, from its
+/// energy: its amplitude θm (cos θm = 1 − E0/(gL)), over the top when E0 ≥ 2gL; with room for
+/// the bob and a ring around it.
+fn swing(c: &PendulumConfig) -> (f32, f32) {
     let p = &c.params;
     let l = p.length;
     let e0 = 0.5 * l * l * p.omega0 * p.omega0 + p.gravity * l * (1.0 - p.theta0.cos());
@@ -165,10 +139,7 @@ fn swing(c: &PendulumConfig) -> Reach {
         ((1.0 - cos_max * cos_max).sqrt(), 0.0)
     };
     let ring = 0.15 * l;
-    Reach {
-        width: (side * l + ring) as f32,
-        top: (up * l + ring) as f32,
-    }
+    ((side * l + ring) as f32, (up * l + ring) as f32)
 }
 
 /// The reference's ghost: its radius over a bob's, how far behind the bob it is set (in bob
@@ -199,9 +170,8 @@ pub struct PendulumDraw {
     /// Each lane's pivot [m]: a wall of slots in the x-z plane, above the viewer's ground grid.
     pivots: Vec<[f32; 3]>,
     length: f64,
-    /// Decimated (θ, ω) per lane for the phase portrait: one strip per stretch whose every
-    /// sampled step is kept (the whole run, or an aggregated run's windows), and the tick of
-    /// each lane's last point.
+    /// Decimated (θ, ω) per lane for the phase portrait, a strip per stretch kept whole (the
+    /// whole run, or an aggregated run's windows); and the tick of each lane's last point.
     phase: Vec<Vec<Vec<[f32; 2]>>>,
     phase_last: Vec<Option<u64>>,
     phase_stride: u64,
@@ -256,7 +226,6 @@ impl Draw<PendulumScene> for PendulumDraw {
                     .with_colors([[128, 128, 128]])
                     .with_show_labels(true),
             )?;
-            // Styles that never change are logged once, static; per frame only positions move.
             rec.log_static(
                 format!("pendulum/{name}/bob"),
                 &rerun::Points3D::update_fields()
@@ -373,9 +342,7 @@ impl Draw<PendulumScene> for PendulumDraw {
     }
 
     fn diverged(&mut self, rec: &RecordingStream, event: &Event) -> anyhow::Result<()> {
-        // From this moment the lane shows no pendulum, only a marker saying why.
         let name = self.lanes[event.lane];
-        // The ghost is named after the reference lane: `exact_ghost` or `reference_ghost`.
         let ghost = format!("{}_ghost", self.lanes[0]);
         let label = clear_diverged(rec, "pendulum", name, &["rod", &ghost], event)?;
         rec.log(

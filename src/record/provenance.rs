@@ -23,8 +23,7 @@ pub fn send_provenance(
 }
 
 /// A difference recording's provenance: the build and command line that wrote it (`scenes` is
-/// `diff`) and the two recordings it compares (`diff_a`, `diff_b`); no scene file, since it
-/// is no run.
+/// `diff`) and the two recordings it compares (`diff_a`, `diff_b`).
 pub fn send_diff_provenance(
     rec: &rerun::RecordingStream,
     a: &std::path::Path,
@@ -58,10 +57,8 @@ fn send_properties(rec: &rerun::RecordingStream, values: rerun::AnyValues) -> an
 }
 
 /// Where the physlab recording `path`, about to be replaced, came from: "from `COMMAND` at
-/// TIME", its command line escaped (the old file may be anyone's) and shortened so that the
-/// line fits a terminal whatever the file holds: the program by its file name, then its words
-/// up to [`MADE_BY_CHARS`], "…" for the rest (`physlab inspect` shows it whole); `None` for
-/// another file.
+/// TIME", its command line escaped (the old file may be anyone's) and cut after
+/// [`MADE_BY_CHARS`] so that the line fits a terminal; `None` for another file.
 pub fn made_by(path: &std::path::Path) -> Option<String> {
     let (command, nanos) = crate::rrd::inspect::made_by(path)?;
     let at = crate::format::utc((nanos / 1_000_000_000) as i64);

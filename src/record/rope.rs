@@ -1,10 +1,6 @@
-//! Recording a rope run: entity paths, styles and the blueprint.
-//!
-//! Layout:
-//! - `rope/<method>/{nodes,strip,pinned}`: each method's rope in its own slot (or all at the
-//!   same place with `--layout overlay`), pinned nodes marked and labelled with the method.
-//! - `rope/plots/<quantity>/<method>`: one plot per quantity with every method in it.
-//! - `rope/events`, `rope/about`: warnings at the moment they happened; what was run.
+//! Recording a rope run: `rope/<method>/{nodes,strip,pinned}`, each method's rope in its own slot
+//! (or all at one place with `--layout overlay`); `rope/plots/<quantity>/<method>`, `rope/events`
+//! and `rope/about`.
 
 use rerun::RecordingStream;
 
@@ -56,10 +52,8 @@ fn rope_span(c: &RopeConfig) -> f64 {
     (c.params.end - c.params.start).length().max(1e-9)
 }
 
-/// What the layout needs of a run: a 3D view per method framing its slot (one for all with
-/// `--layout overlay`), each rope swinging within one span of its first node, from the floor
-/// up to its highest node, seen from the front and a little above; every plot holds every
-/// method.
+/// What the layout needs of a run: a 3D view per method (one for all with `--layout overlay`)
+/// framing one span around its first node, from the floor up, seen from the front and above.
 pub fn staging(c: &RopeConfig) -> Staging {
     let p = &c.params;
     let span = rope_span(c);

@@ -73,12 +73,9 @@ pub fn clear_diverged(
 }
 
 /// Records a scene's run: `<scene>/plots/<quantity>/<lane>` series, `<scene>/events`, and the
-/// scene's own 3D entities.
-///
-/// Timelines: `sim_time` for everything; `frame` for the 3D frames only (and the events, at the
-/// last frame before them), with frame N at N / `frame_rate` s in every scene of a recording, so
-/// that in `physlab all` frame N is one moment. The series are on `sim_time` alone: they are
-/// sampled more often than frames, and one frame index must not hold several samples.
+/// scene's own 3D entities. `frame` N is at N / `frame_rate` s in every scene of a recording (one
+/// moment in `physlab all`), and only on 3D frames and events: the series are sampled more often,
+/// and one frame index must not hold several samples.
 pub struct SceneRecorder<D> {
     rec: RecordingStream,
     draw: D,

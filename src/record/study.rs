@@ -33,9 +33,7 @@ pub fn record_study(
                 .into(),
         );
     }
-    // One tab per diagram, the first shown, and the tables in the last; the side and time
-    // panels collapsed, since everything is static. A diagram gets the whole window, so its
-    // labels have room.
+    // One tab per diagram, each given the whole window so that its labels have room.
     views.push(
         TextDocumentView::new("tables")
             .with_origin("/study/tables")

@@ -30,9 +30,8 @@ pub struct Slot {
     pub title: String,
     pub lanes: Vec<&'static str>,
     pub framing: Framing,
-    /// A plain dark backdrop without the grid, for a subject the viewer's default hides (its
-    /// floor's tint under green hair, its grid plane through a head). Each view property is a
-    /// chunk of its own in the recording, so it is set only where it is needed.
+    /// A plain dark backdrop without the grid (see [`ViewProperties::plain_backdrop`]): each
+    /// view property is a chunk of its own in the recording, so it is set only where needed.
     pub plain: bool,
 }
 
@@ -89,8 +88,7 @@ impl Staging {
             .collect()
     }
 
-    /// The plots shown: the run's, and the wall-clock cost plot of its methods when timings are
-    /// recorded.
+    /// The plots shown: the run's, and its methods' wall-clock costs with `timings`.
     fn shown(&self, timings: bool, methods: &[&'static str]) -> Vec<Plot> {
         let mut shown = self.plots.clone();
         if timings {
@@ -106,10 +104,9 @@ impl Staging {
     }
 }
 
-/// A scene's plots in a column of `size` [px], each legend beside its curves. Each plot gets
-/// the height its legend needs: as many as fit are stacked, and when some do not, the last
-/// place holds the rest as tabs. Plots expected at round-off stand in tabs behind the
-/// scene's statement of their largest values, in a place as tall as their legends need.
+/// A scene's plots in a column of `size` [px], each legend beside its curves: as many stacked
+/// as are tall enough for their legends, the rest in tabs in the last place; those expected at
+/// round-off in tabs behind the scene's statement of their largest values.
 fn plot_views(
     scene: &str,
     plots: &[Plot],
@@ -119,9 +116,11 @@ fn plot_views(
 ) -> Vertical {
     let (quiet, shown): (Vec<&Plot>, Vec<&Plot>) = plots.iter().partition(|p| p.roundoff);
     let room = usize::from(!quiet.is_empty());
-    let places = stacked_plots(plots, size[1]).max(room + 1) - room;
-    let rows = quiet.iter().map(|p| p.series.len()).max();
-    let low = rows.map_or(0.0, |n| PLOT_CHROME_PX + LEGEND_ROW_PX * n as f32);
+    let tall = |rows: usize| PLOT_CHROME_PX + LEGEND_ROW_PX * rows as f32;
+    let longest = plots.iter().map(|p| p.series.len()).max().unwrap_or(0);
+    let stacked = ((size[1] / tall(longest)).floor() as usize).clamp(1, plots.len().max(1));
+    let places = stacked.max(room + 1) - room;
+    let low = quiet.iter().map(|p| p.series.len()).max().map_or(0.0, tall);
     let high = (size[1] - low) / places.min(shown.len()).max(1) as f32;
     let mut view = |p: &Plot, height: f32| {
         let origin = format!("/{scene}/plots/{}", p.name);
@@ -145,30 +144,9 @@ fn plot_views(
     Vertical::new(views).with_row_shares(shares)
 }
 
-/// How many plots a column `height` px tall stacks, each tall enough for its legend (at least
-/// one).
-pub fn stacked_plots(plots: &[Plot], height: f32) -> usize {
-    let rows = plots.iter().map(|p| p.series.len()).max().unwrap_or(0);
-    let needed = PLOT_CHROME_PX + LEGEND_ROW_PX * rows as f32;
-    ((height / needed).floor() as usize).clamp(1, plots.len().max(1))
-}
-
 /// What a plot's height holds besides its legend's lines [logical px]: its title bar, time axis
 /// labels and the legend's margins, measured on screenshots.
 const PLOT_CHROME_PX: f32 = 88.0;
-
-/// The plots' column of a scene, of `size` [px].
-pub fn plot_column(
-    scene: &str,
-    staging: &Staging,
-    timings: bool,
-    methods: &[&'static str],
-    size: [f32; 2],
-    props: &mut ViewProperties,
-) -> Vertical {
-    let plots = staging.shown(timings, methods);
-    plot_views(scene, &plots, staging.end_time, size, props)
-}
 
 /// The scene's 3D views in a grid filling `size` [px]: as many columns as make the subjects
 /// largest, each view's eye framing its slot.
@@ -249,8 +227,7 @@ fn slot_view(scene: &str, slot: &Slot) -> Spatial3DView {
         .with_contents(contents)
 }
 
-/// What the layouts need of a scene: its layout alone, given its staging and the lanes whose
-/// wall-clock cost is plotted.
+/// What the layouts need of a scene: its name, its plots and its layout alone.
 pub struct SceneViews {
     pub name: &'static str,
     /// Every plot the scene can draw: (entity name under `/<scene>/plots`, title).
@@ -282,9 +259,8 @@ const ALL_PLOTS: [&str; 7] = [
     "max_penetration",
 ];
 
-/// `physlab all`'s rows: 3D views, plots, the event log [shares of the height]. The log holds
-/// its tab, its header and five rows of 18 px (54 px tall, it showed its header alone; 132 px
-/// tall, it scrolled its first row away to keep the time cursor's row in view).
+/// `physlab all`'s rows: 3D views, plots, the event log [shares of the height]; the log holds
+/// its tab, its header and five rows of 18 px (at 132 px it scrolled its first row away).
 const ALL_ROWS: [f32; 3] = [4.2, 4.3, 1.7];
 
 /// The most rows of 3D views a scene stacks in `physlab all`.
@@ -349,10 +325,9 @@ pub fn all_layout(timings: bool, scenes: &[(&SceneViews, Staging, Vec<&'static s
 /// A column of plots is at least this wide in `physlab all` [px].
 const NARROWEST_PLOTS: f32 = 300.0;
 
-/// The widths of `physlab all`'s columns of plots (`plots` of runs ending at `ends` [s]): each
-/// as wide as its time axes need to show three tick labels within the legend's band, the
-/// narrowest needs first while the rest keep [`NARROWEST_PLOTS`]; a column whose need does not
-/// fit shares what is left (its time axes reach further), or all share what is spare.
+/// The widths of `physlab all`'s columns of plots (of runs ending at `ends` [s]): each as wide
+/// as its time axes need for three tick labels within the legend's band, narrowest needs first
+/// while the rest keep [`NARROWEST_PLOTS`]; the unmet share what is left, or all what is spare.
 fn time_widths(plots: &[Vec<Plot>], ends: &[f64]) -> Vec<f32> {
     let needs: Vec<f32> = (plots.iter().zip(ends))
         .map(|(plots, &end)| {
@@ -395,12 +370,11 @@ pub fn view_above_text(
     methods: &[&'static str],
     props: &mut ViewProperties,
 ) -> Blueprint {
-    let [left, right] = [1.0 - PLOTS_SHARE, PLOTS_SHARE].map(|s| s * WINDOW[0]);
+    let left = (1.0 - PLOTS_SHARE) * WINDOW[0];
     let grid = slot_grid(scene, &staging.slots, [left, 0.75 * WINDOW[1]], props);
     let left = Vertical::new([grid, Horizontal::new(about_and_events(scene)).into()])
         .with_row_shares([3.0, 1.0]);
-    let plots = plot_column(scene, staging, timings, methods, [right, WINDOW[1]], props);
-    scene_blueprint(left, plots)
+    scene_blueprint(left, scene, staging, (timings, methods), props)
 }
 
 /// The run description (`/<scene>/about`) with the summary (`/<scene>/summary`) in a tab beside
@@ -425,8 +399,18 @@ pub fn summary_view(scene: &str) -> TextDocumentView {
     TextDocumentView::new(format!("{scene} summary")).with_origin(format!("/{scene}/summary"))
 }
 
-/// A single scene's layout: `left` beside the plots, nothing else shown, `sim_time` selected.
-pub fn scene_blueprint(left: Vertical, plots: Vertical) -> Blueprint {
+/// A single scene's layout: `left` beside its plots (with the wall-clock cost of `methods` when
+/// `timings`), nothing else shown, `sim_time` selected.
+pub fn scene_blueprint(
+    left: Vertical,
+    scene: &str,
+    staging: &Staging,
+    (timings, methods): (bool, &[&'static str]),
+    props: &mut ViewProperties,
+) -> Blueprint {
+    let plots = staging.shown(timings, methods);
+    let size = [PLOTS_SHARE * WINDOW[0], WINDOW[1]];
+    let plots = plot_views(scene, &plots, staging.end_time, size, props);
     only_these_views(Blueprint::new(
         Horizontal::new([left.into(), plots.into()])
             .with_column_shares([1.0 - PLOTS_SHARE, PLOTS_SHARE]),
