@@ -111,6 +111,11 @@ fn holds_other_data(path: &Path) -> bool {
 /// a usage error (exit 2).
 pub fn check(flag: &str, path: &Path, dash: Dash) -> anyhow::Result<Output> {
     let named = format!("{flag} {}", path.display());
+    let output = |flag: &str, target| Output {
+        flag: flag.into(),
+        given: path.into(),
+        target,
+    };
     if path.as_os_str() == "-" {
         match dash {
             Dash::Refused(why) => {
@@ -128,11 +133,7 @@ pub fn check(flag: &str, path: &Path, dash: Dash) -> anyhow::Result<Output> {
             }
             Dash::Text => {}
         }
-        return Ok(Output {
-            flag: flag.into(),
-            given: path.into(),
-            target: None,
-        });
+        return Ok(output(flag, None));
     }
     let target = follow_links(path).map_err(|e| anyhow::anyhow!("{named}: {}", cause(&e)))?;
     // A scratch file is no file the user named: its errors name the temporary folder.
@@ -189,11 +190,7 @@ pub fn check(flag: &str, path: &Path, dash: Dash) -> anyhow::Result<Output> {
     remove_stale_partials(&target);
     // Writable: the hidden file the write will use can be made (and is removed at once).
     drop(Partial::beside(named, &target)?);
-    Ok(Output {
-        flag: flag.into(),
-        given: path.into(),
-        target: Some(target),
-    })
+    Ok(output(flag, Some(target)))
 }
 
 /// Refuses two outputs of one command that are one file (or both standard output), and an

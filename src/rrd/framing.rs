@@ -235,16 +235,11 @@ mod tests {
     use super::*;
 
     fn header() -> Vec<u8> {
-        let mut h = RRD_FOURCC.to_vec();
-        h.extend_from_slice(&[0, 36, 3, 0, 1, 2, 0, 0]);
-        h
+        [&RRD_FOURCC[..], &[0, 36, 3, 0, 1, 2, 0, 0]].concat()
     }
 
     fn message(kind: u64, payload: &[u8], declared: u64) -> Vec<u8> {
-        let mut m = kind.to_le_bytes().to_vec();
-        m.extend_from_slice(&declared.to_le_bytes());
-        m.extend_from_slice(payload);
-        m
+        [&kind.to_le_bytes()[..], &declared.to_le_bytes(), payload].concat()
     }
 
     /// Each message's kind and the file offset of its payload.

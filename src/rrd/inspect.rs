@@ -46,14 +46,14 @@ impl RecordingInfo {
 
     /// The scenes: the first component of every entity path but the properties'.
     pub fn scenes(&self) -> BTreeSet<String> {
-        self.entities
-            .iter()
-            .filter_map(|e| {
-                e.trim_start_matches('/')
-                    .split('/')
-                    .next()
-                    .map(str::to_string)
-            })
+        let first = |e: &String| {
+            e.trim_start_matches('/')
+                .split('/')
+                .next()
+                .map(str::to_string)
+        };
+        let scenes = self.entities.iter().filter_map(first);
+        scenes
             .filter(|s| !s.is_empty() && !s.starts_with("__"))
             .collect()
     }

@@ -9,7 +9,8 @@
 
 use std::cell::Cell;
 use std::fs::File;
-use std::io::{BufReader, Read as _, Seek as _, SeekFrom};
+use std::io::BufReader;
+use std::os::unix::fs::FileExt as _;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
 use std::sync::Once;
@@ -87,16 +88,14 @@ impl Messages {
         if meta.len() == 0 {
             return Err(what("the file is empty, not a recording (.rrd)"));
         }
-        let mut file =
-            File::open(path).map_err(|e| unusable(path, format!("cannot open it: {e}")))?;
+        let file = File::open(path).map_err(|e| unusable(path, format!("cannot open it: {e}")))?;
         let mut magic = [0u8; 4];
-        if file.read_exact(&mut magic).is_err() || magic != RRD_FOURCC {
+        // Read in place: the framing reads the file from its start.
+        if file.read_exact_at(&mut magic, 0).is_err() || magic != RRD_FOURCC {
             return Err(what(
                 "not a Rerun recording (.rrd): it does not start with Rerun's header",
             ));
         }
-        file.seek(SeekFrom::Start(0))
-            .map_err(|e| unusable(path, format!("cannot read it: {e}")))?;
         Ok(Messages {
             path: path.to_path_buf(),
             framed: Framed::new(BufReader::new(file), meta.len(), MAX_MESSAGE_BYTES),

@@ -33,9 +33,8 @@ pub type Key = (String, String);
 /// Each series' rows, in time order (rows at the same time in logging order).
 pub type Contents = BTreeMap<Key, Vec<LoggedRow>>;
 
-/// One component's rows in one chunk, as the chunk holds them: its list array and `sim_time`
-/// column are shared with the decoded chunk, not copied, and a row is read in place
-/// ([`SeriesRows::view`]). Null rows are skipped.
+/// One component's rows in one chunk, sharing the chunk's list array and `sim_time` column (a
+/// row is read in place, [`SeriesRows::view`]); null rows are skipped.
 #[derive(Clone)]
 pub(super) struct SeriesRows {
     pub(super) list: ListArray,
@@ -161,10 +160,8 @@ pub(super) fn message_series(msg: ChunkMessage) -> Vec<(Key, SeriesRows)> {
     chunk.component_descriptors().filter_map(rows).collect()
 }
 
-/// Reads every component of every entity (not the properties, not the blueprint), the whole
-/// file into memory: for small recordings and tests; `diff` and `reproduce` stream instead
-/// ([`compare_files`]). An unusable file is a usage error naming it, a stop request
-/// `Error::Interrupted` (see [`each_chunk`]).
+/// Every component of every entity (not the properties, not the blueprint), the whole file in
+/// memory: for tests (`diff` and `reproduce` stream); errors as [`each_chunk`]'s.
 pub fn read_contents(path: &Path) -> anyhow::Result<Contents> {
     let mut contents = Contents::new();
     each_chunk(path, |msg| {
@@ -192,8 +189,7 @@ pub struct SeriesIndex {
     pub static_scale: f64,
 }
 
-/// Every series of a recording with its row counts and scale, read message by message, a row
-/// at a time.
+/// Every series of a recording with its row counts and scale, read a row at a time.
 pub fn index_series(path: &Path) -> anyhow::Result<BTreeMap<Key, SeriesIndex>> {
     let mut index: BTreeMap<Key, SeriesIndex> = BTreeMap::new();
     each_chunk(path, |msg| {
