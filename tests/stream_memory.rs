@@ -92,8 +92,8 @@ fn largest_chunk_bytes(path: &Path) -> (u64, u64) {
 /// Comparing a recording with itself holds, more than comparing a small one, at most a chunk of
 /// one side waiting for its partner and the message being read, as stored (LZ4) and
 /// decompressed: 2 × its largest chunk + its largest message as stored, never the file (29 MB,
-/// 33 MB). With LZ4 storing these chunks in a third to a half of their size, that is 2.33 × and
-/// 2.50 × the largest chunk (the goal: at most 2.5 ×; a chunk LZ4 cannot shrink would take 3 ×).
+/// 33 MB). With LZ4 storing these chunks in a third to a half of their size, that is about 2.35 ×
+/// and 2.4 × the largest chunk (the goal: at most 2.5 ×; a chunk LZ4 cannot shrink would take 3 ×).
 #[test]
 fn comparing_holds_two_chunks_not_the_file() {
     let dir = scratch_dir("stream-memory");
