@@ -1,7 +1,7 @@
 //! The hair run's summary table.
 
 use crate::format::{plural, sig, trim_number};
-use crate::report::table::{Table, diverged_cell, figure};
+use crate::report::table::{Table, WIDTH, diverged_cell, figure};
 use crate::scene::hair::run::{HairConfig, HairLane, HairScene};
 use crate::scene::hair::{HairMethod, SPRING_STRETCH_BOUND, SPRING_WAVE_SPEEDS, Solver};
 use crate::scene::harness::Run;
@@ -101,7 +101,7 @@ pub fn trade_table(rows: &[HairRow]) -> String {
             trim_number(r.ms_per_frame, 3),
         ]);
     }
-    t.render()
+    t.render_within(WIDTH)
 }
 
 /// The cheapest configuration (by wall time per frame) within each stretch target: over all

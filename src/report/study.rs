@@ -80,7 +80,7 @@ pub fn answer(
             row.map_or("—".into(), |r| r.evals.to_string()),
         ]);
     }
-    out.push_str(&t.render());
+    out.push_str(&t.render_within(WIDTH));
     for t in unresolved {
         let _ = writeln!(out, "{t:.0e} left out: below {RESOLVES}× the floor.");
     }
@@ -244,7 +244,7 @@ pub fn proportionality_table(rows: &[Row], floor: f64) -> String {
             (p.rtols).map_or("—".into(), |(lo, hi)| format!("{lo:.0e} – {hi:.0e}")),
         ]);
     }
-    t.render()
+    t.render_within(WIDTH)
 }
 
 /// What one run is, as a point of a diagram shows it on hover in the viewer: the method and

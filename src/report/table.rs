@@ -68,15 +68,44 @@ impl Table {
                 (false, false) => kept.push(c),
             }
         }
-        let mut fitted = Table::new(kept.iter().map(|&c| self.short[c].clone()));
-        for r in &self.rows {
-            fitted.row(kept.iter().map(|&c| r[c].clone()));
-        }
+        let fitted = self.pick(&self.short, &kept);
         let mut out = String::new();
         if !said.is_empty() {
             out = fit_lines(&format!("every row: {}\n", said.join(", ")));
         }
-        out + &fitted.render()
+        out + &fitted.render_within(WIDTH)
+    }
+
+    /// The columns `cols` of this table under the headers `header` (indexed as the columns).
+    fn pick(&self, header: &[String], cols: &[usize]) -> Table {
+        let mut t = Table::new(cols.iter().map(|&c| header[c].clone()));
+        for r in &self.rows {
+            t.row(cols.iter().map(|&c| r[c].clone()));
+        }
+        t
+    }
+
+    /// The table, or where a line of it is wider than `width` [`columns`] (long runs widen the
+    /// counts and times), the table in parts one under another: each part the first column and
+    /// as many of the next as fit, so that no value is left out.
+    pub fn render_within(&self, width: usize) -> String {
+        let fits = |t: &Table| t.render().lines().all(|l| columns(l) <= width);
+        if self.header.len() < 3 || fits(self) {
+            return self.render();
+        }
+        let mut parts = vec![vec![0]];
+        for c in 1..self.header.len() {
+            let part = parts.last_mut().expect("one part");
+            part.push(c);
+            if part.len() > 2 && !fits(&self.pick(&self.header, part)) {
+                part.pop();
+                parts.push(vec![0, c]);
+            }
+        }
+        let rendered: Vec<String> = (parts.iter())
+            .map(|p| self.pick(&self.header, p).render())
+            .collect();
+        rendered.join("\n")
     }
 
     /// The full table.
