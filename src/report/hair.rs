@@ -84,7 +84,7 @@ pub fn trade_table(rows: &[HairRow]) -> String {
     let mut t = Table::new([
         "method",
         "solver",
-        "iterations",
+        "iters",
         "substeps",
         "k/m [1/s²]",
         "max stretch",

@@ -86,20 +86,26 @@ impl Table {
     }
 
     /// The table, or where a line of it is wider than `width` [`columns`] (long runs widen the
-    /// counts and times), the table in parts one under another: each part the first column and
-    /// as many of the next as fit, so that no value is left out.
+    /// counts and times), the table in parts one under another: each part the leading columns
+    /// that tell its rows apart and as many of the next as fit, so that no value is left out.
     pub fn render_within(&self, width: usize) -> String {
         let fits = |t: &Table| t.render().lines().all(|l| columns(l) <= width);
-        if self.header.len() < 3 || fits(self) {
+        let key = (1..self.header.len())
+            .find(|&k| {
+                let mut seen = std::collections::HashSet::new();
+                self.rows.iter().all(|r| seen.insert(&r[..k]))
+            })
+            .unwrap_or(self.header.len());
+        if key + 1 >= self.header.len() || fits(self) {
             return self.render();
         }
-        let mut parts = vec![vec![0]];
-        for c in 1..self.header.len() {
+        let mut parts = vec![(0..key).collect::<Vec<_>>()];
+        for c in key..self.header.len() {
             let part = parts.last_mut().expect("one part");
             part.push(c);
-            if part.len() > 2 && !fits(&self.pick(&self.header, part)) {
+            if part.len() > key + 1 && !fits(&self.pick(&self.header, part)) {
                 part.pop();
-                parts.push(vec![0, c]);
+                parts.push((0..key).chain([c]).collect());
             }
         }
         let rendered: Vec<String> = (parts.iter())
